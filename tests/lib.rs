@@ -1,0 +1,1 @@
+//! End-to-end tests of the `sawdrive` command line live in `tests/e2e_*.rs` of this package.
