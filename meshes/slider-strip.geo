@@ -1,0 +1,210 @@
+// Strip of the textured silicon slider, one post pitch wide in y, pressed on a LiNbO3 stator block.
+//
+// Slider: body box x in [0, L], y in [0, pitch], z in [h, h + t] with n_posts cylindrical posts
+// (diameter d, height h) standing on its underside, post tips facing down at z = 0; post centres
+// at x = margin + (i + 0.5) pitch, y = pitch / 2; L = n_posts pitch + 2 margin. The planes y = 0
+// and y = pitch are symmetry planes of the textured surface.
+// Stator (stator_depth > 0): box x in [0, L], y in [0, pitch], z in [-stator_depth, 0], a separate
+// body (no shared nodes with the slider), with the post-tip circles imprinted on its top face so
+// that both sides resolve the contact disks (the two meshes need not match node for node).
+// periodic_x = 1 makes the x = L faces periodic copies (node-matching, gmsh "Periodic Surface")
+// of the x = 0 faces, for both bodies; the $Periodic section of the MSH file lists the node pairs.
+//
+// Mesh size: h_post on the post tips and on the stator disks under them, growing linearly with the
+// distance from them, size = min(h_post + growth * dist, h_body).
+//
+// Parameters (metres; override with gmsh -setnumber NAME VALUE; see meshes/README.md):
+//   pitch, d, h, t, n_posts, margin, stator_depth, h_post, h_body, growth, order, periodic_x
+//
+// Physical groups: volumes "slider" (body and posts), "stator" (if stator_depth > 0); surfaces
+// "post_tips", "slider_top", "slider_sym_y0", "slider_sym_y1", "slider_x0", "slider_x1",
+// "stator_top", "stator_bottom", "stator_sym_y0", "stator_sym_y1", "stator_x0", "stator_x1".
+
+SetFactory("OpenCASCADE");
+// Any Error() below, or a meshing error, exits gmsh with a non-zero status and no output file.
+General.AbortOnError = 4;
+
+DefineConstant[
+  pitch = {40e-6, Name "Parameters/pitch (m)"},
+  d = {20e-6, Name "Parameters/d (post diameter, m)"},
+  h = {2e-6, Name "Parameters/h (post height, m)"},
+  t = {0.5e-3, Name "Parameters/t (slider body thickness, m)"},
+  n_posts = {10, Name "Parameters/n_posts"},
+  margin = {0, Name "Parameters/margin (body beyond the end posts, m)"},
+  stator_depth = {1e-3, Name "Parameters/stator_depth (m, 0: no stator)"},
+  h_post = {2.5e-6, Name "Parameters/h_post (element size at the post tips, m)"},
+  h_body = {100e-6, Name "Parameters/h_body (far element size, m)"},
+  growth = {0.3, Name "Parameters/growth (size growth per unit distance)"},
+  order = {1, Choices{1 = "Tet4", 2 = "Tet10"}, Name "Parameters/order"},
+  periodic_x = {0, Choices{0 = "free ends", 1 = "periodic x"}, Name "Parameters/periodic_x"}
+];
+
+If (pitch <= 0 || d <= 0 || h <= 0 || t <= 0 || margin < 0 || stator_depth < 0)
+  Error("slider-strip.geo: need pitch, d, h, t > 0 and margin, stator_depth >= 0");
+  Abort;
+EndIf
+If (d >= pitch)
+  Error("slider-strip.geo: post diameter d must be smaller than the pitch");
+  Abort;
+EndIf
+If (n_posts < 1 || n_posts != Round(n_posts))
+  Error("slider-strip.geo: n_posts must be a positive integer");
+  Abort;
+EndIf
+If (h_post <= 0 || h_body < h_post || growth <= 0)
+  Error("slider-strip.geo: need 0 < h_post <= h_body and growth > 0");
+  Abort;
+EndIf
+If (order != 1 && order != 2)
+  Error("slider-strip.geo: order must be 1 (Tet4) or 2 (Tet10)");
+  Abort;
+EndIf
+If (periodic_x != 0 && periodic_x != 1)
+  Error("slider-strip.geo: periodic_x must be 0 or 1");
+  Abort;
+EndIf
+
+// The model is built in micrometres and scaled to metres on output: OpenCASCADE works with an
+// absolute tolerance of 1e-7 model units, far too coarse for micrometre features in metres.
+unit = 1e-6;
+Mesh.ScalingFactor = unit;
+P = pitch / unit;
+D = d / unit;
+H = h / unit;
+T = t / unit;
+M = margin / unit;
+S = stator_depth / unit;
+L = n_posts * P + 2 * M;
+// Geometric tolerance for entity identification [um] (OCC bounding boxes carry 1e-7 slack).
+eps = 1e-3 * H;
+
+// Slider: body plus posts fused into one volume.
+Box(1) = {0, 0, H, L, P, T};
+For i In {0 : n_posts - 1}
+  Cylinder(100 + i) = {M + (i + 0.5) * P, P / 2, 0, 0, 0, H, D / 2};
+EndFor
+slider() = BooleanUnion{ Volume{1}; Delete; }{ Volume{100 : 100 + n_posts - 1}; Delete; };
+If (#slider() != 1)
+  Error("slider-strip.geo: internal error: body and posts did not fuse into one volume");
+  Abort;
+EndIf
+
+// Stator block with the post-tip circles imprinted on its top face (fragmented on its own, so it
+// shares no entity, and hence no node, with the slider).
+stator() = {};
+If (S > 0)
+  Box(2) = {0, 0, -S, L, P, S};
+  For i In {0 : n_posts - 1}
+    Disk(1000 + i) = {M + (i + 0.5) * P, P / 2, 0, D / 2};
+  EndFor
+  stator() = BooleanFragments{ Volume{2}; Delete; }{ Surface{1000 : 1000 + n_posts - 1}; Delete; };
+  stator() = Volume In BoundingBox{-eps, -eps, -S - eps, L + eps, P + eps, eps};
+  If (#stator() != 1)
+    Error("slider-strip.geo: internal error: stator is not one volume");
+    Abort;
+  EndIf
+EndIf
+
+// Boundary pieces of each body, identified geometrically among that body's own faces.
+Macro FacesInBox
+  // in: body_faces(), box(); out: picked()
+  picked() = {};
+  candidates() = Surface In BoundingBox{box(0), box(1), box(2), box(3), box(4), box(5)};
+  For fi In {0 : #candidates() - 1}
+    For fj In {0 : #body_faces() - 1}
+      If (candidates(fi) == body_faces(fj))
+        picked() += candidates(fi);
+      EndIf
+    EndFor
+  EndFor
+Return
+
+body_faces() = Abs(Boundary{ Volume{slider()}; });
+box() = {-eps, -eps, -eps, L + eps, P + eps, eps};
+Call FacesInBox;
+post_tips() = picked();
+box() = {-eps, -eps, H + T - eps, L + eps, P + eps, H + T + eps};
+Call FacesInBox;
+slider_top() = picked();
+box() = {-eps, -eps, -eps, L + eps, eps, H + T + eps};
+Call FacesInBox;
+slider_y0() = picked();
+box() = {-eps, P - eps, -eps, L + eps, P + eps, H + T + eps};
+Call FacesInBox;
+slider_y1() = picked();
+box() = {-eps, -eps, -eps, eps, P + eps, H + T + eps};
+Call FacesInBox;
+slider_x0() = picked();
+box() = {L - eps, -eps, -eps, L + eps, P + eps, H + T + eps};
+Call FacesInBox;
+slider_x1() = picked();
+If (#post_tips() != n_posts)
+  Error("slider-strip.geo: internal error: found %g post tips, expected %g", #post_tips(), n_posts);
+  Abort;
+EndIf
+
+Physical Volume("slider", 1) = slider();
+Physical Surface("post_tips", 11) = post_tips();
+Physical Surface("slider_top", 12) = slider_top();
+Physical Surface("slider_sym_y0", 13) = slider_y0();
+Physical Surface("slider_sym_y1", 14) = slider_y1();
+Physical Surface("slider_x0", 15) = slider_x0();
+Physical Surface("slider_x1", 16) = slider_x1();
+
+If (S > 0)
+  body_faces() = Abs(Boundary{ Volume{stator()}; });
+  box() = {-eps, -eps, -eps, L + eps, P + eps, eps};
+  Call FacesInBox;
+  stator_top() = picked();
+  box() = {-eps, -eps, -S - eps, L + eps, P + eps, -S + eps};
+  Call FacesInBox;
+  stator_bottom() = picked();
+  box() = {-eps, -eps, -S - eps, L + eps, eps, eps};
+  Call FacesInBox;
+  stator_y0() = picked();
+  box() = {-eps, P - eps, -S - eps, L + eps, P + eps, eps};
+  Call FacesInBox;
+  stator_y1() = picked();
+  box() = {-eps, -eps, -S - eps, eps, P + eps, eps};
+  Call FacesInBox;
+  stator_x0() = picked();
+  box() = {L - eps, -eps, -S - eps, L + eps, P + eps, eps};
+  Call FacesInBox;
+  stator_x1() = picked();
+
+  Physical Volume("stator", 2) = stator();
+  Physical Surface("stator_top", 21) = stator_top();
+  Physical Surface("stator_bottom", 22) = stator_bottom();
+  Physical Surface("stator_sym_y0", 23) = stator_y0();
+  Physical Surface("stator_sym_y1", 24) = stator_y1();
+  Physical Surface("stator_x0", 25) = stator_x0();
+  Physical Surface("stator_x1", 26) = stator_x1();
+EndIf
+
+If (periodic_x == 1)
+  Periodic Surface{ slider_x1() } = { slider_x0() } Translate{ L, 0, 0 };
+  If (S > 0)
+    Periodic Surface{ stator_x1() } = { stator_x0() } Translate{ L, 0, 0 };
+  EndIf
+EndIf
+
+// Size field: distance to the post-tip disks (z = 0; shared location of the slider tips and the
+// stator imprints) and to the post root circles (z = h, re-entrant edge), then linear growth.
+root_edges() = Curve In BoundingBox{-eps, -eps, H - eps, L + eps, P + eps, H + eps};
+Field[1] = Distance;
+Field[1].SurfacesList = {post_tips()};
+Field[1].CurvesList = {root_edges()};
+Field[1].NumPointsPerCurve = Ceil(Pi * D / (h_post / unit)) * 2 + 20;
+Field[2] = MathEval;
+Field[2].F = Sprintf("Min(%.17g + %.17g * F1, %.17g)", h_post / unit, growth, h_body / unit);
+Background Field = 2;
+
+Mesh.MeshSizeExtendFromBoundary = 0;
+Mesh.MeshSizeFromPoints = 0;
+Mesh.MeshSizeFromCurvature = 0;
+Mesh.Algorithm3D = 1; // Delaunay
+Mesh.Optimize = 1;
+Mesh.ElementOrder = order;
+// Midside nodes are placed on the true (curved) geometry: post cylinders and tip circles.
+Mesh.SecondOrderLinear = 0;
+Mesh.HighOrderOptimize = (order == 2) ? 2 : 0;
