@@ -1,0 +1,14 @@
+//! One module per subcommand.
+
+mod scene;
+mod springs;
+
+use crate::cli::{Cli, Command};
+
+/// Run the parsed command line.
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Scene(args) => scene::run(&args),
+        Command::Springs(args) => springs::run(&args),
+    }
+}

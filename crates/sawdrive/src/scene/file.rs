@@ -1,0 +1,185 @@
+//! The scene file as a user writes it (human units). Every table refuses unknown keys.
+
+use std::fmt;
+
+use serde::de::{self, Deserializer, MapAccess, Visitor};
+use serde::Deserialize;
+
+use super::quantity::{AutoOr, Density, EffectiveRatio, Force, Frequency, Length, Mass, PostCount, Pressure, Time, Velocity};
+
+/// One motor: wave, materials, slider, posts, friction, loads, contact ratio and solver settings.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// Name of the scene; results go to `OUT/<name>/`.
+    pub name: String,
+    /// Free text.
+    #[serde(default)]
+    pub description: String,
+    pub wave: WaveFile,
+    pub stator: BodyFile,
+    pub slider: SliderFile,
+    pub posts: PostsFile,
+    pub friction: FrictionFile,
+    pub load: LoadFile,
+    pub contact: ContactFile,
+    pub model: ModelFile,
+    #[serde(rename = "static")]
+    pub static_fem: StaticFile,
+}
+
+/// The stator's travelling Rayleigh wave.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WaveFile {
+    pub frequency: Frequency,
+    pub normal_amplitude: Length,
+    /// Tangential velocity amplitude V_t = A_t ω (give this or `tangential_amplitude`).
+    pub tangential_velocity: Option<Velocity>,
+    /// Tangential displacement amplitude A_t (give this or `tangential_velocity`).
+    pub tangential_amplitude: Option<Length>,
+    pub phase_velocity: Velocity,
+    /// Amplitude decay length along x (none: no decay).
+    pub decay_length: Option<Length>,
+    /// Finite burst length in wave periods (none: continuous drive).
+    pub burst_periods: Option<f64>,
+}
+
+/// A body given by its material.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodyFile {
+    pub material: MaterialSpec,
+}
+
+/// The slider body.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SliderFile {
+    pub material: MaterialSpec,
+    pub length: Length,
+    pub width: Length,
+    pub thickness: Length,
+    /// Slider mass; `"auto"`: ρ · length · width · thickness.
+    pub mass: AutoOr<Mass>,
+}
+
+/// The posts (projections) on the slider's underside.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PostsFile {
+    pub diameter: Length,
+    pub height: Length,
+    pub count: PostCount,
+    /// Extent of the post array along x (centre of the first post to the far edge of the last:
+    /// count × pitch), e.g. `"4 mm"`.
+    pub array: Length,
+    /// Extent along y when the array is not square (default: `array`).
+    pub array_y: Option<Length>,
+}
+
+/// Coulomb friction at the post tips.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FrictionFile {
+    #[serde(rename = "static")]
+    pub mu_static: f64,
+    #[serde(rename = "kinetic")]
+    pub mu_kinetic: f64,
+}
+
+/// External forces on the slider.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadFile {
+    pub preload: Force,
+    /// External load opposing the motion.
+    pub external: Force,
+}
+
+/// Contact reduction.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactFile {
+    pub effective_ratio: EffectiveRatio,
+}
+
+/// Dynamic-model settings.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelFile {
+    /// `auto`, `periodic-average` or `transient`.
+    pub dynamics: String,
+    /// `event-driven`, `return-mapping`, `regularized` or `post-mass`.
+    pub integrator: String,
+    /// Integrator time step; `"auto"` picks one inside the stability limit.
+    pub time_step: AutoOr<Time>,
+    /// Regularisation velocity of the tanh friction law (regularized integrator only).
+    pub regularization_velocity: AutoOr<Velocity>,
+    /// Points on the speed–thrust curve.
+    pub curve_points: u32,
+    /// Wave periods simulated by the transient model.
+    pub periods: u32,
+    /// `quasi-static` (⟨ΣN⟩ = P over a period) or `dynamic` (M z̈ = ΣN − P).
+    pub vertical: String,
+}
+
+/// Static FEM contact settings.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StaticFile {
+    /// Wave snapshot phases θ₀ pooled in the η fit.
+    pub phases: u32,
+    /// FEM element order: 1 (Tet4) or 2 (Tet10).
+    pub element_order: u32,
+    /// Mesh file for the slider strip; `"auto"`: committed mesh or gmsh.
+    pub mesh: String,
+    /// Relative complementarity tolerance of the contact solver.
+    pub tolerance: f64,
+    /// Maximum active-set iterations.
+    pub max_iterations: u32,
+}
+
+/// A material: a built-in name (`"si"`, `"linbo3"`) or a table of constants.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MaterialSpec {
+    /// A built-in material.
+    Named(String),
+    /// User-defined isotropic constants.
+    Custom(CustomMaterial),
+}
+
+/// User-defined isotropic material: give `shear_modulus` or `youngs_modulus`, and `poisson_ratio`.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CustomMaterial {
+    #[serde(default = "custom_name")]
+    pub name: String,
+    pub shear_modulus: Option<Pressure>,
+    pub youngs_modulus: Option<Pressure>,
+    pub poisson_ratio: f64,
+    pub density: Density,
+}
+
+fn custom_name() -> String {
+    "custom".into()
+}
+
+impl<'de> Deserialize<'de> for MaterialSpec {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct SpecVisitor;
+        impl<'de> Visitor<'de> for SpecVisitor {
+            type Value = MaterialSpec;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("\"si\", \"linbo3\" or a table { shear_modulus | youngs_modulus, poisson_ratio, density }")
+            }
+            fn visit_str<E: de::Error>(self, name: &str) -> Result<MaterialSpec, E> {
+                Ok(MaterialSpec::Named(name.to_owned()))
+            }
+            fn visit_map<M: MapAccess<'de>>(self, map: M) -> Result<MaterialSpec, M::Error> {
+                CustomMaterial::deserialize(de::value::MapAccessDeserializer::new(map)).map(MaterialSpec::Custom)
+            }
+        }
+        deserializer.deserialize_any(SpecVisitor)
+    }
+}

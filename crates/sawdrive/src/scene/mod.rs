@@ -1,0 +1,118 @@
+//! Scene files: one motor described in TOML with human units.
+//!
+//! Layers, each overriding the one before: the embedded default scene (the paper's motor,
+//! [`DEFAULT_SCENE_TOML`]), the user's scene file (which may give only what differs), and
+//! `--set key=value` overrides. Unknown keys, missing units and out-of-range values are errors
+//! naming the field.
+
+mod file;
+mod merge;
+mod quantity;
+mod resolved;
+
+use std::path::Path;
+
+pub use resolved::{
+    Contact, DynamicsChoice, Friction, IntegratorChoice, Load, Model, Posts, Scene, Slider, StaticSettings, VerticalChoice, Wave,
+};
+
+/// The embedded default scene: the source paper's motor.
+pub const DEFAULT_SCENE_TOML: &str = include_str!("default.toml");
+
+/// Why a scene could not be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// The scene file could not be read.
+    #[error("cannot read scene {path}: {source}")]
+    Io {
+        /// File at fault.
+        path: String,
+        /// Underlying error.
+        source: std::io::Error,
+    },
+    /// The file is not valid TOML.
+    #[error("{origin}: not valid TOML: {message}")]
+    Syntax {
+        /// File name, or `default scene`.
+        origin: String,
+        /// The parser's message with line and column.
+        message: String,
+    },
+    /// A field is unknown, missing or has the wrong form.
+    #[error("{origin}: {field}: {message}")]
+    Field {
+        /// File name, or `default scene`.
+        origin: String,
+        /// Dotted path of the field.
+        field: String,
+        /// What is wrong and the accepted form.
+        message: String,
+    },
+    /// A value is out of its physical range.
+    #[error("{field}: {message}")]
+    Invalid {
+        /// Dotted path of the field.
+        field: String,
+        /// What is wrong and the accepted range.
+        message: String,
+    },
+    /// A `--set` override is malformed.
+    #[error("--set {text}: {reason}")]
+    BadOverride {
+        /// The override as given.
+        text: String,
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+fn parse_table(text: &str, origin: &str) -> Result<toml::Table, SceneError> {
+    text.parse::<toml::Table>().map_err(|e| SceneError::Syntax {
+        origin: origin.to_owned(),
+        message: e.to_string().trim().replace('\n', " "),
+    })
+}
+
+/// Load a scene: the default, overlaid with `path` (if any), overlaid with `overrides`
+/// (`key=value` each).
+pub fn load_scene(path: Option<&Path>, overrides: &[String]) -> Result<Scene, SceneError> {
+    let mut table = parse_table(DEFAULT_SCENE_TOML, "default scene")?;
+    let origin = match path {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .map_err(|source| SceneError::Io { path: path.display().to_string(), source })?;
+            let origin = path.display().to_string();
+            merge::deep_merge(&mut table, parse_table(&text, &origin)?);
+            origin
+        }
+        None => "default scene".to_owned(),
+    };
+    let origin = if overrides.is_empty() { origin } else { format!("{origin} with --set") };
+    for text in overrides {
+        merge::deep_merge(&mut table, merge::override_table(text)?);
+    }
+    let file: file::SceneFile = serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
+        let field = e.path().to_string();
+        // The TOML value deserializer appends "in `path`" on later lines; the path is already named.
+        let message = e.into_inner().to_string();
+        let message = message.lines().next().unwrap_or_default().to_owned();
+        SceneError::Field { origin: origin.clone(), field, message }
+    })?;
+    check_name(&file.name)?;
+    Scene::resolve(file)
+}
+
+/// Scene names become directory names: letters, digits, `-`, `_`, `.`.
+fn check_name(name: &str) -> Result<(), SceneError> {
+    let ok = !name.is_empty()
+        && !name.starts_with('.')
+        && name.chars().all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'));
+    if ok {
+        Ok(())
+    } else {
+        Err(SceneError::Invalid {
+            field: "name".into(),
+            message: format!("\"{name}\" must be non-empty and use only letters, digits, '-', '_', '.' (it names the output folder)"),
+        })
+    }
+}

@@ -1,0 +1,340 @@
+//! The resolved scene: SI units, unit in every field name, every value checked.
+
+use contact_springs::Material;
+use serde::Serialize;
+
+use super::file::{CustomMaterial, MaterialSpec, SceneFile};
+use super::quantity::{AutoOr, EffectiveRatio};
+use super::SceneError;
+use crate::units::{format_quantity, Dimension};
+
+/// One motor, in SI units.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Scene {
+    pub name: String,
+    pub description: String,
+    pub wave: Wave,
+    pub stator: Material,
+    pub slider: Slider,
+    pub posts: Posts,
+    pub friction: Friction,
+    pub load: Load,
+    pub contact: Contact,
+    pub model: Model,
+    #[serde(rename = "static")]
+    pub static_fem: StaticSettings,
+}
+
+/// The travelling Rayleigh wave (physics.md §4).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Wave {
+    pub frequency_hz: f64,
+    pub normal_amplitude_m: f64,
+    pub tangential_amplitude_m: f64,
+    /// V_t = A_t ω.
+    pub tangential_velocity_m_per_s: f64,
+    pub phase_velocity_m_per_s: f64,
+    /// λ = c / f.
+    pub wavelength_m: f64,
+    pub decay_length_m: Option<f64>,
+    pub burst_periods: Option<f64>,
+}
+
+impl Wave {
+    /// Angular frequency ω = 2πf (rad/s).
+    pub fn angular_frequency_rad_per_s(&self) -> f64 {
+        2.0 * std::f64::consts::PI * self.frequency_hz
+    }
+}
+
+/// The slider body.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Slider {
+    pub material: Material,
+    pub length_m: f64,
+    pub width_m: f64,
+    pub thickness_m: f64,
+    pub mass_kg: f64,
+    /// `geometry` (ρ·volume) or `given`.
+    pub mass_source: String,
+}
+
+/// The post array.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Posts {
+    pub diameter_m: f64,
+    pub height_m: f64,
+    pub count_x: u32,
+    pub count_y: u32,
+    pub count: u64,
+    pub array_x_m: f64,
+    pub array_y_m: f64,
+    pub pitch_x_m: f64,
+    pub pitch_y_m: f64,
+    /// Total tip area N·π d²/4.
+    pub contact_area_m2: f64,
+}
+
+impl Posts {
+    /// Post radius a = d/2.
+    pub fn radius_m(&self) -> f64 {
+        0.5 * self.diameter_m
+    }
+}
+
+/// Coulomb friction.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Friction {
+    pub mu_static: f64,
+    pub mu_kinetic: f64,
+}
+
+/// Forces on the slider.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Load {
+    pub preload_n: f64,
+    pub external_load_n: f64,
+}
+
+/// Contact reduction: where η comes from.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Contact {
+    /// η when given; `None` when the static FEM computes it.
+    pub effective_ratio: Option<f64>,
+    /// `given` or `fem`.
+    pub effective_ratio_source: String,
+}
+
+/// Which dynamic model to run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum DynamicsChoice {
+    Auto,
+    PeriodicAverage,
+    Transient,
+}
+
+/// Time integrator of the transient model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum IntegratorChoice {
+    EventDriven,
+    ReturnMapping,
+    Regularized,
+    PostMass,
+}
+
+/// Vertical slider dynamics.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum VerticalChoice {
+    QuasiStatic,
+    Dynamic,
+}
+
+/// Dynamic-model settings.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Model {
+    pub dynamics: DynamicsChoice,
+    pub integrator: IntegratorChoice,
+    /// `None`: chosen inside the stability limit.
+    pub time_step_s: Option<f64>,
+    pub regularization_velocity_m_per_s: Option<f64>,
+    pub curve_points: u32,
+    pub periods: u32,
+    pub vertical: VerticalChoice,
+}
+
+/// Static FEM contact settings.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StaticSettings {
+    pub phases: u32,
+    pub element_order: u32,
+    pub mesh: String,
+    pub tolerance: f64,
+    pub max_iterations: u32,
+}
+
+fn invalid(field: &str, message: impl Into<String>) -> SceneError {
+    SceneError::Invalid { field: field.to_owned(), message: message.into() }
+}
+
+fn positive(field: &str, value: f64) -> Result<f64, SceneError> {
+    if value.is_finite() && value > 0.0 { Ok(value) } else { Err(invalid(field, format!("must be > 0, got {value}"))) }
+}
+
+fn choice<T: Copy>(field: &str, text: &str, options: &[(&str, T)]) -> Result<T, SceneError> {
+    options.iter().find(|(name, _)| *name == text).map(|(_, v)| *v).ok_or_else(|| {
+        let names: Vec<_> = options.iter().map(|(n, _)| format!("\"{n}\"")).collect();
+        invalid(field, format!("\"{text}\" is not one of {}", names.join(", ")))
+    })
+}
+
+fn material(field: &str, spec: &MaterialSpec) -> Result<Material, SceneError> {
+    match spec {
+        MaterialSpec::Named(name) => Material::named(name)
+            .ok_or_else(|| invalid(field, format!("unknown material \"{name}\": use \"si\", \"linbo3\" or a table of constants"))),
+        MaterialSpec::Custom(CustomMaterial { name, shear_modulus, youngs_modulus, poisson_ratio, density }) => {
+            let built = match (shear_modulus, youngs_modulus) {
+                (Some(g), None) => Material::from_shear(name, g.0, *poisson_ratio, density.0),
+                (None, Some(e)) => Material::from_young(name, e.0, *poisson_ratio, density.0),
+                _ => return Err(invalid(field, "give exactly one of shear_modulus or youngs_modulus")),
+            };
+            built.map_err(|e| invalid(field, e.to_string()))
+        }
+    }
+}
+
+impl Scene {
+    /// Check and convert a scene file.
+    pub(crate) fn resolve(file: SceneFile) -> Result<Self, SceneError> {
+        let w = &file.wave;
+        let frequency_hz = positive("wave.frequency", w.frequency.0)?;
+        let omega = 2.0 * std::f64::consts::PI * frequency_hz;
+        let normal_amplitude_m = positive("wave.normal_amplitude", w.normal_amplitude.0)?;
+        let tangential_amplitude_m = match (w.tangential_velocity, w.tangential_amplitude) {
+            (Some(v), None) => positive("wave.tangential_velocity", v.0)? / omega,
+            (None, Some(a)) => positive("wave.tangential_amplitude", a.0)?,
+            _ => return Err(invalid("wave", "give exactly one of tangential_velocity or tangential_amplitude")),
+        };
+        let phase_velocity_m_per_s = positive("wave.phase_velocity", w.phase_velocity.0)?;
+        let decay_length_m = w.decay_length.map(|d| positive("wave.decay_length", d.0)).transpose()?;
+        let burst_periods = w.burst_periods.map(|b| positive("wave.burst_periods", b)).transpose()?;
+        let wave = Wave {
+            frequency_hz,
+            normal_amplitude_m,
+            tangential_amplitude_m,
+            tangential_velocity_m_per_s: tangential_amplitude_m * omega,
+            phase_velocity_m_per_s,
+            wavelength_m: phase_velocity_m_per_s / frequency_hz,
+            decay_length_m,
+            burst_periods,
+        };
+
+        let stator = material("stator.material", &file.stator.material)?;
+        let s = &file.slider;
+        let slider_material = material("slider.material", &s.material)?;
+        let length_m = positive("slider.length", s.length.0)?;
+        let width_m = positive("slider.width", s.width.0)?;
+        let thickness_m = positive("slider.thickness", s.thickness.0)?;
+
+        let p = &file.posts;
+        let diameter_m = positive("posts.diameter", p.diameter.0)?;
+        let height_m = positive("posts.height", p.height.0)?;
+        let array_x_m = positive("posts.array", p.array.0)?;
+        let array_y_m = match p.array_y {
+            Some(a) => positive("posts.array_y", a.0)?,
+            None => array_x_m,
+        };
+        if array_x_m > length_m || array_y_m > width_m {
+            let len = |v| format_quantity(v, Dimension::Length);
+            return Err(invalid("posts.array", format!(
+                "the post array ({} × {}) must fit on the slider ({} × {})",
+                len(array_x_m), len(array_y_m), len(length_m), len(width_m)
+            )));
+        }
+        let (count_x, count_y) = (p.count.along_x, p.count.along_y);
+        let (pitch_x_m, pitch_y_m) = (array_x_m / f64::from(count_x), array_y_m / f64::from(count_y));
+        if diameter_m >= pitch_x_m.min(pitch_y_m) {
+            return Err(invalid("posts.diameter", format!(
+                "posts of {} diameter overlap at a pitch of {} (array / count)",
+                format_quantity(diameter_m, Dimension::Length),
+                format_quantity(pitch_x_m.min(pitch_y_m), Dimension::Length)
+            )));
+        }
+        let count = u64::from(count_x) * u64::from(count_y);
+        let posts = Posts {
+            diameter_m,
+            height_m,
+            count_x,
+            count_y,
+            count,
+            array_x_m,
+            array_y_m,
+            pitch_x_m,
+            pitch_y_m,
+            contact_area_m2: count as f64 * std::f64::consts::PI * diameter_m * diameter_m / 4.0,
+        };
+
+        let (mass_kg, mass_source) = match s.mass {
+            AutoOr::Auto => (slider_material.density_kg_per_m3 * length_m * width_m * thickness_m, "geometry"),
+            AutoOr::Value(m) => (positive("slider.mass", m.0)?, "given"),
+        };
+        let slider = Slider { material: slider_material, length_m, width_m, thickness_m, mass_kg, mass_source: mass_source.into() };
+
+        let f = &file.friction;
+        for (field, mu) in [("friction.static", f.mu_static), ("friction.kinetic", f.mu_kinetic)] {
+            if !(mu.is_finite() && mu >= 0.0) {
+                return Err(invalid(field, format!("friction coefficient must be ≥ 0, got {mu}")));
+            }
+        }
+        if f.mu_kinetic > f.mu_static {
+            return Err(invalid("friction.kinetic", format!(
+                "kinetic coefficient {} exceeds the static one {}: stick would break below the force slip sustains",
+                f.mu_kinetic, f.mu_static
+            )));
+        }
+        let friction = Friction { mu_static: f.mu_static, mu_kinetic: f.mu_kinetic };
+        let preload_n = positive("load.preload", file.load.preload.0)?;
+        let external_load_n = file.load.external.0;
+        let load = Load { preload_n, external_load_n };
+
+        let contact = match file.contact.effective_ratio {
+            EffectiveRatio::Fem => Contact { effective_ratio: None, effective_ratio_source: "fem".into() },
+            EffectiveRatio::Given(eta) => Contact { effective_ratio: Some(eta), effective_ratio_source: "given".into() },
+        };
+
+        let m = &file.model;
+        let dynamics = choice("model.dynamics", &m.dynamics, &[
+            ("auto", DynamicsChoice::Auto),
+            ("periodic-average", DynamicsChoice::PeriodicAverage),
+            ("transient", DynamicsChoice::Transient),
+        ])?;
+        let integrator = choice("model.integrator", &m.integrator, &[
+            ("event-driven", IntegratorChoice::EventDriven),
+            ("return-mapping", IntegratorChoice::ReturnMapping),
+            ("regularized", IntegratorChoice::Regularized),
+            ("post-mass", IntegratorChoice::PostMass),
+        ])?;
+        let vertical = choice("model.vertical", &m.vertical, &[
+            ("quasi-static", VerticalChoice::QuasiStatic),
+            ("dynamic", VerticalChoice::Dynamic),
+        ])?;
+        let time_step_s = match m.time_step {
+            AutoOr::Auto => None,
+            AutoOr::Value(t) => Some(positive("model.time_step", t.0)?),
+        };
+        let regularization_velocity_m_per_s = match m.regularization_velocity {
+            AutoOr::Auto => None,
+            AutoOr::Value(v) => Some(positive("model.regularization_velocity", v.0)?),
+        };
+        if m.curve_points < 2 {
+            return Err(invalid("model.curve_points", "need at least 2 points on the speed–thrust curve"));
+        }
+        if m.periods == 0 {
+            return Err(invalid("model.periods", "need at least one wave period"));
+        }
+        let model = Model { dynamics, integrator, time_step_s, regularization_velocity_m_per_s, curve_points: m.curve_points, periods: m.periods, vertical };
+
+        let st = &file.static_fem;
+        if st.phases == 0 {
+            return Err(invalid("static.phases", "need at least one wave snapshot phase"));
+        }
+        if !matches!(st.element_order, 1 | 2) {
+            return Err(invalid("static.element_order", format!("must be 1 (Tet4) or 2 (Tet10), got {}", st.element_order)));
+        }
+        positive("static.tolerance", st.tolerance)?;
+        if st.max_iterations == 0 {
+            return Err(invalid("static.max_iterations", "must be ≥ 1"));
+        }
+        let static_fem = StaticSettings {
+            phases: st.phases,
+            element_order: st.element_order,
+            mesh: st.mesh.clone(),
+            tolerance: st.tolerance,
+            max_iterations: st.max_iterations,
+        };
+
+        Ok(Self { name: file.name, description: file.description, wave, stator, slider, posts, friction, load, contact, model, static_fem })
+    }
+}

@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# The project's test command: install missing system packages, then run the whole test suite.
+# Long FEM cases are #[ignore]d: run them with `cargo test --workspace --release -- --ignored`.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-deps.sh
+cargo test --workspace "$@"

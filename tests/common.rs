@@ -1,0 +1,32 @@
+//! Helpers shared by the end-to-end tests: run the `sawdrive` binary and capture its output.
+
+#![allow(dead_code)]
+
+use std::process::{Command, Output};
+
+/// Run `sawdrive` with `args`; returns the process output.
+pub fn sawdrive(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sawdrive")).args(args).output().expect("sawdrive binary runs")
+}
+
+/// Run `sawdrive` expecting success; returns stdout.
+pub fn sawdrive_ok(args: &[&str]) -> String {
+    let out = sawdrive(args);
+    assert!(
+        out.status.success(),
+        "sawdrive {} failed: {}",
+        args.join(" "),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).expect("utf-8 output")
+}
+
+/// Run `sawdrive` expecting failure; returns stderr, checked to be one line naming `needle`.
+pub fn sawdrive_err(args: &[&str], needle: &str) -> String {
+    let out = sawdrive(args);
+    assert!(!out.status.success(), "sawdrive {} should fail", args.join(" "));
+    let stderr = String::from_utf8(out.stderr).expect("utf-8 stderr");
+    assert!(stderr.contains(needle), "sawdrive {}: error should name {needle}: {stderr}", args.join(" "));
+    assert!(!stderr.contains("panicked"), "no panic: {stderr}");
+    stderr
+}
