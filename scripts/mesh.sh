@@ -84,5 +84,6 @@ if [[ ! -s "$tmp" ]]; then
   tail -n 20 "$log" >&2
   exit 1
 fi
+chmod 644 -- "$tmp"
 mv -f -- "$tmp" "$out"
 echo "wrote $out from $geo ${*:-}"
