@@ -45,3 +45,20 @@ fn scene_refuses_unknown_keys_in_one_line() {
     let err = sawdrive_err(&["scene", "--resolve", "--set", "posts.colour=red"], "posts.colour");
     assert_eq!(err.trim_end().lines().count(), 1, "one-line error: {err}");
 }
+
+#[test]
+fn mesh_info_summarises_a_committed_mesh_and_refuses_a_broken_one() {
+    let mesh = concat!(env!("CARGO_MANIFEST_DIR"), "/../../meshes/punch_a10um_R20a_tet4_5k.msh");
+    let text = sawdrive_ok(&["mesh", "info", mesh]);
+    assert!(text.contains("punch") && text.contains("far_field"), "physical groups by name: {text}");
+    let json: serde_json::Value = serde_json::from_str(&sawdrive_ok(&["mesh", "info", mesh, "--json"])).unwrap();
+    assert!(json["tet_count"].as_u64().is_some_and(|n| n > 0), "tet count");
+    assert!(json["volume_m3"].as_f64().is_some_and(|v| v > 0.0), "volume");
+
+    let dir = tempfile::tempdir().unwrap();
+    let broken = dir.path().join("broken.msh");
+    let bytes = std::fs::read(mesh).unwrap();
+    std::fs::write(&broken, &bytes[..bytes.len() / 2]).unwrap();
+    sawdrive_err(&["mesh", "info", broken.to_str().unwrap()], "broken.msh");
+    sawdrive_err(&["mesh", "info", "/nonexistent.msh"], "nonexistent.msh");
+}

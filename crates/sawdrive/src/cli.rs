@@ -20,6 +20,24 @@ pub enum Command {
     Scene(SceneArgs),
     /// The four Johnson springs of one post and their series values.
     Springs(SpringsArgs),
+    /// Mesh tools.
+    #[command(subcommand)]
+    Mesh(MeshCommand),
+}
+
+#[derive(Debug, Subcommand)]
+pub enum MeshCommand {
+    /// Node/element counts, physical groups, volume and element quality of an MSH 4.1 file.
+    Info(MeshInfoArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct MeshInfoArgs {
+    /// Gmsh MSH 4.1 file (ASCII or binary).
+    pub file: PathBuf,
+    /// Print JSON (SI units).
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// A scene and its overrides, shared by every command that reads a scene.
