@@ -4,5 +4,6 @@
 //! `elastic-fem`, `static-contact` (η) and `stick-slip` (dynamics). This crate reads scenes
 //! ([`scene`]), converts human units ([`units`]) and drives the stages.
 
+pub mod output;
 pub mod scene;
 pub mod units;
