@@ -6,4 +6,5 @@
 
 pub mod output;
 pub mod scene;
+pub mod sweep;
 pub mod units;
