@@ -60,11 +60,11 @@ pub(crate) fn parse_physical_names(
     let mut names = Vec::with_capacity(count);
     for index in 0..count {
         let what = |field: &str| format!("{field} of physical name {} of {count}", index + 1);
-        let dim: i32 = cursor.ascii(&what("dimension"))?;
+        let dim: i32 = cursor.ascii(|| what("dimension"))?;
         if !(0..=3).contains(&dim) {
             return Err(cursor.syntax_at(cursor.pos, what("dimension 0..3"), dim.to_string()));
         }
-        let tag: i32 = cursor.ascii(&what("tag"))?;
+        let tag: i32 = cursor.ascii(|| what("tag"))?;
         let name = quoted_string(cursor, &what("quoted name"))?;
         names.push(RawPhysicalName { dim, tag, name });
     }
@@ -116,7 +116,7 @@ pub(crate) fn parse_entities(cursor: &mut Cursor<'_>) -> crate::error::Result<En
     let mut total_min_bytes: usize = 0;
     for dim in 0..4 {
         let min_item = if dim == 0 { min_point } else { min_other };
-        counts[dim] = cursor.count(&format!("number of {}", kinds[dim]), min_item)?;
+        counts[dim] = cursor.count(|| format!("number of {}", kinds[dim]), min_item)?;
         total_min_bytes = total_min_bytes.saturating_add(counts[dim].saturating_mul(min_item));
     }
     cursor.check_count(cursor.pos, total_min_bytes as u64, "entities", 1)?;
@@ -125,22 +125,24 @@ pub(crate) fn parse_entities(cursor: &mut Cursor<'_>) -> crate::error::Result<En
         let singular = &kinds[dim][..kinds[dim].len() - 1];
         for index in 0..count {
             let what = |field: &str| format!("{field} of {singular} {} of {count}", index + 1);
-            let tag = cursor.int(&what("tag"))?;
+            let tag = cursor.int(|| what("tag"))?;
             let coordinate_count = if dim == 0 { 3 } else { 6 };
             for _ in 0..coordinate_count {
-                cursor.double(&what("bounding-box coordinate"))?;
+                cursor.double(|| what("bounding-box coordinate"))?;
             }
             let physical_count =
-                cursor.count(&what("number of physical tags"), cursor.min_int_bytes())?;
+                cursor.count(|| what("number of physical tags"), cursor.min_int_bytes())?;
             let mut tags = Vec::with_capacity(physical_count);
             for _ in 0..physical_count {
-                tags.push(cursor.int(&what("physical tag"))?);
+                tags.push(cursor.int(|| what("physical tag"))?);
             }
             if dim > 0 {
-                let bounding_count =
-                    cursor.count(&what("number of bounding entities"), cursor.min_int_bytes())?;
+                let bounding_count = cursor.count(
+                    || what("number of bounding entities"),
+                    cursor.min_int_bytes(),
+                )?;
                 for _ in 0..bounding_count {
-                    cursor.int(&what("bounding entity tag"))?;
+                    cursor.int(|| what("bounding entity tag"))?;
                 }
             }
             if physicals.insert((dim as i32, tag), tags).is_some() {
@@ -170,7 +172,7 @@ pub(crate) fn parse_nodes(
     for block_index in 0..block_count {
         let what =
             |field: &str| format!("{field} of node block {} of {block_count}", block_index + 1);
-        let entity_dim = cursor.int(&what("entity dimension"))?;
+        let entity_dim = cursor.int(|| what("entity dimension"))?;
         if !(0..=3).contains(&entity_dim) {
             return Err(cursor.syntax_at(
                 cursor.pos,
@@ -178,9 +180,9 @@ pub(crate) fn parse_nodes(
                 entity_dim.to_string(),
             ));
         }
-        cursor.int(&what("entity tag"))?;
+        cursor.int(|| what("entity tag"))?;
         let parametric_offset = cursor.pos;
-        let parametric = cursor.int(&what("parametric flag"))?;
+        let parametric = cursor.int(|| what("parametric flag"))?;
         let parameter_count = match parametric {
             0 => 0,
             1 => entity_dim as usize,
@@ -193,22 +195,24 @@ pub(crate) fn parse_nodes(
             }
         };
         let node_min = min_node + parameter_count * cursor.min_double_bytes();
-        let count = cursor.count(&what("number of nodes"), node_min)?;
+        let count = cursor.count(|| what("number of nodes"), node_min)?;
         let mut tags = Vec::with_capacity(count);
         for index in 0..count {
-            tags.push(cursor.size_t(&format!(
-                "tag of node {} in node block {}",
-                index + 1,
-                block_index + 1
-            ))?);
+            tags.push(cursor.size_t(|| {
+                format!(
+                    "tag of node {} in node block {}",
+                    index + 1,
+                    block_index + 1
+                )
+            })?);
         }
         let mut coords = Vec::with_capacity(count);
         for &tag in &tags {
-            let x = cursor.double(&format!("x coordinate of node {tag}"))?;
-            let y = cursor.double(&format!("y coordinate of node {tag}"))?;
-            let z = cursor.double(&format!("z coordinate of node {tag}"))?;
+            let x = cursor.double(|| format!("x coordinate of node {tag}"))?;
+            let y = cursor.double(|| format!("y coordinate of node {tag}"))?;
+            let z = cursor.double(|| format!("z coordinate of node {tag}"))?;
             for _ in 0..parameter_count {
-                cursor.double(&format!("parametric coordinate of node {tag}"))?;
+                cursor.double(|| format!("parametric coordinate of node {tag}"))?;
             }
             coords.push([x, y, z]);
         }
@@ -235,7 +239,7 @@ pub(crate) fn parse_elements(
                 block_index + 1
             )
         };
-        let entity_dim = cursor.int(&what("entity dimension"))?;
+        let entity_dim = cursor.int(|| what("entity dimension"))?;
         if !(0..=3).contains(&entity_dim) {
             return Err(cursor.syntax_at(
                 cursor.pos,
@@ -243,9 +247,9 @@ pub(crate) fn parse_elements(
                 entity_dim.to_string(),
             ));
         }
-        let entity_tag = cursor.int(&what("entity tag"))?;
+        let entity_tag = cursor.int(|| what("entity tag"))?;
         let type_offset = cursor.pos;
-        let element_type = cursor.int(&what("element type"))?;
+        let element_type = cursor.int(|| what("element type"))?;
         let Some(nodes_per_element) = nodes_per_element(element_type) else {
             return Err(cursor.syntax_at(
                 type_offset,
@@ -254,18 +258,21 @@ pub(crate) fn parse_elements(
             ));
         };
         let min_element = (1 + nodes_per_element) * cursor.min_size_t_bytes();
-        let count = cursor.count(&what("number of elements"), min_element)?;
+        let count = cursor.count(|| what("number of elements"), min_element)?;
         let mut tags = Vec::with_capacity(count);
         let mut connectivity = Vec::with_capacity(count * nodes_per_element);
         for index in 0..count {
-            let tag = cursor.size_t(&format!(
-                "tag of element {} in element block {}",
-                index + 1,
-                block_index + 1
-            ))?;
+            let tag = cursor.size_t(|| {
+                format!(
+                    "tag of element {} in element block {}",
+                    index + 1,
+                    block_index + 1
+                )
+            })?;
             tags.push(tag);
             for local in 0..nodes_per_element {
-                connectivity.push(cursor.size_t(&format!("node {} of element {tag}", local + 1))?);
+                connectivity
+                    .push(cursor.size_t(|| format!("node {} of element {tag}", local + 1))?);
             }
         }
         blocks.push(RawElementBlock {
@@ -295,20 +302,24 @@ pub(crate) fn parse_periodic(
                 link_index + 1
             )
         };
-        let entity_dim = cursor.int(&what("entity dimension"))?;
-        let entity_tag = cursor.int(&what("entity tag"))?;
-        let master_tag = cursor.int(&what("master entity tag"))?;
-        let affine_count =
-            cursor.count(&what("number of affine values"), cursor.min_double_bytes())?;
+        let entity_dim = cursor.int(|| what("entity dimension"))?;
+        let entity_tag = cursor.int(|| what("entity tag"))?;
+        let master_tag = cursor.int(|| what("master entity tag"))?;
+        let affine_count = cursor.count(
+            || what("number of affine values"),
+            cursor.min_double_bytes(),
+        )?;
         for _ in 0..affine_count {
-            cursor.double(&what("affine transform value"))?;
+            cursor.double(|| what("affine transform value"))?;
         }
-        let pair_count =
-            cursor.count(&what("number of node pairs"), 2 * cursor.min_size_t_bytes())?;
+        let pair_count = cursor.count(
+            || what("number of node pairs"),
+            2 * cursor.min_size_t_bytes(),
+        )?;
         let mut node_pairs = Vec::with_capacity(pair_count);
         for _ in 0..pair_count {
-            let slave = cursor.size_t(&what("slave node tag"))?;
-            let master = cursor.size_t(&what("master node tag"))?;
+            let slave = cursor.size_t(|| what("slave node tag"))?;
+            let master = cursor.size_t(|| what("master node tag"))?;
             node_pairs.push((slave, master));
         }
         links.push(RawPeriodicLink {

@@ -58,6 +58,37 @@ impl<'a> Source<'a> {
     }
 }
 
+/// Description of an expected value, built only when an error is reported (the hot loops over
+/// nodes and elements pass closures, so nothing is formatted on success).
+pub(crate) trait Expected {
+    /// The description, e.g. "x coordinate of node 7".
+    fn text(&self) -> String;
+}
+
+impl Expected for &str {
+    fn text(&self) -> String {
+        (*self).to_string()
+    }
+}
+
+impl Expected for String {
+    fn text(&self) -> String {
+        self.clone()
+    }
+}
+
+impl Expected for &String {
+    fn text(&self) -> String {
+        (*self).clone()
+    }
+}
+
+impl<F: Fn() -> String> Expected for F {
+    fn text(&self) -> String {
+        self()
+    }
+}
+
 /// Encoding of the numbers in a section.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Encoding {
@@ -121,10 +152,10 @@ impl<'a> Cursor<'a> {
     }
 
     /// Next whitespace-delimited ASCII token and its offset.
-    pub fn token(&mut self, expected: &str) -> Result<(usize, &'a str)> {
+    pub fn token(&mut self, expected: impl Expected) -> Result<(usize, &'a str)> {
         self.skip_whitespace();
         if self.pos >= self.end {
-            return Err(self.truncated(expected));
+            return Err(self.truncated(expected.text()));
         }
         let start = self.pos;
         while self.pos < self.end && !self.source.bytes[self.pos].is_ascii_whitespace() {
@@ -133,20 +164,20 @@ impl<'a> Cursor<'a> {
         let raw = &self.source.bytes[start..self.pos];
         match std::str::from_utf8(raw) {
             Ok(text) => Ok((start, text)),
-            Err(_) => Err(self.syntax_at(start, expected, describe_bytes(raw))),
+            Err(_) => Err(self.syntax_at(start, expected.text(), describe_bytes(raw))),
         }
     }
 
     /// Next ASCII token parsed as `T`.
-    pub fn ascii<T: std::str::FromStr>(&mut self, expected: &str) -> Result<T> {
-        let (offset, text) = self.token(expected)?;
+    pub fn ascii<T: std::str::FromStr>(&mut self, expected: impl Expected) -> Result<T> {
+        let (offset, text) = self.token(|| expected.text())?;
         text.parse::<T>()
-            .map_err(|_| self.syntax_at(offset, expected, format!("\"{}\"", shorten(text))))
+            .map_err(|_| self.syntax_at(offset, expected.text(), format!("\"{}\"", shorten(text))))
     }
 
-    fn take(&mut self, count: usize, expected: &str) -> Result<&'a [u8]> {
+    fn take(&mut self, count: usize, expected: impl Expected) -> Result<&'a [u8]> {
         if self.end - self.pos < count {
-            return Err(self.truncated(expected));
+            return Err(self.truncated(expected.text()));
         }
         let bytes = &self.source.bytes[self.pos..self.pos + count];
         self.pos += count;
@@ -154,14 +185,15 @@ impl<'a> Cursor<'a> {
     }
 
     /// A `size_t` value (node/element tags, counts).
-    pub fn size_t(&mut self, expected: &str) -> Result<u64> {
+    pub fn size_t(&mut self, expected: impl Expected) -> Result<u64> {
         match self.encoding {
-            Encoding::Ascii => self.ascii::<u64>(&format!("{expected} (unsigned integer)")),
+            Encoding::Ascii => {
+                self.ascii::<u64>(|| format!("{} (unsigned integer)", expected.text()))
+            }
             Encoding::Binary { size_t_bytes } => {
-                let bytes = self.take(
-                    size_t_bytes,
-                    &format!("{expected} ({size_t_bytes}-byte size_t)"),
-                )?;
+                let bytes = self.take(size_t_bytes, || {
+                    format!("{} ({size_t_bytes}-byte size_t)", expected.text())
+                })?;
                 let mut word = [0u8; 8];
                 word[..size_t_bytes].copy_from_slice(bytes);
                 Ok(u64::from_le_bytes(word))
@@ -170,11 +202,11 @@ impl<'a> Cursor<'a> {
     }
 
     /// An `int` value (entity tags, dimensions, element types, physical tags).
-    pub fn int(&mut self, expected: &str) -> Result<i32> {
+    pub fn int(&mut self, expected: impl Expected) -> Result<i32> {
         match self.encoding {
-            Encoding::Ascii => self.ascii::<i32>(&format!("{expected} (integer)")),
+            Encoding::Ascii => self.ascii::<i32>(|| format!("{} (integer)", expected.text())),
             Encoding::Binary { .. } => {
-                let bytes = self.take(INT_BYTES, &format!("{expected} (4-byte int)"))?;
+                let bytes = self.take(INT_BYTES, || format!("{} (4-byte int)", expected.text()))?;
                 let mut word = [0u8; INT_BYTES];
                 word.copy_from_slice(bytes);
                 Ok(i32::from_le_bytes(word))
@@ -183,11 +215,15 @@ impl<'a> Cursor<'a> {
     }
 
     /// A `double` value (coordinates, affine transforms).
-    pub fn double(&mut self, expected: &str) -> Result<f64> {
+    pub fn double(&mut self, expected: impl Expected) -> Result<f64> {
         match self.encoding {
-            Encoding::Ascii => self.ascii::<f64>(&format!("{expected} (floating-point number)")),
+            Encoding::Ascii => {
+                self.ascii::<f64>(|| format!("{} (floating-point number)", expected.text()))
+            }
             Encoding::Binary { .. } => {
-                let bytes = self.take(DOUBLE_BYTES, &format!("{expected} (8-byte double)"))?;
+                let bytes = self.take(DOUBLE_BYTES, || {
+                    format!("{} (8-byte double)", expected.text())
+                })?;
                 let mut word = [0u8; DOUBLE_BYTES];
                 word.copy_from_slice(bytes);
                 Ok(f64::from_le_bytes(word))
@@ -221,10 +257,10 @@ impl<'a> Cursor<'a> {
 
     /// A count of items read as `size_t`, checked to fit in the rest of the section given that
     /// each item takes at least `min_item_bytes`.
-    pub fn count(&mut self, expected: &str, min_item_bytes: usize) -> Result<usize> {
+    pub fn count(&mut self, expected: impl Expected, min_item_bytes: usize) -> Result<usize> {
         let offset = self.pos;
-        let value = self.size_t(expected)?;
-        self.check_count(offset, value, expected, min_item_bytes)
+        let value = self.size_t(|| expected.text())?;
+        self.check_count(offset, value, &expected.text(), min_item_bytes)
     }
 
     /// Check that `value` items of at least `min_item_bytes` each fit in the rest of the section.
