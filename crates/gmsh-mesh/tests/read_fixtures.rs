@@ -360,3 +360,46 @@ fn mesh_info_serialises_and_displays_groups_and_quality() {
     let from_file = gmsh_mesh::mesh_info(fixture("inverted_tet.msh"));
     assert!(from_file.is_err(), "mesh_info refuses inverted tets");
 }
+
+#[test]
+fn syntax_error_location_points_at_the_offending_line() {
+    let text = String::from_utf8(std::fs::read(fixture("box_coarse_tet10.msh")).expect("fixture"))
+        .expect("utf8");
+    let nodes_start = text.find("$Nodes").expect("nodes");
+    let bad_line_start = nodes_start
+        + text[nodes_start..]
+            .find("\n0 0 0.0005\n")
+            .expect("a coordinate line")
+        + 1;
+    let damaged = format!(
+        "{}0 0 abc\n{}",
+        &text[..bad_line_start],
+        &text[bad_line_start + "0 0 0.0005\n".len()..]
+    );
+    let expected_line = 1 + text[..bad_line_start].matches('\n').count();
+    let error = parse_msh(damaged.as_bytes(), "abc.msh", &ReadOptions::default())
+        .expect_err("bad coordinate");
+    let MeshError::Syntax {
+        at,
+        expected,
+        found,
+        ..
+    } = &error
+    else {
+        panic!("syntax error expected: {error}")
+    };
+    assert_eq!(
+        at.line, expected_line,
+        "line of the bad coordinate: {error}"
+    );
+    assert_eq!(at.section, "Nodes", "section of the bad coordinate");
+    assert_eq!(
+        &damaged.as_bytes()[at.byte_offset..at.byte_offset + 3],
+        b"abc",
+        "byte offset of the bad token"
+    );
+    assert!(
+        expected.contains("z coordinate") && found.contains("abc"),
+        "what was expected and found: {error}"
+    );
+}
