@@ -5,7 +5,7 @@
 //! (0,0,1) and, in gmsh node order, midside nodes 4:(0,1) 5:(1,2) 6:(2,0) 7:(3,0) 8:(3,2) 9:(3,1);
 //! the triangle has corners (0,0), (1,0), (0,1) and midside nodes 3:(0,1) 4:(1,2) 5:(2,0).
 
-/// Point in space [m].
+/// Point in space (m).
 pub type Point = [f64; 3];
 
 /// Corner pairs of the six Tet10 edges in gmsh order (midside node 4 + index).

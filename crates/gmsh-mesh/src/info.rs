@@ -25,11 +25,11 @@ pub struct MeshInfo {
     pub element_kind: String,
     /// Physical groups of every dimension.
     pub groups: Vec<GroupInfo>,
-    /// Total volume of the tetrahedra [m³].
+    /// Total volume of the tetrahedra (m³).
     pub volume_m3: f64,
-    /// Smallest node coordinates [m].
+    /// Smallest node coordinates (m).
     pub bounding_box_min_m: [f64; 3],
-    /// Largest node coordinates [m].
+    /// Largest node coordinates (m).
     pub bounding_box_max_m: [f64; 3],
     /// Element quality.
     pub quality: QualityReport,
@@ -45,7 +45,7 @@ pub struct GroupInfo {
     /// The group as declared.
     #[serde(flatten)]
     pub group: PhysicalGroup,
-    /// Surface groups: area [m²]; volume groups: volume [m³]; else `None`.
+    /// Surface groups: area (m²); volume groups: volume (m³); else `None`.
     pub measure: Option<f64>,
 }
 

@@ -140,7 +140,7 @@ pub struct PhysicalGroup {
 pub struct TetMesh {
     /// File (or label) the mesh was read from, used in error messages.
     pub source: String,
-    /// Node coordinates [m], indexed 0..n. Only nodes of tetrahedra are kept, in file order.
+    /// Node coordinates (m), indexed 0..n. Only nodes of tetrahedra are kept, in file order.
     pub nodes: Vec<Point>,
     /// Original gmsh tag of each node.
     pub node_tags: Vec<u64>,
@@ -237,7 +237,7 @@ impl TetMesh {
         self.tets.nodes(i).iter().map(|&n| self.nodes[n]).collect()
     }
 
-    /// Volume of tet `i` [m³] (exact for the curved Tet10 map).
+    /// Volume of tet `i` (m³) (exact for the curved Tet10 map).
     pub fn tet_volume(&self, i: usize) -> f64 {
         let p = self.tet_points(i);
         match &self.tets {
@@ -250,12 +250,12 @@ impl TetMesh {
         }
     }
 
-    /// Total volume of all tets [m³].
+    /// Total volume of all tets (m³).
     pub fn volume(&self) -> f64 {
         (0..self.tets.len()).map(|i| self.tet_volume(i)).sum()
     }
 
-    /// Area of the surface group `name` [m²] (curved Tri6 integrated by quadrature).
+    /// Area of the surface group `name` (m²) (curved Tri6 integrated by quadrature).
     pub fn face_area(&self, name: &str) -> Result<f64> {
         let faces = self.group_faces(name)?;
         Ok((0..faces.len())
@@ -273,7 +273,7 @@ impl TetMesh {
             .sum())
     }
 
-    /// Axis-aligned bounding box `[min, max]` of the nodes [m]; `None` for an empty mesh.
+    /// Axis-aligned bounding box `[min, max]` of the nodes (m); `None` for an empty mesh.
     pub fn bounding_box(&self) -> Option<[Point; 2]> {
         let first = *self.nodes.first()?;
         Some(self.nodes.iter().fold([first, first], |[lo, hi], p| {

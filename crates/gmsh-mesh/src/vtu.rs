@@ -28,7 +28,7 @@ const RESERVED_CELL_FIELDS: [&str; 2] = ["gmsh_element_tag", "gmsh_physical_tag"
 pub enum FieldValues<'a> {
     /// One value per point/cell.
     Scalar(&'a [f64]),
-    /// One 3-vector per point/cell (e.g. displacement [m]).
+    /// One 3-vector per point/cell (e.g. displacement (m)).
     Vector(&'a [[f64; 3]]),
 }
 
