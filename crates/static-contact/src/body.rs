@@ -1,0 +1,320 @@
+//! One elastic body (slider strip or stator block) condensed onto its contact disks.
+//!
+//! Each contact disk is rigid in z (all its nodes share one z displacement, a rigid-face tie),
+//! free (frictionless) or fixed (bonded) in x and y. The body's stiffness K is assembled and
+//! factored **once** (METIS ordering, elastic-fem's sparse Cholesky); one solve per disk with a
+//! unit force on its tie gives the dense compliance C_ij = z-displacement of disk i per unit force
+//! on disk j (the exact Schur-complement inverse onto the disk unknowns). The same factor later
+//! rebuilds the full displacement field for any set of post forces.
+
+use std::time::Instant;
+
+use elastic_fem::sparse::{NumericCholesky, Ordering, SymbolicCholesky};
+use elastic_fem::static_solver::locate_factor_error;
+use elastic_fem::{
+    Connectivity, Constraints, Dirichlet, DofMap, DofTarget, FemError, Model, ReducedSystem, RigidComponent, RigidFace,
+    StiffnessPattern, assemble_stiffness,
+};
+use gmsh_mesh::{TetMesh, Tets};
+use nalgebra::DMatrix;
+use serde::Serialize;
+
+use crate::error::{ContactError, Result};
+
+/// Relative tolerance (of the disk radius) for picking the nodes of a contact disk. Default 1e-3.
+pub const DISK_NODE_TOLERANCE: f64 = 1e-3;
+/// Right-hand sides solved together when building the compliance. Default 16.
+pub const SOLVE_BATCH_COLUMNS: usize = 16;
+
+/// A contact disk: centre (m) and radius (m).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Disk {
+    /// Centre (m).
+    pub centre_m: [f64; 3],
+    /// Radius (m).
+    pub radius_m: f64,
+}
+
+/// In-plane condition of the disk nodes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TipLateral {
+    /// x and y free: frictionless contact.
+    Free,
+    /// x and y fixed: the disk is bonded to a rigid punch (the k_pn condition).
+    Bonded,
+}
+
+/// Everything needed to condense one body of a mesh onto its disks.
+#[derive(Debug, Clone)]
+pub struct BodySpec<'a> {
+    /// Name used in messages ("slider", "stator").
+    pub name: &'static str,
+    /// The mesh.
+    pub mesh: &'a TetMesh,
+    /// Physical volume of this body.
+    pub volume_group: String,
+    /// Material.
+    pub material: elastic_fem::Material,
+    /// Physical surface holding the contact disks.
+    pub contact_group: String,
+    /// The disks, in the order of the posts.
+    pub disks: Vec<Disk>,
+    /// In-plane condition of the disk nodes.
+    pub lateral: TipLateral,
+    /// Surfaces clamped (u = 0).
+    pub clamped_groups: Vec<String>,
+    /// Surfaces with one component fixed to 0 (symmetry planes, rollers): (group, component).
+    pub roller_groups: Vec<(String, usize)>,
+    /// Fraction of each disk inside the mesh (1; ½ or ¼ for symmetry-cut punch models).
+    pub disk_fraction: f64,
+    /// +1 if the contact force on this body points along +z (slider), −1 if along −z (stator).
+    pub force_sign: f64,
+}
+
+/// Size and timings of one condensed body.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct FemStats {
+    /// Nodes of the body.
+    pub nodes: usize,
+    /// Tetrahedra of the body.
+    pub tets: usize,
+    /// Element order (1 Tet4, 2 Tet10).
+    pub order: u8,
+    /// Unknowns after constraints.
+    pub reduced_unknowns: usize,
+    /// Stored values of the Cholesky factor.
+    pub factor_nnz: usize,
+    /// Assembly time (s).
+    pub assembly_s: f64,
+    /// Symbolic + numeric factorisation time (s).
+    pub factor_s: f64,
+    /// Time of the disk solves (s).
+    pub solve_s: f64,
+}
+
+/// A body condensed onto its disks.
+#[derive(Debug)]
+pub struct BodyCompliance {
+    /// Body name.
+    pub name: &'static str,
+    /// Dense disk compliance (m/N), disk order of the spec.
+    pub compliance_m_per_n: DMatrix<f64>,
+    /// Size and timings.
+    pub stats: FemStats,
+    model: Model,
+    reduced: ReducedSystem,
+    factor: NumericCholesky,
+    masters: Vec<usize>,
+    mesh_node: Vec<usize>,
+    disk_nodes: Vec<Vec<usize>>,
+    disk_fraction: f64,
+    force_sign: f64,
+}
+
+fn fem_error(spec: &BodySpec<'_>, source: FemError) -> ContactError {
+    ContactError::Fem { body: spec.name, file: spec.mesh.source.clone(), source }
+}
+
+fn mesh_error(spec: &BodySpec<'_>, source: gmsh_mesh::MeshError) -> ContactError {
+    ContactError::Mesh { file: spec.mesh.source.clone(), source }
+}
+
+impl BodyCompliance {
+    /// Assembles, constrains, factors and condenses the body.
+    pub fn build(spec: &BodySpec<'_>) -> Result<Self> {
+        let start = Instant::now();
+        let mismatch = |detail: String| ContactError::MeshMismatch { file: spec.mesh.source.clone(), detail };
+        if !(spec.disk_fraction > 0.0 && spec.disk_fraction <= 1.0) {
+            return Err(ContactError::InvalidParameter { parameter: "disk_fraction", value: spec.disk_fraction, reason: "must lie in (0, 1]".into() });
+        }
+        // Sub-mesh of the body's volume, renumbered.
+        let tets = spec.mesh.group_tets(&spec.volume_group).map_err(|e| mesh_error(spec, e))?;
+        if tets.is_empty() {
+            return Err(mismatch(format!("volume group `{}` has no tetrahedra", spec.volume_group)));
+        }
+        let mut local = vec![usize::MAX; spec.mesh.nodes.len()];
+        let mut mesh_node = Vec::new();
+        for &t in &tets {
+            for &n in spec.mesh.tets.nodes(t) {
+                if local[n] == usize::MAX {
+                    local[n] = mesh_node.len();
+                    mesh_node.push(n);
+                }
+            }
+        }
+        let nodes: Vec<[f64; 3]> = mesh_node.iter().map(|&n| spec.mesh.nodes[n]).collect();
+        let connectivity = match &spec.mesh.tets {
+            Tets::Linear(all) => Connectivity::Tet4(tets.iter().map(|&t| all[t].map(|n| local[n])).collect()),
+            Tets::Quadratic(all) => Connectivity::Tet10(tets.iter().map(|&t| all[t].map(|n| local[n])).collect()),
+        };
+        let model = Model::new(nodes, connectivity, spec.material).map_err(|e| {
+            // Name the gmsh element tag of a bad element.
+            let tag = |element: usize| spec.mesh.tet_tags[tets[element]];
+            let e = match e {
+                FemError::InvertedElement { element, .. } | FemError::DegenerateElement { element, .. } => {
+                    return mismatch(format!("{} element with gmsh tag {} is inverted or degenerate: {e}", spec.name, tag(element)));
+                }
+                other => other,
+            };
+            fem_error(spec, e)
+        })?;
+        let group_local_nodes = |group: &str| -> Result<Vec<usize>> {
+            let nodes = spec.mesh.group_nodes(group).map_err(|e| mesh_error(spec, e))?;
+            nodes
+                .iter()
+                .map(|&n| {
+                    let l = local[n];
+                    if l == usize::MAX {
+                        Err(mismatch(format!("node tag {} of group `{group}` is not a node of the {} volume", spec.mesh.node_tags[n], spec.name)))
+                    } else {
+                        Ok(l)
+                    }
+                })
+                .collect()
+        };
+        // Disk nodes.
+        let contact = group_local_nodes(&spec.contact_group)?;
+        let mut owner = vec![usize::MAX; model.node_count()];
+        let mut disk_nodes = Vec::with_capacity(spec.disks.len());
+        for (d, disk) in spec.disks.iter().enumerate() {
+            let tol = DISK_NODE_TOLERANCE * disk.radius_m;
+            let picked: Vec<usize> = contact
+                .iter()
+                .copied()
+                .filter(|&n| {
+                    let x = model.nodes()[n];
+                    let r = ((x[0] - disk.centre_m[0]).powi(2) + (x[1] - disk.centre_m[1]).powi(2)).sqrt();
+                    r <= disk.radius_m + tol && (x[2] - disk.centre_m[2]).abs() <= tol
+                })
+                .collect();
+            if picked.len() < 3 {
+                return Err(mismatch(format!(
+                    "contact disk {d} of the {} (centre {:?} m, radius {:.3e} m) has {} nodes in group `{}`: is the mesh made for this post layout?",
+                    spec.name,
+                    disk.centre_m,
+                    disk.radius_m,
+                    picked.len(),
+                    spec.contact_group
+                )));
+            }
+            for &n in &picked {
+                if owner[n] != usize::MAX {
+                    return Err(mismatch(format!("node {} lies in contact disks {} and {d}", spec.mesh.node_tags[mesh_node[n]], owner[n])));
+                }
+                owner[n] = d;
+            }
+            disk_nodes.push(picked);
+        }
+        // Constraints.
+        let mut constraints = Constraints::default();
+        for g in &spec.clamped_groups {
+            constraints.dirichlet.push(Dirichlet::clamped(group_local_nodes(g)?));
+        }
+        for (g, c) in &spec.roller_groups {
+            constraints.dirichlet.push(Dirichlet::component(group_local_nodes(g)?, *c, 0.0));
+        }
+        for nodes in &disk_nodes {
+            let lateral = match spec.lateral {
+                TipLateral::Free => RigidComponent::Free,
+                TipLateral::Bonded => RigidComponent::Prescribed { displacement_m: 0.0 },
+            };
+            constraints.rigid_faces.push(RigidFace { nodes: nodes.clone(), components: [lateral, lateral, RigidComponent::Loaded { force_n: 0.0 }] });
+        }
+        let pattern = StiffnessPattern::build(&model);
+        let stiffness = assemble_stiffness(&model, &pattern).map_err(|e| fem_error(spec, e))?;
+        let dof_map = DofMap::new(model.node_count(), &constraints).map_err(|e| fem_error(spec, e))?;
+        let masters: Vec<usize> = disk_nodes
+            .iter()
+            .enumerate()
+            .map(|(d, nodes)| match dof_map.target(3 * nodes[0] + 2) {
+                DofTarget::Reduced(j) => Ok(j),
+                DofTarget::Prescribed(_) => Err(mismatch(format!("contact disk {d} of the {} touches a clamped group: its z is prescribed", spec.name))),
+            })
+            .collect::<Result<_>>()?;
+        let reduced = ReducedSystem::new(&stiffness, dof_map).map_err(|e| fem_error(spec, e))?;
+        let k_red = reduced.reduce_matrix(&stiffness).map_err(|e| fem_error(spec, e))?;
+        let assembly_s = start.elapsed().as_secs_f64();
+        let start = Instant::now();
+        let symbolic = SymbolicCholesky::analyze(&k_red, Ordering::Metis).map_err(|e| fem_error(spec, e))?;
+        let factor = symbolic.factor(&k_red).map_err(|e| fem_error(spec, locate_factor_error(e, reduced.dof_map())))?;
+        let factor_s = start.elapsed().as_secs_f64();
+        let start = Instant::now();
+        let n = masters.len();
+        let dim = reduced.dim();
+        let mut compliance = DMatrix::zeros(n, n);
+        for first in (0..n).step_by(SOLVE_BATCH_COLUMNS) {
+            let cols = SOLVE_BATCH_COLUMNS.min(n - first);
+            let mut rhs = vec![0.0; dim * cols];
+            for c in 0..cols {
+                rhs[c * dim + masters[first + c]] = 1.0;
+            }
+            factor.solve_columns_in_place(&mut rhs, cols).map_err(|e| fem_error(spec, e))?;
+            for c in 0..cols {
+                for i in 0..n {
+                    compliance[(i, first + c)] = spec.disk_fraction * rhs[c * dim + masters[i]];
+                }
+            }
+        }
+        // Symmetrise round-off.
+        let compliance = (&compliance + compliance.transpose()) * 0.5;
+        let solve_s = start.elapsed().as_secs_f64();
+        let stats = FemStats {
+            nodes: model.node_count(),
+            tets: model.element_count(),
+            order: spec.mesh.tets.order(),
+            reduced_unknowns: dim,
+            factor_nnz: symbolic.factor_nnz(),
+            assembly_s,
+            factor_s,
+            solve_s,
+        };
+        Ok(Self {
+            name: spec.name,
+            compliance_m_per_n: compliance,
+            stats,
+            model,
+            reduced,
+            factor,
+            masters,
+            mesh_node,
+            disk_nodes,
+            disk_fraction: spec.disk_fraction,
+            force_sign: spec.force_sign,
+        })
+    }
+
+    /// Displacement field (m, DOF 3 n + c of the body's own node numbering) under post forces
+    /// `force_n` (N, one per disk, ≥ 0 pressing the bodies together), relative to the body's
+    /// clamped support.
+    pub fn displacement(&self, force_n: &[f64]) -> Result<Vec<f64>> {
+        let mut q = vec![0.0; self.reduced.dim()];
+        for (j, f) in force_n.iter().enumerate() {
+            q[self.masters[j]] += self.force_sign * self.disk_fraction * f;
+        }
+        let wrap = |source| ContactError::Fem { body: self.name, file: String::new(), source };
+        self.factor.solve_in_place(&mut q).map_err(wrap)?;
+        self.reduced.expand(&q).map_err(wrap)
+    }
+
+    /// Nodal-averaged stress (Pa, Voigt xx yy zz yz xz xy) of a displacement field of this body.
+    pub fn nodal_stress(&self, u: &[f64]) -> Result<Vec<[f64; 6]>> {
+        elastic_fem::post::nodal_averaged_stress(&self.model, u)
+            .map_err(|source| ContactError::Fem { body: self.name, file: String::new(), source })
+    }
+
+    /// Mesh node index of each body node.
+    pub fn mesh_nodes(&self) -> &[usize] {
+        &self.mesh_node
+    }
+
+    /// Body node indices of each contact disk.
+    pub fn disk_nodes(&self) -> &[Vec<usize>] {
+        &self.disk_nodes
+    }
+
+    /// +1 (slider) or −1 (stator).
+    pub fn force_sign(&self) -> f64 {
+        self.force_sign
+    }
+}

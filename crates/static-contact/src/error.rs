@@ -1,0 +1,98 @@
+//! The crate's error type: every variant names the file, group, post, parameter or iteration at
+//! fault.
+
+use std::path::PathBuf;
+
+/// Errors of the static contact analysis.
+#[derive(Debug, thiserror::Error)]
+pub enum ContactError {
+    /// A physical parameter is out of its valid range.
+    #[error("invalid parameter `{parameter}` = {value}: {reason}")]
+    InvalidParameter {
+        /// Parameter name (with its unit suffix).
+        parameter: &'static str,
+        /// The value given.
+        value: f64,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The mesh could not be read, or lacks a group the scene needs.
+    #[error("mesh {file}: {source}")]
+    Mesh {
+        /// Mesh file.
+        file: String,
+        /// Reader error.
+        #[source]
+        source: gmsh_mesh::MeshError,
+    },
+    /// The mesh does not fit the scene (post count, radius, pitch, group contents).
+    #[error("mesh {file}: {detail}")]
+    MeshMismatch {
+        /// Mesh file.
+        file: String,
+        /// What does not fit.
+        detail: String,
+    },
+    /// The finite element model failed (inverted element, singular stiffness, ...).
+    #[error("FEM of the {body} in {file}: {source}")]
+    Fem {
+        /// Which body ("slider" or "stator").
+        body: &'static str,
+        /// Mesh file.
+        file: String,
+        /// The elastic-fem error (names the element or DOF).
+        #[source]
+        source: elastic_fem::FemError,
+    },
+    /// The contact iteration did not converge.
+    #[error(
+        "contact active-set iteration did not converge after {iterations} iterations \
+         (last active set {active} of {posts} posts, scaled complementarity residual {residual:.3e} \
+         > tolerance {tolerance:.1e}){context}"
+    )]
+    NotConverged {
+        /// Iterations done.
+        iterations: usize,
+        /// Active-set size at the last iteration.
+        active: usize,
+        /// Number of posts.
+        posts: usize,
+        /// Last residual (scaled units, see [`crate::ContactSolution::complementarity_residual`]).
+        residual: f64,
+        /// Tolerance.
+        tolerance: f64,
+        /// Scene context (preload, phase), may be empty.
+        context: String,
+    },
+    /// The dense compliance matrix is not positive definite (bad stator model or mesh).
+    #[error("compliance matrix is not positive definite at post {post} (pivot {pivot:.3e} m/N): {what}")]
+    CompliancePositivity {
+        /// Post index (0-based, in x order).
+        post: usize,
+        /// The failing pivot.
+        pivot: f64,
+        /// Which matrix.
+        what: String,
+    },
+    /// gmsh is needed to mesh a scene that no committed mesh covers, and it failed.
+    #[error("meshing {geometry} into {out}: {detail}")]
+    Meshing {
+        /// Geometry name.
+        geometry: String,
+        /// Output path.
+        out: PathBuf,
+        /// gmsh's message, or how to install it.
+        detail: String,
+    },
+    /// Writing an output file failed.
+    #[error("writing {path}: {detail}")]
+    Output {
+        /// Output path.
+        path: PathBuf,
+        /// What failed.
+        detail: String,
+    },
+}
+
+/// Result alias of the crate.
+pub type Result<T> = std::result::Result<T, ContactError>;

@@ -1,0 +1,272 @@
+//! Resolved motor parameters (SI) of a static contact run, their validation and content hash.
+
+use std::path::PathBuf;
+
+use contact_springs::Material;
+use serde::Serialize;
+use sha2::{Digest, Sha256};
+
+use crate::error::{ContactError, Result};
+use crate::scene::StatorModel;
+
+/// Bumped whenever a change of this crate changes its numbers (part of the content hash).
+pub const MODEL_VERSION: u32 = 1;
+
+/// Where the mesh comes from.
+#[derive(Debug, Clone, PartialEq, Serialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum MeshChoice {
+    /// A committed mesh of `meshes/` if one matches the parameters, else gmsh into the cache.
+    #[default]
+    Auto,
+    /// This `slider-strip` mesh file.
+    File(PathBuf),
+}
+
+/// Mesh-size parameters of the automatic `slider-strip` mesh (see meshes/README.md).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct MeshSizes {
+    /// Element size on the post tips (m).
+    pub h_post_m: f64,
+    /// Largest element size (m).
+    pub h_body_m: f64,
+    /// Size growth per unit distance from the tips.
+    pub growth: f64,
+}
+
+impl Default for MeshSizes {
+    /// 2.5 µm at the tips, 100 µm far away, growth 0.3: the committed strip meshes' sizes.
+    fn default() -> Self {
+        Self { h_post_m: 2.5e-6, h_body_m: 100e-6, growth: 0.3 }
+    }
+}
+
+/// Everything a static contact run depends on, in SI units.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StaticParams {
+    /// Slider material.
+    pub slider_material: Material,
+    /// Stator material.
+    pub stator_material: Material,
+    /// Post diameter d (m).
+    pub post_diameter_m: f64,
+    /// Post height h (m).
+    pub post_height_m: f64,
+    /// Posts along x (the wave's direction) of the real slider.
+    pub posts_x: usize,
+    /// Rows of posts along y of the real slider.
+    pub posts_y: usize,
+    /// Post pitch (m), the same in x and y.
+    pub post_pitch_m: f64,
+    /// Slider length along x (m) (≥ posts_x · pitch; the rest is margin around the array).
+    pub slider_length_m: f64,
+    /// Slider width along y (m).
+    pub slider_width_m: f64,
+    /// Slider body thickness above the posts (m).
+    pub slider_thickness_m: f64,
+    /// Normal wave amplitude A_n (m); 0 for a flat stator.
+    pub wave_amplitude_m: f64,
+    /// Wavelength λ (m).
+    pub wavelength_m: f64,
+    /// Preload P on the whole slider (N): the top-level results refer to it.
+    pub preload_n: f64,
+    /// Further preloads (N) for the η-against-preload sweep (may be empty).
+    pub preload_sweep_n: Vec<f64>,
+    /// Snapshot phases θ₀ = 2πk/phases pooled in the η fit (≥ 1).
+    pub phases: usize,
+    /// Element order: 1 (Tet4) or 2 (Tet10).
+    pub element_order: u8,
+    /// Posts along x inside the strip: `None` = the whole row (posts_x) with the slider's
+    /// margins; `Some(n)` = a shorter strip of n posts without margins (free ends).
+    pub strip_posts: Option<usize>,
+    /// Stator model.
+    pub stator: StatorModel,
+    /// Stator depth (m) of a meshed stator block.
+    pub stator_depth_m: f64,
+    /// Mesh source.
+    pub mesh: MeshChoice,
+    /// Sizes of an automatic mesh.
+    pub mesh_sizes: MeshSizes,
+    /// Directory for automatic meshes (`None`: `$SAWDRIVE_MESH_CACHE` or the system temp dir).
+    /// Not part of the content hash.
+    #[serde(skip)]
+    pub mesh_cache_dir: Option<PathBuf>,
+}
+
+impl Default for StaticParams {
+    /// The paper's default slider (physics.md §1): 5 × 5 × 0.5 mm Si, 100 × 100 posts of 20 µm,
+    /// 2 µm high, pitch 40 µm; LiNbO3 stator; λ = 3979/9.61e6 m, A_n = 20 nm; P = 40 N; 4 phases.
+    fn default() -> Self {
+        Self {
+            slider_material: Material::silicon(),
+            stator_material: Material::lithium_niobate(),
+            post_diameter_m: 20e-6,
+            post_height_m: 2e-6,
+            posts_x: 100,
+            posts_y: 100,
+            post_pitch_m: 40e-6,
+            slider_length_m: 5e-3,
+            slider_width_m: 5e-3,
+            slider_thickness_m: 0.5e-3,
+            wave_amplitude_m: 20e-9,
+            wavelength_m: 3979.0 / 9.61e6,
+            preload_n: 40.0,
+            preload_sweep_n: Vec::new(),
+            phases: 4,
+            element_order: 1,
+            strip_posts: None,
+            stator: StatorModel::HalfSpace,
+            stator_depth_m: 1e-3,
+            mesh: MeshChoice::Auto,
+            mesh_sizes: MeshSizes::default(),
+            mesh_cache_dir: None,
+        }
+    }
+}
+
+fn invalid(parameter: &'static str, value: f64, reason: impl Into<String>) -> ContactError {
+    ContactError::InvalidParameter { parameter, value, reason: reason.into() }
+}
+
+fn positive(parameter: &'static str, value: f64) -> Result<()> {
+    if value > 0.0 && value.is_finite() { Ok(()) } else { Err(invalid(parameter, value, "must be positive and finite")) }
+}
+
+impl StaticParams {
+    /// A square array of `posts_per_side`² posts of diameter `diameter_m` in the default
+    /// 4 × 4 mm area (pitch = 4 mm / posts_per_side), otherwise the defaults.
+    pub fn square_array(diameter_m: f64, posts_per_side: usize) -> Self {
+        let array_side_m = 4e-3;
+        Self {
+            post_diameter_m: diameter_m,
+            posts_x: posts_per_side,
+            posts_y: posts_per_side,
+            post_pitch_m: array_side_m / posts_per_side as f64,
+            ..Self::default()
+        }
+    }
+
+    /// Checks ranges and consistency; errors name the parameter.
+    pub fn validate(&self) -> Result<()> {
+        self.slider_material.validate().map_err(|e| invalid("slider_material", self.slider_material.shear_modulus_pa, e.to_string()))?;
+        self.stator_material.validate().map_err(|e| invalid("stator_material", self.stator_material.shear_modulus_pa, e.to_string()))?;
+        positive("post_diameter_m", self.post_diameter_m)?;
+        positive("post_height_m", self.post_height_m)?;
+        positive("post_pitch_m", self.post_pitch_m)?;
+        positive("slider_thickness_m", self.slider_thickness_m)?;
+        positive("wavelength_m", self.wavelength_m)?;
+        positive("preload_n", self.preload_n)?;
+        for &p in &self.preload_sweep_n {
+            positive("preload_sweep_n", p)?;
+        }
+        if self.post_diameter_m >= self.post_pitch_m {
+            return Err(invalid("post_diameter_m", self.post_diameter_m, format!("must be smaller than the pitch {} m", self.post_pitch_m)));
+        }
+        if self.posts_x == 0 || self.posts_y == 0 {
+            return Err(invalid("posts_x", self.posts_x.min(self.posts_y) as f64, "post counts must be ≥ 1"));
+        }
+        let array_x = self.posts_x as f64 * self.post_pitch_m;
+        if self.slider_length_m < array_x * (1.0 - 1e-9) {
+            return Err(invalid("slider_length_m", self.slider_length_m, format!("shorter than the post array {array_x} m")));
+        }
+        let array_y = self.posts_y as f64 * self.post_pitch_m;
+        if self.slider_width_m < array_y * (1.0 - 1e-9) {
+            return Err(invalid("slider_width_m", self.slider_width_m, format!("narrower than the post array {array_y} m")));
+        }
+        if !(self.wave_amplitude_m >= 0.0 && self.wave_amplitude_m.is_finite()) {
+            return Err(invalid("wave_amplitude_m", self.wave_amplitude_m, "must be ≥ 0 and finite"));
+        }
+        if self.phases == 0 {
+            return Err(invalid("phases", 0.0, "need at least one snapshot phase"));
+        }
+        if self.element_order != 1 && self.element_order != 2 {
+            return Err(invalid("element_order", self.element_order as f64, "must be 1 (Tet4) or 2 (Tet10)"));
+        }
+        if let Some(n) = self.strip_posts {
+            if n == 0 || n > self.posts_x {
+                return Err(invalid("strip_posts", n as f64, format!("must lie in 1..={}", self.posts_x)));
+            }
+        }
+        if self.stator == StatorModel::MeshedBlock {
+            positive("stator_depth_m", self.stator_depth_m)?;
+        }
+        positive("mesh_sizes.h_post_m", self.mesh_sizes.h_post_m)?;
+        positive("mesh_sizes.growth", self.mesh_sizes.growth)?;
+        if self.mesh_sizes.h_body_m < self.mesh_sizes.h_post_m {
+            return Err(invalid("mesh_sizes.h_body_m", self.mesh_sizes.h_body_m, "must be ≥ h_post_m"));
+        }
+        Ok(())
+    }
+
+    /// Posts in the strip.
+    pub fn strip_post_count(&self) -> usize {
+        self.strip_posts.unwrap_or(self.posts_x)
+    }
+
+    /// Margin of the strip beyond its first and last post cell (m).
+    pub fn strip_margin_m(&self) -> f64 {
+        match self.strip_posts {
+            None => 0.5 * (self.slider_length_m - self.posts_x as f64 * self.post_pitch_m).max(0.0),
+            Some(_) => 0.0,
+        }
+    }
+
+    /// The strip's share of the preload, P · (posts in strip) / (posts of the slider) (N).
+    pub fn strip_share(&self) -> f64 {
+        self.strip_post_count() as f64 / (self.posts_x * self.posts_y) as f64
+    }
+
+    /// All preloads of the run: the main one first, then the sweep.
+    pub fn all_preloads_n(&self) -> Vec<f64> {
+        let mut p = vec![self.preload_n];
+        p.extend(self.preload_sweep_n.iter().copied().filter(|&x| x != self.preload_n));
+        p
+    }
+
+    /// SHA-256 (hex) of everything the results depend on: the parameters (without the cache
+    /// directory), the mesh file's bytes if a file is given, and [`MODEL_VERSION`].
+    pub fn content_hash(&self) -> Result<String> {
+        let mut hasher = Sha256::new();
+        hasher.update(format!("static-contact model {MODEL_VERSION}\n"));
+        let json = serde_json::to_string(self).map_err(|e| invalid("params", 0.0, format!("cannot serialise: {e}")))?;
+        hasher.update(json.as_bytes());
+        if let MeshChoice::File(path) = &self.mesh {
+            let bytes = std::fs::read(path).map_err(|e| ContactError::Output { path: path.clone(), detail: format!("cannot read the mesh to hash it: {e}") })?;
+            hasher.update(&bytes);
+        }
+        Ok(hasher.finalize().iter().map(|b| format!("{b:02x}")).collect())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_content_hash_changes_with_a_parameter_and_not_with_the_cache_dir() {
+        let a = StaticParams::default();
+        let mut b = a.clone();
+        b.mesh_cache_dir = Some("/somewhere".into());
+        assert_eq!(a.content_hash().unwrap(), b.content_hash().unwrap(), "cache dir must not change the hash");
+        b.preload_n = 41.0;
+        assert_ne!(a.content_hash().unwrap(), b.content_hash().unwrap(), "preload must change the hash");
+    }
+
+    #[test]
+    fn bad_parameters_are_named() {
+        let p = StaticParams { post_diameter_m: 50e-6, ..StaticParams::default() };
+        let err = p.validate().unwrap_err().to_string();
+        assert!(err.contains("post_diameter_m"), "error names the post diameter: {err}");
+        let p = StaticParams { phases: 0, ..StaticParams::default() };
+        assert!(p.validate().unwrap_err().to_string().contains("phases"), "error names the phase count");
+    }
+
+    #[test]
+    fn the_paper_arrays_fill_four_millimetres() {
+        for (d, n) in [(20e-6, 100), (30e-6, 67), (40e-6, 50), (50e-6, 40)] {
+            let p = StaticParams::square_array(d, n);
+            p.validate().unwrap();
+            assert!((p.posts_x as f64 * p.post_pitch_m - 4e-3).abs() < 1e-12, "array side for d = {d}");
+        }
+    }
+}

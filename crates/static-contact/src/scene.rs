@@ -1,0 +1,202 @@
+//! The condensed strip scene: slider strip (FEM) + stator (half-space or meshed block) reduced to
+//! one dense post compliance, and the contact solve of one snapshot.
+//!
+//! Scales resolved: the slider FEM resolves each post (its tip disk is meshed at `h_post`) and
+//! the slider body between posts and up to the rigid backing at the top (0.5 mm ≫ λ/2π ≈ 66 µm,
+//! so a wave-scale load pattern has decayed to e^{−kt} ≈ 5·10⁻⁴ there); the stator enters by its
+//! exact half-space disk compliance (self term = 1/k_sn) and the mutual terms of all posts of the
+//! real slider (rows in y summed by mirror unfolding), or by a meshed block. Not resolved: slider
+//! bending on the 5 mm scale (rigid backing), stator plate bending (half-space), friction.
+
+use contact_springs::Material;
+use gmsh_mesh::TetMesh;
+use nalgebra::DMatrix;
+use serde::Serialize;
+
+use crate::body::{BodyCompliance, BodySpec, Disk, TipLateral};
+use crate::error::{ContactError, Result};
+use crate::halfspace::{RowLayout, StripPost, strip_compliance};
+use crate::lcp::{ActiveSetOptions, ActiveSetSolver, ContactProblem, ContactSolution};
+
+/// Relative tolerance between the mesh's post radius/pitch and the requested ones. Default 2 %.
+pub const GEOMETRY_MATCH_TOLERANCE: f64 = 0.02;
+
+/// How the stator's compliance enters.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum StatorModel {
+    /// Elastic half-space, rigid-disk compliances (Johnson §3.8), rows of the real slider summed.
+    #[default]
+    HalfSpace,
+    /// The `stator` volume of the slider-strip mesh: bottom clamped, symmetry planes in y,
+    /// rollers (u_x = 0) on its x ends; the disks under the posts rigid in z, frictionless.
+    MeshedBlock,
+}
+
+/// What the strip scene needs besides the mesh.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StripConfig {
+    /// Slider material (isotropic).
+    pub slider_material: Material,
+    /// Stator material (isotropic).
+    pub stator_material: Material,
+    /// Post radius a (m).
+    pub post_radius_m: f64,
+    /// Post pitch in y (m): the strip's width per row.
+    pub pitch_m: f64,
+    /// Rows of posts of the real slider (for the half-space row sum).
+    pub slider_rows: usize,
+    /// Expected posts in the strip (checked against the mesh), if known.
+    pub expected_strip_posts: Option<usize>,
+    /// Stator model.
+    pub stator: StatorModel,
+}
+
+/// A post of the strip.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct PostSite {
+    /// Centre x (m).
+    pub x_m: f64,
+    /// Centre y (m).
+    pub y_m: f64,
+    /// Row in the strip.
+    pub row: usize,
+}
+
+/// The stator side of the condensed scene.
+#[derive(Debug)]
+pub enum StatorCompliance {
+    /// Half-space (analytic).
+    HalfSpace(DMatrix<f64>),
+    /// Meshed block.
+    Meshed(Box<BodyCompliance>),
+}
+
+impl StatorCompliance {
+    /// The stator's dense compliance (m/N).
+    pub fn matrix(&self) -> &DMatrix<f64> {
+        match self {
+            StatorCompliance::HalfSpace(c) => c,
+            StatorCompliance::Meshed(b) => &b.compliance_m_per_n,
+        }
+    }
+}
+
+/// The strip condensed onto its posts.
+#[derive(Debug)]
+pub struct StripModel {
+    /// The mesh.
+    pub mesh: TetMesh,
+    /// Posts in x order (row-major for several rows).
+    pub posts: Vec<PostSite>,
+    /// Strip rows.
+    pub strip_rows: usize,
+    /// The slider body.
+    pub slider: BodyCompliance,
+    /// The stator.
+    pub stator: StatorCompliance,
+    /// Total compliance C = C_slider + C_stator (m/N).
+    pub compliance_m_per_n: DMatrix<f64>,
+    /// The configuration.
+    pub config: StripConfig,
+}
+
+pub(crate) fn fem_material(m: &Material) -> Result<elastic_fem::Material> {
+    elastic_fem::Material::isotropic(m.youngs_modulus_pa(), m.poisson_ratio).map_err(|source| ContactError::Fem {
+        body: "material",
+        file: m.name.clone(),
+        source,
+    })
+}
+
+impl StripModel {
+    /// Builds the condensed scene from a `slider-strip` mesh (groups of meshes/README.md).
+    pub fn build(mesh: TetMesh, config: StripConfig) -> Result<Self> {
+        let file = mesh.source.clone();
+        let mismatch = |detail: String| ContactError::MeshMismatch { file: file.clone(), detail };
+        let disks = crate::posts::find_tip_disks(&mesh, "post_tips")?;
+        if let Some(n) = config.expected_strip_posts {
+            if disks.len() != n {
+                return Err(mismatch(format!("group `post_tips` has {} tip disks, the scene has {n} posts in the strip", disks.len())));
+            }
+        }
+        for (i, d) in disks.iter().enumerate() {
+            if (d.radius_m / config.post_radius_m - 1.0).abs() > GEOMETRY_MATCH_TOLERANCE {
+                return Err(mismatch(format!("post {i} has radius {:.4e} m, the scene asks for {:.4e} m", d.radius_m, config.post_radius_m)));
+            }
+        }
+        let y0 = mesh.bounding_box().map_or(0.0, |b| b[0][1]);
+        let posts: Vec<PostSite> = disks
+            .iter()
+            .map(|d| PostSite { x_m: d.centre_m[0], y_m: d.centre_m[1], row: ((d.centre_m[1] - y0) / config.pitch_m - 0.5).round().max(0.0) as usize })
+            .collect();
+        let strip_rows = posts.iter().map(|p| p.row + 1).max().unwrap_or(1);
+        let disks: Vec<Disk> = disks.iter().map(|d| Disk { radius_m: config.post_radius_m, ..*d }).collect();
+        let slider = BodyCompliance::build(&BodySpec {
+            name: "slider",
+            mesh: &mesh,
+            volume_group: "slider".into(),
+            material: fem_material(&config.slider_material)?,
+            contact_group: "post_tips".into(),
+            disks: disks.clone(),
+            lateral: TipLateral::Free,
+            clamped_groups: vec!["slider_top".into()],
+            roller_groups: vec![("slider_sym_y0".into(), 1), ("slider_sym_y1".into(), 1)],
+            disk_fraction: 1.0,
+            force_sign: 1.0,
+        })?;
+        let stator = match config.stator {
+            StatorModel::HalfSpace => {
+                if config.slider_rows < strip_rows {
+                    return Err(ContactError::InvalidParameter {
+                        parameter: "posts_y",
+                        value: config.slider_rows as f64,
+                        reason: format!("the slider has fewer rows than the strip ({strip_rows})"),
+                    });
+                }
+                let sites: Vec<StripPost> = posts.iter().map(|p| StripPost { x_m: p.x_m, row: p.row }).collect();
+                let layout = RowLayout { pitch_m: config.pitch_m, strip_rows, slider_rows: config.slider_rows };
+                StatorCompliance::HalfSpace(strip_compliance(
+                    config.stator_material.shear_modulus_pa,
+                    config.stator_material.poisson_ratio,
+                    config.post_radius_m,
+                    &sites,
+                    &layout,
+                ))
+            }
+            StatorModel::MeshedBlock => StatorCompliance::Meshed(Box::new(BodyCompliance::build(&BodySpec {
+                name: "stator",
+                mesh: &mesh,
+                volume_group: "stator".into(),
+                material: fem_material(&config.stator_material)?,
+                contact_group: "stator_top".into(),
+                disks,
+                lateral: TipLateral::Free,
+                clamped_groups: vec!["stator_bottom".into()],
+                roller_groups: vec![
+                    ("stator_sym_y0".into(), 1),
+                    ("stator_sym_y1".into(), 1),
+                    ("stator_x0".into(), 0),
+                    ("stator_x1".into(), 0),
+                ],
+                disk_fraction: 1.0,
+                force_sign: -1.0,
+            })?)),
+        };
+        let compliance_m_per_n = &slider.compliance_m_per_n + stator.matrix();
+        Ok(Self { mesh, posts, strip_rows, slider, stator, compliance_m_per_n, config })
+    }
+
+    /// Number of posts in the strip.
+    pub fn post_count(&self) -> usize {
+        self.posts.len()
+    }
+
+    /// Solves the contact of the strip under `preload_strip_n` (N, the strip's share of the
+    /// preload) on obstacle heights `height_m` (m, one per post). `length_scale_m` scales gaps
+    /// in the residual (the wave amplitude; `None` on a flat stator).
+    pub fn solve(&self, preload_strip_n: f64, height_m: Vec<f64>, length_scale_m: Option<f64>, options: ActiveSetOptions) -> Result<ContactSolution> {
+        let problem = ContactProblem { compliance_m_per_n: self.compliance_m_per_n.clone(), obstacle_height_m: height_m, preload_n: preload_strip_n, length_scale_m };
+        ActiveSetSolver::new(options).solve(&problem)
+    }
+}
