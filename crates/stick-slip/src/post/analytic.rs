@@ -1,0 +1,424 @@
+//! Event-driven (analytic-switching) integration of one massless Jenkins post at constant
+//! speed. Between events every quantity is closed-form in θ:
+//!
+//! * stick from (θ_a, ê_a): ê(θ) = ê_a + (â/s)(cos θ − cos θ_a) − (v̂/s)(θ − θ_a);
+//! * slip along sign ς: ê = ς μ_k N̂(θ)/ρ, lasting while ς·σ_ς(θ) > 0 with the slip rate (per unit
+//!   phase) σ_ς = −(â/s) sin θ − ς(μ_k/ρ) cos θ − v̂/s;
+//! * separated: ê = 0.
+//!
+//! Every event function (ê ∓ μ_s N̂/ρ while stuck, σ_ς while slipping) has the form
+//! a cos θ + b sin θ + gθ + d, whose critical points are closed-form; the first crossing is found
+//! on a monotone bracket to machine precision ([`TrigLinear::first_crossing`]). The scheme is
+//! therefore exact up to round-off: no step size, no order.
+
+use std::f64::consts::PI;
+
+use super::{Mode, PeriodIntegrals, PostParams, PostState, SteadyPost};
+use crate::error::{Result, StickSlipError};
+use crate::math::{Crossing, TrigLinear, integrate};
+
+/// Largest number of stick/slip events accepted in one call of [`AnalyticPost::advance`]
+/// (a post has at most ≈ 6 per period; more means a Zeno loop). Default 4096.
+const MAX_EVENTS: usize = 4096;
+/// Largest number of period evaluations when searching the periodic steady state of a post
+/// that never separates. Default 4000.
+const MAX_PERIOD_EVALUATIONS: usize = 4000;
+/// Relative tolerance (of the deflection scale) for two period-start states to count as equal.
+const CYCLE_TOLERANCE: f64 = 1e-11;
+/// Relative offset (of the deflection scale) below the upper-touching stuck orbit used for
+/// the stall (v → 0⁺) orbit, so that round-off does not trigger a spurious slip. Default 1e-12.
+const TOUCH_OFFSET: f64 = 1e-12;
+/// Start phase of a period for posts that never separate: the normal-force minimum θ = −π/2.
+const ALWAYS_CONTACT_START: f64 = -0.5 * PI;
+
+/// One closed-form piece of a post's trajectory.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Segment {
+    pub mode: Mode,
+    pub start: f64,
+    pub end: f64,
+    /// Deflection at `start` (stick segments integrate from it).
+    pub deflection_start: f64,
+}
+
+/// One post at imposed scaled x-velocity `v`.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct AnalyticPost {
+    pub p: PostParams,
+    pub v: f64,
+    /// Phase rate s = 1 − κ v̂.
+    pub s: f64,
+    /// â/s.
+    alpha: f64,
+    /// −v̂/s.
+    gamma: f64,
+}
+
+impl AnalyticPost {
+    pub fn new(p: PostParams, v: f64) -> Self {
+        let s = p.phase_rate(v);
+        Self { p, v, s, alpha: p.tangential_ratio / s, gamma: -v / s }
+    }
+
+    fn x_tol(theta: f64) -> f64 {
+        1e-14 * (1.0 + theta.abs())
+    }
+
+    /// The stuck trajectory through (θ_a, ê_a) as a [`TrigLinear`].
+    fn stick_line(&self, theta_a: f64, e_a: f64) -> TrigLinear {
+        TrigLinear { a: self.alpha, b: 0.0, g: self.gamma, d: e_a - self.alpha * theta_a.cos() - self.gamma * theta_a }
+    }
+
+    /// Slip rate per unit phase σ_ς(θ) of a post sliding along the bound of sign ς.
+    fn slip_rate(&self, sign: f64) -> TrigLinear {
+        TrigLinear {
+            a: -sign * self.p.mu_kinetic / self.p.stiffness_ratio,
+            b: -self.alpha,
+            g: 0.0,
+            d: self.gamma,
+        }
+    }
+
+    /// Deflection on a segment at phase θ.
+    pub fn deflection(&self, seg: &Segment, theta: f64) -> f64 {
+        match seg.mode {
+            Mode::Separated => 0.0,
+            Mode::Stick => self.stick_line(seg.start, seg.deflection_start).value(theta),
+            Mode::Slip(sign) => sign * self.p.mu_kinetic * self.p.normal(theta) / self.p.stiffness_ratio,
+        }
+    }
+
+    /// Stick ends at θ with the static bound of sign ς reached: the force drops to the kinetic
+    /// bound (releasing ½ρ(ê² − ê_k²) into `dissipated`) and slip starts if the slip rate
+    /// points outward, else the post re-sticks at the kinetic bound.
+    fn enter_slip(&self, theta: f64, sign: f64, deflection: f64, dissipated: &mut f64) -> PostState {
+        let rho = self.p.stiffness_ratio;
+        let kinetic = sign * self.p.mu_kinetic * self.p.normal(theta) / rho;
+        *dissipated += 0.5 * rho * (deflection * deflection - kinetic * kinetic);
+        let rate = self.slip_rate(sign);
+        let outward = sign * rate.value(theta);
+        let tolerance = 1e-13 * (self.alpha + self.gamma.abs() + self.p.mu_kinetic / rho);
+        let slipping = outward > 0.0 || (outward >= -tolerance && sign * rate.derivative(theta) > 0.0);
+        let mode = if slipping { Mode::Slip(sign) } else { Mode::Stick };
+        PostState { mode, deflection: kinetic, tip_velocity: 0.0 }
+    }
+
+    /// Advance from (θ, state) to θ_end, appending the closed-form segments; energy released by
+    /// static→kinetic drops is added to `dissipated`.
+    pub fn advance(
+        &self,
+        mut theta: f64,
+        theta_end: f64,
+        mut state: PostState,
+        segments: &mut Vec<Segment>,
+        dissipated: &mut f64,
+    ) -> Result<PostState> {
+        let p = &self.p;
+        let bound_s = p.mu_static / p.stiffness_ratio;
+        let mut scratch = Vec::new();
+        let push = |segments: &mut Vec<Segment>, mode, start: f64, end: f64, e: f64| {
+            if end > start {
+                segments.push(Segment { mode, start, end, deflection_start: e });
+            }
+        };
+        for _ in 0..MAX_EVENTS {
+            if theta >= theta_end {
+                return Ok(state);
+            }
+            let window = p.contact_window(theta);
+            // End of the current contact (if it ends before θ_end) and whether it separates there.
+            let contact_limit = match window {
+                None => Some((theta_end, false)),
+                Some((true, sep)) => Some(if sep < theta_end { (sep, true) } else { (theta_end, false) }),
+                Some((false, _)) => None,
+            };
+            match state.mode {
+                Mode::Separated => match window {
+                    None | Some((true, _)) => state = PostState { mode: Mode::Stick, deflection: 0.0, tip_velocity: 0.0 },
+                    Some((false, touchdown)) => {
+                        let end = touchdown.min(theta_end);
+                        push(segments, Mode::Separated, theta, end, 0.0);
+                        theta = end;
+                        if touchdown <= theta_end {
+                            state = PostState { mode: Mode::Stick, deflection: 0.0, tip_velocity: 0.0 };
+                        }
+                    }
+                },
+                Mode::Stick => {
+                    let Some((limit, separates)) = contact_limit else {
+                        state = PostState::separated();
+                        continue;
+                    };
+                    let line = self.stick_line(theta, state.deflection);
+                    let c_term = bound_s * p.height.c;
+                    let upper = TrigLinear { b: -bound_s, d: line.d + c_term, ..line };
+                    let lower = TrigLinear { b: bound_s, d: line.d - c_term, ..line };
+                    let tol = Self::x_tol(limit);
+                    let up = upper.first_crossing(theta, limit, Crossing::Upward, tol, &mut scratch);
+                    let down = lower.first_crossing(theta, limit, Crossing::Downward, tol, &mut scratch);
+                    let event = match (up, down) {
+                        (Some(u), Some(d)) => Some(if u <= d { (u, 1.0) } else { (d, -1.0) }),
+                        (Some(u), None) => Some((u, 1.0)),
+                        (None, Some(d)) => Some((d, -1.0)),
+                        (None, None) => None,
+                    };
+                    match event {
+                        Some((at, sign)) => {
+                            push(segments, Mode::Stick, theta, at, state.deflection);
+                            state = self.enter_slip(at, sign, line.value(at), dissipated);
+                            theta = at;
+                        }
+                        None => {
+                            push(segments, Mode::Stick, theta, limit, state.deflection);
+                            state.deflection = line.value(limit);
+                            theta = limit;
+                            if separates {
+                                state = PostState::separated();
+                            }
+                        }
+                    }
+                }
+                Mode::Slip(sign) => {
+                    let Some((limit, separates)) = contact_limit else {
+                        state = PostState::separated();
+                        continue;
+                    };
+                    let rate = self.slip_rate(sign);
+                    let dir = if sign > 0.0 { Crossing::Downward } else { Crossing::Upward };
+                    match rate.first_crossing(theta, limit, dir, Self::x_tol(limit), &mut scratch) {
+                        Some(at) => {
+                            push(segments, Mode::Slip(sign), theta, at, state.deflection);
+                            let deflection = sign * p.mu_kinetic * p.normal(at) / p.stiffness_ratio;
+                            state = PostState { mode: Mode::Stick, deflection, tip_velocity: 0.0 };
+                            theta = at;
+                        }
+                        None => {
+                            push(segments, Mode::Slip(sign), theta, limit, state.deflection);
+                            theta = limit;
+                            state = if separates {
+                                PostState::separated()
+                            } else {
+                                let deflection = sign * p.mu_kinetic * p.normal(limit) / p.stiffness_ratio;
+                                PostState { mode: Mode::Slip(sign), deflection, tip_velocity: 0.0 }
+                            };
+                        }
+                    }
+                }
+            }
+        }
+        Err(StickSlipError::NotConverged {
+            model: "event-driven post",
+            what: "stick/slip event sequence (Zeno loop)",
+            iterations: MAX_EVENTS,
+            residual: theta_end - theta,
+        })
+    }
+
+    /// Time integrals over the segments (Gauss–Legendre on each closed-form piece).
+    pub fn integrals(&self, segments: &[Segment]) -> PeriodIntegrals {
+        let p = &self.p;
+        let rho = p.stiffness_ratio;
+        let (s, a_t) = (self.s, p.tangential_ratio);
+        let mut total = PeriodIntegrals::default();
+        for seg in segments {
+            let duration = (seg.end - seg.start) / s;
+            let mut piece = PeriodIntegrals { time: duration, ..Default::default() };
+            match seg.mode {
+                Mode::Separated => {}
+                Mode::Stick => {
+                    let line = self.stick_line(seg.start, seg.deflection_start);
+                    let [f, n, w] = integrate(seg.start, seg.end, |t| {
+                        let force = rho * line.value(t);
+                        [force, p.normal(t), -force * a_t * t.sin()]
+                    });
+                    piece.force_time = f / s;
+                    piece.normal_time = n / s;
+                    piece.stator_work = w / s;
+                    piece.stick_time = duration;
+                    piece.contact_time = duration;
+                }
+                Mode::Slip(sign) => {
+                    let rate = self.slip_rate(sign);
+                    let mu = p.mu_kinetic;
+                    let [f, n, w, d] = integrate(seg.start, seg.end, |t| {
+                        let normal = p.normal(t);
+                        let force = sign * mu * normal;
+                        [force, normal, -force * a_t * t.sin(), mu * normal * rate.value(t).abs()]
+                    });
+                    piece.force_time = f / s;
+                    piece.normal_time = n / s;
+                    piece.stator_work = w / s;
+                    piece.dissipation = d;
+                    piece.contact_time = duration;
+                }
+            }
+            piece.output_work = piece.force_time * self.v;
+            total = total + piece;
+        }
+        total
+    }
+
+    /// One period from (θ0, state): end state, integrals (with drop losses and the stored
+    /// elastic energy change) and whether anything but sticking happened.
+    fn period_from(
+        &self,
+        theta0: f64,
+        state: PostState,
+        segments: &mut Vec<Segment>,
+    ) -> Result<(PostState, PeriodIntegrals, bool)> {
+        segments.clear();
+        let mut dropped = 0.0;
+        let end = self.advance(theta0, theta0 + 2.0 * PI, state, segments, &mut dropped)?;
+        let mut ints = self.integrals(segments);
+        let rho = self.p.stiffness_ratio;
+        ints.dissipation += dropped;
+        ints.stored_energy_change = 0.5 * rho * (end.deflection.powi(2) - state.deflection.powi(2));
+        let slipped = state.mode != Mode::Stick
+            || end.mode != Mode::Stick
+            || segments.iter().any(|s| s.mode != Mode::Stick);
+        Ok((end, ints, slipped))
+    }
+
+    /// The periodic steady state of the post.
+    ///
+    /// * Separating post: the deflection resets at every separation, so one period from
+    ///   touchdown is the steady state (unique for every speed, including v = 0).
+    /// * Post always in contact, v ≠ 0: the period map is iterated; stuck periods are a pure
+    ///   drift of ê by −2πv̂/s and are fast-forwarded in closed form up to the next bound
+    ///   contact; the steady cycle is found when a post-slip state repeats.
+    /// * Post always in contact, v = 0: the stuck steady state is not unique; the v → 0⁺ limit
+    ///   is taken (physics.md §5.1): the orbit dragged against its upper static bound (μ_s = μ_k),
+    ///   or, with μ_s > μ_k, the mean over the slow creep between the post-snap orbit and the
+    ///   touching orbit (mean thrust is affine in the orbit offset, so the midpoint orbit).
+    pub fn steady(&self) -> Result<SteadyPost> {
+        let mut segments = Vec::new();
+        if let Some(phi) = self.p.height.half_arc {
+            let theta0 = 0.5 * PI - phi;
+            let start = PostState::separated();
+            let (_, ints, _) = self.period_from(theta0, start, &mut segments)?;
+            return Ok(SteadyPost { integrals: ints, start: (theta0, start), converged: true });
+        }
+        if self.v == 0.0 {
+            if let Some(stall) = self.stall_orbit(&mut segments)? {
+                return Ok(stall);
+            }
+        }
+        let initial = if self.v == 0.0 { self.touching_orbit_start() } else { 0.0 };
+        self.iterate_always_contact(PostState { mode: Mode::Stick, deflection: initial, tip_velocity: 0.0 }, &mut segments)
+    }
+
+    /// Start deflection (at θ = −π/2) of the stuck v = 0 orbit that touches its upper static
+    /// bound, minus a round-off offset: ê0 = −(μ_s/ρ)c − hypot(μ_s/ρ, â/s).
+    fn touching_orbit_start(&self) -> f64 {
+        let bound = self.p.mu_static / self.p.stiffness_ratio;
+        -bound * self.p.height.c - bound.hypot(self.alpha) - TOUCH_OFFSET * self.p.deflection_scale()
+    }
+
+    /// The v → 0⁺ orbit of a post that never separates, if it is a stuck orbit.
+    fn stall_orbit(&self, segments: &mut Vec<Segment>) -> Result<Option<SteadyPost>> {
+        let theta0 = ALWAYS_CONTACT_START;
+        let touching = PostState { mode: Mode::Stick, deflection: self.touching_orbit_start(), tip_velocity: 0.0 };
+        let (_, ints, slipped) = self.period_from(theta0, touching, segments)?;
+        if slipped {
+            return Ok(None);
+        }
+        if self.p.mu_kinetic >= self.p.mu_static {
+            return Ok(Some(SteadyPost { integrals: ints, start: (theta0, touching), converged: true }));
+        }
+        // Snap at the touching point θ_t (minimum of (μ_s/ρ) sin θ − (â/s) cos θ), then follow
+        // one period to find the orbit the creep restarts from.
+        let bound = self.p.mu_static / self.p.stiffness_ratio;
+        let touch = self.alpha.atan2(bound) - 0.5 * PI;
+        let mut dropped = 0.0;
+        let at_touch = bound * self.p.normal(touch);
+        let snapped = self.enter_slip(touch, 1.0, at_touch, &mut dropped);
+        segments.clear();
+        let after = self.advance(touch, touch + 2.0 * PI, snapped, segments, &mut dropped)?;
+        if after.mode != Mode::Stick {
+            return Ok(None);
+        }
+        let restart = after.deflection - self.alpha * (touch.cos() - theta0.cos());
+        let mid = PostState { mode: Mode::Stick, deflection: 0.5 * (restart + touching.deflection), tip_velocity: 0.0 };
+        let (_, ints, slipped) = self.period_from(theta0, mid, segments)?;
+        Ok((!slipped).then_some(SteadyPost { integrals: ints, start: (theta0, mid), converged: true }))
+    }
+
+    /// Distance of the stuck period from (θ0, ê0) to the static bound in the drift direction.
+    fn stuck_margin(&self, theta0: f64, e0: f64, direction: f64, scratch: &mut Vec<f64>) -> f64 {
+        let bound = self.p.mu_static / self.p.stiffness_ratio;
+        let line = self.stick_line(theta0, e0);
+        // direction > 0: bound − line; direction < 0: line + bound.
+        let gap = TrigLinear {
+            a: -direction * line.a,
+            b: bound,
+            g: -direction * line.g,
+            d: -direction * line.d - bound * self.p.height.c,
+        };
+        gap.min_on(theta0, theta0 + 2.0 * PI, scratch).max(0.0)
+    }
+
+    fn iterate_always_contact(&self, mut state: PostState, segments: &mut Vec<Segment>) -> Result<SteadyPost> {
+        let theta0 = ALWAYS_CONTACT_START;
+        let tol = CYCLE_TOLERANCE * self.p.deflection_scale();
+        let rho = self.p.stiffness_ratio;
+        let period_time = 2.0 * PI / self.s;
+        let mut cumulative = PeriodIntegrals::default();
+        let mut records: Vec<(PostState, PeriodIntegrals)> = Vec::new();
+        let mut scratch = Vec::new();
+        let mut last_change = f64::INFINITY;
+        for _ in 0..MAX_PERIOD_EVALUATIONS {
+            let (end, ints, slipped) = self.period_from(theta0, state, segments)?;
+            if !slipped {
+                let drift = end.deflection - state.deflection;
+                if drift == 0.0 {
+                    return Ok(SteadyPost { integrals: ints, start: (theta0, state), converged: true });
+                }
+                // Periods j = 1..n from ê0 + j·drift stay stuck; add them in closed form.
+                let margin = self.stuck_margin(theta0, state.deflection, drift.signum(), &mut scratch);
+                let n = (margin / drift.abs()).floor().min(1e12);
+                let triangle = 0.5 * n * (n + 1.0);
+                let mut skipped = PeriodIntegrals {
+                    time: n * ints.time,
+                    force_time: n * ints.force_time + rho * drift * period_time * triangle,
+                    normal_time: n * ints.normal_time,
+                    stator_work: n * ints.stator_work,
+                    output_work: n * ints.output_work + self.v * rho * drift * period_time * triangle,
+                    dissipation: 0.0,
+                    stick_time: n * ints.stick_time,
+                    contact_time: n * ints.contact_time,
+                    stored_energy_change: 0.0,
+                };
+                let e_start = state.deflection;
+                let e_end = e_start + (n + 1.0) * drift;
+                skipped.stored_energy_change = 0.5 * rho * (e_end * e_end - end.deflection * end.deflection);
+                cumulative = cumulative + ints + skipped;
+                state = PostState { deflection: e_end, ..end };
+                continue;
+            }
+            cumulative = cumulative + ints;
+            let same = |a: &PostState, b: &PostState| a.mode == b.mode && (a.deflection - b.deflection).abs() <= tol;
+            if same(&end, &state) {
+                return Ok(SteadyPost { integrals: ints, start: (theta0, state), converged: true });
+            }
+            if let Some((_, earlier)) = records.iter().rev().take(16).find(|(s, _)| same(s, &end)) {
+                let cycle = cumulative - *earlier;
+                return Ok(SteadyPost { integrals: cycle, start: (theta0, end), converged: true });
+            }
+            last_change = (end.deflection - state.deflection).abs();
+            records.push((end, cumulative));
+            state = end;
+        }
+        // Quasi-periodic: average over the second half of the recorded super-cycles.
+        match records.get(records.len() / 2) {
+            Some((_, mid)) if records.len() >= 2 => {
+                Ok(SteadyPost { integrals: cumulative - *mid, start: (theta0, state), converged: false })
+            }
+            _ => Err(StickSlipError::NotConverged {
+                model: "event-driven post",
+                what: "periodic steady state of a post in permanent contact",
+                iterations: MAX_PERIOD_EVALUATIONS,
+                residual: last_change,
+            }),
+        }
+    }
+}

@@ -1,0 +1,356 @@
+//! The complete input of a dynamic run ([`DynamicScene`]), its validation, and the automatic
+//! choice between the period-average and the transient model ("model no more than the scene
+//! needs", physics.md §5.1).
+
+use std::f64::consts::PI;
+
+use serde::{Deserialize, Serialize};
+
+use crate::contact::PostContact;
+use crate::error::{Result, StickSlipError, Warning};
+use crate::integrator::{Integrator, StabilityPolicy, StabilitySetting};
+use crate::mean_normal::tip_height_for_mean_normal;
+use crate::slider::{PostLayout, Slider, VerticalModel};
+use crate::wave::{Wave, WaveLimits};
+
+/// Default number of points on the speed–thrust curve.
+pub const DEFAULT_CURVE_POINTS: usize = 50;
+/// Harmonics checked for the phase uniformity of the posts (m = 1..8): the single-post force
+/// waveform's content beyond the 8th harmonic is below ≈ 1 % of its mean.
+pub const PHASE_HARMONICS: usize = 8;
+/// Largest phase non-uniformity max_m |Σ w e^{imkx}|/Σ w accepted by the period-average model
+/// under `auto` (incommensurate or clustered pitch above this needs the transient). Default 0.1.
+pub const PHASE_NONUNIFORMITY_LIMIT: f64 = 0.1;
+/// Largest estimated slider speed ripple, relative to the crest speed A_t ω, accepted by the
+/// period-average model under `auto` (a lighter slider needs the transient). Default 1e-2.
+pub const SPEED_RIPPLE_LIMIT: f64 = 1e-2;
+
+/// Which model to run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum ModelChoice {
+    /// Period-average when the scene allows it, else transient (the reason is reported).
+    #[default]
+    Auto,
+    /// One post period-averaged at imposed speed (posts uniform over the phase, heavy slider).
+    PeriodicAverage,
+    /// All phase groups and the slider integrated in time.
+    Transient,
+}
+
+/// The model that actually ran.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ModelKind {
+    /// Period-average of one post at imposed speed.
+    PeriodicAverage,
+    /// Transient of all phase groups.
+    Transient,
+}
+
+/// Where the transient starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum TransientStart {
+    /// From the period-average estimate of the steady speed (fast settling).
+    #[default]
+    Estimate,
+    /// From rest (step response).
+    Rest,
+}
+
+/// Options of the transient model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TransientOptions {
+    /// Simulated wave periods per run.
+    pub periods: f64,
+    /// Trailing periods averaged for the steady speed and thrust.
+    pub average_periods: f64,
+    /// Initial slider speed.
+    pub start: TransientStart,
+    /// Loads on the transient speed–thrust curve (between 0 and the stall estimate).
+    pub curve_loads: usize,
+    /// Locate the transient stall thrust by bisection on the load (several runs).
+    pub find_stall: bool,
+    /// Relative tolerance of the stall-thrust search (of the stall thrust).
+    pub stall_tolerance: f64,
+    /// Phase groups used for a `uniform-phase` layout.
+    pub uniform_phase_groups: usize,
+}
+
+impl Default for TransientOptions {
+    fn default() -> Self {
+        Self {
+            periods: 400.0,
+            average_periods: 100.0,
+            start: TransientStart::Estimate,
+            curve_loads: 6,
+            find_stall: true,
+            stall_tolerance: 2e-3,
+            uniform_phase_groups: 64,
+        }
+    }
+}
+
+/// Options of the time histories (Fig. 6-style charts).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct HistoryOptions {
+    /// Wave periods shown.
+    pub periods: f64,
+    /// Samples per wave period.
+    pub samples_per_period: usize,
+}
+
+impl Default for HistoryOptions {
+    fn default() -> Self {
+        Self { periods: 3.0, samples_per_period: 256 }
+    }
+}
+
+/// Numerical options.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SolveOptions {
+    /// Points on the speed–thrust curve (≥ 2).
+    pub curve_points: usize,
+    /// Refuse or warn on steps above the stability limit.
+    pub stability: StabilityPolicy,
+    /// Physical bounds of the wave.
+    pub wave_limits: WaveLimits,
+    /// Transient model options.
+    pub transient: TransientOptions,
+    /// Time-history options.
+    pub history: HistoryOptions,
+}
+
+impl Default for SolveOptions {
+    fn default() -> Self {
+        Self {
+            curve_points: DEFAULT_CURVE_POINTS,
+            stability: StabilityPolicy::Refuse,
+            wave_limits: WaveLimits::default(),
+            transient: TransientOptions::default(),
+            history: HistoryOptions::default(),
+        }
+    }
+}
+
+/// Everything a dynamic run needs, SI units throughout.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DynamicScene {
+    /// The stator's wave.
+    pub wave: Wave,
+    /// One post's contact.
+    pub contact: PostContact,
+    /// The slider.
+    pub slider: Slider,
+    /// Model choice.
+    #[serde(default)]
+    pub model: ModelChoice,
+    /// Integrator.
+    #[serde(default)]
+    pub integrator: Integrator,
+    /// Numerical options.
+    #[serde(default)]
+    pub options: SolveOptions,
+}
+
+impl DynamicScene {
+    /// The paper's scene with the given post springs (N/m): wave of physics.md §1, μ = 0.3,
+    /// Si slider 5 × 5 × 0.5 mm with 100 × 100 posts at 40 µm, η = 0.36, preload 40 N.
+    pub fn paper_default(k_n_n_per_m: f64, k_t_n_per_m: f64) -> Self {
+        Self {
+            wave: Wave::paper_default(),
+            contact: PostContact::new(k_n_n_per_m, k_t_n_per_m, crate::contact::PAPER_FRICTION_COEFFICIENT),
+            slider: Slider::paper_default(),
+            model: ModelChoice::Auto,
+            integrator: Integrator::default(),
+            options: SolveOptions::default(),
+        }
+    }
+
+    /// Validate every part; returns the warnings.
+    pub fn validate(&self) -> Result<Vec<Warning>> {
+        let mut warnings = self.wave.validate(&self.options.wave_limits)?;
+        warnings.extend(self.contact.validate()?);
+        warnings.extend(self.slider.validate()?);
+        if self.options.curve_points < 2 {
+            return Err(StickSlipError::InvalidParameter {
+                parameter: "options.curve_points",
+                value: self.options.curve_points as f64,
+                requirement: "must be ≥ 2".into(),
+            });
+        }
+        let t = &self.options.transient;
+        crate::error::require_positive("options.transient.periods", t.periods)?;
+        crate::error::require_positive("options.transient.average_periods", t.average_periods)?;
+        crate::error::require_positive("options.transient.stall_tolerance", t.stall_tolerance)?;
+        if t.average_periods > t.periods {
+            return Err(StickSlipError::InvalidParameter {
+                parameter: "options.transient.average_periods",
+                value: t.average_periods,
+                requirement: format!("must not exceed options.transient.periods = {}", t.periods),
+            });
+        }
+        crate::error::require_positive("options.history.periods", self.options.history.periods)?;
+        if self.options.history.samples_per_period < 8 {
+            return Err(StickSlipError::InvalidParameter {
+                parameter: "options.history.samples_per_period",
+                value: self.options.history.samples_per_period as f64,
+                requirement: "must be ≥ 8".into(),
+            });
+        }
+        let model = self.resolve_model()?.0;
+        let setting = self.stability_setting(model);
+        let integrator = self.integrator.resolve(model, self.wave.period_s());
+        warnings.extend(integrator.check(&setting, self.wave.period_s(), self.options.stability)?);
+        Ok(warnings)
+    }
+
+    /// Mean normal force per effective post (N), P/N_eff.
+    pub fn mean_normal_force_per_post_n(&self) -> f64 {
+        self.slider.preload_n / self.slider.effective_post_count()
+    }
+
+    /// Peak normal force on one post at the period-mean equilibrium (N): k_n A_n (1 − c)
+    /// (largest wave amplitude under the slider if the wave decays).
+    pub fn peak_normal_force_n(&self) -> f64 {
+        let k_n_a = self.contact.k_n_n_per_m * self.wave.normal_amplitude_m;
+        let height = tip_height_for_mean_normal(self.mean_normal_force_per_post_n() / k_n_a);
+        let amplitude = match self.wave.decay_length_m {
+            Some(l) => {
+                let columns = self.slider.layout.columns(self.wave.wavelength_m(), 1);
+                let x_min = columns.iter().map(|c| c.0).fold(f64::INFINITY, f64::min);
+                (-x_min.min(0.0) / l).exp()
+            }
+            None => 1.0,
+        };
+        k_n_a * (amplitude - height.c)
+    }
+
+    /// What the integrator's stability depends on, for the given model.
+    pub fn stability_setting(&self, model: ModelKind) -> StabilitySetting {
+        let slider_mode = match model {
+            ModelKind::PeriodicAverage => 0.0,
+            ModelKind::Transient => {
+                let k = self.contact.k_n_n_per_m.max(self.contact.k_t_n_per_m);
+                (self.slider.effective_post_count() * k / self.slider.mass_kg).sqrt()
+            }
+        };
+        StabilitySetting {
+            k_t_n_per_m: self.contact.k_t_n_per_m,
+            post_mass_kg: self.contact.post_mass_kg,
+            peak_normal_force_n: self.peak_normal_force_n(),
+            mu_kinetic: self.contact.mu_kinetic,
+            slider_mode_rad_per_s: slider_mode,
+        }
+    }
+
+    /// Phase non-uniformity of the posts, max over m = 1..[`PHASE_HARMONICS`] of
+    /// |Σ_i e^{i m k x_i}| / N (0: uniform over the phase; 1: all in phase).
+    pub fn phase_nonuniformity(&self) -> f64 {
+        if matches!(self.slider.layout, PostLayout::UniformPhase { .. }) {
+            return 0.0;
+        }
+        let k = self.wave.wavenumber_rad_per_m();
+        let columns = self.slider.layout.columns(self.wave.wavelength_m(), 1);
+        let total: f64 = columns.iter().map(|c| c.2).sum();
+        (1..=PHASE_HARMONICS)
+            .map(|m| {
+                let (re, im) = columns.iter().fold((0.0, 0.0), |(re, im), &(x, _, w)| {
+                    let phase = m as f64 * k * x;
+                    (re + w * phase.cos(), im + w * phase.sin())
+                });
+                re.hypot(im) / total
+            })
+            .fold(0.0, f64::max)
+    }
+
+    /// Estimated slider speed ripple relative to the crest speed: the force ripple (phase
+    /// non-uniformity × friction bound of the peak normal forces) over M ω A_t ω.
+    pub fn speed_ripple_estimate(&self) -> f64 {
+        let omega = self.wave.angular_frequency_rad_per_s();
+        let force_ripple = self.phase_nonuniformity()
+            * self.contact.mu_static
+            * self.peak_normal_force_n()
+            * self.slider.effective_post_count();
+        let crest = self.wave.crest_speed_m_per_s().max(f64::MIN_POSITIVE);
+        force_ripple / (self.slider.mass_kg * omega * crest)
+    }
+
+    /// The model to run and why.
+    pub fn resolve_model(&self) -> Result<(ModelKind, String)> {
+        let needs_transient = self.transient_reasons();
+        match self.model {
+            ModelChoice::Transient => Ok((ModelKind::Transient, "requested".into())),
+            ModelChoice::PeriodicAverage => {
+                if let Some(reason) = needs_transient.iter().find(|r| r.1) {
+                    return Err(StickSlipError::ModelNotApplicable { model: "periodic-average", reason: reason.0.clone() });
+                }
+                Ok((ModelKind::PeriodicAverage, "requested".into()))
+            }
+            ModelChoice::Auto => Ok(match needs_transient.first() {
+                Some((reason, _)) => (ModelKind::Transient, format!("auto: {reason}")),
+                None => (
+                    ModelKind::PeriodicAverage,
+                    format!(
+                        "auto: posts uniform over the phase (non-uniformity {:.3} ≤ {PHASE_NONUNIFORMITY_LIMIT}), heavy slider (speed ripple ≈ {:.1e} of A_t ω ≤ {SPEED_RIPPLE_LIMIT:.0e}), continuous wave without decay",
+                        self.phase_nonuniformity(),
+                        self.speed_ripple_estimate()
+                    ),
+                ),
+            }),
+        }
+    }
+
+    /// Scene features the period-average model cannot represent, with whether they forbid it
+    /// outright (true) or only make it approximate (false).
+    fn transient_reasons(&self) -> Vec<(String, bool)> {
+        let mut reasons = Vec::new();
+        if self.wave.burst_periods.is_some() {
+            reasons.push(("finite burst drive".into(), true));
+        }
+        if self.wave.decay_length_m.is_some() {
+            reasons.push(("wave decays along x under the slider".into(), true));
+        }
+        if self.slider.layout.has_gaps() {
+            reasons.push(("posts with initial gaps (height scatter)".into(), true));
+        }
+        if matches!(self.slider.vertical, VerticalModel::Dynamic { .. }) {
+            reasons.push(("dynamic vertical slider motion (bounce)".into(), false));
+        }
+        let nonuniformity = self.phase_nonuniformity();
+        if nonuniformity > PHASE_NONUNIFORMITY_LIMIT {
+            reasons.push((
+                format!("posts not uniform over the wave phase (non-uniformity {nonuniformity:.3} > {PHASE_NONUNIFORMITY_LIMIT}; incommensurate or clustered pitch)"),
+                false,
+            ));
+        }
+        let ripple = self.speed_ripple_estimate();
+        if ripple > SPEED_RIPPLE_LIMIT {
+            reasons.push((
+                format!("light slider (speed ripple ≈ {ripple:.1e} of A_t ω > {SPEED_RIPPLE_LIMIT:.0e})"),
+                false,
+            ));
+        }
+        reasons
+    }
+
+    /// Wavelength-normalised phase of the posts, for reports: distinct x positions mod λ.
+    pub fn distinct_phase_count(&self) -> usize {
+        let lambda = self.wave.wavelength_m();
+        let mut phases: Vec<f64> = self
+            .slider
+            .layout
+            .columns(lambda, self.options.transient.uniform_phase_groups)
+            .iter()
+            .map(|c| (c.0 / lambda).rem_euclid(1.0) * 2.0 * PI)
+            .collect();
+        phases.sort_by(f64::total_cmp);
+        phases.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+        phases.len()
+    }
+}

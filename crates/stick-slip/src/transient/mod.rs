@@ -1,0 +1,515 @@
+//! The transient model: every phase group at its real position, the slider's horizontal (and
+//! optionally vertical) equations integrated to a steady state. Resolves what the period average
+//! cannot: incommensurate pitch, light sliders, slider bounce, decaying waves, bursts, step
+//! responses.
+
+mod event_driven;
+mod groups;
+mod massive;
+mod return_mapping;
+mod system;
+
+use std::f64::consts::PI;
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::error::{Result, StickSlipError, Warning};
+use crate::history::{ContactState, PostHistory, SliderHistory};
+use crate::integrator::{EVENT_DRIVEN_STEPS_PER_PERIOD, Integrator, RK4_STABILITY_BOUND};
+use crate::periodic::PeriodicAverageModel;
+use crate::result::{CurvePoint, DynamicResult, OperatingPoint, TransientSummary};
+use crate::scene::{DynamicScene, ModelChoice, ModelKind, TransientStart};
+use crate::slider::{PostLayout, VerticalModel};
+
+use event_driven::EventDriven;
+use massive::{MassivePosts, TipFriction};
+use return_mapping::ReturnMapping;
+use system::{SliderState, Stepper, Sums, System};
+
+/// Safety factor on the RK4 stability bound for the default event-driven step.
+const EVENT_DRIVEN_SAFETY: f64 = 0.5;
+/// Relative speed drift (first vs second half of the averaging window, of the larger of the
+/// mean speed and 1e-3 A_t ω) below which a run counts as steady. Default 1e-3.
+const STEADY_TOLERANCE: f64 = 1e-3;
+/// Speed (of the no-load speed) below which the slider counts as stalled in the stall search.
+/// Default 1e-3.
+const STALL_SPEED_FRACTION: f64 = 1e-3;
+/// Largest number of runs of the stall search. Default 16.
+const MAX_STALL_RUNS: usize = 16;
+
+/// Result of one transient run at one load, SI, speeds and forces along the drive direction.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TransientRun {
+    /// External load (N).
+    pub load_n: f64,
+    /// Mean speed over the averaging window (m/s).
+    pub speed_m_per_s: f64,
+    /// Mean total contact thrust over the averaging window (N).
+    pub thrust_n: f64,
+    /// Output power thrust × speed, ⟨ΣF·v⟩ (W).
+    pub output_power_w: f64,
+    /// Mechanical power from the stator through the tangential contacts (W).
+    pub stator_power_w: f64,
+    /// Friction dissipation (W).
+    pub friction_dissipation_w: f64,
+    /// Output over stator power.
+    pub efficiency: f64,
+    /// Time stuck over time in contact (post-weighted).
+    pub stick_fraction: f64,
+    /// Time in contact over time (post-weighted).
+    pub contact_fraction: f64,
+    /// (stator − output − dissipation − stored change)/stator over the window.
+    pub energy_balance_residual: f64,
+    /// Whether the mean speed stopped drifting over the window.
+    pub steady: bool,
+    /// Peak-to-peak speed over the window (m/s).
+    pub speed_ripple_m_per_s: f64,
+    /// Peak-to-peak tip height over the window (m).
+    pub vertical_bounce_m: f64,
+    /// Mean tip height z_s over the window (m).
+    pub mean_tip_height_m: f64,
+    /// Displacement over the whole run along the drive direction (m).
+    pub displacement_m: f64,
+    /// Largest instantaneous speed over the run (m/s).
+    pub peak_speed_m_per_s: f64,
+    /// Integration steps.
+    pub steps: u64,
+    /// Simulated wave periods.
+    pub periods: usize,
+    /// Mean speed of every period (m/s), for step responses.
+    pub period_speed_m_per_s: Vec<f64>,
+    /// Slider motion (if recorded).
+    pub slider_history: Option<SliderHistory>,
+    /// Forces on the first phase group's posts over the last periods (if recorded).
+    pub post_history: Option<PostHistory>,
+}
+
+/// One wave period's record.
+#[derive(Debug, Clone, Copy, Default)]
+struct PeriodRecord {
+    sums: Sums,
+    dx: f64,
+    v_min: f64,
+    v_max: f64,
+    z_min: f64,
+    z_max: f64,
+    z_time: f64,
+    stored_change: f64,
+}
+
+/// The transient model of a scene.
+#[derive(Debug, Clone)]
+pub struct TransientModel {
+    scene: DynamicScene,
+    estimate: Option<PeriodicAverageModel>,
+    reason: String,
+    warnings: Vec<Warning>,
+    groups: usize,
+}
+
+impl TransientModel {
+    /// Build the model: validates the scene and the integrator against the transient's
+    /// stability limits (typed errors), builds the phase groups and a period-average estimate
+    /// (used for warm starts and the stall bracket).
+    pub fn new(scene: &DynamicScene) -> Result<Self> {
+        let mut warnings = scene.validate()?;
+        let setting = scene.stability_setting(ModelKind::Transient);
+        let integrator = scene.integrator.resolve(ModelKind::Transient, scene.wave.period_s());
+        for w in integrator.check(&setting, scene.wave.period_s(), scene.options.stability)? {
+            if !warnings.contains(&w) {
+                warnings.push(w);
+            }
+        }
+        let reason = match scene.resolve_model()? {
+            (ModelKind::Transient, reason) => reason,
+            (ModelKind::PeriodicAverage, _) => "transient model built directly (the scene alone would allow the period average)".into(),
+        };
+        if scene.wave.burst_periods.is_some() && scene.slider.vertical == VerticalModel::PeriodMean {
+            warnings.push(Warning::new(
+                "slider.vertical",
+                "burst with quasi-static vertical model: z_s stays at the running-wave equilibrium, so posts hang free before and after the burst; use `dynamic`",
+            ));
+        }
+        let estimate = PeriodicAverageModel::new(&Self::estimate_scene(scene)).ok();
+        let groups = groups::Groups::build(scene).len();
+        Ok(Self { scene: scene.clone(), estimate, reason, warnings, groups })
+    }
+
+    /// The scene's continuous, uniform-height, quasi-static companion for the period average.
+    fn estimate_scene(scene: &DynamicScene) -> DynamicScene {
+        let mut companion = scene.clone();
+        companion.model = ModelChoice::PeriodicAverage;
+        companion.integrator = Integrator::default();
+        companion.wave.burst_periods = None;
+        companion.wave.decay_length_m = None;
+        companion.slider.vertical = VerticalModel::PeriodMean;
+        if let PostLayout::Positions { gap_m, .. } = &mut companion.slider.layout {
+            *gap_m = None;
+        }
+        companion
+    }
+
+    /// The concrete integrator (`auto` resolved for the transient).
+    pub fn integrator(&self) -> Integrator {
+        self.scene.integrator.resolve(ModelKind::Transient, self.scene.wave.period_s())
+    }
+
+    /// Number of phase groups integrated.
+    pub fn phase_groups(&self) -> usize {
+        self.groups
+    }
+
+    /// The scene.
+    pub fn scene(&self) -> &DynamicScene {
+        &self.scene
+    }
+
+    /// The period-average estimate of the continuous companion scene, if it could be built.
+    pub fn estimate(&self) -> Option<&PeriodicAverageModel> {
+        self.estimate.as_ref()
+    }
+
+    fn stepper<'s>(&self, sys: &'s System, start: SliderState) -> Result<Box<dyn Stepper + 's>> {
+        let omega = self.scene.wave.angular_frequency_rad_per_s();
+        Ok(match self.integrator() {
+            Integrator::Auto | Integrator::EventDriven { max_step_s: None } => {
+                let slider_mode = (sys.rho.max(1.0) / sys.mass).sqrt();
+                let h = (2.0 * PI / EVENT_DRIVEN_STEPS_PER_PERIOD).min(EVENT_DRIVEN_SAFETY * RK4_STABILITY_BOUND / slider_mode);
+                Box::new(EventDriven::new(sys, h, start))
+            }
+            Integrator::EventDriven { max_step_s: Some(max_step_s) } => {
+                Box::new(EventDriven::new(sys, max_step_s * omega, start))
+            }
+            Integrator::ReturnMapping { dt_s } => Box::new(ReturnMapping::new(sys, dt_s * omega, start)),
+            Integrator::PostMass { dt_s } => Box::new(MassivePosts::new(sys, TipFriction::Coulomb, dt_s * omega, start)?),
+            Integrator::RegularizedExplicit { dt_s, regularization_speed_m_per_s } => {
+                let speed = regularization_speed_m_per_s / (self.scene.wave.normal_amplitude_m * omega);
+                Box::new(MassivePosts::new(sys, TipFriction::Regularized { speed }, dt_s * omega, start)?)
+            }
+        })
+    }
+
+    /// Run at one external load (N) from `start`; `record` keeps the slider history and the
+    /// first group's force history over the last periods.
+    pub fn run(&self, load_n: f64, start: TransientStart, record: bool) -> Result<TransientRun> {
+        crate::error::require_finite("load_n", load_n)?;
+        let scene = &self.scene;
+        let options = &scene.options.transient;
+        let a_n = scene.wave.normal_amplitude_m;
+        let omega = scene.wave.angular_frequency_rad_per_s();
+        let force_unit = scene.slider.effective_post_count() * scene.contact.k_n_n_per_m * a_n;
+        let post_force = scene.contact.k_n_n_per_m * a_n;
+        let sys = System::new(scene, load_n);
+        let initial_speed = match start {
+            TransientStart::Rest => 0.0,
+            TransientStart::Estimate => match &self.estimate {
+                Some(estimate) => estimate.at_load(load_n)?.map_or(0.0, |s| s.speed_m_per_s),
+                None => 0.0,
+            },
+        };
+        let start_state =
+            SliderState { t: sys.t_start, x: 0.0, v: -initial_speed / (a_n * omega), z: sys.initial_height(), w: 0.0 };
+        let mut stepper = self.stepper(&sys, start_state)?;
+        let periods = options.periods.ceil() as usize;
+        let window = (options.average_periods.round() as usize).clamp(1, periods);
+        let history_periods = scene.options.history.periods.ceil() as usize;
+        let history_from = periods.saturating_sub(history_periods.max(1));
+        let sample_spacing = 2.0 * PI / scene.options.history.samples_per_period as f64;
+        let mut slider_history = record.then(SliderHistory::default);
+        let mut post_history = record.then(PostHistory::default);
+        let mut next_sample = sys.t_start;
+        let mut records = Vec::with_capacity(periods);
+        let mut peak_speed = f64::NEG_INFINITY;
+        let t_unit = 1.0 / omega;
+        for j in 0..periods {
+            let t_end = sys.t_start + 2.0 * PI * (j + 1) as f64;
+            let first = stepper.state();
+            let stored0 = stepper.stored_energy();
+            let mut rec = PeriodRecord {
+                v_min: first.v,
+                v_max: first.v,
+                z_min: first.z,
+                z_max: first.z,
+                ..Default::default()
+            };
+            let mut sums = Sums::default();
+            while stepper.state().t < t_end - 1e-10 * 2.0 * PI {
+                let before = stepper.state().t;
+                stepper.step(t_end, &mut sums)?;
+                let st = stepper.state();
+                rec.v_min = rec.v_min.min(st.v);
+                rec.v_max = rec.v_max.max(st.v);
+                rec.z_min = rec.z_min.min(st.z);
+                rec.z_max = rec.z_max.max(st.z);
+                rec.z_time += st.z * (st.t - before);
+                peak_speed = peak_speed.max(-st.v);
+                if record && st.t >= next_sample {
+                    next_sample = st.t + sample_spacing;
+                    let (force, normal) = stepper.totals();
+                    if let Some(h) = slider_history.as_mut() {
+                        h.time_s.push((st.t - sys.t_start) * t_unit);
+                        h.speed_m_per_s.push(-st.v * a_n * omega);
+                        h.thrust_n.push(-force * force_unit);
+                        h.normal_force_n.push(normal * force_unit);
+                        h.tip_height_m.push(st.z * a_n);
+                    }
+                    if j >= history_from {
+                        if let Some(h) = post_history.as_mut() {
+                            let (normal, force, mode) = stepper.group(0);
+                            h.time_s.push((st.t - sys.t_start) * t_unit);
+                            h.normal_force_n.push(normal * post_force);
+                            h.tangential_force_n.push(-force * post_force);
+                            h.friction_bound_n.push(sys.mu_k * normal * post_force);
+                            let alpha = st.t - sys.wave.doppler * st.x - sys.groups.phase[0];
+                            let drive = sys.groups.amplitude[0] * sys.wave.amplitude_at(st.x);
+                            let on = if sys.wave.is_on(alpha) { 1.0 } else { 0.0 };
+                            h.stator_velocity_m_per_s.push(sys.wave.tangential_ratio * on * drive * alpha.sin() * a_n * omega);
+                            h.state.push(ContactState::from(mode));
+                        }
+                    }
+                }
+            }
+            let last = stepper.state();
+            rec.sums = sums;
+            rec.dx = last.x - first.x;
+            rec.stored_change = stepper.stored_energy() - stored0;
+            records.push(rec);
+        }
+        if let Some(h) = post_history.as_mut() {
+            let t0 = h.time_s.first().copied().unwrap_or(0.0);
+            h.time_s.iter_mut().for_each(|t| *t -= t0);
+            h.intervals_from_states();
+        }
+        // Averages over the window.
+        let tail = &records[periods - window..];
+        let mut sums = Sums::default();
+        let (mut dx, mut stored, mut z_time) = (0.0, 0.0, 0.0);
+        for r in tail {
+            sums += r.sums;
+            dx += r.dx;
+            stored += r.stored_change;
+            z_time += r.z_time;
+        }
+        let time = sums.time;
+        let power_unit = force_unit * a_n * omega;
+        let speed_of = |records: &[PeriodRecord]| {
+            let (x, t) = records.iter().fold((0.0, 0.0), |(x, t), r| (x + r.dx, t + r.sums.time));
+            -x / t
+        };
+        let half = window / 2;
+        let drift = if half >= 1 { (speed_of(&tail[..half]) - speed_of(&tail[half..])).abs() } else { 0.0 };
+        let mean_speed = -dx / time;
+        let steady = drift <= STEADY_TOLERANCE * mean_speed.abs().max(1e-3 * sys.wave.tangential_ratio);
+        let stator = sums.stator_work / time * power_unit;
+        let output = sums.output_work / time * power_unit;
+        let residual = (sums.stator_work - sums.output_work - sums.dissipation - stored)
+            / sums.stator_work.abs().max(sums.dissipation.abs()).max(1e-300);
+        let (v_min, v_max) = tail.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| (a.min(r.v_min), b.max(r.v_max)));
+        let (z_min, z_max) = tail.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| (a.min(r.z_min), b.max(r.z_max)));
+        if let Some(h) = post_history.as_mut() {
+            h.speed_m_per_s = mean_speed * a_n * omega;
+        }
+        let total_dx: f64 = records.iter().map(|r| r.dx).sum();
+        Ok(TransientRun {
+            load_n,
+            speed_m_per_s: mean_speed * a_n * omega,
+            thrust_n: -sums.force_time / time * force_unit,
+            output_power_w: output,
+            stator_power_w: stator,
+            friction_dissipation_w: sums.dissipation / time * power_unit,
+            efficiency: if stator > 0.0 { output / stator } else { 0.0 },
+            stick_fraction: if sums.contact_time > 0.0 { sums.stick_time / sums.contact_time } else { 0.0 },
+            contact_fraction: sums.contact_time / time,
+            energy_balance_residual: residual,
+            steady,
+            speed_ripple_m_per_s: (v_max - v_min) * a_n * omega,
+            vertical_bounce_m: (z_max - z_min) * a_n,
+            mean_tip_height_m: z_time / time * a_n,
+            displacement_m: -total_dx * a_n,
+            peak_speed_m_per_s: peak_speed * a_n * omega,
+            steps: stepper.steps(),
+            periods,
+            period_speed_m_per_s: records.iter().map(|r| -r.dx / r.sums.time * a_n * omega).collect(),
+            slider_history,
+            post_history,
+        })
+    }
+
+    fn curve_point(run: &TransientRun) -> CurvePoint {
+        CurvePoint {
+            speed_m_per_s: run.speed_m_per_s,
+            thrust_n: run.thrust_n,
+            output_power_w: run.output_power_w,
+            efficiency: run.efficiency,
+            stick_fraction: run.stick_fraction,
+        }
+    }
+
+    /// The full result: runs at `curve_loads` loads between 0 and the stall estimate, a stall
+    /// search by bisection on the load, and the operating point at the external load.
+    pub fn solve(&self) -> Result<DynamicResult> {
+        self.solve_with_runs().map(|(result, _)| result)
+    }
+
+    /// As [`solve`](Self::solve), also returning the operating-point run (with histories).
+    pub fn solve_with_runs(&self) -> Result<(DynamicResult, TransientRun)> {
+        let started = Instant::now();
+        let scene = &self.scene;
+        let options = &scene.options.transient;
+        let mut warnings = self.warnings.clone();
+        let load = scene.slider.external_load_n;
+        // Steady quantities need a continuous wave: a burst is run as given for the operating
+        // point, the curve comes from the continuous companion.
+        let continuous = if scene.wave.burst_periods.is_some() {
+            let mut companion = scene.clone();
+            companion.wave.burst_periods = None;
+            Some(Self::new(&companion)?)
+        } else {
+            None
+        };
+        let curve_model = continuous.as_ref().unwrap_or(self);
+        let start = if scene.wave.burst_periods.is_some() { TransientStart::Rest } else { options.start };
+        let operating = self.run(load, start, true)?;
+        let mut runs = 1;
+        let stall_estimate = match &self.estimate {
+            Some(e) => e.stall_thrust_n()?,
+            None => scene.contact.mu_static * scene.slider.preload_n,
+        };
+        let mut points: Vec<TransientRun> = Vec::new();
+        for i in 0..options.curve_loads.max(1) {
+            let l = stall_estimate * i as f64 / options.curve_loads.max(1) as f64;
+            points.push(curve_model.run(l, options.start, false)?);
+            runs += 1;
+        }
+        let no_load = points[0].speed_m_per_s.max(0.0);
+        let stalled = |run: &TransientRun| run.speed_m_per_s <= STALL_SPEED_FRACTION * no_load;
+        let mut lo = points.iter().filter(|r| !stalled(r)).map(|r| r.load_n).fold(0.0, f64::max);
+        let stall = if options.find_stall && no_load > 0.0 {
+            let mut hi = stall_estimate.max(lo) * 1.1;
+            let mut expansions = 0;
+            loop {
+                let run = curve_model.run(hi, TransientStart::Estimate, false)?;
+                runs += 1;
+                if stalled(&run) {
+                    break;
+                }
+                points.push(run);
+                lo = hi;
+                hi *= 1.25;
+                expansions += 1;
+                if expansions > 6 {
+                    return Err(StickSlipError::NotConverged {
+                        model: "transient",
+                        what: "upper bracket of the stall thrust",
+                        iterations: expansions,
+                        residual: hi,
+                    });
+                }
+            }
+            let mut iterations = 0;
+            while hi - lo > options.stall_tolerance * hi && iterations < MAX_STALL_RUNS {
+                let mid = 0.5 * (lo + hi);
+                let run = curve_model.run(mid, TransientStart::Estimate, false)?;
+                runs += 1;
+                iterations += 1;
+                if stalled(&run) {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                    points.push(run);
+                }
+            }
+            0.5 * (lo + hi)
+        } else {
+            // Linear extrapolation of the two slowest points to zero speed.
+            points.sort_by(|a, b| a.speed_m_per_s.total_cmp(&b.speed_m_per_s));
+            match points.as_slice() {
+                [a, b, ..] if b.speed_m_per_s > a.speed_m_per_s => {
+                    a.thrust_n - a.speed_m_per_s * (b.thrust_n - a.thrust_n) / (b.speed_m_per_s - a.speed_m_per_s)
+                }
+                _ => stall_estimate,
+            }
+        };
+        if points.iter().chain(std::iter::once(&operating)).any(|r| !r.steady) && scene.wave.burst_periods.is_none() {
+            warnings.push(Warning::new(
+                "options.transient.periods",
+                format!(
+                    "some runs had not reached a steady speed after {} periods (drift above {STEADY_TOLERANCE:.0e})",
+                    options.periods
+                ),
+            ));
+        }
+        let residual_limit = 1e-2;
+        if operating.energy_balance_residual.abs() > residual_limit && scene.wave.burst_periods.is_none() {
+            warnings.push(Warning::new(
+                "integrator",
+                format!(
+                    "energy balance residual {:.2e} at the operating point: the step is coarse for this scene",
+                    operating.energy_balance_residual
+                ),
+            ));
+        }
+        points.sort_by(|a, b| a.speed_m_per_s.total_cmp(&b.speed_m_per_s));
+        let mut curve = vec![CurvePoint { speed_m_per_s: 0.0, thrust_n: stall, output_power_w: 0.0, efficiency: 0.0, stick_fraction: f64::NAN }];
+        curve.extend(points.iter().filter(|r| r.speed_m_per_s > 0.0).map(Self::curve_point));
+        if let Some(first) = points.first() {
+            curve[0].stick_fraction = first.stick_fraction;
+        }
+        let efficiency = curve.iter().map(|p| p.efficiency).fold(0.0, f64::max);
+        let max_power = curve.iter().map(|p| p.output_power_w).fold(0.0, f64::max);
+        let operating_point = (load <= stall || scene.wave.burst_periods.is_some()).then(|| OperatingPoint {
+            load_n: load,
+            speed_m_per_s: operating.speed_m_per_s,
+            thrust_n: operating.thrust_n,
+            output_power_w: operating.output_power_w,
+            stator_power_w: operating.stator_power_w,
+            friction_dissipation_w: operating.friction_dissipation_w,
+            efficiency: operating.efficiency,
+            stick_fraction: operating.stick_fraction,
+            contact_fraction: operating.contact_fraction,
+            energy_balance_residual: operating.energy_balance_residual,
+        });
+        if operating_point.is_none() {
+            warnings.push(Warning::new(
+                "slider.external_load_n",
+                format!("load {load} N exceeds the stall thrust {stall:.4} N: the slider does not advance"),
+            ));
+        }
+        let result = DynamicResult {
+            model: ModelKind::Transient,
+            model_reason: self.reason.clone(),
+            integrator: match self.integrator() {
+                Integrator::ReturnMapping { dt_s } => format!("return-mapping (dt = T/{:.0})", scene.wave.period_s() / dt_s),
+                other => other.name().to_string(),
+            },
+            stall_thrust_n: stall,
+            no_load_speed_m_per_s: no_load,
+            curve,
+            stick_fraction: operating.stick_fraction,
+            contact_fraction: operating.contact_fraction,
+            efficiency,
+            max_output_power_w: max_power,
+            operating_point,
+            effective_post_count: scene.slider.effective_post_count(),
+            mean_normal_force_per_post_n: scene.mean_normal_force_per_post_n(),
+            tip_height_m: operating.mean_tip_height_m,
+            friction_limit_n: scene.contact.mu_kinetic * scene.slider.preload_n,
+            crest_speed_m_per_s: scene.wave.crest_speed_m_per_s(),
+            wall_time_s: started.elapsed().as_secs_f64(),
+            warnings,
+            transient: Some(TransientSummary {
+                phase_groups: self.groups,
+                periods_per_run: options.periods,
+                runs,
+                steady: operating.steady,
+                speed_ripple_m_per_s: operating.speed_ripple_m_per_s,
+                vertical_bounce_m: operating.vertical_bounce_m,
+                steps: operating.steps,
+                burst_displacement_m: scene.wave.burst_periods.map(|_| operating.displacement_m),
+                burst_peak_speed_m_per_s: scene.wave.burst_periods.map(|_| operating.peak_speed_m_per_s),
+            }),
+        };
+        Ok((result, operating))
+    }
+}

@@ -1,0 +1,267 @@
+//! Fixed-step return mapping for the transient (massless posts): backward Euler on the slider,
+//! Moreau's catching-up algorithm on every Jenkins element.
+//!
+//! Per step: the stator displacement increment under each group is exact along the step's phase
+//! path; the vertical velocity solves the (monotone) backward-Euler equation; then the slider's
+//! new velocity v solves M(v − v_n)/h = Σw F_g(v) + L with F_g = ρ·clamp(ê_g + Δu_g − v h) by an
+//! active-set iteration (stuck groups are linear in v, slipping ones constant). First order,
+//! unconditionally stable; friction dissipates the numerical ½ρ(Δê)² per step as well.
+
+use std::f64::consts::PI;
+
+use super::groups::Phases;
+use super::system::{SliderState, Stepper, Sums, System};
+use crate::error::{Result, StickSlipError};
+use crate::post::Mode;
+
+/// Active-set iterations allowed per step (a status flips at most once per group).
+const MAX_ACTIVE_SET_ITERATIONS: usize = 64;
+/// Newton iterations allowed for the vertical velocity per step.
+const MAX_VERTICAL_ITERATIONS: usize = 60;
+
+/// Return-mapping stepper.
+#[derive(Debug)]
+pub(crate) struct ReturnMapping<'a> {
+    sys: &'a System,
+    h: f64,
+    steps: u64,
+    st: SliderState,
+    /// Phase path variable α = t − κx at the current step start (with the predicted x).
+    alpha: f64,
+    deflection: Vec<f64>,
+    mode: Vec<Mode>,
+    phases0: Phases,
+    phases1: Phases,
+    normal: Vec<f64>,
+    increment: Vec<f64>,
+    trial: Vec<f64>,
+    /// Stick (true) / slip status during the active-set iteration.
+    stuck: Vec<bool>,
+}
+
+impl<'a> ReturnMapping<'a> {
+    /// A stepper with step ≈ `step` (shortened to divide the wave period) from `start`.
+    pub fn new(sys: &'a System, step: f64, start: SliderState) -> Self {
+        let n = sys.groups.len();
+        let per_period = (2.0 * PI / step).ceil().max(1.0);
+        let mut phases0 = Phases::new(n);
+        phases0.fill(&sys.groups, &sys.wave, start.t, start.x);
+        let normal = (0..n).map(|g| sys.normal(&phases0, g, start.z)).collect();
+        Self {
+            sys,
+            h: 2.0 * PI / per_period,
+            steps: 0,
+            st: start,
+            alpha: start.t - sys.wave.doppler * start.x,
+            deflection: vec![0.0; n],
+            mode: vec![Mode::Stick; n],
+            phases0,
+            phases1: Phases::new(n),
+            normal,
+            increment: vec![0.0; n],
+            trial: vec![0.0; n],
+            stuck: vec![true; n],
+        }
+    }
+
+    /// Stator particle displacement increment under group g over the step (exact along the
+    /// phase path, clipped to the burst window).
+    fn particle_increment(&self, g: usize, alpha0: f64, alpha1: f64) -> f64 {
+        let sys = self.sys;
+        let a_t = sys.wave.tangential_ratio;
+        let rate = (alpha1 - alpha0) / self.h;
+        let drive = 0.5 * (self.phases0.drive[g] + self.phases1.drive[g]);
+        match sys.wave.burst_phase_end {
+            None => a_t * drive * (self.phases1.cos[g] - self.phases0.cos[g]) / rate,
+            Some(end) => {
+                let phase = sys.groups.phase[g];
+                let (lo, hi) = ((alpha0 - phase).max(0.0), (alpha1 - phase).min(end));
+                if hi <= lo {
+                    return 0.0;
+                }
+                let amplitude = self.phases0.drive[g].max(self.phases1.drive[g]);
+                a_t * amplitude * (hi.cos() - lo.cos()) / rate
+            }
+        }
+    }
+
+    /// Backward-Euler vertical velocity: M(w1 − w)/h = Σ w N(z + h w1) − P − C w1.
+    fn vertical(&self, damping: f64) -> Result<f64> {
+        let sys = self.sys;
+        let (h, m) = (self.h, sys.mass);
+        let SliderState { z, w, .. } = self.st;
+        let mut w1 = w;
+        for _ in 0..MAX_VERTICAL_ITERATIONS {
+            let z1 = z + h * w1;
+            let (mut total, mut active) = (0.0, 0.0);
+            for g in 0..sys.groups.len() {
+                let pen = self.phases1.drive[g] * self.phases1.sin[g] - z1 - sys.groups.gap[g];
+                if pen > 0.0 {
+                    total += sys.groups.weight[g] * pen;
+                    active += sys.groups.weight[g];
+                }
+            }
+            let residual = m * (w1 - w) / h - total + sys.preload + damping * w1;
+            let slope = m / h + h * active + damping;
+            let next = w1 - residual / slope;
+            if (next - w1).abs() <= 1e-14 * (1.0 + w1.abs()) {
+                return Ok(next);
+            }
+            w1 = next;
+        }
+        Err(StickSlipError::NotConverged {
+            model: "return-mapping transient",
+            what: "backward-Euler vertical velocity",
+            iterations: MAX_VERTICAL_ITERATIONS,
+            residual: w1,
+        })
+    }
+}
+
+impl Stepper for ReturnMapping<'_> {
+    fn state(&self) -> SliderState {
+        self.st
+    }
+
+    fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    fn name(&self) -> &'static str {
+        "return-mapping"
+    }
+
+    fn step(&mut self, _t_limit: f64, sums: &mut Sums) -> Result<()> {
+        let sys = self.sys;
+        let n = sys.groups.len();
+        let h = self.h;
+        let t1 = sys.t_start + (self.steps + 1) as f64 * h;
+        let x_predicted = self.st.x + h * self.st.v;
+        self.phases1.fill(&sys.groups, &sys.wave, t1, x_predicted);
+        let alpha1 = t1 - sys.wave.doppler * x_predicted;
+        for g in 0..n {
+            self.increment[g] = self.particle_increment(g, self.alpha, alpha1);
+        }
+        let (z1, w1) = match sys.vertical_damping {
+            Some(damping) => {
+                let w1 = self.vertical(damping)?;
+                (self.st.z + h * w1, w1)
+            }
+            None => (sys.z_equilibrium, 0.0),
+        };
+        for g in 0..n {
+            self.normal[g] = sys.normal(&self.phases1, g, z1);
+        }
+        // Active set on the slider velocity.
+        let v0 = self.st.v;
+        let thresholds = |mode: Mode| if matches!(mode, Mode::Slip(_)) { sys.mu_k } else { sys.mu_s };
+        let mut v1 = v0;
+        for g in 0..n {
+            let trial = self.deflection[g] + self.increment[g] - v1 * h;
+            self.stuck[g] = trial.abs() <= thresholds(self.mode[g]) * self.normal[g] / sys.rho;
+        }
+        let mut converged = false;
+        for _ in 0..MAX_ACTIVE_SET_ITERATIONS {
+            let mut lhs = sys.mass / h;
+            let mut rhs = sys.mass * v0 / h + sys.load;
+            for g in 0..n {
+                if self.normal[g] <= 0.0 {
+                    continue;
+                }
+                let w = sys.groups.weight[g];
+                if self.stuck[g] {
+                    lhs += w * sys.rho * h;
+                    rhs += w * sys.rho * (self.deflection[g] + self.increment[g]);
+                } else {
+                    let sign = (self.deflection[g] + self.increment[g] - v1 * h).signum();
+                    rhs += w * sign * sys.mu_k * self.normal[g];
+                }
+            }
+            let v_new = rhs / lhs;
+            let mut changed = false;
+            for g in 0..n {
+                if self.normal[g] <= 0.0 {
+                    continue;
+                }
+                let trial = self.deflection[g] + self.increment[g] - v_new * h;
+                let threshold = thresholds(self.mode[g]);
+                let fits = trial.abs() <= threshold * self.normal[g] / sys.rho;
+                // With μ_s > μ_k a group that lost sticking in this step does not regain it
+                // (keeps the iteration finite on the non-monotone static→kinetic drop).
+                let may_return = threshold == sys.mu_k || sys.mu_s == sys.mu_k;
+                if fits != self.stuck[g] && (may_return || !fits) {
+                    self.stuck[g] = fits;
+                    changed = true;
+                }
+            }
+            // A slipping group's sign follows its trial; re-solve once more if v moved.
+            let moved = (v_new - v1).abs() > 1e-15 * (1.0 + v_new.abs());
+            v1 = v_new;
+            if !changed && !moved {
+                converged = true;
+                break;
+            }
+        }
+        if !converged {
+            return Err(StickSlipError::NotConverged {
+                model: "return-mapping transient",
+                what: "stick/slip active set of the slider velocity",
+                iterations: MAX_ACTIVE_SET_ITERATIONS,
+                residual: v1,
+            });
+        }
+        // Update the posts and the sums.
+        let mut step_sums = Sums { time: h, ..Default::default() };
+        for g in 0..n {
+            let w = sys.groups.weight[g];
+            let trial = self.deflection[g] + self.increment[g] - v1 * h;
+            self.trial[g] = trial;
+            let normal = self.normal[g];
+            let (mode, e) = if normal <= 0.0 {
+                (Mode::Separated, 0.0)
+            } else if self.stuck[g] {
+                (Mode::Stick, trial)
+            } else {
+                let sign = trial.signum();
+                (Mode::Slip(sign), sign * sys.mu_k * normal / sys.rho)
+            };
+            let force = sys.rho * e;
+            step_sums.force_time += w * force * h;
+            step_sums.normal_time += w * normal * h;
+            step_sums.stator_work += w * force * self.increment[g];
+            step_sums.output_work += w * force * v1 * h;
+            step_sums.dissipation += w * force * (trial - e);
+            if mode != Mode::Separated {
+                step_sums.contact_time += w * h;
+            }
+            if mode == Mode::Stick {
+                step_sums.stick_time += w * h;
+            }
+            self.mode[g] = mode;
+            self.deflection[g] = e;
+        }
+        *sums += step_sums;
+        self.st = SliderState { t: t1, x: self.st.x + h * v1, v: v1, z: z1, w: w1 };
+        self.alpha = alpha1;
+        std::mem::swap(&mut self.phases0, &mut self.phases1);
+        self.steps += 1;
+        Ok(())
+    }
+
+    fn stored_energy(&self) -> f64 {
+        let sys = self.sys;
+        (0..sys.groups.len()).map(|g| sys.groups.weight[g] * 0.5 * sys.rho * self.deflection[g].powi(2)).sum()
+    }
+
+    fn group(&self, g: usize) -> (f64, f64, Mode) {
+        (self.normal[g], self.sys.rho * self.deflection[g], self.mode[g])
+    }
+
+    fn totals(&self) -> (f64, f64) {
+        let sys = self.sys;
+        (0..sys.groups.len()).fold((0.0, 0.0), |(f, nn), g| {
+            let w = sys.groups.weight[g];
+            (f + w * sys.rho * self.deflection[g], nn + w * self.normal[g])
+        })
+    }
+}
