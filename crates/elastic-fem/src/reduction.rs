@@ -1,0 +1,530 @@
+//! Constraint elimination by reduction: u = T q + u_p.
+//!
+//! Every full DOF is either *prescribed* (value in u_p) or mapped to exactly one reduced
+//! unknown q_j with coefficient 1 (ties from rigid faces and periodic pairs merge DOFs into one
+//! unknown). Then K_red = Tᵀ K T and f_red = Tᵀ (f − K u_p) + F_rigid. Because T has full column
+//! rank, K_red stays symmetric and is positive definite whenever the constraints remove all
+//! rigid-body modes. With a 0/1 selection matrix T, K_red is a pure scatter-add of K's entries,
+//! done through a precomputed map (pattern built once, numeric reduction per matrix).
+
+use crate::constraints::{Constraints, RigidComponent};
+use crate::error::{FemError, FemResult};
+use crate::sparse::SymmetricMatrix;
+use crate::sparse::matrix::fingerprint;
+
+/// Relative tolerance under which two prescribed values for the same (tied) DOF are treated
+/// as equal. Dimensionless; default 1e-12.
+pub const PRESCRIBED_CONFLICT_TOLERANCE: f64 = 1e-12;
+
+/// What a full DOF becomes after reduction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum DofTarget {
+    /// Equal to reduced unknown `q[j]`.
+    Reduced(usize),
+    /// Prescribed displacement (m).
+    Prescribed(f64),
+}
+
+const AXES: [&str; 3] = ["x", "y", "z"];
+
+/// Describes full DOF `dof` as "node N component c".
+pub fn describe_dof(dof: usize) -> String {
+    format!("node {} component {}", dof / 3, AXES[dof % 3])
+}
+
+struct UnionFind {
+    parent: Vec<usize>,
+}
+
+impl UnionFind {
+    fn new(n: usize) -> Self {
+        Self {
+            parent: (0..n).collect(),
+        }
+    }
+    fn find(&mut self, mut x: usize) -> usize {
+        while self.parent[x] != x {
+            self.parent[x] = self.parent[self.parent[x]];
+            x = self.parent[x];
+        }
+        x
+    }
+    fn union(&mut self, a: usize, b: usize) {
+        let (ra, rb) = (self.find(a), self.find(b));
+        if ra != rb {
+            // Keep the smaller index as root: deterministic numbering.
+            let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
+            self.parent[hi] = lo;
+        }
+    }
+}
+
+fn check_node(context: impl Fn() -> String, node: usize, node_count: usize) -> FemResult<()> {
+    if node >= node_count {
+        return Err(FemError::ConstraintNodeOutOfRange {
+            context: context(),
+            node,
+            node_count,
+        });
+    }
+    Ok(())
+}
+
+fn same_value(a: f64, b: f64) -> bool {
+    (a - b).abs() <= PRESCRIBED_CONFLICT_TOLERANCE * a.abs().max(b.abs())
+}
+
+/// The map full DOF → reduced unknown or prescribed value, built from [`Constraints`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct DofMap {
+    targets: Vec<DofTarget>,
+    reduced_count: usize,
+    reduced_force: Vec<f64>,
+    representative: Vec<usize>,
+    rigid_faces: Vec<[Option<DofTarget>; 3]>,
+}
+
+impl DofMap {
+    /// No constraints: q = u.
+    pub fn unconstrained(node_count: usize) -> Self {
+        let n = 3 * node_count;
+        Self {
+            targets: (0..n).map(DofTarget::Reduced).collect(),
+            reduced_count: n,
+            reduced_force: vec![0.0; n],
+            representative: (0..n).collect(),
+            rigid_faces: Vec::new(),
+        }
+    }
+
+    /// Builds the map; errors name conflicting values, unknown nodes or non-finite inputs.
+    pub fn new(node_count: usize, constraints: &Constraints) -> FemResult<Self> {
+        let n = 3 * node_count;
+        let mut uf = UnionFind::new(n);
+        for (p, periodic) in constraints.periodic.iter().enumerate() {
+            for &[s, m] in &periodic.pairs {
+                check_node(|| format!("periodic[{p}]"), s, node_count)?;
+                check_node(|| format!("periodic[{p}]"), m, node_count)?;
+                for c in (0..3).filter(|&c| periodic.components[c]) {
+                    uf.union(3 * s + c, 3 * m + c);
+                }
+            }
+        }
+        let mut prescribed: Vec<Option<f64>> = vec![None; n];
+        let mut set_prescribed = |dof: usize, value: f64, what: &'static str| -> FemResult<()> {
+            if !value.is_finite() {
+                return Err(FemError::NonFiniteInput {
+                    what,
+                    node: dof / 3,
+                    component: dof % 3,
+                });
+            }
+            match prescribed[dof] {
+                Some(old) if !same_value(old, value) => {
+                    Err(FemError::ConflictingPrescribedValues {
+                        node: dof / 3,
+                        component: dof % 3,
+                        first_m: old,
+                        second_m: value,
+                    })
+                }
+                _ => {
+                    prescribed[dof] = Some(value);
+                    Ok(())
+                }
+            }
+        };
+        for (d, dirichlet) in constraints.dirichlet.iter().enumerate() {
+            for &node in &dirichlet.nodes {
+                check_node(|| format!("dirichlet[{d}]"), node, node_count)?;
+                for c in 0..3 {
+                    if let Some(v) = dirichlet.displacement_m[c] {
+                        set_prescribed(3 * node + c, v, "Dirichlet value")?;
+                    }
+                }
+            }
+        }
+        let mut class_force: Vec<(usize, f64)> = Vec::new();
+        for (r, face) in constraints.rigid_faces.iter().enumerate() {
+            for &node in &face.nodes {
+                check_node(|| format!("rigid_face[{r}]"), node, node_count)?;
+            }
+            let Some(&first) = face.nodes.first() else {
+                continue;
+            };
+            for c in 0..3 {
+                match face.components[c] {
+                    RigidComponent::Free => {}
+                    RigidComponent::Loaded { force_n } => {
+                        if !force_n.is_finite() {
+                            return Err(FemError::NonFiniteInput {
+                                what: "rigid face force",
+                                node: first,
+                                component: c,
+                            });
+                        }
+                        face.nodes
+                            .iter()
+                            .for_each(|&node| uf.union(3 * first + c, 3 * node + c));
+                        class_force.push((3 * first + c, force_n));
+                    }
+                    RigidComponent::Prescribed { displacement_m } => {
+                        face.nodes
+                            .iter()
+                            .for_each(|&node| uf.union(3 * first + c, 3 * node + c));
+                        set_prescribed(3 * first + c, displacement_m, "rigid face displacement")?;
+                    }
+                }
+            }
+        }
+        // Resolve classes: a class with any prescribed member is prescribed (values must agree).
+        let mut class_value: Vec<Option<(f64, usize)>> = vec![None; n];
+        for dof in 0..n {
+            if let Some(v) = prescribed[dof] {
+                let root = uf.find(dof);
+                match class_value[root] {
+                    Some((old, _)) if !same_value(old, v) => {
+                        return Err(FemError::ConflictingPrescribedValues {
+                            node: dof / 3,
+                            component: dof % 3,
+                            first_m: old,
+                            second_m: v,
+                        });
+                    }
+                    Some(_) => {}
+                    None => class_value[root] = Some((v, dof)),
+                }
+            }
+        }
+        let mut class_index: Vec<usize> = vec![usize::MAX; n];
+        let mut targets = Vec::with_capacity(n);
+        let mut representative = Vec::new();
+        for dof in 0..n {
+            let root = uf.find(dof);
+            let target = match class_value[root] {
+                Some((v, _)) => DofTarget::Prescribed(v),
+                None => {
+                    if class_index[root] == usize::MAX {
+                        class_index[root] = representative.len();
+                        representative.push(dof);
+                    }
+                    DofTarget::Reduced(class_index[root])
+                }
+            };
+            targets.push(target);
+        }
+        let reduced_count = representative.len();
+        let mut reduced_force = vec![0.0; reduced_count];
+        for (dof, force) in class_force {
+            if let DofTarget::Reduced(j) = targets[dof] {
+                reduced_force[j] += force;
+            }
+        }
+        let rigid_faces = constraints
+            .rigid_faces
+            .iter()
+            .map(|face| {
+                std::array::from_fn(|c| match (face.components[c], face.nodes.first()) {
+                    (RigidComponent::Free, _) | (_, None) => None,
+                    (_, Some(&first)) => Some(targets[3 * first + c]),
+                })
+            })
+            .collect();
+        Ok(Self {
+            targets,
+            reduced_count,
+            reduced_force,
+            representative,
+            rigid_faces,
+        })
+    }
+
+    /// Number of full DOFs (3 × nodes).
+    pub fn full_count(&self) -> usize {
+        self.targets.len()
+    }
+
+    /// Number of reduced unknowns.
+    pub fn reduced_count(&self) -> usize {
+        self.reduced_count
+    }
+
+    /// Target of full DOF `dof`.
+    pub fn target(&self, dof: usize) -> DofTarget {
+        self.targets[dof]
+    }
+
+    /// All targets.
+    pub fn targets(&self) -> &[DofTarget] {
+        &self.targets
+    }
+
+    /// The smallest full DOF mapped to reduced unknown `j` (for messages and post-processing).
+    pub fn representative_dof(&self, j: usize) -> usize {
+        self.representative[j]
+    }
+
+    /// External forces on reduced unknowns from loaded rigid faces (N).
+    pub fn rigid_face_forces(&self) -> &[f64] {
+        &self.reduced_force
+    }
+
+    /// Per rigid face and component: the target of its tied displacement (`None` = free).
+    pub fn rigid_face_targets(&self) -> &[[Option<DofTarget>; 3]] {
+        &self.rigid_faces
+    }
+
+    /// u_p: prescribed values at prescribed DOFs, 0 elsewhere (m).
+    pub fn prescribed_vector(&self) -> Vec<f64> {
+        self.targets
+            .iter()
+            .map(|t| {
+                if let DofTarget::Prescribed(v) = t {
+                    *v
+                } else {
+                    0.0
+                }
+            })
+            .collect()
+    }
+
+    /// u = T q + u_p.
+    pub fn expand(&self, q: &[f64]) -> FemResult<Vec<f64>> {
+        if q.len() != self.reduced_count {
+            return Err(FemError::DimensionMismatch {
+                what: "reduced solution",
+                expected: self.reduced_count,
+                found: q.len(),
+            });
+        }
+        Ok(self
+            .targets
+            .iter()
+            .map(|t| match t {
+                DofTarget::Reduced(j) => q[*j],
+                DofTarget::Prescribed(v) => *v,
+            })
+            .collect())
+    }
+
+    /// Tᵀ v: sums full-vector entries into their reduced unknowns (prescribed DOFs dropped).
+    pub fn restrict(&self, v: &[f64]) -> FemResult<Vec<f64>> {
+        if v.len() != self.full_count() {
+            return Err(FemError::DimensionMismatch {
+                what: "full vector",
+                expected: self.full_count(),
+                found: v.len(),
+            });
+        }
+        let mut out = vec![0.0; self.reduced_count];
+        for (t, x) in self.targets.iter().zip(v) {
+            if let DofTarget::Reduced(j) = t {
+                out[*j] += x;
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// Scatter-map marker: entry couples a prescribed DOF and is dropped from K_red.
+const DROPPED: u32 = u32::MAX;
+/// Scatter-map flag: off-diagonal entry whose two DOFs merged into one unknown (counts twice).
+const DOUBLE: u32 = 1 << 31;
+
+/// The reduced system K_red = Tᵀ K T: its pattern (built once) and the scatter map from K's
+/// entries. Reduce any matrix with K's pattern (e.g. after a material change) numerically.
+#[derive(Debug, Clone)]
+pub struct ReducedSystem {
+    dof_map: DofMap,
+    full_dim: usize,
+    full_nnz: usize,
+    full_fingerprint: u64,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    scatter: Vec<u32>,
+}
+
+impl ReducedSystem {
+    /// Builds the reduced pattern and scatter map for matrices with the pattern of `full`.
+    pub fn new(full: &SymmetricMatrix, dof_map: DofMap) -> FemResult<Self> {
+        let n = full.dim();
+        if n != dof_map.full_count() {
+            return Err(FemError::DimensionMismatch {
+                what: "DOF map vs stiffness matrix",
+                expected: n,
+                found: dof_map.full_count(),
+            });
+        }
+        let m = dof_map.reduced_count();
+        let (cp, ri) = (full.col_ptr(), full.row_idx());
+        let reduced_of = |dof: usize| match dof_map.targets[dof] {
+            DofTarget::Reduced(j) => Some(j),
+            DofTarget::Prescribed(_) => None,
+        };
+        // Pass 1: count candidate rows per reduced column.
+        let mut count = vec![0usize; m + 1];
+        for k in 0..n {
+            let Some(rk) = reduced_of(k) else { continue };
+            for &i in &ri[cp[k]..cp[k + 1]] {
+                if let Some(ri) = reduced_of(i) {
+                    count[rk.max(ri) + 1] += 1;
+                }
+            }
+        }
+        for j in 0..m {
+            count[j + 1] += count[j];
+        }
+        let mut fill = count[..m].to_vec();
+        let mut rows = vec![0usize; count[m]];
+        for k in 0..n {
+            let Some(rk) = reduced_of(k) else { continue };
+            for &i in &ri[cp[k]..cp[k + 1]] {
+                if let Some(ri) = reduced_of(i) {
+                    let col = rk.max(ri);
+                    rows[fill[col]] = rk.min(ri);
+                    fill[col] += 1;
+                }
+            }
+        }
+        // Pass 2: sort + dedup per column, compact.
+        let mut col_ptr = Vec::with_capacity(m + 1);
+        col_ptr.push(0usize);
+        let mut write = 0usize;
+        for j in 0..m {
+            let (start, end) = (count[j], count[j + 1]);
+            rows[start..end].sort_unstable();
+            let mut last = usize::MAX;
+            for r in start..end {
+                if rows[r] != last {
+                    last = rows[r];
+                    rows[write] = last;
+                    write += 1;
+                }
+            }
+            col_ptr.push(write);
+        }
+        rows.truncate(write);
+        rows.shrink_to_fit();
+        if write >= DOUBLE as usize {
+            return Err(FemError::SparseBackend(format!(
+                "reduced matrix has {write} entries, more than the 2^31 supported"
+            )));
+        }
+        // Pass 3: scatter map of every full upper entry.
+        let mut scatter = vec![DROPPED; full.nnz_upper()];
+        for k in 0..n {
+            let Some(rk) = reduced_of(k) else { continue };
+            for p in cp[k]..cp[k + 1] {
+                let i = ri[p];
+                let Some(rii) = reduced_of(i) else { continue };
+                let (r, c) = (rk.min(rii), rk.max(rii));
+                let pos = col_ptr[c]
+                    + rows[col_ptr[c]..col_ptr[c + 1]]
+                        .binary_search(&r)
+                        .expect("reduced pattern holds every entry");
+                scatter[p] = pos as u32 | if rk == rii && i != k { DOUBLE } else { 0 };
+            }
+        }
+        Ok(Self {
+            dof_map,
+            full_dim: n,
+            full_nnz: full.nnz_upper(),
+            full_fingerprint: full.pattern_fingerprint(),
+            col_ptr,
+            row_idx: rows,
+            scatter,
+        })
+    }
+
+    /// The DOF map.
+    pub fn dof_map(&self) -> &DofMap {
+        &self.dof_map
+    }
+
+    /// Number of reduced unknowns.
+    pub fn dim(&self) -> usize {
+        self.dof_map.reduced_count()
+    }
+
+    fn check_full(&self, full: &SymmetricMatrix) -> FemResult<()> {
+        if full.dim() != self.full_dim
+            || full.nnz_upper() != self.full_nnz
+            || fingerprint(full.dim(), full.col_ptr(), full.row_idx()) != self.full_fingerprint
+        {
+            return Err(FemError::PatternMismatch {
+                detail: "matrix to reduce does not have the pattern the reduction was built for"
+                    .into(),
+            });
+        }
+        Ok(())
+    }
+
+    /// K_red = Tᵀ K T as a new matrix.
+    pub fn reduce_matrix(&self, full: &SymmetricMatrix) -> FemResult<SymmetricMatrix> {
+        let mut out = SymmetricMatrix::from_trusted_parts(
+            self.dim(),
+            self.col_ptr.clone(),
+            self.row_idx.clone(),
+            vec![0.0; self.row_idx.len()],
+        );
+        self.reduce_matrix_into(full, &mut out)?;
+        Ok(out)
+    }
+
+    /// K_red = Tᵀ K T into an existing reduced matrix (same pattern), reusing its storage.
+    pub fn reduce_matrix_into(
+        &self,
+        full: &SymmetricMatrix,
+        out: &mut SymmetricMatrix,
+    ) -> FemResult<()> {
+        self.check_full(full)?;
+        if out.dim() != self.dim() || out.col_ptr() != self.col_ptr.as_slice() {
+            return Err(FemError::PatternMismatch {
+                detail: "output matrix does not have the reduced pattern".into(),
+            });
+        }
+        let dst = out.values_mut();
+        dst.fill(0.0);
+        for (v, &s) in full.values().iter().zip(&self.scatter) {
+            if s == DROPPED {
+                continue;
+            }
+            let pos = (s & !DOUBLE) as usize;
+            dst[pos] += if s & DOUBLE != 0 { 2.0 * v } else { *v };
+        }
+        Ok(())
+    }
+
+    /// f_red = Tᵀ (f − K u_p) + F_rigid for the full load `f` (N).
+    pub fn reduce_load(&self, full: &SymmetricMatrix, f: &[f64]) -> FemResult<Vec<f64>> {
+        self.check_full(full)?;
+        if f.len() != self.full_dim {
+            return Err(FemError::DimensionMismatch {
+                what: "load vector",
+                expected: self.full_dim,
+                found: f.len(),
+            });
+        }
+        if let Some(i) = f.iter().position(|v| !v.is_finite()) {
+            return Err(FemError::NonFiniteInput {
+                what: "load vector",
+                node: i / 3,
+                component: i % 3,
+            });
+        }
+        let up = self.dof_map.prescribed_vector();
+        let mut ku = vec![0.0; self.full_dim];
+        full.mul_vec(&up, &mut ku);
+        let r: Vec<f64> = f.iter().zip(&ku).map(|(a, b)| a - b).collect();
+        let mut out = self.dof_map.restrict(&r)?;
+        for (o, g) in out.iter_mut().zip(self.dof_map.rigid_face_forces()) {
+            *o += g;
+        }
+        Ok(out)
+    }
+
+    /// u = T q + u_p.
+    pub fn expand(&self, q: &[f64]) -> FemResult<Vec<f64>> {
+        self.dof_map.expand(q)
+    }
+}

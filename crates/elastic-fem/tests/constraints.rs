@@ -1,0 +1,406 @@
+//! Constraints: rigid face (bar stiffness E A / L), periodic pairs (exact simple shear of a
+//! periodic layer), singular systems (named rigid-body modes), conflicting values.
+
+mod common;
+
+use common::{max_abs, model_of};
+use elastic_fem::mesh_gen::{BoxFace, BoxMesh};
+use elastic_fem::{
+    Constraints, Dirichlet, FemError, LameParameters, Material, PeriodicPairs, RigidComponent,
+    RigidFace, SolverOptions, StaticProblem, loads, solve_static,
+};
+
+const E_PA: f64 = 200e9;
+const NU: f64 = 0.3;
+
+/// Node of the mesh closest to `x`.
+fn node_at(mesh: &BoxMesh, x: [f64; 3]) -> usize {
+    (0..mesh.nodes.len())
+        .min_by(|&a, &b| {
+            let d = |n: usize| {
+                (0..3)
+                    .map(|j| (mesh.nodes[n][j] - x[j]).powi(2))
+                    .sum::<f64>()
+            };
+            d(a).total_cmp(&d(b))
+        })
+        .unwrap()
+}
+
+/// Bar [0, L] × [0, 1] × [0, 1]: rollers on x = 0 (u_x = 0) plus the three rigid-mode pins
+/// that a uniaxial stress state satisfies exactly.
+fn bar_supports(mesh: &BoxMesh) -> Vec<Dirichlet> {
+    vec![
+        Dirichlet::component(mesh.face_nodes(BoxFace::XMin), 0, 0.0),
+        Dirichlet {
+            nodes: vec![node_at(mesh, [0.0, 0.0, 0.0])],
+            displacement_m: [None, Some(0.0), Some(0.0)],
+        },
+        Dirichlet::component(vec![node_at(mesh, [0.0, 1.0, 0.0])], 2, 0.0),
+        Dirichlet::component(vec![node_at(mesh, [0.0, 0.0, 1.0])], 1, 0.0),
+    ]
+}
+
+#[test]
+fn bar_compressed_by_a_loaded_rigid_face_has_stiffness_ea_over_l() {
+    let length = 4.0;
+    let mesh = BoxMesh::tet10([length, 1.0, 1.0], [6, 2, 2]);
+    let model = model_of(&mesh, Material::isotropic(E_PA, NU).unwrap());
+    let force = -1e6; // N, compressive
+    let face = RigidFace {
+        nodes: mesh.face_nodes(BoxFace::XMax),
+        components: [
+            RigidComponent::Loaded { force_n: force },
+            RigidComponent::Free,
+            RigidComponent::Free,
+        ],
+    };
+    let constraints = Constraints {
+        dirichlet: bar_supports(&mesh),
+        rigid_faces: vec![face],
+        ..Default::default()
+    };
+    let f = vec![0.0; model.dof_count()];
+    let sol = solve_static(
+        &StaticProblem {
+            model: &model,
+            constraints: &constraints,
+            load_n: &f,
+        },
+        &SolverOptions::default(),
+    )
+    .unwrap();
+    let delta = sol.rigid_faces[0].displacement_m[0].expect("x is tied");
+    let expected = force * length / (E_PA * 1.0);
+    assert!(
+        (delta - expected).abs() < 1e-10 * expected.abs(),
+        "rigid face displacement {delta:e} m, E A / L predicts {expected:e} m"
+    );
+    let stiffness = force / delta;
+    assert!(
+        (stiffness - E_PA / length).abs() < 1e-9 * E_PA / length,
+        "bar stiffness {stiffness:e} N/m vs E A / L"
+    );
+    // The face force is the applied force; the rollers carry it back.
+    assert!(
+        (sol.rigid_faces[0].force_n[0] - force).abs() < 1e-6 * force.abs(),
+        "rigid face force {} N",
+        sol.rigid_faces[0].force_n[0]
+    );
+    let roller_reaction: f64 = mesh
+        .face_nodes(BoxFace::XMin)
+        .iter()
+        .map(|&n| sol.reaction_n[3 * n])
+        .sum();
+    assert!(
+        (roller_reaction + force).abs() < 1e-6 * force.abs(),
+        "reaction at x = 0: {roller_reaction} N, expected {}",
+        -force
+    );
+    // Every face node moved by the same amount.
+    for &n in &mesh.face_nodes(BoxFace::XMax) {
+        assert!(
+            (sol.node_displacement(n)[0] - delta).abs() < 1e-15,
+            "face node {n} x displacement differs from the face's"
+        );
+    }
+}
+
+#[test]
+fn prescribed_rigid_face_displacement_reports_reaction_ea_delta_over_l() {
+    let length = 3.0;
+    let mesh = BoxMesh::tet4([length, 1.0, 1.0], [6, 2, 2]);
+    let model = model_of(&mesh, Material::isotropic(E_PA, NU).unwrap());
+    let delta = -1e-5;
+    let face = RigidFace {
+        nodes: mesh.face_nodes(BoxFace::XMax),
+        components: [
+            RigidComponent::Prescribed {
+                displacement_m: delta,
+            },
+            RigidComponent::Free,
+            RigidComponent::Free,
+        ],
+    };
+    let constraints = Constraints {
+        dirichlet: bar_supports(&mesh),
+        rigid_faces: vec![face],
+        ..Default::default()
+    };
+    let f = vec![0.0; model.dof_count()];
+    let sol = solve_static(
+        &StaticProblem {
+            model: &model,
+            constraints: &constraints,
+            load_n: &f,
+        },
+        &SolverOptions::default(),
+    )
+    .unwrap();
+    let expected = E_PA * delta / length;
+    let got = sol.rigid_faces[0].force_n[0];
+    assert!(
+        (got - expected).abs() < 1e-9 * expected.abs(),
+        "rigid face reaction {got:e} N, E A delta / L = {expected:e} N"
+    );
+    let energy = 0.5 * E_PA / length * delta * delta;
+    assert!(
+        (sol.strain_energy_j - energy).abs() < 1e-9 * energy,
+        "strain energy {} J vs {energy} J",
+        sol.strain_energy_j
+    );
+}
+
+#[test]
+fn periodic_layer_under_shear_traction_deforms_in_exact_simple_shear() {
+    let (lx, ly, h) = (1.0, 0.8, 0.5);
+    let mesh = BoxMesh::tet4([lx, ly, h], [4, 3, 2]);
+    let lame = LameParameters::from_young_poisson(E_PA, NU).unwrap();
+    let model = model_of(&mesh, Material::Isotropic(lame));
+    let tau = 1e6;
+    let mut f = vec![0.0; model.dof_count()];
+    loads::add_surface_traction(
+        model.nodes(),
+        &mesh.face_triangles(BoxFace::ZMax),
+        [tau, 0.0, 0.0],
+        &mut f,
+    )
+    .unwrap();
+    let tol = 1e-9;
+    let px = PeriodicPairs::match_by_translation(
+        &mesh.nodes,
+        &mesh.face_nodes(BoxFace::XMax),
+        &mesh.face_nodes(BoxFace::XMin),
+        [lx, 0.0, 0.0],
+        tol,
+        [true; 3],
+    )
+    .unwrap();
+    let py = PeriodicPairs::match_by_translation(
+        &mesh.nodes,
+        &mesh.face_nodes(BoxFace::YMax),
+        &mesh.face_nodes(BoxFace::YMin),
+        [0.0, ly, 0.0],
+        tol,
+        [true; 3],
+    )
+    .unwrap();
+    assert_eq!(
+        px.pairs.len(),
+        mesh.face_nodes(BoxFace::XMax).len(),
+        "every x-slave node is paired"
+    );
+    let clamp = vec![Dirichlet::clamped(mesh.face_nodes(BoxFace::ZMin))];
+    let periodic = Constraints {
+        dirichlet: clamp.clone(),
+        periodic: vec![px, py],
+        ..Default::default()
+    };
+    let sol = solve_static(
+        &StaticProblem {
+            model: &model,
+            constraints: &periodic,
+            load_n: &f,
+        },
+        &SolverOptions::default(),
+    )
+    .unwrap();
+    let mut worst = 0.0f64;
+    for (n, x) in mesh.nodes.iter().enumerate() {
+        let exact = [tau * x[2] / lame.mu, 0.0, 0.0];
+        let u = sol.node_displacement(n);
+        worst = worst.max((0..3).map(|j| (u[j] - exact[j]).abs()).fold(0.0, f64::max));
+    }
+    let scale = tau * h / lame.mu;
+    assert!(
+        worst < 1e-10 * scale,
+        "periodic layer: deviation from simple shear {worst:e} m (scale {scale:e} m)"
+    );
+
+    // Contrast: without the periodic ties the free side faces spoil the simple shear.
+    let free = Constraints {
+        dirichlet: clamp,
+        ..Default::default()
+    };
+    let sol = solve_static(
+        &StaticProblem {
+            model: &model,
+            constraints: &free,
+            load_n: &f,
+        },
+        &SolverOptions::default(),
+    )
+    .unwrap();
+    let deviation = mesh
+        .nodes
+        .iter()
+        .enumerate()
+        .map(|(n, x)| (sol.node_displacement(n)[0] - tau * x[2] / lame.mu).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        deviation > 1e-3 * scale,
+        "non-periodic block should deviate from simple shear, deviation {deviation:e} m"
+    );
+}
+
+#[test]
+fn periodic_matching_names_an_unmatched_slave_node() {
+    let mesh = BoxMesh::tet4([1.0, 1.0, 1.0], [2, 2, 2]);
+    let err = PeriodicPairs::match_by_translation(
+        &mesh.nodes,
+        &mesh.face_nodes(BoxFace::XMax),
+        &mesh.face_nodes(BoxFace::XMin),
+        [0.9, 0.0, 0.0],
+        1e-6,
+        [true; 3],
+    )
+    .unwrap_err();
+    let slave = mesh.face_nodes(BoxFace::XMax)[0];
+    assert!(
+        matches!(err, FemError::UnmatchedPeriodicNode { slave_node, .. } if slave_node == slave),
+        "expected the first x-max node {slave} unmatched, got: {err}"
+    );
+}
+
+fn solve_err(constraints: &Constraints, options: SolverOptions) -> FemError {
+    let mesh = BoxMesh::tet4([2.0, 1.0, 1.0], [2, 2, 2]);
+    let model = model_of(&mesh, Material::isotropic(E_PA, NU).unwrap());
+    let mut f = vec![0.0; model.dof_count()];
+    f[3 * 5 + 2] = 1.0;
+    solve_static(
+        &StaticProblem {
+            model: &model,
+            constraints,
+            load_n: &f,
+        },
+        &options,
+    )
+    .unwrap_err()
+}
+
+#[test]
+fn floating_body_error_names_every_unconstrained_rigid_mode() {
+    let err = solve_err(&Constraints::default(), SolverOptions::default());
+    let text = err.to_string();
+    for mode in [
+        "translation x",
+        "translation y",
+        "translation z",
+        "rotation about x",
+        "rotation about y",
+        "rotation about z",
+    ] {
+        assert!(
+            text.contains(mode),
+            "error for a free body must name {mode}: {text}"
+        );
+    }
+
+    // Only u_z = 0 on the bottom: x, y translations and rotation about z remain.
+    let mesh = BoxMesh::tet4([2.0, 1.0, 1.0], [2, 2, 2]);
+    let bottom_z = Constraints {
+        dirichlet: vec![Dirichlet::component(mesh.face_nodes(BoxFace::ZMin), 2, 0.0)],
+        ..Default::default()
+    };
+    let text = solve_err(&bottom_z, SolverOptions::default()).to_string();
+    for mode in ["translation x", "translation y", "rotation about z"] {
+        assert!(text.contains(mode), "error must name {mode}: {text}");
+    }
+    for mode in ["translation z", "rotation about x", "rotation about y"] {
+        assert!(
+            !text.contains(mode),
+            "error must not name the constrained {mode}: {text}"
+        );
+    }
+}
+
+#[test]
+fn singular_system_without_the_precheck_fails_in_the_factorisation_not_with_nan() {
+    let mesh = BoxMesh::tet4([2.0, 1.0, 1.0], [2, 2, 2]);
+    let bottom_z = Constraints {
+        dirichlet: vec![Dirichlet::component(mesh.face_nodes(BoxFace::ZMin), 2, 0.0)],
+        ..Default::default()
+    };
+    let err = solve_err(
+        &bottom_z,
+        SolverOptions {
+            check_rigid_body_modes: false,
+            ..Default::default()
+        },
+    );
+    assert!(
+        matches!(err, FemError::NotPositiveDefinite { .. }),
+        "expected a non-positive pivot error, got: {err}"
+    );
+}
+
+#[test]
+fn conflicting_prescribed_values_on_a_tied_dof_are_rejected() {
+    let mesh = BoxMesh::tet4([1.0, 1.0, 1.0], [1, 1, 1]);
+    let face = mesh.face_nodes(BoxFace::ZMax);
+    let constraints = Constraints {
+        dirichlet: vec![
+            Dirichlet::component(vec![face[0]], 2, 1e-3),
+            Dirichlet::component(vec![face[1]], 2, 2e-3),
+        ],
+        rigid_faces: vec![RigidFace {
+            nodes: face,
+            components: [
+                RigidComponent::Free,
+                RigidComponent::Free,
+                RigidComponent::Loaded { force_n: 0.0 },
+            ],
+        }],
+        ..Default::default()
+    };
+    let err = elastic_fem::DofMap::new(mesh.nodes.len(), &constraints).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            FemError::ConflictingPrescribedValues { component: 2, .. }
+        ),
+        "expected a conflict on z, got: {err}"
+    );
+}
+
+#[test]
+fn reactions_balance_applied_loads() {
+    let mesh = BoxMesh::tet10([1.0, 1.0, 2.0], [2, 2, 3]);
+    let model = model_of(&mesh, Material::isotropic(E_PA, NU).unwrap());
+    let mut f = vec![0.0; model.dof_count()];
+    loads::add_pressure(
+        model.nodes(),
+        &mesh.face_triangles(BoxFace::ZMax),
+        2e6,
+        &mut f,
+    )
+    .unwrap();
+    loads::add_body_force(&model, |_| [0.0, 1e4, 0.0], &mut f).unwrap();
+    let constraints = Constraints {
+        dirichlet: vec![Dirichlet::clamped(mesh.face_nodes(BoxFace::ZMin))],
+        ..Default::default()
+    };
+    let sol = solve_static(
+        &StaticProblem {
+            model: &model,
+            constraints: &constraints,
+            load_n: &f,
+        },
+        &SolverOptions::default(),
+    )
+    .unwrap();
+    for c in 0..3 {
+        let applied: f64 = f.iter().skip(c).step_by(3).sum();
+        let reaction: f64 = sol.reaction_n.iter().skip(c).step_by(3).sum();
+        assert!(
+            (applied + reaction).abs() < 1e-8 * max_abs(&f) * f.len() as f64,
+            "component {c}: applied {applied} N, reaction {reaction} N"
+        );
+    }
+    // Pressure 2 MPa on 1 m² pushes down with 2 MN.
+    let fz: f64 = f.iter().skip(2).step_by(3).sum();
+    assert!(
+        (fz + 2e6).abs() < 1e-6,
+        "total pressure force {fz} N, expected -2e6 N"
+    );
+}
