@@ -220,7 +220,9 @@ impl PeriodicAverageModel {
         })
     }
 
-    /// Stall thrust F(0⁺) (N).
+    /// Stall thrust F(0⁺) (N). Negative when the slider is locked (posts never separate and
+    /// stay stuck: it must be pushed to advance); [`solve`](Self::solve) then reports 0 with a
+    /// warning.
     pub fn stall_thrust_n(&self) -> Result<f64> {
         Ok(self.at_speed(0.0)?.thrust_n)
     }
@@ -361,7 +363,19 @@ impl PeriodicAverageModel {
     pub fn solve(&self) -> Result<DynamicResult> {
         let started = Instant::now();
         let mut warnings = self.warnings.clone();
-        let samples = self.curve(self.scene.options.curve_points)?;
+        let stall_sample = self.at_speed(0.0)?;
+        let samples = if stall_sample.thrust_n > 0.0 {
+            self.curve(self.scene.options.curve_points)?
+        } else {
+            warnings.push(Warning::new(
+                "slider.preload_n",
+                format!(
+                    "the slider is locked: F(0⁺) = {:.4} N ≤ 0 (posts never separate and stay stuck within the friction band); it advances only if pushed along the drive direction by more than {:.4} N",
+                    stall_sample.thrust_n, -stall_sample.thrust_n
+                ),
+            ));
+            vec![SpeedSample { thrust_n: 0.0, ..stall_sample }]
+        };
         let stall = samples[0].thrust_n;
         let no_load = samples.last().map_or(0.0, |s| s.speed_m_per_s);
         let load = self.scene.slider.external_load_n;

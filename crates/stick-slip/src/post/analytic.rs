@@ -227,27 +227,31 @@ impl AnalyticPost {
                 Mode::Separated => {}
                 Mode::Stick => {
                     let line = self.stick_line(seg.start, seg.deflection_start);
-                    let [f, n, w] = integrate(seg.start, seg.end, |t| {
+                    let [f, n, w, flow] = integrate(seg.start, seg.end, |t| {
                         let force = rho * line.value(t);
-                        [force, p.normal(t), -force * a_t * t.sin()]
+                        let power = -force * a_t * t.sin();
+                        [force, p.normal(t), power, power.abs()]
                     });
                     piece.force_time = f / s;
                     piece.normal_time = n / s;
                     piece.stator_work = w / s;
+                    piece.power_flow = flow / s;
                     piece.stick_time = duration;
                     piece.contact_time = duration;
                 }
                 Mode::Slip(sign) => {
                     let rate = self.slip_rate(sign);
                     let mu = p.mu_kinetic;
-                    let [f, n, w, d] = integrate(seg.start, seg.end, |t| {
+                    let [f, n, w, d, flow] = integrate(seg.start, seg.end, |t| {
                         let normal = p.normal(t);
                         let force = sign * mu * normal;
-                        [force, normal, -force * a_t * t.sin(), mu * normal * rate.value(t).abs()]
+                        let power = -force * a_t * t.sin();
+                        [force, normal, power, mu * normal * rate.value(t).abs(), power.abs()]
                     });
                     piece.force_time = f / s;
                     piece.normal_time = n / s;
                     piece.stator_work = w / s;
+                    piece.power_flow = flow / s;
                     piece.dissipation = d;
                     piece.contact_time = duration;
                 }
@@ -382,6 +386,7 @@ impl AnalyticPost {
                     force_time: n * ints.force_time + rho * drift * period_time * triangle,
                     normal_time: n * ints.normal_time,
                     stator_work: n * ints.stator_work,
+                    power_flow: n * ints.power_flow,
                     output_work: n * ints.output_work + self.v * rho * drift * period_time * triangle,
                     dissipation: 0.0,
                     stick_time: n * ints.stick_time,

@@ -117,6 +117,9 @@ pub(crate) struct PeriodIntegrals {
     pub normal_time: f64,
     /// Stator work on the post, ∫ F·u̇ dt.
     pub stator_work: f64,
+    /// ∫ |F·u̇| dt: the scale of the power flow (normalises the energy balance when the net
+    /// stator work vanishes, e.g. a post stuck through the period).
+    pub power_flow: f64,
     /// Output work on the slider, ∫ F·v dt.
     pub output_work: f64,
     /// Friction dissipation ∫ |F|·|slip rate| dt plus the elastic energy released when the
@@ -138,6 +141,7 @@ impl Add for PeriodIntegrals {
             force_time: self.force_time + o.force_time,
             normal_time: self.normal_time + o.normal_time,
             stator_work: self.stator_work + o.stator_work,
+            power_flow: self.power_flow + o.power_flow,
             output_work: self.output_work + o.output_work,
             dissipation: self.dissipation + o.dissipation,
             stick_time: self.stick_time + o.stick_time,
@@ -155,6 +159,7 @@ impl Sub for PeriodIntegrals {
             force_time: self.force_time - o.force_time,
             normal_time: self.normal_time - o.normal_time,
             stator_work: self.stator_work - o.stator_work,
+            power_flow: self.power_flow - o.power_flow,
             output_work: self.output_work - o.output_work,
             dissipation: self.dissipation - o.dissipation,
             stick_time: self.stick_time - o.stick_time,
@@ -174,7 +179,7 @@ impl PeriodIntegrals {
     /// relative to the stator work.
     pub fn energy_balance_residual(&self) -> f64 {
         let residual = self.stator_work - self.output_work - self.dissipation - self.stored_energy_change;
-        residual / self.stator_work.abs().max(self.dissipation.abs()).max(1e-300)
+        residual / self.power_flow.max(self.stator_work.abs()).max(self.dissipation.abs()).max(1e-300)
     }
 }
 

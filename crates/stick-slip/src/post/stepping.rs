@@ -99,6 +99,7 @@ impl SteppedPost {
                 };
                 let force = rho * deflection;
                 ints.stator_work += force * particle;
+                ints.power_flow += (force * particle).abs();
                 ints.output_work += force * self.v * h;
                 ints.dissipation += force * (trial - deflection);
                 ints.force_time += force * h;
@@ -120,6 +121,7 @@ impl SteppedPost {
                 let tip_velocity = free + impulse / mass;
                 let deflection = state.deflection + h * (tip_velocity - self.v);
                 ints.stator_work += impulse * stator;
+                ints.power_flow += (impulse * stator).abs();
                 ints.dissipation += impulse * (stator - tip_velocity);
                 ints.force_time += rho * deflection * h;
                 ints.output_work += rho * deflection * self.v * h;
@@ -134,6 +136,7 @@ impl SteppedPost {
                 let tip_velocity = state.tip_velocity + h * (friction - rho * state.deflection) / mass;
                 let deflection = state.deflection + h * (tip_velocity - self.v);
                 ints.stator_work += friction * stator * h;
+                ints.power_flow += (friction * stator * h).abs();
                 ints.dissipation += friction * slip * h;
                 ints.force_time += rho * deflection * h;
                 ints.output_work += rho * deflection * self.v * h;

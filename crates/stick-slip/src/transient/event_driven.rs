@@ -29,7 +29,8 @@ const I_OUTPUT: usize = 5;
 const I_DISSIPATION: usize = 6;
 const I_NORMAL: usize = 7;
 const I_FORCE: usize = 8;
-const IE: usize = 9;
+const I_FLOW: usize = 9;
+const IE: usize = 10;
 
 /// Event-function value up to which a group at the start of a step still counts as "not yet
 /// crossed" (solver units of force/velocity). Default 1e-12.
@@ -166,7 +167,7 @@ impl<'a> EventDriven<'a> {
     ) {
         phases.fill(&sys.groups, &sys.wave, t, y[IX]);
         let v = y[IV];
-        let (mut force, mut normal, mut stator, mut dissipation) = (0.0, 0.0, 0.0, 0.0);
+        let (mut force, mut normal, mut stator, mut dissipation, mut flow) = (0.0, 0.0, 0.0, 0.0, 0.0);
         let mut events = events;
         for g in 0..sys.groups.len() {
             let kin = Self::kinematics(sys, phases, g, y);
@@ -195,6 +196,7 @@ impl<'a> EventDriven<'a> {
             force += weight * f;
             normal += weight * kin.normal;
             stator += weight * f * kin.particle_velocity;
+            flow += weight * (f * kin.particle_velocity).abs();
         }
         out[IX] = v;
         out[IV] = (force + sys.load) / sys.mass;
@@ -213,6 +215,7 @@ impl<'a> EventDriven<'a> {
         out[I_DISSIPATION] = dissipation;
         out[I_NORMAL] = normal;
         out[I_FORCE] = force;
+        out[I_FLOW] = flow;
     }
 
     /// Classical RK4 from (t, y, f0) over h into `y1`.
@@ -364,6 +367,7 @@ impl<'a> EventDriven<'a> {
             force_time: self.y1[I_FORCE] - self.y[I_FORCE],
             normal_time: self.y1[I_NORMAL] - self.y[I_NORMAL],
             stator_work: self.y1[I_STATOR] - self.y[I_STATOR],
+            power_flow: self.y1[I_FLOW] - self.y[I_FLOW],
             output_work: self.y1[I_OUTPUT] - self.y[I_OUTPUT],
             dissipation: self.y1[I_DISSIPATION] - self.y[I_DISSIPATION],
             stick_time: stick * h,

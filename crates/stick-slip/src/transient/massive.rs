@@ -151,6 +151,7 @@ impl Stepper for MassivePosts<'_> {
                 }
             };
             step_sums.stator_work += weight * friction_work;
+            step_sums.power_flow += weight * friction_work.abs();
             step_sums.dissipation += weight * dissipated;
             step_sums.normal_time += weight * normal1 * h;
             if mode != Mode::Separated {

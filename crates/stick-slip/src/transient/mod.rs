@@ -43,8 +43,10 @@ const MAX_STALL_RUNS: usize = 16;
 pub struct TransientRun {
     /// External load (N).
     pub load_n: f64,
-    /// Mean speed over the averaging window (m/s).
+    /// Mean speed along the drive direction (−x) over the averaging window (m/s).
     pub speed_m_per_s: f64,
+    /// Mean slider velocity along +x, the wave's direction (m/s): negative for a working motor.
+    pub velocity_x_m_per_s: f64,
     /// Mean total contact thrust over the averaging window (N).
     pub thrust_n: f64,
     /// Output power thrust × speed, ⟨ΣF·v⟩ (W).
@@ -304,7 +306,7 @@ impl TransientModel {
         let stator = sums.stator_work / time * power_unit;
         let output = sums.output_work / time * power_unit;
         let residual = (sums.stator_work - sums.output_work - sums.dissipation - stored)
-            / sums.stator_work.abs().max(sums.dissipation.abs()).max(1e-300);
+            / sums.power_flow.max(sums.stator_work.abs()).max(sums.dissipation.abs()).max(1e-300);
         let (v_min, v_max) = tail.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| (a.min(r.v_min), b.max(r.v_max)));
         let (z_min, z_max) = tail.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| (a.min(r.z_min), b.max(r.z_max)));
         if let Some(h) = post_history.as_mut() {
@@ -314,6 +316,7 @@ impl TransientModel {
         Ok(TransientRun {
             load_n,
             speed_m_per_s: mean_speed * a_n * omega,
+            velocity_x_m_per_s: -mean_speed * a_n * omega,
             thrust_n: -sums.force_time / time * force_unit,
             output_power_w: output,
             stator_power_w: stator,

@@ -229,6 +229,7 @@ impl Stepper for ReturnMapping<'_> {
             step_sums.force_time += w * force * h;
             step_sums.normal_time += w * normal * h;
             step_sums.stator_work += w * force * self.increment[g];
+            step_sums.power_flow += w * (force * self.increment[g]).abs();
             step_sums.output_work += w * force * v1 * h;
             step_sums.dissipation += w * force * (trial - e);
             if mode != Mode::Separated {

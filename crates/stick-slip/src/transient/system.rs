@@ -117,6 +117,8 @@ pub(crate) struct Sums {
     pub normal_time: f64,
     /// ∫ Σw F·u̇ dt.
     pub stator_work: f64,
+    /// ∫ Σw |F·u̇| dt (scale of the power flow).
+    pub power_flow: f64,
     /// ∫ ΣwF·v dt.
     pub output_work: f64,
     /// Friction dissipation.
@@ -133,6 +135,7 @@ impl std::ops::AddAssign for Sums {
         self.force_time += o.force_time;
         self.normal_time += o.normal_time;
         self.stator_work += o.stator_work;
+        self.power_flow += o.power_flow;
         self.output_work += o.output_work;
         self.dissipation += o.dissipation;
         self.stick_time += o.stick_time;
