@@ -6,12 +6,12 @@ use std::time::Instant;
 use contact_springs::post_springs;
 use serde::Serialize;
 
+use crate::FemStats;
 use crate::error::{ContactError, Result};
 use crate::eta::{EtaFit, FitSample, fit_eta};
 use crate::lcp::{ActiveSetOptions, ContactSolution, IterationLog};
 use crate::params::{MODEL_VERSION, StaticParams};
 use crate::scene::{StatorModel, StripConfig, StripModel};
-use crate::FemStats;
 
 /// One post of one snapshot.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -156,12 +156,26 @@ pub struct StaticAnalysis {
 }
 
 /// Stator surface height under each post: w(x) = A_n sin(θ₀ − k x) (m).
-pub fn wave_heights(model: &StripModel, amplitude_m: f64, wavelength_m: f64, phase_rad: f64) -> Vec<f64> {
+pub fn wave_heights(
+    model: &StripModel,
+    amplitude_m: f64,
+    wavelength_m: f64,
+    phase_rad: f64,
+) -> Vec<f64> {
     let k = 2.0 * PI / wavelength_m;
-    model.posts.iter().map(|p| amplitude_m * (phase_rad - k * p.x_m).sin()).collect()
+    model
+        .posts
+        .iter()
+        .map(|p| amplitude_m * (phase_rad - k * p.x_m).sin())
+        .collect()
 }
 
-fn snapshot(model: &StripModel, heights: Vec<f64>, phase_rad: Option<f64>, solution: ContactSolution) -> SnapshotResult {
+fn snapshot(
+    model: &StripModel,
+    heights: Vec<f64>,
+    phase_rad: Option<f64>,
+    solution: ContactSolution,
+) -> SnapshotResult {
     let f = &solution.force_n;
     let n = f.len() as f64;
     let sum: f64 = f.iter().sum();
@@ -182,7 +196,11 @@ fn snapshot(model: &StripModel, heights: Vec<f64>, phase_rad: Option<f64>, solut
     SnapshotResult {
         phase_rad,
         posts,
-        load_sharing: if sum_sq > 0.0 { sum * sum / (n * sum_sq) } else { 0.0 },
+        load_sharing: if sum_sq > 0.0 {
+            sum * sum / (n * sum_sq)
+        } else {
+            0.0
+        },
         contact_fraction: solution.in_contact.iter().filter(|&&c| c).count() as f64 / n,
         complementarity_residual: solution.complementarity_residual,
         iterations: solution.iterations,
@@ -193,20 +211,36 @@ fn snapshot(model: &StripModel, heights: Vec<f64>, phase_rad: Option<f64>, solut
 
 fn with_context(e: ContactError, preload_n: f64, phase: Option<f64>) -> ContactError {
     match e {
-        ContactError::NotConverged { iterations, active, posts, residual, tolerance, context } => ContactError::NotConverged {
+        ContactError::NotConverged {
             iterations,
             active,
             posts,
             residual,
             tolerance,
-            context: format!("{context} at preload {preload_n} N, phase {}", phase.map_or("flat".to_string(), |p| format!("{p:.4} rad"))),
+            context,
+        } => ContactError::NotConverged {
+            iterations,
+            active,
+            posts,
+            residual,
+            tolerance,
+            context: format!(
+                "{context} at preload {preload_n} N, phase {}",
+                phase.map_or("flat".to_string(), |p| format!("{p:.4} rad"))
+            ),
         },
         other => other,
     }
 }
 
 /// Solves every snapshot of one preload on a built model and fits η.
-pub fn analyse_preload(model: &StripModel, params: &StaticParams, preload_n: f64, k_n_n_per_m: f64, options: ActiveSetOptions) -> Result<PreloadResult> {
+pub fn analyse_preload(
+    model: &StripModel,
+    params: &StaticParams,
+    preload_n: f64,
+    k_n_n_per_m: f64,
+    options: ActiveSetOptions,
+) -> Result<PreloadResult> {
     let preload_strip_n = preload_n * params.strip_share();
     let scale = (params.wave_amplitude_m > 0.0).then_some(params.wave_amplitude_m);
     let mut snapshots = Vec::with_capacity(params.phases);
@@ -214,12 +248,20 @@ pub fn analyse_preload(model: &StripModel, params: &StaticParams, preload_n: f64
     for k in 0..params.phases {
         let phase = 2.0 * PI * k as f64 / params.phases as f64;
         let heights = wave_heights(model, params.wave_amplitude_m, params.wavelength_m, phase);
-        let solution = model.solve(preload_strip_n, heights.clone(), scale, options).map_err(|e| with_context(e, preload_n, Some(phase)))?;
-        samples.push(FitSample { height_m: heights.clone(), force_n: solution.force_n.clone(), preload_n: preload_strip_n });
+        let solution = model
+            .solve(preload_strip_n, heights.clone(), scale, options)
+            .map_err(|e| with_context(e, preload_n, Some(phase)))?;
+        samples.push(FitSample {
+            height_m: heights.clone(),
+            force_n: solution.force_n.clone(),
+            preload_n: preload_strip_n,
+        });
         snapshots.push(snapshot(model, heights, Some(phase), solution));
     }
     let flat_heights = vec![0.0; model.post_count()];
-    let flat = model.solve(preload_strip_n, flat_heights.clone(), None, options).map_err(|e| with_context(e, preload_n, None))?;
+    let flat = model
+        .solve(preload_strip_n, flat_heights.clone(), None, options)
+        .map_err(|e| with_context(e, preload_n, None))?;
     let flat_stator = snapshot(model, flat_heights, None, flat);
     let eta_fit = fit_eta(&samples, k_n_n_per_m);
     let m = snapshots.len() as f64;
@@ -229,7 +271,11 @@ pub fn analyse_preload(model: &StripModel, params: &StaticParams, preload_n: f64
         effective_contact_ratio: eta_fit.eta,
         load_sharing: snapshots.iter().map(|s| s.load_sharing).sum::<f64>() / m,
         contact_fraction: snapshots.iter().map(|s| s.contact_fraction).sum::<f64>() / m,
-        complementarity_residual: snapshots.iter().chain(std::iter::once(&flat_stator)).map(|s| s.complementarity_residual).fold(0.0, f64::max),
+        complementarity_residual: snapshots
+            .iter()
+            .chain(std::iter::once(&flat_stator))
+            .map(|s| s.complementarity_residual)
+            .fold(0.0, f64::max),
         iterations: snapshots.iter().map(|s| s.iterations).sum(),
         eta_fit,
         snapshots,
@@ -262,11 +308,18 @@ pub fn run_with(params: &StaticParams, options: ActiveSetOptions) -> Result<Stat
     params.validate()?;
     let content_hash = params.content_hash()?;
     let path = crate::mesh_source::resolve_mesh(params)?;
-    let mesh = gmsh_mesh::read_msh(&path).map_err(|source| ContactError::Mesh { file: path.display().to_string(), source })?;
+    let mesh = gmsh_mesh::read_msh(&path).map_err(|source| ContactError::Mesh {
+        file: path.display().to_string(),
+        source: Box::new(source),
+    })?;
     if mesh.tets.order() != params.element_order {
         return Err(ContactError::MeshMismatch {
             file: path.display().to_string(),
-            detail: format!("mesh has {} elements, element_order = {} was asked", mesh.tets.kind(), params.element_order),
+            detail: format!(
+                "mesh has {} elements, element_order = {} was asked",
+                mesh.tets.kind(),
+                params.element_order
+            ),
         });
     }
     let mesh_s = start.elapsed().as_secs_f64();
@@ -274,9 +327,22 @@ pub fn run_with(params: &StaticParams, options: ActiveSetOptions) -> Result<Stat
     let model = StripModel::build(mesh, strip_config(params))?;
     let condensation_s = t.elapsed().as_secs_f64();
     let t = Instant::now();
-    let report = report_for_model(&model, params, content_hash, path.display().to_string(), options, mesh_s, condensation_s, start)?;
+    let report = report_for_model(
+        &model,
+        params,
+        content_hash,
+        path.display().to_string(),
+        options,
+        mesh_s,
+        condensation_s,
+        start,
+    )?;
     let _ = t;
-    Ok(StaticAnalysis { params: params.clone(), model, report })
+    Ok(StaticAnalysis {
+        params: params.clone(),
+        model,
+        report,
+    })
 }
 
 /// Solves all preloads on an already condensed model and assembles the report.
@@ -292,10 +358,22 @@ pub fn report_for_model(
     start: Instant,
 ) -> Result<StaticReport> {
     let t = Instant::now();
-    let springs = post_springs(&params.slider_material, &params.stator_material, 0.5 * params.post_diameter_m)
-        .map_err(|e| ContactError::InvalidParameter { parameter: "post_diameter_m", value: params.post_diameter_m, reason: e.to_string() })?;
+    let springs = post_springs(
+        &params.slider_material,
+        &params.stator_material,
+        0.5 * params.post_diameter_m,
+    )
+    .map_err(|e| ContactError::InvalidParameter {
+        parameter: "post_diameter_m",
+        value: params.post_diameter_m,
+        reason: e.to_string(),
+    })?;
     let k_n = springs.k_n_n_per_m;
-    let preloads = params.all_preloads_n().into_iter().map(|p| analyse_preload(model, params, p, k_n, options)).collect::<Result<Vec<_>>>()?;
+    let preloads = params
+        .all_preloads_n()
+        .into_iter()
+        .map(|p| analyse_preload(model, params, p, k_n, options))
+        .collect::<Result<Vec<_>>>()?;
     let contact_s = t.elapsed().as_secs_f64();
     let main = &preloads[0];
     let posts_total = params.posts_x * params.posts_y;
@@ -308,14 +386,22 @@ pub fn report_for_model(
         effective_contact_ratio_note: main.eta_fit.reason.clone(),
         load_sharing: main.load_sharing,
         contact_fraction: main.contact_fraction,
-        complementarity_residual: preloads.iter().map(|p| p.complementarity_residual).fold(0.0, f64::max),
-        iterations: preloads.iter().map(|p| p.iterations + p.flat_stator.iterations).sum(),
+        complementarity_residual: preloads
+            .iter()
+            .map(|p| p.complementarity_residual)
+            .fold(0.0, f64::max),
+        iterations: preloads
+            .iter()
+            .map(|p| p.iterations + p.flat_stator.iterations)
+            .sum(),
         post_forces_n: main.snapshots[0].posts.iter().map(|p| p.force_n).collect(),
         posts: main.snapshots[0].posts.clone(),
         k_n_n_per_m: k_n,
         posts_in_strip: model.post_count(),
         posts_total,
-        effective_post_count: main.effective_contact_ratio.map(|eta| eta * posts_total as f64),
+        effective_post_count: main
+            .effective_contact_ratio
+            .map(|eta| eta * posts_total as f64),
         fem: FemSummary {
             stator_model: model.config.stator,
             slider: model.slider.stats,
@@ -324,7 +410,12 @@ pub fn report_for_model(
                 crate::scene::StatorCompliance::HalfSpace(_) => None,
             },
         },
-        timings: Timings { mesh_s, condensation_s, contact_s, wall_time_s: start.elapsed().as_secs_f64() },
+        timings: Timings {
+            mesh_s,
+            condensation_s,
+            contact_s,
+            wall_time_s: start.elapsed().as_secs_f64(),
+        },
         preloads,
     })
 }

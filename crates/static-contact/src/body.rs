@@ -12,8 +12,8 @@ use std::time::Instant;
 use elastic_fem::sparse::{NumericCholesky, Ordering, SymbolicCholesky};
 use elastic_fem::static_solver::locate_factor_error;
 use elastic_fem::{
-    Connectivity, Constraints, Dirichlet, DofMap, DofTarget, FemError, Model, ReducedSystem, RigidComponent, RigidFace,
-    StiffnessPattern, assemble_stiffness,
+    Connectivity, Constraints, Dirichlet, DofMap, DofTarget, FemError, Model, ReducedSystem,
+    RigidComponent, RigidFace, StiffnessPattern, assemble_stiffness,
 };
 use gmsh_mesh::{TetMesh, Tets};
 use nalgebra::DMatrix;
@@ -113,25 +113,45 @@ pub struct BodyCompliance {
 }
 
 fn fem_error(spec: &BodySpec<'_>, source: FemError) -> ContactError {
-    ContactError::Fem { body: spec.name, file: spec.mesh.source.clone(), source }
+    ContactError::Fem {
+        body: spec.name,
+        file: spec.mesh.source.clone(),
+        source: Box::new(source),
+    }
 }
 
 fn mesh_error(spec: &BodySpec<'_>, source: gmsh_mesh::MeshError) -> ContactError {
-    ContactError::Mesh { file: spec.mesh.source.clone(), source }
+    ContactError::Mesh {
+        file: spec.mesh.source.clone(),
+        source: Box::new(source),
+    }
 }
 
 impl BodyCompliance {
     /// Assembles, constrains, factors and condenses the body.
     pub fn build(spec: &BodySpec<'_>) -> Result<Self> {
         let start = Instant::now();
-        let mismatch = |detail: String| ContactError::MeshMismatch { file: spec.mesh.source.clone(), detail };
+        let mismatch = |detail: String| ContactError::MeshMismatch {
+            file: spec.mesh.source.clone(),
+            detail,
+        };
         if !(spec.disk_fraction > 0.0 && spec.disk_fraction <= 1.0) {
-            return Err(ContactError::InvalidParameter { parameter: "disk_fraction", value: spec.disk_fraction, reason: "must lie in (0, 1]".into() });
+            return Err(ContactError::InvalidParameter {
+                parameter: "disk_fraction",
+                value: spec.disk_fraction,
+                reason: "must lie in (0, 1]".into(),
+            });
         }
         // Sub-mesh of the body's volume, renumbered.
-        let tets = spec.mesh.group_tets(&spec.volume_group).map_err(|e| mesh_error(spec, e))?;
+        let tets = spec
+            .mesh
+            .group_tets(&spec.volume_group)
+            .map_err(|e| mesh_error(spec, e))?;
         if tets.is_empty() {
-            return Err(mismatch(format!("volume group `{}` has no tetrahedra", spec.volume_group)));
+            return Err(mismatch(format!(
+                "volume group `{}` has no tetrahedra",
+                spec.volume_group
+            )));
         }
         let mut local = vec![usize::MAX; spec.mesh.nodes.len()];
         let mut mesh_node = Vec::new();
@@ -145,28 +165,43 @@ impl BodyCompliance {
         }
         let nodes: Vec<[f64; 3]> = mesh_node.iter().map(|&n| spec.mesh.nodes[n]).collect();
         let connectivity = match &spec.mesh.tets {
-            Tets::Linear(all) => Connectivity::Tet4(tets.iter().map(|&t| all[t].map(|n| local[n])).collect()),
-            Tets::Quadratic(all) => Connectivity::Tet10(tets.iter().map(|&t| all[t].map(|n| local[n])).collect()),
+            Tets::Linear(all) => {
+                Connectivity::Tet4(tets.iter().map(|&t| all[t].map(|n| local[n])).collect())
+            }
+            Tets::Quadratic(all) => {
+                Connectivity::Tet10(tets.iter().map(|&t| all[t].map(|n| local[n])).collect())
+            }
         };
         let model = Model::new(nodes, connectivity, spec.material).map_err(|e| {
             // Name the gmsh element tag of a bad element.
             let tag = |element: usize| spec.mesh.tet_tags[tets[element]];
             let e = match e {
-                FemError::InvertedElement { element, .. } | FemError::DegenerateElement { element, .. } => {
-                    return mismatch(format!("{} element with gmsh tag {} is inverted or degenerate: {e}", spec.name, tag(element)));
+                FemError::InvertedElement { element, .. }
+                | FemError::DegenerateElement { element, .. } => {
+                    return mismatch(format!(
+                        "{} element with gmsh tag {} is inverted or degenerate: {e}",
+                        spec.name,
+                        tag(element)
+                    ));
                 }
                 other => other,
             };
             fem_error(spec, e)
         })?;
         let group_local_nodes = |group: &str| -> Result<Vec<usize>> {
-            let nodes = spec.mesh.group_nodes(group).map_err(|e| mesh_error(spec, e))?;
+            let nodes = spec
+                .mesh
+                .group_nodes(group)
+                .map_err(|e| mesh_error(spec, e))?;
             nodes
                 .iter()
                 .map(|&n| {
                     let l = local[n];
                     if l == usize::MAX {
-                        Err(mismatch(format!("node tag {} of group `{group}` is not a node of the {} volume", spec.mesh.node_tags[n], spec.name)))
+                        Err(mismatch(format!(
+                            "node tag {} of group `{group}` is not a node of the {} volume",
+                            spec.mesh.node_tags[n], spec.name
+                        )))
                     } else {
                         Ok(l)
                     }
@@ -184,7 +219,8 @@ impl BodyCompliance {
                 .copied()
                 .filter(|&n| {
                     let x = model.nodes()[n];
-                    let r = ((x[0] - disk.centre_m[0]).powi(2) + (x[1] - disk.centre_m[1]).powi(2)).sqrt();
+                    let r = ((x[0] - disk.centre_m[0]).powi(2) + (x[1] - disk.centre_m[1]).powi(2))
+                        .sqrt();
                     r <= disk.radius_m + tol && (x[2] - disk.centre_m[2]).abs() <= tol
                 })
                 .collect();
@@ -200,7 +236,10 @@ impl BodyCompliance {
             }
             for &n in &picked {
                 if owner[n] != usize::MAX {
-                    return Err(mismatch(format!("node {} lies in contact disks {} and {d}", spec.mesh.node_tags[mesh_node[n]], owner[n])));
+                    return Err(mismatch(format!(
+                        "node {} lies in contact disks {} and {d}",
+                        spec.mesh.node_tags[mesh_node[n]], owner[n]
+                    )));
                 }
                 owner[n] = d;
             }
@@ -209,35 +248,53 @@ impl BodyCompliance {
         // Constraints.
         let mut constraints = Constraints::default();
         for g in &spec.clamped_groups {
-            constraints.dirichlet.push(Dirichlet::clamped(group_local_nodes(g)?));
+            constraints
+                .dirichlet
+                .push(Dirichlet::clamped(group_local_nodes(g)?));
         }
         for (g, c) in &spec.roller_groups {
-            constraints.dirichlet.push(Dirichlet::component(group_local_nodes(g)?, *c, 0.0));
+            constraints
+                .dirichlet
+                .push(Dirichlet::component(group_local_nodes(g)?, *c, 0.0));
         }
         for nodes in &disk_nodes {
             let lateral = match spec.lateral {
                 TipLateral::Free => RigidComponent::Free,
-                TipLateral::Bonded => RigidComponent::Prescribed { displacement_m: 0.0 },
+                TipLateral::Bonded => RigidComponent::Prescribed {
+                    displacement_m: 0.0,
+                },
             };
-            constraints.rigid_faces.push(RigidFace { nodes: nodes.clone(), components: [lateral, lateral, RigidComponent::Loaded { force_n: 0.0 }] });
+            constraints.rigid_faces.push(RigidFace {
+                nodes: nodes.clone(),
+                components: [lateral, lateral, RigidComponent::Loaded { force_n: 0.0 }],
+            });
         }
         let pattern = StiffnessPattern::build(&model);
         let stiffness = assemble_stiffness(&model, &pattern).map_err(|e| fem_error(spec, e))?;
-        let dof_map = DofMap::new(model.node_count(), &constraints).map_err(|e| fem_error(spec, e))?;
+        let dof_map =
+            DofMap::new(model.node_count(), &constraints).map_err(|e| fem_error(spec, e))?;
         let masters: Vec<usize> = disk_nodes
             .iter()
             .enumerate()
             .map(|(d, nodes)| match dof_map.target(3 * nodes[0] + 2) {
                 DofTarget::Reduced(j) => Ok(j),
-                DofTarget::Prescribed(_) => Err(mismatch(format!("contact disk {d} of the {} touches a clamped group: its z is prescribed", spec.name))),
+                DofTarget::Prescribed(_) => Err(mismatch(format!(
+                    "contact disk {d} of the {} touches a clamped group: its z is prescribed",
+                    spec.name
+                ))),
             })
             .collect::<Result<_>>()?;
         let reduced = ReducedSystem::new(&stiffness, dof_map).map_err(|e| fem_error(spec, e))?;
-        let k_red = reduced.reduce_matrix(&stiffness).map_err(|e| fem_error(spec, e))?;
+        let k_red = reduced
+            .reduce_matrix(&stiffness)
+            .map_err(|e| fem_error(spec, e))?;
         let assembly_s = start.elapsed().as_secs_f64();
         let start = Instant::now();
-        let symbolic = SymbolicCholesky::analyze(&k_red, Ordering::Metis).map_err(|e| fem_error(spec, e))?;
-        let factor = symbolic.factor(&k_red).map_err(|e| fem_error(spec, locate_factor_error(e, reduced.dof_map())))?;
+        let symbolic =
+            SymbolicCholesky::analyze(&k_red, Ordering::Metis).map_err(|e| fem_error(spec, e))?;
+        let factor = symbolic
+            .factor(&k_red)
+            .map_err(|e| fem_error(spec, locate_factor_error(e, reduced.dof_map())))?;
         let factor_s = start.elapsed().as_secs_f64();
         let start = Instant::now();
         let n = masters.len();
@@ -249,7 +306,9 @@ impl BodyCompliance {
             for c in 0..cols {
                 rhs[c * dim + masters[first + c]] = 1.0;
             }
-            factor.solve_columns_in_place(&mut rhs, cols).map_err(|e| fem_error(spec, e))?;
+            factor
+                .solve_columns_in_place(&mut rhs, cols)
+                .map_err(|e| fem_error(spec, e))?;
             for c in 0..cols {
                 for i in 0..n {
                     compliance[(i, first + c)] = spec.disk_fraction * rhs[c * dim + masters[i]];
@@ -292,15 +351,24 @@ impl BodyCompliance {
         for (j, f) in force_n.iter().enumerate() {
             q[self.masters[j]] += self.force_sign * self.disk_fraction * f;
         }
-        let wrap = |source| ContactError::Fem { body: self.name, file: String::new(), source };
+        let wrap = |source| ContactError::Fem {
+            body: self.name,
+            file: String::new(),
+            source: Box::new(source),
+        };
         self.factor.solve_in_place(&mut q).map_err(wrap)?;
         self.reduced.expand(&q).map_err(wrap)
     }
 
     /// Nodal-averaged stress (Pa, Voigt xx yy zz yz xz xy) of a displacement field of this body.
     pub fn nodal_stress(&self, u: &[f64]) -> Result<Vec<[f64; 6]>> {
-        elastic_fem::post::nodal_averaged_stress(&self.model, u)
-            .map_err(|source| ContactError::Fem { body: self.name, file: String::new(), source })
+        elastic_fem::post::nodal_averaged_stress(&self.model, u).map_err(|source| {
+            ContactError::Fem {
+                body: self.name,
+                file: String::new(),
+                source: Box::new(source),
+            }
+        })
     }
 
     /// Mesh node index of each body node.

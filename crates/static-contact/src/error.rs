@@ -23,7 +23,7 @@ pub enum ContactError {
         file: String,
         /// Reader error.
         #[source]
-        source: gmsh_mesh::MeshError,
+        source: Box<gmsh_mesh::MeshError>,
     },
     /// The mesh does not fit the scene (post count, radius, pitch, group contents).
     #[error("mesh {file}: {detail}")]
@@ -42,7 +42,7 @@ pub enum ContactError {
         file: String,
         /// The elastic-fem error (names the element or DOF).
         #[source]
-        source: elastic_fem::FemError,
+        source: Box<elastic_fem::FemError>,
     },
     /// The contact iteration did not converge.
     #[error(
@@ -65,7 +65,9 @@ pub enum ContactError {
         context: String,
     },
     /// The dense compliance matrix is not positive definite (bad stator model or mesh).
-    #[error("compliance matrix is not positive definite at post {post} (pivot {pivot:.3e} m/N): {what}")]
+    #[error(
+        "compliance matrix is not positive definite at post {post} (pivot {pivot:.3e} m/N): {what}"
+    )]
     CompliancePositivity {
         /// Post index (0-based, in x order).
         post: usize,

@@ -60,14 +60,21 @@ pub fn misfit(samples: &[FitSample], k_n_n_per_m: f64, eta: f64) -> f64 {
         .iter()
         .map(|s| {
             let (f, _) = independent_posts(&s.height_m, eta * k_n_n_per_m, s.preload_n);
-            f.iter().zip(&s.force_n).map(|(a, b)| (a - b).powi(2)).sum::<f64>()
+            f.iter()
+                .zip(&s.force_n)
+                .map(|(a, b)| (a - b).powi(2))
+                .sum::<f64>()
         })
         .sum()
 }
 
 /// Fits η to the pooled samples (see the module doc).
 pub fn fit_eta(samples: &[FitSample], k_n_n_per_m: f64) -> EtaFit {
-    let norm: f64 = samples.iter().flat_map(|s| s.force_n.iter()).map(|f| f * f).sum();
+    let norm: f64 = samples
+        .iter()
+        .flat_map(|s| s.force_n.iter())
+        .map(|f| f * f)
+        .sum();
     let empty = |reason: &str| EtaFit {
         eta: None,
         reason: Some(reason.to_string()),
@@ -82,8 +89,14 @@ pub fn fit_eta(samples: &[FitSample], k_n_n_per_m: f64) -> EtaFit {
     let (lo, hi) = (ETA_SEARCH_MIN.ln(), ETA_SEARCH_MAX.ln());
     let step = (hi - lo) / (ETA_GRID_POINTS - 1) as f64;
     let s_of = |t: f64| misfit(samples, k_n_n_per_m, t.exp());
-    let grid: Vec<f64> = (0..ETA_GRID_POINTS).map(|k| s_of(lo + step * k as f64)).collect();
-    let (best, &s_best) = grid.iter().enumerate().min_by(|a, b| a.1.total_cmp(b.1)).expect("grid is not empty");
+    let grid: Vec<f64> = (0..ETA_GRID_POINTS)
+        .map(|k| s_of(lo + step * k as f64))
+        .collect();
+    let (best, &s_best) = grid
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.total_cmp(b.1))
+        .expect("grid is not empty");
     let s_worst = grid.iter().copied().fold(0.0, f64::max);
     if s_worst - s_best <= IDENTIFIABILITY_THRESHOLD * norm {
         return EtaFit {
@@ -117,11 +130,19 @@ pub fn fit_eta(samples: &[FitSample], k_n_n_per_m: f64) -> EtaFit {
         }
     }
     let (t, s) = if s1 <= s2 { (x1, s1) } else { (x2, s2) };
-    let (t, s) = if s_best < s { (lo + step * best as f64, s_best) } else { (t, s) };
+    let (t, s) = if s_best < s {
+        (lo + step * best as f64, s_best)
+    } else {
+        (t, s)
+    };
     let at_search_bound = best == 0 || best == ETA_GRID_POINTS - 1;
     EtaFit {
         eta: Some(t.exp()),
-        reason: at_search_bound.then(|| format!("optimum at the end of the search interval [{ETA_SEARCH_MIN}, {ETA_SEARCH_MAX}]")),
+        reason: at_search_bound.then(|| {
+            format!(
+                "optimum at the end of the search interval [{ETA_SEARCH_MIN}, {ETA_SEARCH_MAX}]"
+            )
+        }),
         k_n_n_per_m,
         relative_rms_residual: (s / norm).sqrt(),
         at_search_bound,
@@ -134,7 +155,9 @@ mod tests {
     use super::*;
 
     fn wave_heights(n: usize, phase: f64) -> Vec<f64> {
-        (0..n).map(|i| 20e-9 * (phase - 2.0 * std::f64::consts::PI * i as f64 / 9.7).sin()).collect()
+        (0..n)
+            .map(|i| 20e-9 * (phase - 2.0 * std::f64::consts::PI * i as f64 / 9.7).sin())
+            .collect()
     }
 
     #[test]
@@ -145,20 +168,42 @@ mod tests {
             .map(|p| {
                 let h = wave_heights(100, p as f64 * std::f64::consts::FRAC_PI_2);
                 let (f, _) = independent_posts(&h, true_eta * k_n, 0.4);
-                FitSample { height_m: h, force_n: f, preload_n: 0.4 }
+                FitSample {
+                    height_m: h,
+                    force_n: f,
+                    preload_n: 0.4,
+                }
             })
             .collect();
         let fit = fit_eta(&samples, k_n);
         let eta = fit.eta.expect("η identifiable on a wave");
-        assert!((eta / true_eta - 1.0).abs() < 1e-5, "fitted η {eta} vs the η {true_eta} that made the forces");
-        assert!(fit.relative_rms_residual < 1e-5, "residual of an exact fit: {}", fit.relative_rms_residual);
+        assert!(
+            (eta / true_eta - 1.0).abs() < 1e-5,
+            "fitted η {eta} vs the η {true_eta} that made the forces"
+        );
+        assert!(
+            fit.relative_rms_residual < 1e-5,
+            "residual of an exact fit: {}",
+            fit.relative_rms_residual
+        );
     }
 
     #[test]
     fn a_flat_stator_makes_eta_unidentifiable() {
-        let samples = vec![FitSample { height_m: vec![0.0; 10], force_n: vec![0.1; 10], preload_n: 1.0 }];
+        let samples = vec![FitSample {
+            height_m: vec![0.0; 10],
+            force_n: vec![0.1; 10],
+            preload_n: 1.0,
+        }];
         let fit = fit_eta(&samples, 1.8e6);
-        assert!(fit.eta.is_none(), "η on a flat stator must be None, got {:?}", fit.eta);
-        assert!(fit.reason.unwrap().contains("not identifiable"), "reason names the identifiability problem");
+        assert!(
+            fit.eta.is_none(),
+            "η on a flat stator must be None, got {:?}",
+            fit.eta
+        );
+        assert!(
+            fit.reason.unwrap().contains("not identifiable"),
+            "reason names the identifiability problem"
+        );
     }
 }

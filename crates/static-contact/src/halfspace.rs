@@ -22,11 +22,17 @@ pub fn disk_self_compliance(shear_modulus_pa: f64, poisson_ratio: f64, radius_m:
 
 /// Surface displacement per unit force at distance `distance_m` ≥ a from the centre of a rigid
 /// disk of radius a: (1−ν)/(2πGa) · arcsin(a/r) (m/N). Inside the disk it is the self compliance.
-pub fn disk_mutual_compliance(shear_modulus_pa: f64, poisson_ratio: f64, radius_m: f64, distance_m: f64) -> f64 {
+pub fn disk_mutual_compliance(
+    shear_modulus_pa: f64,
+    poisson_ratio: f64,
+    radius_m: f64,
+    distance_m: f64,
+) -> f64 {
     if distance_m <= radius_m {
         return disk_self_compliance(shear_modulus_pa, poisson_ratio, radius_m);
     }
-    (1.0 - poisson_ratio) / (2.0 * std::f64::consts::PI * shear_modulus_pa * radius_m) * (radius_m / distance_m).asin()
+    (1.0 - poisson_ratio) / (2.0 * std::f64::consts::PI * shear_modulus_pa * radius_m)
+        * (radius_m / distance_m).asin()
 }
 
 /// How the posts of a strip are repeated in y over the real slider.
@@ -55,7 +61,11 @@ impl RowLayout {
     pub fn strip_row_of(&self, k: usize) -> usize {
         let period = 2 * self.strip_rows as i64;
         let m = (k as i64 - self.first_strip_row() as i64).rem_euclid(period) as usize;
-        if m < self.strip_rows { m } else { 2 * self.strip_rows - 1 - m }
+        if m < self.strip_rows {
+            m
+        } else {
+            2 * self.strip_rows - 1 - m
+        }
     }
 }
 
@@ -117,7 +127,10 @@ mod tests {
     fn the_surface_displacement_is_continuous_at_the_disk_edge() {
         let inside = disk_self_compliance(G, NU, A);
         let edge = disk_mutual_compliance(G, NU, A, A * (1.0 + 1e-12));
-        assert!((edge / inside - 1.0).abs() < 1e-5, "surface displacement at r = a: {edge} vs disk sink {inside}");
+        assert!(
+            (edge / inside - 1.0).abs() < 1e-5,
+            "surface displacement at r = a: {edge} vs disk sink {inside}"
+        );
     }
 
     #[test]
@@ -126,24 +139,52 @@ mod tests {
         let r = 1000.0 * A;
         let boussinesq = (1.0 - NU) / (2.0 * std::f64::consts::PI * G * r);
         let disk = disk_mutual_compliance(G, NU, A, r);
-        assert!((disk / boussinesq - 1.0).abs() < 1e-6, "far-field compliance {disk} vs Boussinesq {boussinesq}");
+        assert!(
+            (disk / boussinesq - 1.0).abs() < 1e-6,
+            "far-field compliance {disk} vs Boussinesq {boussinesq}"
+        );
     }
 
     #[test]
     fn mirror_unfolding_maps_rows_symmetrically() {
-        let layout = RowLayout { pitch_m: 40e-6, strip_rows: 2, slider_rows: 7 };
+        let layout = RowLayout {
+            pitch_m: 40e-6,
+            strip_rows: 2,
+            slider_rows: 7,
+        };
         assert_eq!(layout.first_strip_row(), 2, "strip centred among 7 rows");
         let rows: Vec<usize> = (0..7).map(|k| layout.strip_row_of(k)).collect();
-        assert_eq!(rows, vec![1, 0, 0, 1, 1, 0, 0], "slider rows carry strip rows 0/1 mirrored about the strip's planes");
+        assert_eq!(
+            rows,
+            vec![1, 0, 0, 1, 1, 0, 0],
+            "slider rows carry strip rows 0/1 mirrored about the strip's planes"
+        );
     }
 
     #[test]
     fn one_row_strip_compliance_is_symmetric_and_sums_the_rows() {
-        let posts: Vec<StripPost> = (0..3).map(|i| StripPost { x_m: i as f64 * 40e-6, row: 0 }).collect();
-        let layout = RowLayout { pitch_m: 40e-6, strip_rows: 1, slider_rows: 3 };
+        let posts: Vec<StripPost> = (0..3)
+            .map(|i| StripPost {
+                x_m: i as f64 * 40e-6,
+                row: 0,
+            })
+            .collect();
+        let layout = RowLayout {
+            pitch_m: 40e-6,
+            strip_rows: 1,
+            slider_rows: 3,
+        };
         let c = strip_compliance(G, NU, A, &posts, &layout);
-        assert!((c[(0, 1)] - c[(1, 0)]).abs() <= 1e-15 * c[(0, 1)], "half-space compliance symmetry");
-        let expected_self = disk_self_compliance(G, NU, A) + 2.0 * disk_mutual_compliance(G, NU, A, 40e-6);
-        assert!((c[(1, 1)] / expected_self - 1.0).abs() < 1e-12, "self term with the two neighbouring rows: {} vs {expected_self}", c[(1, 1)]);
+        assert!(
+            (c[(0, 1)] - c[(1, 0)]).abs() <= 1e-15 * c[(0, 1)],
+            "half-space compliance symmetry"
+        );
+        let expected_self =
+            disk_self_compliance(G, NU, A) + 2.0 * disk_mutual_compliance(G, NU, A, 40e-6);
+        assert!(
+            (c[(1, 1)] / expected_self - 1.0).abs() < 1e-12,
+            "self term with the two neighbouring rows: {} vs {expected_self}",
+            c[(1, 1)]
+        );
     }
 }

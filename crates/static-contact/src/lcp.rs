@@ -141,27 +141,49 @@ impl ActiveSetSolver {
     fn validate(problem: &ContactProblem) -> Result<()> {
         let n = problem.obstacle_height_m.len();
         if n == 0 {
-            return Err(ContactError::InvalidParameter { parameter: "posts", value: 0.0, reason: "no posts".into() });
+            return Err(ContactError::InvalidParameter {
+                parameter: "posts",
+                value: 0.0,
+                reason: "no posts".into(),
+            });
         }
         if problem.compliance_m_per_n.nrows() != n || problem.compliance_m_per_n.ncols() != n {
             return Err(ContactError::InvalidParameter {
                 parameter: "compliance_m_per_n",
                 value: problem.compliance_m_per_n.nrows() as f64,
-                reason: format!("compliance is {}×{}, there are {n} posts", problem.compliance_m_per_n.nrows(), problem.compliance_m_per_n.ncols()),
+                reason: format!(
+                    "compliance is {}×{}, there are {n} posts",
+                    problem.compliance_m_per_n.nrows(),
+                    problem.compliance_m_per_n.ncols()
+                ),
             });
         }
         if !(problem.preload_n > 0.0 && problem.preload_n.is_finite()) {
-            return Err(ContactError::InvalidParameter { parameter: "preload_n", value: problem.preload_n, reason: "must be positive and finite".into() });
+            return Err(ContactError::InvalidParameter {
+                parameter: "preload_n",
+                value: problem.preload_n,
+                reason: "must be positive and finite".into(),
+            });
         }
-        if let Some(i) = problem.obstacle_height_m.iter().position(|h| !h.is_finite()) {
+        if let Some(i) = problem
+            .obstacle_height_m
+            .iter()
+            .position(|h| !h.is_finite())
+        {
             return Err(ContactError::InvalidParameter {
                 parameter: "obstacle_height_m",
                 value: problem.obstacle_height_m[i],
                 reason: format!("not finite at post {i}"),
             });
         }
-        if let Some(i) = (0..n).find(|&i| !(problem.compliance_m_per_n[(i, i)] > 0.0)) {
-            return Err(ContactError::CompliancePositivity { post: i, pivot: problem.compliance_m_per_n[(i, i)], what: "diagonal of the contact compliance".into() });
+        if let Some(i) = (0..n).find(|&i| {
+            problem.compliance_m_per_n[(i, i)].is_nan() || problem.compliance_m_per_n[(i, i)] <= 0.0
+        }) {
+            return Err(ContactError::CompliancePositivity {
+                post: i,
+                pivot: problem.compliance_m_per_n[(i, i)],
+                what: "diagonal of the contact compliance".into(),
+            });
         }
         Ok(())
     }
@@ -169,8 +191,13 @@ impl ActiveSetSolver {
     fn scale(problem: &ContactProblem) -> Scaled {
         let p = problem.preload_n;
         let n = problem.obstacle_height_m.len();
-        let max_diag = (0..n).map(|i| problem.compliance_m_per_n[(i, i)]).fold(0.0, f64::max);
-        let length_m = problem.length_scale_m.filter(|l| *l > 0.0 && l.is_finite()).unwrap_or(p * max_diag);
+        let max_diag = (0..n)
+            .map(|i| problem.compliance_m_per_n[(i, i)])
+            .fold(0.0, f64::max);
+        let length_m = problem
+            .length_scale_m
+            .filter(|l| *l > 0.0 && l.is_finite())
+            .unwrap_or(p * max_diag);
         Scaled {
             c: &problem.compliance_m_per_n * (p / length_m),
             h: DVector::from_iterator(n, problem.obstacle_height_m.iter().map(|h| h / length_m)),
@@ -185,20 +212,34 @@ impl ActiveSetSolver {
         let n = s.h.len();
         let mut log = Vec::new();
         // Start: the post on the highest obstacle carries everything.
-        let top = (0..n).max_by(|&a, &b| s.h[a].total_cmp(&s.h[b])).unwrap_or(0);
+        let top = (0..n)
+            .max_by(|&a, &b| s.h[a].total_cmp(&s.h[b]))
+            .unwrap_or(0);
         let mut active = vec![false; n];
         active[top] = true;
         let mut seen: HashSet<Vec<bool>> = HashSet::new();
         let mut iteration = 0;
         // Phase 1: primal–dual active set.
-        while iteration < self.options.max_primal_dual_iterations.min(self.options.max_iterations) {
+        while iteration
+            < self
+                .options
+                .max_primal_dual_iterations
+                .min(self.options.max_iterations)
+        {
             iteration += 1;
             seen.insert(active.clone());
             let (f, z) = equality_solve(&s, &active)?;
             let g = gaps(&s, &f, z);
             let residual = natural_residual(&f, &g);
-            log.push(IterationLog { iteration, phase: Phase::PrimalDual, active: count(&active), residual });
-            let next: Vec<bool> = (0..n).map(|i| f[i] - self.options.primal_dual_weight * g[i] > 0.0).collect();
+            log.push(IterationLog {
+                iteration,
+                phase: Phase::PrimalDual,
+                active: count(&active),
+                residual,
+            });
+            let next: Vec<bool> = (0..n)
+                .map(|i| f[i] - self.options.primal_dual_weight * g[i] > 0.0)
+                .collect();
             if next == active && residual <= self.options.tolerance {
                 return Ok(finish(problem, &s, f, g, z, active, iteration, log));
             }
@@ -227,14 +268,23 @@ impl ActiveSetSolver {
             }
             iteration += 1;
             let (candidate, z) = equality_solve(&s, &working)?;
-            let negative: Vec<usize> = (0..n).filter(|&i| working[i] && candidate[i] <= 0.0).collect();
+            let negative: Vec<usize> = (0..n)
+                .filter(|&i| working[i] && candidate[i] <= 0.0)
+                .collect();
             if negative.is_empty() {
                 f = candidate;
                 let g = gaps(&s, &f, z);
                 let residual = natural_residual(&f, &g);
-                log.push(IterationLog { iteration, phase: Phase::Primal, active: count(&working), residual });
+                log.push(IterationLog {
+                    iteration,
+                    phase: Phase::Primal,
+                    active: count(&working),
+                    residual,
+                });
                 // Most violated constraint outside the working set.
-                let entering = (0..n).filter(|&i| !working[i]).min_by(|&a, &b| g[a].total_cmp(&g[b]));
+                let entering = (0..n)
+                    .filter(|&i| !working[i])
+                    .min_by(|&a, &b| g[a].total_cmp(&g[b]));
                 match entering {
                     Some(i) if g[i] < -self.options.tolerance => working[i] = true,
                     _ => {
@@ -247,16 +297,23 @@ impl ActiveSetSolver {
                             posts: n,
                             residual,
                             tolerance: self.options.tolerance,
-                            context: " (primal active set stalled: ill-conditioned compliance?)".into(),
+                            context: " (primal active set stalled: ill-conditioned compliance?)"
+                                .into(),
                         });
                     }
                 }
             } else {
                 // Step towards the candidate until the first force reaches zero; drop it.
-                let alpha = negative.iter().map(|&i| f[i] / (f[i] - candidate[i])).fold(1.0, f64::min).max(0.0);
+                let alpha = negative
+                    .iter()
+                    .map(|&i| f[i] / (f[i] - candidate[i]))
+                    .fold(1.0, f64::min)
+                    .max(0.0);
                 f = &f + (&candidate - &f) * alpha;
                 for i in 0..n {
-                    if working[i] && (f[i] <= 0.0 || (negative.contains(&i) && f[i] <= f64::EPSILON)) {
+                    if working[i]
+                        && (f[i] <= 0.0 || (negative.contains(&i) && f[i] <= f64::EPSILON))
+                    {
                         working[i] = false;
                         f[i] = 0.0;
                     }
@@ -267,7 +324,12 @@ impl ActiveSetSolver {
                     f[top] = 1.0;
                 }
                 let g = gaps(&s, &f, z);
-                log.push(IterationLog { iteration, phase: Phase::Primal, active: count(&working), residual: natural_residual(&f, &g) });
+                log.push(IterationLog {
+                    iteration,
+                    phase: Phase::Primal,
+                    active: count(&working),
+                    residual: natural_residual(&f, &g),
+                });
             }
         }
     }
@@ -282,11 +344,15 @@ fn equality_solve(s: &Scaled, active: &[bool]) -> Result<(DVector<f64>, f64)> {
     let idx: Vec<usize> = (0..active.len()).filter(|&i| active[i]).collect();
     let m = idx.len();
     let c_aa = DMatrix::from_fn(m, m, |r, c| s.c[(idx[r], idx[c])]);
-    let chol = c_aa.cholesky().ok_or_else(|| ContactError::CompliancePositivity {
-        post: idx[0],
-        pivot: f64::NAN,
-        what: format!("the compliance restricted to the {m} active posts has no Cholesky factor"),
-    })?;
+    let chol = c_aa
+        .cholesky()
+        .ok_or_else(|| ContactError::CompliancePositivity {
+            post: idx[0],
+            pivot: f64::NAN,
+            what: format!(
+                "the compliance restricted to the {m} active posts has no Cholesky factor"
+            ),
+        })?;
     let h_a = DVector::from_iterator(m, idx.iter().map(|&i| s.h[i]));
     let ones = DVector::from_element(m, 1.0);
     let c_inv_h = chol.solve(&h_a);
@@ -309,7 +375,11 @@ fn gaps(s: &Scaled, f: &DVector<f64>, z: f64) -> DVector<f64> {
 
 /// max_i |min(f_i, g_i)| and |Σf − 1| (scaled).
 fn natural_residual(f: &DVector<f64>, g: &DVector<f64>) -> f64 {
-    let r = f.iter().zip(g.iter()).map(|(a, b)| a.min(*b).abs()).fold(0.0, f64::max);
+    let r = f
+        .iter()
+        .zip(g.iter())
+        .map(|(a, b)| a.min(*b).abs())
+        .fold(0.0, f64::max);
     r.max((f.sum() - 1.0).abs())
 }
 
@@ -343,17 +413,31 @@ mod tests {
     use super::*;
 
     fn problem(c: DMatrix<f64>, h: Vec<f64>, p: f64) -> ContactProblem {
-        ContactProblem { compliance_m_per_n: c, obstacle_height_m: h, preload_n: p, length_scale_m: None }
+        ContactProblem {
+            compliance_m_per_n: c,
+            obstacle_height_m: h,
+            preload_n: p,
+            length_scale_m: None,
+        }
     }
 
     #[test]
     fn independent_springs_on_equal_heights_share_the_load_equally() {
         let c = DMatrix::identity(5, 5) * 1e-6;
-        let sol = ActiveSetSolver::default().solve(&problem(c, vec![0.0; 5], 10.0)).unwrap();
+        let sol = ActiveSetSolver::default()
+            .solve(&problem(c, vec![0.0; 5], 10.0))
+            .unwrap();
         for (i, f) in sol.force_n.iter().enumerate() {
-            assert!((f - 2.0).abs() < 1e-12, "force on post {i}: {f} N, expected 2 N");
+            assert!(
+                (f - 2.0).abs() < 1e-12,
+                "force on post {i}: {f} N, expected 2 N"
+            );
         }
-        assert!((sol.reference_height_m + 2e-6).abs() < 1e-18, "approach z_s = −P/(n k): {}", sol.reference_height_m);
+        assert!(
+            (sol.reference_height_m + 2e-6).abs() < 1e-18,
+            "approach z_s = −P/(n k): {}",
+            sol.reference_height_m
+        );
     }
 
     #[test]
@@ -361,51 +445,121 @@ mod tests {
         // k = 1e6 N/m, heights 0, 1, 2, 3 µm, P = 3 N: posts with h > z_s carry k (h − z_s).
         let c = DMatrix::identity(4, 4) * 1e-6;
         let h = vec![0.0, 1e-6, 2e-6, 3e-6];
-        let sol = ActiveSetSolver::default().solve(&problem(c, h, 3.0)).unwrap();
+        let sol = ActiveSetSolver::default()
+            .solve(&problem(c, h, 3.0))
+            .unwrap();
         // Top two: 2·(2.5 − z) = 3 µm... solve: (3 − z) + (2 − z) = 3 → z = 1 µm: post 1 at h = z.
         let expected = [0.0, 0.0, 1.0, 2.0];
-        for i in 0..4 {
-            assert!((sol.force_n[i] - expected[i]).abs() < 1e-9, "force on post {i}: {} N vs {} N", sol.force_n[i], expected[i]);
+        for (i, expected) in expected.iter().enumerate() {
+            assert!(
+                (sol.force_n[i] - expected).abs() < 1e-9,
+                "force on post {i}: {} N vs {expected} N",
+                sol.force_n[i]
+            );
             assert!(sol.gap_m[i] >= 0.0, "gap of post {i} must be ≥ 0");
         }
-        assert!(sol.complementarity_residual < 1e-9, "residual {}", sol.complementarity_residual);
+        assert!(
+            sol.complementarity_residual < 1e-9,
+            "residual {}",
+            sol.complementarity_residual
+        );
     }
 
     #[test]
     fn coupled_posts_satisfy_complementarity_and_forces_are_positive_only_on_the_active_set() {
         // A dense SPD compliance with strong positive coupling, random-ish heights.
         let n = 30;
-        let c = DMatrix::from_fn(n, n, |i, j| 1e-6 * (-((i as f64 - j as f64).abs()) / 4.0).exp());
-        let h: Vec<f64> = (0..n).map(|i| 1e-7 * ((i as f64 * 0.7).sin() + 0.3 * (i as f64 * 2.3).cos())).collect();
-        let sol = ActiveSetSolver::default().solve(&ContactProblem { compliance_m_per_n: c.clone(), obstacle_height_m: h.clone(), preload_n: 0.05, length_scale_m: Some(1e-7) }).unwrap();
+        let c = DMatrix::from_fn(n, n, |i, j| {
+            1e-6 * (-((i as f64 - j as f64).abs()) / 4.0).exp()
+        });
+        let h: Vec<f64> = (0..n)
+            .map(|i| 1e-7 * ((i as f64 * 0.7).sin() + 0.3 * (i as f64 * 2.3).cos()))
+            .collect();
+        let sol = ActiveSetSolver::default()
+            .solve(&ContactProblem {
+                compliance_m_per_n: c.clone(),
+                obstacle_height_m: h.clone(),
+                preload_n: 0.05,
+                length_scale_m: Some(1e-7),
+            })
+            .unwrap();
         let f = DVector::from_vec(sol.force_n.clone());
         let cf = &c * &f;
         for i in 0..n {
             let gap = sol.reference_height_m - h[i] + cf[i];
             assert!(gap > -1e-7 * 1e-8, "gap of post {i} is negative: {gap} m");
             if sol.in_contact[i] {
-                assert!(sol.force_n[i] >= 0.0 && gap.abs() < 1e-15, "active post {i}: force {} N, gap {gap} m", sol.force_n[i]);
+                assert!(
+                    sol.force_n[i] >= 0.0 && gap.abs() < 1e-15,
+                    "active post {i}: force {} N, gap {gap} m",
+                    sol.force_n[i]
+                );
             } else {
                 assert_eq!(sol.force_n[i], 0.0, "inactive post {i} carries force");
             }
         }
-        assert!((sol.force_n.iter().sum::<f64>() - 0.05).abs() < 1e-12, "total force equals the preload");
-        assert!(sol.log.iter().all(|l| l.active >= 1), "every logged iterate has an active set");
+        assert!(
+            (sol.force_n.iter().sum::<f64>() - 0.05).abs() < 1e-12,
+            "total force equals the preload"
+        );
+        assert!(
+            sol.log.iter().all(|l| l.active >= 1),
+            "every logged iterate has an active set"
+        );
+    }
+
+    #[test]
+    fn a_periodic_array_on_a_flat_stator_loads_every_post_equally() {
+        // Circulant compliance (posts on a ring, coupling decaying with ring distance): every
+        // post sees the same neighbourhood, so a uniform preload must load all posts equally.
+        let n = 24;
+        let c = DMatrix::from_fn(n, n, |i, j| {
+            let d = (i as i64 - j as i64)
+                .rem_euclid(n as i64)
+                .min((j as i64 - i as i64).rem_euclid(n as i64)) as f64;
+            1e-6 / (1.0 + d)
+        });
+        let sol = ActiveSetSolver::default()
+            .solve(&problem(c, vec![0.0; n], 2.4))
+            .unwrap();
+        for (i, f) in sol.force_n.iter().enumerate() {
+            assert!(
+                (f / 0.1 - 1.0).abs() < 1e-12,
+                "force on post {i}: {f} N, expected P/N = 0.1 N"
+            );
+        }
     }
 
     #[test]
     fn an_iteration_limit_of_zero_reports_non_convergence() {
         let c = DMatrix::identity(3, 3) * 1e-6;
-        let options = ActiveSetOptions { max_iterations: 0, max_primal_dual_iterations: 0, ..Default::default() };
-        let err = ActiveSetSolver::new(options).solve(&problem(c, vec![0.0, 1e-7, 2e-7], 1.0)).unwrap_err();
-        assert!(matches!(err, ContactError::NotConverged { posts: 3, .. }), "non-convergence must be reported: {err}");
-        assert!(err.to_string().contains("did not converge"), "message names the failure: {err}");
+        let options = ActiveSetOptions {
+            max_iterations: 0,
+            max_primal_dual_iterations: 0,
+            ..Default::default()
+        };
+        let err = ActiveSetSolver::new(options)
+            .solve(&problem(c, vec![0.0, 1e-7, 2e-7], 1.0))
+            .unwrap_err();
+        assert!(
+            matches!(err, ContactError::NotConverged { posts: 3, .. }),
+            "non-convergence must be reported: {err}"
+        );
+        assert!(
+            err.to_string().contains("did not converge"),
+            "message names the failure: {err}"
+        );
     }
 
     #[test]
     fn a_non_positive_compliance_is_refused() {
         let c = DMatrix::from_row_slice(2, 2, &[1e-6, 0.0, 0.0, -1e-6]);
-        let err = ActiveSetSolver::default().solve(&problem(c, vec![0.0, 0.0], 1.0)).unwrap_err();
-        assert!(matches!(err, ContactError::CompliancePositivity { post: 1, .. }), "negative diagonal must be refused: {err}");
+        let err = ActiveSetSolver::default()
+            .solve(&problem(c, vec![0.0, 0.0], 1.0))
+            .unwrap_err();
+        assert!(
+            matches!(err, ContactError::CompliancePositivity { post: 1, .. }),
+            "negative diagonal must be refused: {err}"
+        );
     }
 }

@@ -36,10 +36,12 @@ pub mod params;
 pub mod posts;
 pub mod scene;
 
+pub use analysis::{
+    PostResult, PreloadResult, SnapshotResult, StaticAnalysis, StaticReport, run, run_with,
+};
 pub use body::{BodyCompliance, BodySpec, Disk, FemStats, TipLateral};
 pub use error::{ContactError, Result};
 pub use eta::{EtaFit, FitSample, fit_eta};
 pub use lcp::{ActiveSetOptions, ActiveSetSolver, ContactProblem, ContactSolution, IterationLog};
-pub use scene::{PostSite, StatorCompliance, StatorModel, StripConfig, StripModel};
-pub use analysis::{PostResult, PreloadResult, SnapshotResult, StaticAnalysis, StaticReport, run, run_with};
 pub use params::{MeshChoice, MeshSizes, StaticParams};
+pub use scene::{PostSite, StatorCompliance, StatorModel, StripConfig, StripModel};

@@ -35,7 +35,10 @@ const COMMITTED: &[(&str, &[(&str, f64)])] = &[(
 
 /// The workspace root: `$SAWDRIVE_ROOT`, else the one this crate was built in.
 pub fn workspace_root() -> PathBuf {
-    std::env::var_os("SAWDRIVE_ROOT").map_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."), PathBuf::from)
+    std::env::var_os("SAWDRIVE_ROOT").map_or_else(
+        || Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."),
+        PathBuf::from,
+    )
 }
 
 /// The gmsh `-setnumber` parameters of the strip mesh the run needs.
@@ -52,7 +55,7 @@ pub fn strip_mesh_parameters(params: &StaticParams) -> Vec<(&'static str, f64)> 
         ("n_posts", params.strip_post_count() as f64),
         ("margin", params.strip_margin_m()),
         ("stator_depth", stator_depth),
-        ("h_post", params.mesh_sizes.h_post_m),
+        ("h_post", params.mesh_h_post_m()),
         ("h_body", params.mesh_sizes.h_body_m),
         ("growth", params.mesh_sizes.growth),
         ("order", params.element_order as f64),
@@ -70,7 +73,9 @@ pub fn committed_mesh(params: &StaticParams) -> Option<PathBuf> {
     let wanted = strip_mesh_parameters(params);
     COMMITTED.iter().find_map(|(file, made)| {
         let fits = wanted.iter().all(|(name, value)| {
-            let Some((_, m)) = made.iter().find(|(n, _)| n == name) else { return false };
+            let Some((_, m)) = made.iter().find(|(n, _)| n == name) else {
+                return false;
+            };
             (*name == "stator_depth" && params.stator == StatorModel::HalfSpace) || same(*value, *m)
         });
         let path = workspace_root().join("meshes").join(file);
@@ -100,28 +105,58 @@ pub fn resolve_mesh(params: &StaticParams) -> Result<PathBuf> {
     for (name, value) in &setnumbers {
         hasher.update(format!("{name}={value:e}\n"));
     }
-    let digest: String = hasher.finalize().iter().take(8).map(|b| format!("{b:02x}")).collect();
+    let digest: String = hasher
+        .finalize()
+        .iter()
+        .take(8)
+        .map(|b| format!("{b:02x}"))
+        .collect();
     let dir = cache_dir(params);
-    let out = dir.join(format!("slider-strip_n{}_o{}_{digest}.msh", params.strip_post_count(), params.element_order));
+    let out = dir.join(format!(
+        "slider-strip_n{}_o{}_{digest}.msh",
+        params.strip_post_count(),
+        params.element_order
+    ));
     if out.is_file() {
         return Ok(out);
     }
-    let meshing_error = |detail: String| ContactError::Meshing { geometry: "slider-strip".into(), out: out.clone(), detail };
-    std::fs::create_dir_all(&dir).map_err(|e| meshing_error(format!("cannot create the cache directory: {e}")))?;
+    let meshing_error = |detail: String| ContactError::Meshing {
+        geometry: "slider-strip".into(),
+        out: out.clone(),
+        detail,
+    };
+    std::fs::create_dir_all(&dir)
+        .map_err(|e| meshing_error(format!("cannot create the cache directory: {e}")))?;
     let script = workspace_root().join("scripts/mesh.sh");
     if !script.is_file() {
-        return Err(meshing_error(format!("{} not found (set SAWDRIVE_ROOT to the sawdrive checkout)", script.display())));
+        return Err(meshing_error(format!(
+            "{} not found (set SAWDRIVE_ROOT to the sawdrive checkout)",
+            script.display()
+        )));
     }
     let mut command = Command::new("bash");
-    command.arg(&script).arg("--binary").arg("slider-strip").arg(&out);
+    command
+        .arg(&script)
+        .arg("--binary")
+        .arg("slider-strip")
+        .arg(&out);
     for (name, value) in &setnumbers {
         command.arg(format!("{name}={value:e}"));
     }
-    let output = command.output().map_err(|e| meshing_error(format!("cannot run {}: {e}", script.display())))?;
+    let output = command
+        .output()
+        .map_err(|e| meshing_error(format!("cannot run {}: {e}", script.display())))?;
     if !output.status.success() {
         let stderr = String::from_utf8_lossy(&output.stderr);
-        let hint = if output.status.code() == Some(127) { " (gmsh is missing: install it with `apt-get install gmsh` or scripts/install-deps.sh)" } else { "" };
-        return Err(meshing_error(format!("scripts/mesh.sh failed{hint}: {}", stderr.trim())));
+        let hint = if output.status.code() == Some(127) {
+            " (gmsh is missing: install it with `apt-get install gmsh` or scripts/install-deps.sh)"
+        } else {
+            ""
+        };
+        return Err(meshing_error(format!(
+            "scripts/mesh.sh failed{hint}: {}",
+            stderr.trim()
+        )));
     }
     Ok(out)
 }
@@ -132,10 +167,28 @@ mod tests {
 
     #[test]
     fn the_ten_post_strip_resolves_to_the_committed_mesh() {
-        let params = StaticParams { posts_x: 10, strip_posts: Some(10), slider_length_m: 0.4e-3, ..StaticParams::default() };
+        let params = StaticParams {
+            strip_posts: Some(10),
+            element_order: 1,
+            mesh_sizes: crate::params::MeshSizes {
+                h_post_over_radius: 0.25,
+                ..Default::default()
+            },
+            ..StaticParams::default()
+        };
         let path = committed_mesh(&params).expect("committed 10-post strip mesh matches");
-        assert!(path.ends_with("slider-strip_p40um_d20um_n10_tet4_10k.msh"), "picked {}", path.display());
-        let tet10 = StaticParams { element_order: 2, ..params };
-        assert!(committed_mesh(&tet10).is_none(), "a Tet10 request must not reuse the Tet4 mesh");
+        assert!(
+            path.ends_with("slider-strip_p40um_d20um_n10_tet4_10k.msh"),
+            "picked {}",
+            path.display()
+        );
+        let tet10 = StaticParams {
+            element_order: 2,
+            ..params
+        };
+        assert!(
+            committed_mesh(&tet10).is_none(),
+            "a Tet10 request must not reuse the Tet4 mesh"
+        );
     }
 }

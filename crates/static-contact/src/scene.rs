@@ -102,10 +102,12 @@ pub struct StripModel {
 }
 
 pub(crate) fn fem_material(m: &Material) -> Result<elastic_fem::Material> {
-    elastic_fem::Material::isotropic(m.youngs_modulus_pa(), m.poisson_ratio).map_err(|source| ContactError::Fem {
-        body: "material",
-        file: m.name.clone(),
-        source,
+    elastic_fem::Material::isotropic(m.youngs_modulus_pa(), m.poisson_ratio).map_err(|source| {
+        ContactError::Fem {
+            body: "material",
+            file: m.name.clone(),
+            source: Box::new(source),
+        }
     })
 }
 
@@ -113,25 +115,46 @@ impl StripModel {
     /// Builds the condensed scene from a `slider-strip` mesh (groups of meshes/README.md).
     pub fn build(mesh: TetMesh, config: StripConfig) -> Result<Self> {
         let file = mesh.source.clone();
-        let mismatch = |detail: String| ContactError::MeshMismatch { file: file.clone(), detail };
+        let mismatch = |detail: String| ContactError::MeshMismatch {
+            file: file.clone(),
+            detail,
+        };
         let disks = crate::posts::find_tip_disks(&mesh, "post_tips")?;
         if let Some(n) = config.expected_strip_posts {
             if disks.len() != n {
-                return Err(mismatch(format!("group `post_tips` has {} tip disks, the scene has {n} posts in the strip", disks.len())));
+                return Err(mismatch(format!(
+                    "group `post_tips` has {} tip disks, the scene has {n} posts in the strip",
+                    disks.len()
+                )));
             }
         }
         for (i, d) in disks.iter().enumerate() {
             if (d.radius_m / config.post_radius_m - 1.0).abs() > GEOMETRY_MATCH_TOLERANCE {
-                return Err(mismatch(format!("post {i} has radius {:.4e} m, the scene asks for {:.4e} m", d.radius_m, config.post_radius_m)));
+                return Err(mismatch(format!(
+                    "post {i} has radius {:.4e} m, the scene asks for {:.4e} m",
+                    d.radius_m, config.post_radius_m
+                )));
             }
         }
         let y0 = mesh.bounding_box().map_or(0.0, |b| b[0][1]);
         let posts: Vec<PostSite> = disks
             .iter()
-            .map(|d| PostSite { x_m: d.centre_m[0], y_m: d.centre_m[1], row: ((d.centre_m[1] - y0) / config.pitch_m - 0.5).round().max(0.0) as usize })
+            .map(|d| PostSite {
+                x_m: d.centre_m[0],
+                y_m: d.centre_m[1],
+                row: ((d.centre_m[1] - y0) / config.pitch_m - 0.5)
+                    .round()
+                    .max(0.0) as usize,
+            })
             .collect();
         let strip_rows = posts.iter().map(|p| p.row + 1).max().unwrap_or(1);
-        let disks: Vec<Disk> = disks.iter().map(|d| Disk { radius_m: config.post_radius_m, ..*d }).collect();
+        let disks: Vec<Disk> = disks
+            .iter()
+            .map(|d| Disk {
+                radius_m: config.post_radius_m,
+                ..*d
+            })
+            .collect();
         let slider = BodyCompliance::build(&BodySpec {
             name: "slider",
             mesh: &mesh,
@@ -154,8 +177,18 @@ impl StripModel {
                         reason: format!("the slider has fewer rows than the strip ({strip_rows})"),
                     });
                 }
-                let sites: Vec<StripPost> = posts.iter().map(|p| StripPost { x_m: p.x_m, row: p.row }).collect();
-                let layout = RowLayout { pitch_m: config.pitch_m, strip_rows, slider_rows: config.slider_rows };
+                let sites: Vec<StripPost> = posts
+                    .iter()
+                    .map(|p| StripPost {
+                        x_m: p.x_m,
+                        row: p.row,
+                    })
+                    .collect();
+                let layout = RowLayout {
+                    pitch_m: config.pitch_m,
+                    strip_rows,
+                    slider_rows: config.slider_rows,
+                };
                 StatorCompliance::HalfSpace(strip_compliance(
                     config.stator_material.shear_modulus_pa,
                     config.stator_material.poisson_ratio,
@@ -164,27 +197,37 @@ impl StripModel {
                     &layout,
                 ))
             }
-            StatorModel::MeshedBlock => StatorCompliance::Meshed(Box::new(BodyCompliance::build(&BodySpec {
-                name: "stator",
-                mesh: &mesh,
-                volume_group: "stator".into(),
-                material: fem_material(&config.stator_material)?,
-                contact_group: "stator_top".into(),
-                disks,
-                lateral: TipLateral::Free,
-                clamped_groups: vec!["stator_bottom".into()],
-                roller_groups: vec![
-                    ("stator_sym_y0".into(), 1),
-                    ("stator_sym_y1".into(), 1),
-                    ("stator_x0".into(), 0),
-                    ("stator_x1".into(), 0),
-                ],
-                disk_fraction: 1.0,
-                force_sign: -1.0,
-            })?)),
+            StatorModel::MeshedBlock => {
+                StatorCompliance::Meshed(Box::new(BodyCompliance::build(&BodySpec {
+                    name: "stator",
+                    mesh: &mesh,
+                    volume_group: "stator".into(),
+                    material: fem_material(&config.stator_material)?,
+                    contact_group: "stator_top".into(),
+                    disks,
+                    lateral: TipLateral::Free,
+                    clamped_groups: vec!["stator_bottom".into()],
+                    roller_groups: vec![
+                        ("stator_sym_y0".into(), 1),
+                        ("stator_sym_y1".into(), 1),
+                        ("stator_x0".into(), 0),
+                        ("stator_x1".into(), 0),
+                    ],
+                    disk_fraction: 1.0,
+                    force_sign: -1.0,
+                })?))
+            }
         };
         let compliance_m_per_n = &slider.compliance_m_per_n + stator.matrix();
-        Ok(Self { mesh, posts, strip_rows, slider, stator, compliance_m_per_n, config })
+        Ok(Self {
+            mesh,
+            posts,
+            strip_rows,
+            slider,
+            stator,
+            compliance_m_per_n,
+            config,
+        })
     }
 
     /// Number of posts in the strip.
@@ -195,8 +238,19 @@ impl StripModel {
     /// Solves the contact of the strip under `preload_strip_n` (N, the strip's share of the
     /// preload) on obstacle heights `height_m` (m, one per post). `length_scale_m` scales gaps
     /// in the residual (the wave amplitude; `None` on a flat stator).
-    pub fn solve(&self, preload_strip_n: f64, height_m: Vec<f64>, length_scale_m: Option<f64>, options: ActiveSetOptions) -> Result<ContactSolution> {
-        let problem = ContactProblem { compliance_m_per_n: self.compliance_m_per_n.clone(), obstacle_height_m: height_m, preload_n: preload_strip_n, length_scale_m };
+    pub fn solve(
+        &self,
+        preload_strip_n: f64,
+        height_m: Vec<f64>,
+        length_scale_m: Option<f64>,
+        options: ActiveSetOptions,
+    ) -> Result<ContactSolution> {
+        let problem = ContactProblem {
+            compliance_m_per_n: self.compliance_m_per_n.clone(),
+            obstacle_height_m: height_m,
+            preload_n: preload_strip_n,
+            length_scale_m,
+        };
         ActiveSetSolver::new(options).solve(&problem)
     }
 }
