@@ -196,6 +196,23 @@ impl PeriodicAverageModel {
         stepped.steady(theta0, start)
     }
 
+    /// Stability probe of the model's fixed-step scheme at one speed: `None` for the
+    /// closed-form event-driven post (no step).
+    pub(crate) fn probe_at_speed(&self, speed_m_per_s: f64, periods: usize) -> Result<Option<crate::post::stepping::StabilityProbe>> {
+        let Some(scheme) = self.scheme else {
+            return Ok(None);
+        };
+        let v = self.scaled_velocity(speed_m_per_s);
+        let stepped = SteppedPost::new(self.params, v, scheme)?;
+        let (theta0, mut start) = match self.params.height.half_arc {
+            Some(phi) => (0.5 * PI - phi, PostState::separated()),
+            None => AnalyticPost::new(self.params, v).steady()?.start,
+        };
+        start.tip_velocity =
+            if start.mode == Mode::Stick { -self.params.tangential_ratio * theta0.sin() } else { v };
+        Ok(Some(stepped.probe(theta0, start, periods)))
+    }
+
     /// Steady state of the whole slider at an imposed speed along the drive direction (m/s);
     /// speed 0 is the v → 0⁺ limit.
     pub fn at_speed(&self, speed_m_per_s: f64) -> Result<SpeedSample> {

@@ -19,6 +19,23 @@ const PERIODIC_TOLERANCE: f64 = 1e-10;
 /// A deflection beyond this multiple of the deflection scale is a divergence. Default 1e6.
 const DIVERGENCE_FACTOR: f64 = 1e6;
 
+/// Fraction of steps in one period with three alternating successive differences above which a
+/// stepped post counts as oscillating at the step frequency (a smooth signal has none; tanh
+/// chatter during the stick phases alternates at ≈ 20–30 % of the steps). Default 0.05.
+const OSCILLATION_FLIP_FRACTION: f64 = 0.05;
+/// Fewest alternations per period counted as oscillation (protects coarse grids, where a
+/// smooth signal's turning points are a large fraction of the steps). Default 8.
+const OSCILLATION_MIN_FLIPS: usize = 8;
+
+/// Outcome of a stability probe.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct StabilityProbe {
+    pub diverged: bool,
+    pub oscillating: bool,
+    /// Mean force of the last period (NaN if diverged).
+    pub mean_force: f64,
+}
+
 /// A fixed-step scheme in solver units.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum StepScheme {
@@ -210,6 +227,43 @@ impl SteppedPost {
         }
         let tail = history[MAX_PERIODS / 2..].iter().fold(PeriodIntegrals::default(), |acc, i| acc + *i);
         Ok(SteadyPost { integrals: tail, start: (theta0, state), converged: false })
+    }
+
+    /// Run `periods` periods from (θ0, state) for a stability study: divergence, step-to-step
+    /// oscillation of the last period, and the mean force of the last period.
+    pub fn probe(&self, theta0: f64, start: PostState, periods: usize) -> StabilityProbe {
+        let mut state = start;
+        let mut ints = PeriodIntegrals::default();
+        for _ in 0..periods.saturating_sub(1) {
+            match self.period(theta0, state) {
+                Ok((end, _)) => state = end,
+                Err(_) => return StabilityProbe { diverged: true, oscillating: false, mean_force: f64::NAN },
+            }
+        }
+        // Last period step by step: count steps where three successive differences of the
+        // signal that would ring (tip velocity with mass, deflection without) alternate in sign
+        // — a period-2 pattern at the step frequency; physical ringing resolved by ≳ 6 steps per
+        // cycle does not alternate.
+        let signal = |s: &PostState| if self.p.mass.is_some() { s.tip_velocity } else { s.deflection };
+        let (mut previous, mut deltas, mut flips) = (signal(&state), [0.0f64; 2], 0usize);
+        let limit = DIVERGENCE_FACTOR * self.p.deflection_scale().max(self.p.tangential_ratio);
+        for k in 0..self.steps_per_period {
+            let theta = theta0 + k as f64 * self.s * self.h;
+            state = self.step(theta, state, &mut ints);
+            if !(state.deflection.abs() <= limit && state.tip_velocity.is_finite()) {
+                return StabilityProbe { diverged: true, oscillating: false, mean_force: f64::NAN };
+            }
+            let value = signal(&state);
+            let delta = value - previous;
+            if delta * deltas[1] < 0.0 && deltas[1] * deltas[0] < 0.0 {
+                flips += 1;
+            }
+            previous = value;
+            deltas = [deltas[1], delta];
+        }
+        let oscillating =
+            flips > OSCILLATION_MIN_FLIPS && flips as f64 > OSCILLATION_FLIP_FRACTION * self.steps_per_period as f64;
+        StabilityProbe { diverged: false, oscillating, mean_force: ints.mean_force() }
     }
 
     /// Sample N̂, F̂ = ρê and the mode from (θ0, state) at every step for `periods` periods.
