@@ -34,10 +34,16 @@ pub(crate) struct ReturnMapping<'a> {
     phases1: Phases,
     normal: Vec<f64>,
     increment: Vec<f64>,
+    /// ê + Δu: the trial deflection before the slider's own displacement −v h.
     trial: Vec<f64>,
-    /// Stick (true) / slip status during the active-set iteration.
-    stuck: Vec<bool>,
+    /// Stick threshold τN/ρ on the trial (τ = μ_s, or μ_k after slipping).
+    threshold: Vec<f64>,
+    /// Status during the active-set iteration: 0 stuck, ±1 slipping, [`SEPARATED`].
+    status: Vec<i8>,
 }
+
+/// Status code of a separated group in the active-set iteration.
+const SEPARATED: i8 = 2;
 
 impl<'a> ReturnMapping<'a> {
     /// A stepper with step ≈ `step` (shortened to divide the wave period) from `start`.
@@ -60,7 +66,8 @@ impl<'a> ReturnMapping<'a> {
             normal,
             increment: vec![0.0; n],
             trial: vec![0.0; n],
-            stuck: vec![true; n],
+            threshold: vec![0.0; n],
+            status: vec![0; n],
         }
     }
 
@@ -139,8 +146,17 @@ impl Stepper for ReturnMapping<'_> {
         let x_predicted = self.st.x + h * self.st.v;
         self.phases1.fill(&sys.groups, &sys.wave, t1, x_predicted);
         let alpha1 = t1 - sys.wave.doppler * x_predicted;
-        for g in 0..n {
-            self.increment[g] = self.particle_increment(g, self.alpha, alpha1);
+        if sys.wave.burst_phase_end.is_none() {
+            // Continuous wave: Δu = â·drive·(cos θ1 − cos θ0)/s, s the phase rate over the step.
+            let scale = sys.wave.tangential_ratio * h / (alpha1 - self.alpha);
+            let (p0, p1) = (&self.phases0, &self.phases1);
+            for (g, du) in self.increment.iter_mut().enumerate() {
+                *du = scale * 0.5 * (p0.drive[g] + p1.drive[g]) * (p1.cos[g] - p0.cos[g]);
+            }
+        } else {
+            for g in 0..n {
+                self.increment[g] = self.particle_increment(g, self.alpha, alpha1);
+            }
         }
         let (z1, w1) = match sys.vertical_damping {
             Some(damping) => {
@@ -149,55 +165,63 @@ impl Stepper for ReturnMapping<'_> {
             }
             None => (sys.z_equilibrium, 0.0),
         };
+        let (rho, mu_k, mu_s) = (sys.rho, sys.mu_k, sys.mu_s);
+        let weights = &sys.groups.weight;
+        // Per group: normal force, base = ê + Δu (trial = base − v h), stick threshold.
         for g in 0..n {
-            self.normal[g] = sys.normal(&self.phases1, g, z1);
+            let normal = sys.normal(&self.phases1, g, z1);
+            self.normal[g] = normal;
+            self.trial[g] = self.deflection[g] + self.increment[g];
+            let threshold = if matches!(self.mode[g], Mode::Slip(_)) { mu_k } else { mu_s };
+            self.threshold[g] = threshold * normal / rho;
         }
-        // Active set on the slider velocity.
+        // Active set on the slider velocity: status 0 stuck, ±1 slipping, 2 separated.
         let v0 = self.st.v;
-        let thresholds = |mode: Mode| if matches!(mode, Mode::Slip(_)) { sys.mu_k } else { sys.mu_s };
-        let mut v1 = v0;
+        let status_of = |base: f64, threshold: f64, normal: f64, v: f64| -> i8 {
+            let trial = base - v * h;
+            if normal <= 0.0 {
+                SEPARATED
+            } else if trial.abs() <= threshold {
+                0
+            } else if trial > 0.0 {
+                1
+            } else {
+                -1
+            }
+        };
         for g in 0..n {
-            let trial = self.deflection[g] + self.increment[g] - v1 * h;
-            self.stuck[g] = trial.abs() <= thresholds(self.mode[g]) * self.normal[g] / sys.rho;
+            self.status[g] = status_of(self.trial[g], self.threshold[g], self.normal[g], v0);
         }
+        // With μ_s > μ_k a group that lost sticking in this step does not regain it (keeps
+        // the iteration finite on the non-monotone static→kinetic drop).
+        let monotone = mu_s == mu_k;
+        let mut v1 = v0;
         let mut converged = false;
         for _ in 0..MAX_ACTIVE_SET_ITERATIONS {
-            let mut lhs = sys.mass / h;
-            let mut rhs = sys.mass * v0 / h + sys.load;
+            let (mut lhs, mut rhs) = (sys.mass / h, sys.mass * v0 / h + sys.load);
             for g in 0..n {
-                if self.normal[g] <= 0.0 {
-                    continue;
-                }
-                let w = sys.groups.weight[g];
-                if self.stuck[g] {
-                    lhs += w * sys.rho * h;
-                    rhs += w * sys.rho * (self.deflection[g] + self.increment[g]);
-                } else {
-                    let sign = (self.deflection[g] + self.increment[g] - v1 * h).signum();
-                    rhs += w * sign * sys.mu_k * self.normal[g];
+                let w = weights[g];
+                match self.status[g] {
+                    0 => {
+                        lhs += w * rho * h;
+                        rhs += w * rho * self.trial[g];
+                    }
+                    SEPARATED => {}
+                    sign => rhs += w * f64::from(sign) * mu_k * self.normal[g],
                 }
             }
-            let v_new = rhs / lhs;
+            v1 = rhs / lhs;
             let mut changed = false;
             for g in 0..n {
-                if self.normal[g] <= 0.0 {
-                    continue;
-                }
-                let trial = self.deflection[g] + self.increment[g] - v_new * h;
-                let threshold = thresholds(self.mode[g]);
-                let fits = trial.abs() <= threshold * self.normal[g] / sys.rho;
-                // With μ_s > μ_k a group that lost sticking in this step does not regain it
-                // (keeps the iteration finite on the non-monotone static→kinetic drop).
-                let may_return = threshold == sys.mu_k || sys.mu_s == sys.mu_k;
-                if fits != self.stuck[g] && (may_return || !fits) {
-                    self.stuck[g] = fits;
+                let old = self.status[g];
+                let new = status_of(self.trial[g], self.threshold[g], self.normal[g], v1);
+                let may_return = monotone || matches!(self.mode[g], Mode::Slip(_));
+                if new != old && (new != 0 || may_return) {
+                    self.status[g] = new;
                     changed = true;
                 }
             }
-            // A slipping group's sign follows its trial; re-solve once more if v moved.
-            let moved = (v_new - v1).abs() > 1e-15 * (1.0 + v_new.abs());
-            v1 = v_new;
-            if !changed && !moved {
+            if !changed {
                 converged = true;
                 break;
             }
@@ -213,30 +237,32 @@ impl Stepper for ReturnMapping<'_> {
         // Update the posts and the sums.
         let mut step_sums = Sums { time: h, ..Default::default() };
         for g in 0..n {
-            let w = sys.groups.weight[g];
-            let trial = self.deflection[g] + self.increment[g] - v1 * h;
-            self.trial[g] = trial;
+            let w = weights[g];
+            let trial = self.trial[g] - v1 * h;
             let normal = self.normal[g];
-            let (mode, e) = if normal <= 0.0 {
-                (Mode::Separated, 0.0)
-            } else if self.stuck[g] {
-                (Mode::Stick, trial)
-            } else {
-                let sign = trial.signum();
-                (Mode::Slip(sign), sign * sys.mu_k * normal / sys.rho)
+            let (mode, e) = match self.status[g] {
+                SEPARATED => (Mode::Separated, 0.0),
+                0 => (Mode::Stick, trial),
+                sign => {
+                    let sign = f64::from(sign);
+                    (Mode::Slip(sign), sign * mu_k * normal / rho)
+                }
             };
-            let force = sys.rho * e;
+            let force = rho * e;
+            let stator = force * self.increment[g];
             step_sums.force_time += w * force * h;
             step_sums.normal_time += w * normal * h;
-            step_sums.stator_work += w * force * self.increment[g];
-            step_sums.power_flow += w * (force * self.increment[g]).abs();
+            step_sums.stator_work += w * stator;
+            step_sums.power_flow += w * stator.abs();
             step_sums.output_work += w * force * v1 * h;
             step_sums.dissipation += w * force * (trial - e);
-            if mode != Mode::Separated {
-                step_sums.contact_time += w * h;
-            }
-            if mode == Mode::Stick {
-                step_sums.stick_time += w * h;
+            match mode {
+                Mode::Separated => {}
+                Mode::Stick => {
+                    step_sums.contact_time += w * h;
+                    step_sums.stick_time += w * h;
+                }
+                Mode::Slip(_) => step_sums.contact_time += w * h,
             }
             self.mode[g] = mode;
             self.deflection[g] = e;
