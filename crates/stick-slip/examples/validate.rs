@@ -1,7 +1,7 @@
 //! Run the stick-slip validation study and write its charts and `report.json`.
 //!
 //! `cargo run -p stick-slip --example validate --release [-- OUT_DIR] [--quick | --smoke]`
-//! (default OUT_DIR: validation/stick-slip/out).
+//! (default OUT_DIR: validation/stick-slip/figures).
 
 #[path = "../tests/support/johnson.rs"]
 mod johnson;
@@ -23,7 +23,7 @@ fn main() {
         .iter()
         .find(|a| !a.starts_with("--"))
         .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../validation/stick-slip/out")));
+        .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../validation/stick-slip/figures")));
     let (k_n, k_t) = johnson::springs(10e-6);
     let (k_n_50, k_t_50) = johnson::springs(25e-6);
     let setup = ValidationSetup {

@@ -216,3 +216,24 @@ fn result_serialises_with_the_documented_keys_and_csv_header() {
     assert_eq!(lines.next(), Some("speed_m_per_s,thrust_n,output_power_w,efficiency,stick_fraction"), "CSV header");
     assert_eq!(lines.count(), result.curve.len(), "one CSV row per curve point");
 }
+
+#[test]
+fn histories_for_the_charts_cover_the_requested_periods() {
+    let scene = paper_scene();
+    let (result, histories) = stick_slip::solve_with_histories(&scene).unwrap();
+    let post = &histories.post;
+    let span = post.time_s.last().unwrap() - post.time_s[0];
+    let expected = scene.options.history.periods * scene.wave.period_s();
+    assert!((span / expected - 1.0).abs() < 1e-3, "history span {span} s vs {expected} s (Doppler-shifted periods)");
+    assert!(!post.stick_intervals_s.is_empty(), "stick intervals of the post");
+    assert!(post.normal_force_n.iter().all(|&n| n >= 0.0), "normal force never tensile");
+    let bound_ok = post.tangential_force_n.iter().zip(&post.friction_bound_n).all(|(f, b)| f.abs() <= b * (1.0 + 1e-9) + 1e-15);
+    assert!(bound_ok, "|F| ≤ μ_k N at every sample (μ_s = μ_k)");
+    let dir = tempfile::tempdir().unwrap();
+    let files = stick_slip::plots::write_post_history_chart("test", post, &dir.path().join("fig6")).unwrap();
+    assert!(files[0].exists(), "Fig. 6 chart written");
+    let files = stick_slip::plots::write_speed_thrust_chart(&result, &dir.path().join("curve")).unwrap();
+    assert!(files[0].exists(), "speed–thrust chart written");
+    stick_slip::write_curve_csv(&result.curve, &dir.path().join("curve.csv")).unwrap();
+    assert!(dir.path().join("curve.csv").exists(), "curve CSV written");
+}

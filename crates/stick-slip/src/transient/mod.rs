@@ -35,6 +35,8 @@ const STEADY_TOLERANCE: f64 = 1e-3;
 /// Speed (of the no-load speed) below which the slider counts as stalled in the stall search.
 /// Default 1e-3.
 const STALL_SPEED_FRACTION: f64 = 1e-3;
+/// Largest number of samples of a recorded slider history (keeps charts small). Default 4000.
+const MAX_SLIDER_SAMPLES: f64 = 4000.0;
 /// Largest number of runs of the stall search. Default 16.
 const MAX_STALL_RUNS: usize = 16;
 
@@ -220,7 +222,9 @@ impl TransientModel {
         let sample_spacing = 2.0 * PI / scene.options.history.samples_per_period as f64;
         let mut slider_history = record.then(SliderHistory::default);
         let mut post_history = record.then(PostHistory::default);
+        let slider_spacing = sample_spacing.max(2.0 * PI * periods as f64 / MAX_SLIDER_SAMPLES);
         let mut next_sample = sys.t_start;
+        let mut next_slider_sample = sys.t_start;
         let mut records = Vec::with_capacity(periods);
         let mut peak_speed = f64::NEG_INFINITY;
         let t_unit = 1.0 / omega;
@@ -246,8 +250,8 @@ impl TransientModel {
                 rec.z_max = rec.z_max.max(st.z);
                 rec.z_time += st.z * (st.t - before);
                 peak_speed = peak_speed.max(-st.v);
-                if record && st.t >= next_sample {
-                    next_sample = st.t + sample_spacing;
+                if record && st.t >= next_slider_sample {
+                    next_slider_sample = st.t + slider_spacing;
                     let (force, normal) = stepper.totals();
                     if let Some(h) = slider_history.as_mut() {
                         h.time_s.push((st.t - sys.t_start) * t_unit);
@@ -256,6 +260,9 @@ impl TransientModel {
                         h.normal_force_n.push(normal * force_unit);
                         h.tip_height_m.push(st.z * a_n);
                     }
+                }
+                if record && st.t >= next_sample {
+                    next_sample = st.t + sample_spacing;
                     if j >= history_from {
                         if let Some(h) = post_history.as_mut() {
                             let (normal, force, mode) = stepper.group(0);
