@@ -394,3 +394,41 @@ fn reassembly_for_a_new_material_reuses_pattern_reduction_and_symbolic_factorisa
         "doubling E must halve the displacement: mismatch {worst:e} m"
     );
 }
+
+#[test]
+fn a_negative_pivot_is_reported_at_its_own_column_by_simplicial_and_supernodal_kernels() {
+    let mut kernels = Vec::new();
+    for divisions in [1, 3] {
+        let mesh = BoxMesh::tet10([1.0, 1.0, 1.0], [divisions; 3]);
+        let model = model_of(&mesh, steel());
+        let k = assemble_stiffness(&model, &StiffnessPattern::build(&model)).unwrap();
+        let constraints = Constraints {
+            dirichlet: vec![Dirichlet::clamped(
+                mesh.face_nodes(elastic_fem::mesh_gen::BoxFace::ZMin),
+            )],
+            ..Default::default()
+        };
+        let reduced =
+            ReducedSystem::new(&k, DofMap::new(model.node_count(), &constraints).unwrap()).unwrap();
+        let mut kr = reduced.reduce_matrix(&k).unwrap();
+        let column = kr.dim() / 2;
+        let diag = kr.get(column, column);
+        kr.add_to_diagonal(column, -3.0 * diag);
+        let symbolic = SymbolicCholesky::analyze(&kr, Ordering::Metis).unwrap();
+        kernels.push(symbolic.is_supernodal());
+        match symbolic.factor(&kr) {
+            Err(elastic_fem::FemError::NotPositiveDefinite { column: c, .. }) => assert_eq!(
+                c,
+                column,
+                "failed column (supernodal = {}) must be the one with the negative diagonal",
+                symbolic.is_supernodal()
+            ),
+            other => panic!("expected NotPositiveDefinite, got {other:?}"),
+        }
+    }
+    assert_eq!(
+        kernels,
+        vec![false, true],
+        "the small case must use the simplicial, the larger the supernodal kernel"
+    );
+}

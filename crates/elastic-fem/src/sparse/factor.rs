@@ -235,12 +235,14 @@ impl NumericCholesky {
                 .map_or(permuted, |f| f[permuted.min(f.len() - 1)])
         };
         if let Err(LltError::NonPositivePivot { index }) = result {
+            // faer 0.24.4 reports a 1-based column from its simplicial kernel and a 0-based one
+            // from its supernodal kernel.
+            let permuted = match faer_symbolic.raw() {
+                SymbolicCholeskyRaw::Simplicial(_) => index.saturating_sub(1),
+                SymbolicCholeskyRaw::Supernodal(_) => index,
+            };
             return Err(FemError::NotPositiveDefinite {
-                column: to_original(
-                    index
-                        .saturating_sub(1)
-                        .min(symbolic.dim().saturating_sub(1)),
-                ),
+                column: to_original(permuted.min(symbolic.dim().saturating_sub(1))),
                 pivot_ratio: 0.0,
                 minimum: self.options.min_pivot_ratio,
                 location: String::new(),
