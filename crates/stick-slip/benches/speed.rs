@@ -9,7 +9,9 @@ mod johnson;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
-use stick_slip::{DynamicScene, Integrator, ModelChoice, PeriodicAverageModel, TransientModel, TransientStart};
+use stick_slip::{
+    DynamicScene, Integrator, ModelChoice, PeriodicAverageModel, TransientModel, TransientStart,
+};
 
 fn paper_scene() -> DynamicScene {
     let (k_n, k_t) = johnson::springs(10e-6);

@@ -36,7 +36,13 @@ pub struct PostContact {
 impl PostContact {
     /// Massless posts with one friction coefficient μ = μ_s = μ_k.
     pub fn new(k_n_n_per_m: f64, k_t_n_per_m: f64, mu: f64) -> Self {
-        Self { k_n_n_per_m, k_t_n_per_m, mu_static: mu, mu_kinetic: mu, post_mass_kg: None }
+        Self {
+            k_n_n_per_m,
+            k_t_n_per_m,
+            mu_static: mu,
+            mu_kinetic: mu,
+            post_mass_kg: None,
+        }
     }
 
     /// The same contact with a post mass (kg).
@@ -52,12 +58,14 @@ impl PostContact {
 
     /// Tangential resonance of the post mass on k_t, √(k_t/m_p)/2π (Hz), if a mass is set.
     pub fn tangential_resonance_hz(&self) -> Option<f64> {
-        self.post_mass_kg.map(|m| (self.k_t_n_per_m / m).sqrt() / (2.0 * PI))
+        self.post_mass_kg
+            .map(|m| (self.k_t_n_per_m / m).sqrt() / (2.0 * PI))
     }
 
     /// Normal resonance of the post mass on k_n, √(k_n/m_p)/2π (Hz), if a mass is set.
     pub fn normal_resonance_hz(&self) -> Option<f64> {
-        self.post_mass_kg.map(|m| (self.k_n_n_per_m / m).sqrt() / (2.0 * PI))
+        self.post_mass_kg
+            .map(|m| (self.k_n_n_per_m / m).sqrt() / (2.0 * PI))
     }
 
     /// Check the contact parameters.
@@ -75,7 +83,10 @@ impl PostContact {
             });
         }
         if self.mu_static == 0.0 {
-            warnings.push(Warning::new("contact.mu_static", "zero friction: the motor produces no thrust"));
+            warnings.push(Warning::new(
+                "contact.mu_static",
+                "zero friction: the motor produces no thrust",
+            ));
         }
         if let Some(mass) = self.post_mass_kg {
             require_positive("contact.post_mass_kg", mass)?;

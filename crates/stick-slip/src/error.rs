@@ -55,7 +55,9 @@ pub enum StickSlipError {
         criterion: String,
     },
     /// An integrator that needs a post mass was chosen without `contact.post_mass_kg`.
-    #[error("integrator `{integrator}` needs `contact.post_mass_kg` (posts with their own mass), which is not set")]
+    #[error(
+        "integrator `{integrator}` needs `contact.post_mass_kg` (posts with their own mass), which is not set"
+    )]
     MissingPostMass {
         /// Integrator name.
         integrator: &'static str,
@@ -73,7 +75,9 @@ pub enum StickSlipError {
         value: f64,
     },
     /// An iteration (root finding, periodic steady state) ran out of iterations.
-    #[error("{model}: {what} did not converge after {iterations} iterations (last residual {residual:e})")]
+    #[error(
+        "{model}: {what} did not converge after {iterations} iterations (last residual {residual:e})"
+    )]
     NotConverged {
         /// Model or solver name.
         model: &'static str,
@@ -123,7 +127,10 @@ pub struct Warning {
 impl Warning {
     /// A warning about `parameter`.
     pub fn new(parameter: impl Into<String>, message: impl Into<String>) -> Self {
-        Self { parameter: parameter.into(), message: message.into() }
+        Self {
+            parameter: parameter.into(),
+            message: message.into(),
+        }
     }
 }
 
@@ -167,6 +174,10 @@ pub(crate) fn require_finite(parameter: &'static str, value: f64) -> Result<()> 
     if value.is_finite() {
         Ok(())
     } else {
-        Err(StickSlipError::InvalidParameter { parameter, value, requirement: "must be finite".into() })
+        Err(StickSlipError::InvalidParameter {
+            parameter,
+            value,
+            requirement: "must be finite".into(),
+        })
     }
 }

@@ -54,7 +54,13 @@ impl PostHistory {
         let mut open: Option<f64> = None;
         for (i, (&t, &state)) in self.time_s.iter().zip(&self.state).enumerate() {
             match (state == ContactState::Stick, open) {
-                (true, None) => open = Some(if i == 0 { t } else { 0.5 * (t + self.time_s[i - 1]) }),
+                (true, None) => {
+                    open = Some(if i == 0 {
+                        t
+                    } else {
+                        0.5 * (t + self.time_s[i - 1])
+                    })
+                }
                 (false, Some(start)) => {
                     intervals.push((start, 0.5 * (t + self.time_s[i - 1])));
                     open = None;

@@ -28,12 +28,13 @@ pub const TRANSIENT_DEFAULT_STEPS_PER_PERIOD: f64 = 256.0;
 pub const EVENT_DRIVEN_STEPS_PER_PERIOD: f64 = 64.0;
 
 /// Time-stepping scheme (serde tag `kind`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum Integrator {
     /// The model's default: `event-driven` (closed form) for the period average,
     /// `return-mapping` with T/[`TRANSIENT_DEFAULT_STEPS_PER_PERIOD`] for the transient (the
     /// event-driven transient costs one RK4 restart per event, ≈ 4 per post group per period).
+    #[default]
     Auto,
     /// Massless posts, exact Coulomb friction, stick/slip transitions located exactly.
     EventDriven {
@@ -61,12 +62,6 @@ pub enum Integrator {
     },
 }
 
-impl Default for Integrator {
-    fn default() -> Self {
-        Self::Auto
-    }
-}
-
 impl Integrator {
     /// Kebab-case name, as in scene files.
     pub fn name(&self) -> &'static str {
@@ -82,26 +77,31 @@ impl Integrator {
     /// The concrete scheme `auto` stands for in `model` (others map to themselves).
     pub fn resolve(&self, model: crate::scene::ModelKind, period_s: f64) -> Self {
         match (self, model) {
-            (Self::Auto, crate::scene::ModelKind::PeriodicAverage) => Self::EventDriven { max_step_s: None },
-            (Self::Auto, crate::scene::ModelKind::Transient) => {
-                Self::ReturnMapping { dt_s: period_s / TRANSIENT_DEFAULT_STEPS_PER_PERIOD }
+            (Self::Auto, crate::scene::ModelKind::PeriodicAverage) => {
+                Self::EventDriven { max_step_s: None }
             }
+            (Self::Auto, crate::scene::ModelKind::Transient) => Self::ReturnMapping {
+                dt_s: period_s / TRANSIENT_DEFAULT_STEPS_PER_PERIOD,
+            },
             (other, _) => *other,
         }
     }
 
     /// Whether the scheme needs `contact.post_mass_kg`.
     pub fn needs_post_mass(&self) -> bool {
-        matches!(self, Self::RegularizedExplicit { .. } | Self::PostMass { .. })
+        matches!(
+            self,
+            Self::RegularizedExplicit { .. } | Self::PostMass { .. }
+        )
     }
 
     /// The fixed time step (s), if the scheme has one.
     pub fn fixed_step_s(&self) -> Option<f64> {
         match *self {
             Self::Auto | Self::EventDriven { .. } => None,
-            Self::ReturnMapping { dt_s } | Self::PostMass { dt_s } | Self::RegularizedExplicit { dt_s, .. } => {
-                Some(dt_s)
-            }
+            Self::ReturnMapping { dt_s }
+            | Self::PostMass { dt_s }
+            | Self::RegularizedExplicit { dt_s, .. } => Some(dt_s),
         }
     }
 
@@ -135,7 +135,10 @@ impl Integrator {
                 });
                 tightest(post, slider_limit(2.0, "symplectic Euler"))
             }
-            Self::RegularizedExplicit { regularization_speed_m_per_s, .. } => {
+            Self::RegularizedExplicit {
+                regularization_speed_m_per_s,
+                ..
+            } => {
                 let post = setting.post_mode_rad_per_s().map(|omega_p| {
                     let mass = setting.post_mass_kg.unwrap_or(f64::NAN);
                     let gamma = setting.mu_kinetic * setting.peak_normal_force_n / (mass * regularization_speed_m_per_s);
@@ -156,21 +159,37 @@ impl Integrator {
 
     /// Check the step against its stability limit (typed error or warning per `policy`) and
     /// against accuracy limits (warnings). `period_s` is the wave period.
-    pub fn check(&self, setting: &StabilitySetting, period_s: f64, policy: StabilityPolicy) -> Result<Vec<Warning>> {
+    pub fn check(
+        &self,
+        setting: &StabilitySetting,
+        period_s: f64,
+        policy: StabilityPolicy,
+    ) -> Result<Vec<Warning>> {
         let mut warnings = Vec::new();
         if self.needs_post_mass() && setting.post_mass_kg.is_none() {
-            return Err(StickSlipError::MissingPostMass { integrator: self.name() });
+            return Err(StickSlipError::MissingPostMass {
+                integrator: self.name(),
+            });
         }
         let (parameter, step) = match *self {
-            Self::EventDriven { max_step_s: Some(h) } => ("integrator.max_step_s", h),
+            Self::EventDriven {
+                max_step_s: Some(h),
+            } => ("integrator.max_step_s", h),
             Self::Auto | Self::EventDriven { max_step_s: None } => return Ok(warnings),
-            Self::ReturnMapping { dt_s } | Self::PostMass { dt_s } | Self::RegularizedExplicit { dt_s, .. } => {
-                ("integrator.dt_s", dt_s)
-            }
+            Self::ReturnMapping { dt_s }
+            | Self::PostMass { dt_s }
+            | Self::RegularizedExplicit { dt_s, .. } => ("integrator.dt_s", dt_s),
         };
         crate::error::require_positive(parameter, step)?;
-        if let Self::RegularizedExplicit { regularization_speed_m_per_s, .. } = *self {
-            crate::error::require_positive("integrator.regularization_speed_m_per_s", regularization_speed_m_per_s)?;
+        if let Self::RegularizedExplicit {
+            regularization_speed_m_per_s,
+            ..
+        } = *self
+        {
+            crate::error::require_positive(
+                "integrator.regularization_speed_m_per_s",
+                regularization_speed_m_per_s,
+            )?;
         }
         if let Some(limit) = self.stability_limit(setting) {
             if step > limit.limit_s {
@@ -194,7 +213,9 @@ impl Integrator {
                 }
             }
         }
-        if matches!(self, Self::ReturnMapping { .. }) && step > period_s / RETURN_MAPPING_MIN_STEPS_PER_PERIOD {
+        if matches!(self, Self::ReturnMapping { .. })
+            && step > period_s / RETURN_MAPPING_MIN_STEPS_PER_PERIOD
+        {
             warnings.push(Warning::new(
                 parameter,
                 format!(

@@ -47,18 +47,20 @@ pub use contact::{PAPER_FRICTION_COEFFICIENT, PostContact, SILICON_DENSITY_KG_PE
 pub use error::{Result, StickSlipError, Warning};
 pub use history::{ContactState, PostHistory, SliderHistory};
 pub use integrator::{
-    EVENT_DRIVEN_STEPS_PER_PERIOD, Integrator, RETURN_MAPPING_MIN_STEPS_PER_PERIOD, StabilityLimit, StabilityPolicy,
-    StabilitySetting, TRANSIENT_DEFAULT_STEPS_PER_PERIOD,
+    EVENT_DRIVEN_STEPS_PER_PERIOD, Integrator, RETURN_MAPPING_MIN_STEPS_PER_PERIOD, StabilityLimit,
+    StabilityPolicy, StabilitySetting, TRANSIENT_DEFAULT_STEPS_PER_PERIOD,
 };
 pub use periodic::{PeriodicAverageModel, SpeedSample};
-pub use result::{CurvePoint, DynamicResult, OperatingPoint, TransientSummary, curve_csv, write_curve_csv};
+pub use result::{
+    CurvePoint, DynamicResult, OperatingPoint, TransientSummary, curve_csv, write_curve_csv,
+};
 pub use scene::{
-    DynamicScene, HistoryOptions, ModelChoice, ModelKind, PHASE_NONUNIFORMITY_LIMIT, SPEED_RIPPLE_LIMIT, SolveOptions,
-    TransientOptions, TransientStart,
+    DynamicScene, HistoryOptions, ModelChoice, ModelKind, PHASE_NONUNIFORMITY_LIMIT,
+    SPEED_RIPPLE_LIMIT, SolveOptions, TransientOptions, TransientStart,
 };
 pub use slider::{
-    PAPER_EFFECTIVE_RATIO, PAPER_PITCH_M, PAPER_POSTS_PER_SIDE, PAPER_SLIDER_SIDE_M, PAPER_SLIDER_THICKNESS_M,
-    PostLayout, Slider, VerticalModel,
+    PAPER_EFFECTIVE_RATIO, PAPER_PITCH_M, PAPER_POSTS_PER_SIDE, PAPER_SLIDER_SIDE_M,
+    PAPER_SLIDER_THICKNESS_M, PostLayout, Slider, VerticalModel,
 };
 pub use solve::{RunHistories, solve, solve_with_histories};
 pub use transient::{TransientModel, TransientRun};

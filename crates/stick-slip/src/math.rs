@@ -5,16 +5,30 @@
 use std::f64::consts::PI;
 
 /// 8-point Gauss–Legendre nodes on [−1, 1] (positive half; the rule is symmetric).
-const GL8_NODES: [f64; 4] = [0.183_434_642_495_649_8, 0.525_532_409_916_329, 0.796_666_477_413_626_7, 0.960_289_856_497_536_2];
+const GL8_NODES: [f64; 4] = [
+    0.183_434_642_495_649_8,
+    0.525_532_409_916_329,
+    0.796_666_477_413_626_7,
+    0.960_289_856_497_536_2,
+];
 /// 8-point Gauss–Legendre weights matching [`GL8_NODES`].
-const GL8_WEIGHTS: [f64; 4] = [0.362_683_783_378_362, 0.313_706_645_877_887_3, 0.222_381_034_453_374_5, 0.101_228_536_290_376_3];
+const GL8_WEIGHTS: [f64; 4] = [
+    0.362_683_783_378_362,
+    0.313_706_645_877_887_3,
+    0.222_381_034_453_374_5,
+    0.101_228_536_290_376_3,
+];
 /// Longest sub-interval (rad) per 8-point Gauss–Legendre panel: the integrands are
 /// trigonometric polynomials of low degree, so panels of 0.4 rad integrate them to ≈ 1e-16.
 const QUADRATURE_PANEL_RAD: f64 = 0.4;
 
 /// ∫_a^b f, composite 8-point Gauss–Legendre with panels ≤ [`QUADRATURE_PANEL_RAD`].
 /// `f` may return several integrands at once (`N` of them).
-pub(crate) fn integrate<const N: usize>(a: f64, b: f64, mut f: impl FnMut(f64) -> [f64; N]) -> [f64; N] {
+pub(crate) fn integrate<const N: usize>(
+    a: f64,
+    b: f64,
+    mut f: impl FnMut(f64) -> [f64; N],
+) -> [f64; N] {
     let mut total = [0.0; N];
     if b <= a {
         return total;
@@ -39,7 +53,12 @@ pub(crate) fn integrate<const N: usize>(a: f64, b: f64, mut f: impl FnMut(f64) -
 /// Root of `f` in [a, b] given f(a)·f(b) ≤ 0: Illinois-modified regula falsi with bisection
 /// safeguard, to |b − a| ≤ `x_tol` or an exact zero. Returns the point on the `f(b)` side
 /// (so the event has happened at the returned point).
-pub(crate) fn bracketed_root(mut f: impl FnMut(f64) -> f64, mut a: f64, mut b: f64, x_tol: f64) -> f64 {
+pub(crate) fn bracketed_root(
+    mut f: impl FnMut(f64) -> f64,
+    mut a: f64,
+    mut b: f64,
+    x_tol: f64,
+) -> f64 {
     let mut fa = f(a);
     let mut fb = f(b);
     if fa == 0.0 {
@@ -55,7 +74,11 @@ pub(crate) fn bracketed_root(mut f: impl FnMut(f64) -> f64, mut a: f64, mut b: f
         }
         // Alternate a secant step with a bisection step every few iterations to guarantee
         // shrinking even for badly scaled functions.
-        let mut x = if iteration % 4 == 3 { 0.5 * (a + b) } else { (a * fb - b * fa) / (fb - fa) };
+        let mut x = if iteration % 4 == 3 {
+            0.5 * (a + b)
+        } else {
+            (a * fb - b * fa) / (fb - fa)
+        };
         if !(x > a.min(b) && x < a.max(b)) {
             x = 0.5 * (a + b);
         }
@@ -148,13 +171,24 @@ impl TrigLinear {
     /// Minimum of f on [lo, hi] (at an end or a critical point).
     pub fn min_on(&self, lo: f64, hi: f64, scratch: &mut Vec<f64>) -> f64 {
         self.critical_points(lo, hi, scratch);
-        scratch.iter().chain([lo, hi].iter()).map(|&t| self.value(t)).fold(f64::INFINITY, f64::min)
+        scratch
+            .iter()
+            .chain([lo, hi].iter())
+            .map(|&t| self.value(t))
+            .fold(f64::INFINITY, f64::min)
     }
 
     /// First θ in (lo, hi] where f crosses zero in direction `dir`, located to `x_tol`.
     /// A start already on the far side (f(lo) ≥ 0 for `Upward`) while still moving further
     /// counts as an immediate event at `lo`; a start on the line moving back is not an event.
-    pub fn first_crossing(&self, lo: f64, hi: f64, dir: Crossing, x_tol: f64, scratch: &mut Vec<f64>) -> Option<f64> {
+    pub fn first_crossing(
+        &self,
+        lo: f64,
+        hi: f64,
+        dir: Crossing,
+        x_tol: f64,
+        scratch: &mut Vec<f64>,
+    ) -> Option<f64> {
         if hi <= lo {
             return None;
         }
@@ -177,7 +211,11 @@ impl TrigLinear {
                 // judged by the first non-vanishing derivative at the start.
                 let scale = self.a.abs() + self.b.abs() + self.g.abs();
                 let slope = sign * self.derivative(start);
-                let moving_on = if slope.abs() > 1e-12 * scale { slope > 0.0 } else { sign * self.second_derivative(start) > 0.0 };
+                let moving_on = if slope.abs() > 1e-12 * scale {
+                    slope > 0.0
+                } else {
+                    sign * self.second_derivative(start) > 0.0
+                };
                 if moving_on {
                     return Some(start);
                 }
@@ -194,7 +232,11 @@ impl TrigLinear {
 /// Wrap an angle to (−π, π].
 pub(crate) fn wrap_angle(theta: f64) -> f64 {
     let wrapped = theta.rem_euclid(2.0 * PI);
-    if wrapped > PI { wrapped - 2.0 * PI } else { wrapped }
+    if wrapped > PI {
+        wrapped - 2.0 * PI
+    } else {
+        wrapped
+    }
 }
 
 #[cfg(test)]
@@ -206,45 +248,96 @@ mod tests {
         let [sin2, poly] = integrate(0.3, 5.0, |x| [x.sin().powi(2), x * x.cos()]);
         let exact_sin2 = 0.5 * (5.0 - 0.3) - 0.25 * ((10.0f64).sin() - (0.6f64).sin());
         let exact_poly = (5.0 * 5.0f64.sin() + 5.0f64.cos()) - (0.3 * 0.3f64.sin() + 0.3f64.cos());
-        assert!((sin2 - exact_sin2).abs() < 1e-14, "∫sin² error {}", sin2 - exact_sin2);
-        assert!((poly - exact_poly).abs() < 1e-14, "∫x cos x error {}", poly - exact_poly);
+        assert!(
+            (sin2 - exact_sin2).abs() < 1e-14,
+            "∫sin² error {}",
+            sin2 - exact_sin2
+        );
+        assert!(
+            (poly - exact_poly).abs() < 1e-14,
+            "∫x cos x error {}",
+            poly - exact_poly
+        );
     }
 
     #[test]
     fn first_crossing_finds_the_earliest_of_several_roots() {
         // f = sin θ − 0.5 crosses upward at π/6 and 13π/6, downward at 5π/6.
-        let f = TrigLinear { a: 0.0, b: 1.0, g: 0.0, d: -0.5 };
+        let f = TrigLinear {
+            a: 0.0,
+            b: 1.0,
+            g: 0.0,
+            d: -0.5,
+        };
         let mut scratch = Vec::new();
-        let up = f.first_crossing(0.0, 4.0 * PI, Crossing::Upward, 1e-15, &mut scratch).unwrap();
+        let up = f
+            .first_crossing(0.0, 4.0 * PI, Crossing::Upward, 1e-15, &mut scratch)
+            .unwrap();
         assert!((up - PI / 6.0).abs() < 1e-13, "upward crossing at {up}");
-        let down = f.first_crossing(0.0, 4.0 * PI, Crossing::Downward, 1e-15, &mut scratch).unwrap();
-        assert!((down - 5.0 * PI / 6.0).abs() < 1e-13, "downward crossing at {down}");
-        let later = f.first_crossing(3.0, 4.0 * PI, Crossing::Upward, 1e-15, &mut scratch).unwrap();
-        assert!((later - 13.0 * PI / 6.0).abs() < 1e-12, "next upward crossing at {later}");
+        let down = f
+            .first_crossing(0.0, 4.0 * PI, Crossing::Downward, 1e-15, &mut scratch)
+            .unwrap();
+        assert!(
+            (down - 5.0 * PI / 6.0).abs() < 1e-13,
+            "downward crossing at {down}"
+        );
+        let later = f
+            .first_crossing(3.0, 4.0 * PI, Crossing::Upward, 1e-15, &mut scratch)
+            .unwrap();
+        assert!(
+            (later - 13.0 * PI / 6.0).abs() < 1e-12,
+            "next upward crossing at {later}"
+        );
     }
 
     #[test]
     fn first_crossing_sees_a_root_between_close_critical_points() {
         // f = cos θ − 0.2 θ + 0.1: has a shallow dip; check against dense sampling.
-        let f = TrigLinear { a: 1.0, b: 0.0, g: -0.2, d: 0.1 };
+        let f = TrigLinear {
+            a: 1.0,
+            b: 0.0,
+            g: -0.2,
+            d: 0.1,
+        };
         let mut scratch = Vec::new();
-        let root = f.first_crossing(0.0, 20.0, Crossing::Downward, 1e-15, &mut scratch).unwrap();
+        let root = f
+            .first_crossing(0.0, 20.0, Crossing::Downward, 1e-15, &mut scratch)
+            .unwrap();
         let sampled = (0..200_000)
             .map(|i| i as f64 * 1e-4)
             .find(|&x| f.value(x) <= 0.0)
             .unwrap();
-        assert!((root - sampled).abs() < 2e-4, "root {root} vs sampled {sampled}");
-        assert!(f.value(root).abs() < 1e-13, "residual at root {}", f.value(root));
+        assert!(
+            (root - sampled).abs() < 2e-4,
+            "root {root} vs sampled {sampled}"
+        );
+        assert!(
+            f.value(root).abs() < 1e-13,
+            "residual at root {}",
+            f.value(root)
+        );
     }
 
     #[test]
     fn start_on_the_line_moving_away_is_not_an_event() {
         // f = sin θ starts at 0 and rises: a downward search must not fire at 0.
-        let f = TrigLinear { a: 0.0, b: 1.0, g: 0.0, d: 0.0 };
+        let f = TrigLinear {
+            a: 0.0,
+            b: 1.0,
+            g: 0.0,
+            d: 0.0,
+        };
         let mut scratch = Vec::new();
         let down = f.first_crossing(0.0, 2.0, Crossing::Downward, 1e-15, &mut scratch);
-        assert!(down.is_none(), "no downward crossing in (0, 2], got {down:?}");
+        assert!(
+            down.is_none(),
+            "no downward crossing in (0, 2], got {down:?}"
+        );
         let up = f.first_crossing(0.0, 2.0, Crossing::Upward, 1e-15, &mut scratch);
-        assert_eq!(up, Some(0.0), "a start on the line moving up is an immediate upward event");
+        assert_eq!(
+            up,
+            Some(0.0),
+            "a start on the line moving up is an immediate upward event"
+        );
     }
 }

@@ -35,7 +35,10 @@ impl TipHeight {
 fn arc_moment(phi: f64) -> f64 {
     if phi < SERIES_HALF_ARC_RAD {
         let p2 = phi * phi;
-        phi * p2 * (1.0 / 3.0 + p2 * (-1.0 / 30.0 + p2 * (1.0 / 840.0 + p2 * (-1.0 / 45360.0 + p2 / 3_991_680.0))))
+        phi * p2
+            * (1.0 / 3.0
+                + p2 * (-1.0 / 30.0
+                    + p2 * (1.0 / 840.0 + p2 * (-1.0 / 45360.0 + p2 / 3_991_680.0))))
     } else {
         phi.sin() - phi * phi.cos()
     }
@@ -54,7 +57,10 @@ pub(crate) fn mean_normal(h: TipHeight) -> f64 {
 /// bisection on [0, π], where sin φ − φ cos φ is increasing with derivative φ sin φ.
 pub(crate) fn tip_height_for_mean_normal(mean: f64) -> TipHeight {
     if mean >= 1.0 {
-        return TipHeight { c: -mean, half_arc: None };
+        return TipHeight {
+            c: -mean,
+            half_arc: None,
+        };
     }
     let target = PI * mean;
     let (mut lo, mut hi) = (0.0, PI);
@@ -68,7 +74,11 @@ pub(crate) fn tip_height_for_mean_normal(mean: f64) -> TipHeight {
             lo = phi;
         }
         let slope = phi * phi.sin();
-        let mut next = if slope > 0.0 { phi - residual / slope } else { 0.5 * (lo + hi) };
+        let mut next = if slope > 0.0 {
+            phi - residual / slope
+        } else {
+            0.5 * (lo + hi)
+        };
         if !(next > lo && next < hi) {
             next = 0.5 * (lo + hi);
         }
@@ -78,7 +88,10 @@ pub(crate) fn tip_height_for_mean_normal(mean: f64) -> TipHeight {
             break;
         }
     }
-    TipHeight { c: phi.cos(), half_arc: Some(phi) }
+    TipHeight {
+        c: phi.cos(),
+        half_arc: Some(phi),
+    }
 }
 
 #[cfg(test)]
@@ -88,7 +101,10 @@ mod tests {
     /// ⟨N⟩ by brute-force averaging of ⟨sin θ − c⟩₊ over a period.
     fn sampled_mean(c: f64) -> f64 {
         let n = 200_000;
-        (0..n).map(|i| ((2.0 * PI * (i as f64 + 0.5) / n as f64).sin() - c).max(0.0)).sum::<f64>() / n as f64
+        (0..n)
+            .map(|i| ((2.0 * PI * (i as f64 + 0.5) / n as f64).sin() - c).max(0.0))
+            .sum::<f64>()
+            / n as f64
     }
 
     #[test]
@@ -96,7 +112,10 @@ mod tests {
         for c in [-1.5, -1.0, -0.6, 0.0, 0.4, 0.9, 0.99] {
             let closed = mean_normal(TipHeight::from_c(c));
             let sampled = sampled_mean(c);
-            assert!((closed - sampled).abs() < 1e-8, "⟨N⟩ at c = {c}: closed {closed} vs sampled {sampled}");
+            assert!(
+                (closed - sampled).abs() < 1e-8,
+                "⟨N⟩ at c = {c}: closed {closed} vs sampled {sampled}"
+            );
         }
     }
 
@@ -105,7 +124,10 @@ mod tests {
         for mean in [1e-9, 1e-6, 1e-3, 0.05, 0.3, 0.999, 1.0, 2.5] {
             let h = tip_height_for_mean_normal(mean);
             let back = mean_normal(h);
-            assert!((back - mean).abs() <= 1e-13 * mean, "mean normal {mean}: recovered {back}");
+            assert!(
+                (back - mean).abs() <= 1e-13 * mean,
+                "mean normal {mean}: recovered {back}"
+            );
         }
     }
 
@@ -114,6 +136,9 @@ mod tests {
         let phi = SERIES_HALF_ARC_RAD * (1.0 - 1e-12);
         let below = arc_moment(phi);
         let direct = phi.sin() - phi * phi.cos();
-        assert!((below - direct).abs() < 1e-12 * direct, "arc moment series {below} vs direct {direct}");
+        assert!(
+            (below - direct).abs() < 1e-12 * direct,
+            "arc moment series {below} vs direct {direct}"
+        );
     }
 }

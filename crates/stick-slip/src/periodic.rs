@@ -106,13 +106,22 @@ impl PeriodicAverageModel {
         let mut warnings = scene.validate()?;
         // Refuse what the model cannot represent (burst, decay, gaps); whatever model the scene
         // asks for, a period-average model of it may be built (e.g. as the transient's estimate).
-        let forced = DynamicScene { model: ModelChoice::PeriodicAverage, ..scene.clone() };
+        let forced = DynamicScene {
+            model: ModelChoice::PeriodicAverage,
+            ..scene.clone()
+        };
         forced.resolve_model()?;
         let reason = match scene.resolve_model()? {
             (ModelKind::PeriodicAverage, reason) => reason,
-            (ModelKind::Transient, _) => "period-average model built directly (the scene's own choice is the transient)".into(),
+            (ModelKind::Transient, _) => {
+                "period-average model built directly (the scene's own choice is the transient)"
+                    .into()
+            }
         };
-        if matches!(scene.slider.vertical, crate::slider::VerticalModel::Dynamic { .. }) {
+        if matches!(
+            scene.slider.vertical,
+            crate::slider::VerticalModel::Dynamic { .. }
+        ) {
             warnings.push(Warning::new(
                 "slider.vertical",
                 "period-average model: the vertical slider dynamics are replaced by the period-mean equilibrium Σ⟨N⟩ = P",
@@ -140,19 +149,38 @@ impl PeriodicAverageModel {
             mu_kinetic: contact.mu_kinetic,
             doppler: scaled.doppler,
             height,
-            mass: contact.post_mass_kg.map(|m| m * omega * omega / contact.k_n_n_per_m),
+            mass: contact
+                .post_mass_kg
+                .map(|m| m * omega * omega / contact.k_n_n_per_m),
         };
-        let integrator = scene.integrator.resolve(ModelKind::PeriodicAverage, wave.period_s());
+        let integrator = scene
+            .integrator
+            .resolve(ModelKind::PeriodicAverage, wave.period_s());
         let scheme = match integrator {
             Integrator::Auto | Integrator::EventDriven { .. } => None,
-            Integrator::ReturnMapping { dt_s } => Some(StepScheme::ReturnMapping { step: dt_s * omega }),
+            Integrator::ReturnMapping { dt_s } => {
+                Some(StepScheme::ReturnMapping { step: dt_s * omega })
+            }
             Integrator::PostMass { dt_s } => Some(StepScheme::PostMass { step: dt_s * omega }),
-            Integrator::RegularizedExplicit { dt_s, regularization_speed_m_per_s } => Some(StepScheme::Regularized {
+            Integrator::RegularizedExplicit {
+                dt_s,
+                regularization_speed_m_per_s,
+            } => Some(StepScheme::Regularized {
                 step: dt_s * omega,
                 regularization: regularization_speed_m_per_s / (length_m * omega),
             }),
         };
-        Ok(Self { scene: scene.clone(), params, scheme, length_m, omega, force_n, n_eff, reason, warnings })
+        Ok(Self {
+            scene: scene.clone(),
+            params,
+            scheme,
+            length_m,
+            omega,
+            force_n,
+            n_eff,
+            reason,
+            warnings,
+        })
     }
 
     /// The scene this model was built from.
@@ -191,14 +219,21 @@ impl PeriodicAverageModel {
             Some(phi) => (0.5 * PI - phi, PostState::separated()),
             None => analytic.steady()?.start,
         };
-        start.tip_velocity =
-            if start.mode == Mode::Stick { -self.params.tangential_ratio * theta0.sin() } else { v };
+        start.tip_velocity = if start.mode == Mode::Stick {
+            -self.params.tangential_ratio * theta0.sin()
+        } else {
+            v
+        };
         stepped.steady(theta0, start)
     }
 
     /// Stability probe of the model's fixed-step scheme at one speed: `None` for the
     /// closed-form event-driven post (no step).
-    pub(crate) fn probe_at_speed(&self, speed_m_per_s: f64, periods: usize) -> Result<Option<crate::post::stepping::StabilityProbe>> {
+    pub(crate) fn probe_at_speed(
+        &self,
+        speed_m_per_s: f64,
+        periods: usize,
+    ) -> Result<Option<crate::post::stepping::StabilityProbe>> {
         let Some(scheme) = self.scheme else {
             return Ok(None);
         };
@@ -208,8 +243,11 @@ impl PeriodicAverageModel {
             Some(phi) => (0.5 * PI - phi, PostState::separated()),
             None => AnalyticPost::new(self.params, v).steady()?.start,
         };
-        start.tip_velocity =
-            if start.mode == Mode::Stick { -self.params.tangential_ratio * theta0.sin() } else { v };
+        start.tip_velocity = if start.mode == Mode::Stick {
+            -self.params.tangential_ratio * theta0.sin()
+        } else {
+            v
+        };
         Ok(Some(stepped.probe(theta0, start, periods)))
     }
 
@@ -229,7 +267,11 @@ impl PeriodicAverageModel {
             stator_power_w: stator,
             friction_dissipation_w: i.dissipation * power,
             efficiency: if stator > 0.0 { output / stator } else { 0.0 },
-            stick_fraction: if i.contact_time > 0.0 { i.stick_time / i.contact_time } else { 0.0 },
+            stick_fraction: if i.contact_time > 0.0 {
+                i.stick_time / i.contact_time
+            } else {
+                0.0
+            },
             contact_fraction: i.contact_time / i.time,
             mean_normal_force_n: i.normal_time / i.time * self.force_n * self.n_eff,
             energy_balance_residual: i.energy_balance_residual(),
@@ -300,7 +342,9 @@ impl PeriodicAverageModel {
     pub fn curve(&self, points: usize) -> Result<Vec<SpeedSample>> {
         let v0 = self.no_load_speed_m_per_s()?;
         let n = points.max(2);
-        (0..n).map(|i| self.at_speed(v0 * i as f64 / (n - 1) as f64)).collect()
+        (0..n)
+            .map(|i| self.at_speed(v0 * i as f64 / (n - 1) as f64))
+            .collect()
     }
 
     /// Steady state at the external load `load_n` (N); `None` if it exceeds the stall thrust.
@@ -316,7 +360,12 @@ impl PeriodicAverageModel {
     /// One post's forces over `periods` wave periods of the steady motion at `speed_m_per_s`
     /// (Fig. 6), `samples_per_period` samples per period; stick intervals are exact for the
     /// event-driven scheme.
-    pub fn post_history(&self, speed_m_per_s: f64, periods: f64, samples_per_period: usize) -> Result<PostHistory> {
+    pub fn post_history(
+        &self,
+        speed_m_per_s: f64,
+        periods: f64,
+        samples_per_period: usize,
+    ) -> Result<PostHistory> {
         crate::error::require_positive("history periods", periods)?;
         let v = self.scaled_velocity(speed_m_per_s);
         let steady = self.steady_at(speed_m_per_s)?;
@@ -326,14 +375,21 @@ impl PeriodicAverageModel {
         let time_unit = 1.0 / self.omega;
         let samples = (periods * samples_per_period as f64).ceil() as usize;
         let period = 2.0 * PI / s;
-        let mut history = PostHistory { speed_m_per_s, ..Default::default() };
+        let mut history = PostHistory {
+            speed_m_per_s,
+            ..Default::default()
+        };
         let mut record = |t: f64, theta: f64, force: f64, mode: Mode| {
             history.time_s.push(t * time_unit);
             let normal = p.normal(theta).max(0.0);
             history.normal_force_n.push(normal * self.force_n);
             history.tangential_force_n.push(-force * self.force_n);
-            history.friction_bound_n.push(p.mu_kinetic * normal * self.force_n);
-            history.stator_velocity_m_per_s.push(p.tangential_ratio * theta.sin() * self.length_m * self.omega);
+            history
+                .friction_bound_n
+                .push(p.mu_kinetic * normal * self.force_n);
+            history
+                .stator_velocity_m_per_s
+                .push(p.tangential_ratio * theta.sin() * self.length_m * self.omega);
             history.state.push(ContactState::from(mode));
         };
         match self.scheme {
@@ -351,12 +407,22 @@ impl PeriodicAverageModel {
                         seg_index += 1;
                     }
                     let seg = &segments[seg_index];
-                    record(t, theta, p.stiffness_ratio * post.deflection(seg, theta), seg.mode);
+                    record(
+                        t,
+                        theta,
+                        p.stiffness_ratio * post.deflection(seg, theta),
+                        seg.mode,
+                    );
                 }
                 for seg in segments.iter().filter(|seg| seg.mode == Mode::Stick) {
-                    let interval = ((seg.start - theta0) / s * time_unit, (seg.end - theta0) / s * time_unit);
+                    let interval = (
+                        (seg.start - theta0) / s * time_unit,
+                        (seg.end - theta0) / s * time_unit,
+                    );
                     match history.stick_intervals_s.last_mut() {
-                        Some(last) if (last.1 - interval.0).abs() <= 1e-12 * time_unit => last.1 = interval.1,
+                        Some(last) if (last.1 - interval.0).abs() <= 1e-12 * time_unit => {
+                            last.1 = interval.1
+                        }
                         _ => history.stick_intervals_s.push(interval),
                     }
                 }
@@ -367,7 +433,11 @@ impl PeriodicAverageModel {
                 let raw = stepped.sample(theta0, start, whole);
                 let stride = (raw.len() / samples.max(1)).max(1);
                 let t_end = period * periods;
-                for &(t, _, force, mode) in raw.iter().step_by(stride).filter(|r| r.0 <= t_end * (1.0 + 1e-12)) {
+                for &(t, _, force, mode) in raw
+                    .iter()
+                    .step_by(stride)
+                    .filter(|r| r.0 <= t_end * (1.0 + 1e-12))
+                {
                     record(t, theta0 + s * t, force, mode);
                 }
                 history.intervals_from_states();
@@ -391,7 +461,10 @@ impl PeriodicAverageModel {
                     stall_sample.thrust_n, -stall_sample.thrust_n
                 ),
             ));
-            vec![SpeedSample { thrust_n: 0.0, ..stall_sample }]
+            vec![SpeedSample {
+                thrust_n: 0.0,
+                ..stall_sample
+            }]
         };
         let stall = samples[0].thrust_n;
         let no_load = samples.last().map_or(0.0, |s| s.speed_m_per_s);
@@ -418,7 +491,12 @@ impl PeriodicAverageModel {
         let max_power = samples.iter().map(|s| s.output_power_w).fold(0.0, f64::max);
         let integrator = match self.scheme {
             None => "event-driven (closed-form segments)".to_string(),
-            Some(_) => self.scene.integrator.resolve(ModelKind::PeriodicAverage, self.scene.wave.period_s()).name().to_string(),
+            Some(_) => self
+                .scene
+                .integrator
+                .resolve(ModelKind::PeriodicAverage, self.scene.wave.period_s())
+                .name()
+                .to_string(),
         };
         Ok(DynamicResult {
             model: ModelKind::PeriodicAverage,

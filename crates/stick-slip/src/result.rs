@@ -122,7 +122,8 @@ pub struct DynamicResult {
 
 /// The curve as CSV text: header `speed_m_per_s,thrust_n,output_power_w,efficiency,stick_fraction`.
 pub fn curve_csv(curve: &[CurvePoint]) -> String {
-    let mut text = String::from("speed_m_per_s,thrust_n,output_power_w,efficiency,stick_fraction\n");
+    let mut text =
+        String::from("speed_m_per_s,thrust_n,output_power_w,efficiency,stick_fraction\n");
     for p in curve {
         let _ = writeln!(
             text,
@@ -135,5 +136,8 @@ pub fn curve_csv(curve: &[CurvePoint]) -> String {
 
 /// Write the curve as CSV to `path`.
 pub fn write_curve_csv(curve: &[CurvePoint], path: &Path) -> Result<()> {
-    std::fs::write(path, curve_csv(curve)).map_err(|source| StickSlipError::Io { path: path.to_path_buf(), source })
+    std::fs::write(path, curve_csv(curve)).map_err(|source| StickSlipError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
 }

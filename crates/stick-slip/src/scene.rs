@@ -105,7 +105,10 @@ pub struct HistoryOptions {
 
 impl Default for HistoryOptions {
     fn default() -> Self {
-        Self { periods: 3.0, samples_per_period: 256 }
+        Self {
+            periods: 3.0,
+            samples_per_period: 256,
+        }
     }
 }
 
@@ -164,7 +167,11 @@ impl DynamicScene {
     pub fn paper_default(k_n_n_per_m: f64, k_t_n_per_m: f64) -> Self {
         Self {
             wave: Wave::paper_default(),
-            contact: PostContact::new(k_n_n_per_m, k_t_n_per_m, crate::contact::PAPER_FRICTION_COEFFICIENT),
+            contact: PostContact::new(
+                k_n_n_per_m,
+                k_t_n_per_m,
+                crate::contact::PAPER_FRICTION_COEFFICIENT,
+            ),
             slider: Slider::paper_default(),
             model: ModelChoice::Auto,
             integrator: Integrator::default(),
@@ -206,7 +213,11 @@ impl DynamicScene {
         let model = self.resolve_model()?.0;
         let setting = self.stability_setting(model);
         let integrator = self.integrator.resolve(model, self.wave.period_s());
-        warnings.extend(integrator.check(&setting, self.wave.period_s(), self.options.stability)?);
+        warnings.extend(integrator.check(
+            &setting,
+            self.wave.period_s(),
+            self.options.stability,
+        )?);
         Ok(warnings)
     }
 
@@ -288,7 +299,10 @@ impl DynamicScene {
             ModelChoice::Transient => Ok((ModelKind::Transient, "requested".into())),
             ModelChoice::PeriodicAverage => {
                 if let Some(reason) = needs_transient.iter().find(|r| r.1) {
-                    return Err(StickSlipError::ModelNotApplicable { model: "periodic-average", reason: reason.0.clone() });
+                    return Err(StickSlipError::ModelNotApplicable {
+                        model: "periodic-average",
+                        reason: reason.0.clone(),
+                    });
                 }
                 Ok((ModelKind::PeriodicAverage, "requested".into()))
             }
@@ -332,7 +346,9 @@ impl DynamicScene {
         let ripple = self.speed_ripple_estimate();
         if ripple > SPEED_RIPPLE_LIMIT {
             reasons.push((
-                format!("light slider (speed ripple ≈ {ripple:.1e} of A_t ω > {SPEED_RIPPLE_LIMIT:.0e})"),
+                format!(
+                    "light slider (speed ripple ≈ {ripple:.1e} of A_t ω > {SPEED_RIPPLE_LIMIT:.0e})"
+                ),
                 false,
             ));
         }

@@ -4,7 +4,9 @@
 use serde::{Deserialize, Serialize};
 
 use crate::contact::SILICON_DENSITY_KG_PER_M3;
-use crate::error::{Result, StickSlipError, Warning, require_finite, require_non_negative, require_positive};
+use crate::error::{
+    Result, StickSlipError, Warning, require_finite, require_non_negative, require_positive,
+};
 
 /// Paper slider side length (m): 5 × 5 mm.
 pub const PAPER_SLIDER_SIDE_M: f64 = 5e-3;
@@ -69,7 +71,10 @@ impl PostLayout {
     pub fn validate(&self) -> Result<()> {
         let bad = |detail: String| Err(StickSlipError::InvalidLayout { detail });
         match self {
-            Self::SquareArray { posts_per_side, pitch_m } => {
+            Self::SquareArray {
+                posts_per_side,
+                pitch_m,
+            } => {
                 if *posts_per_side == 0 {
                     return bad("square-array: posts_per_side must be ≥ 1".into());
                 }
@@ -86,10 +91,17 @@ impl PostLayout {
                 }
                 if let Some(gaps) = gap_m {
                     if gaps.len() != x_m.len() {
-                        return bad(format!("positions: gap_m has {} entries for {} posts", gaps.len(), x_m.len()));
+                        return bad(format!(
+                            "positions: gap_m has {} entries for {} posts",
+                            gaps.len(),
+                            x_m.len()
+                        ));
                     }
                     if let Some(i) = gaps.iter().position(|g| !(g.is_finite() && *g >= 0.0)) {
-                        return bad(format!("positions: gap_m[{i}] = {} must be finite and ≥ 0", gaps[i]));
+                        return bad(format!(
+                            "positions: gap_m[{i}] = {} must be finite and ≥ 0",
+                            gaps[i]
+                        ));
                     }
                 }
             }
@@ -106,10 +118,15 @@ impl PostLayout {
     /// layouts are spread over one wavelength in `groups` equally spaced positions.
     pub(crate) fn columns(&self, wavelength_m: f64, uniform_groups: usize) -> Vec<(f64, f64, f64)> {
         match self {
-            Self::SquareArray { posts_per_side, pitch_m } => {
+            Self::SquareArray {
+                posts_per_side,
+                pitch_m,
+            } => {
                 let n = *posts_per_side;
                 let centre = (n as f64 - 1.0) / 2.0;
-                (0..n).map(|j| ((j as f64 - centre) * pitch_m, 0.0, n as f64)).collect()
+                (0..n)
+                    .map(|j| ((j as f64 - centre) * pitch_m, 0.0, n as f64))
+                    .collect()
             }
             Self::Positions { x_m, gap_m } => {
                 let mut posts: Vec<(f64, f64)> = x_m
@@ -130,7 +147,9 @@ impl PostLayout {
             Self::UniformPhase { post_count } => {
                 let groups = uniform_groups.clamp(1, *post_count);
                 let weight = *post_count as f64 / groups as f64;
-                (0..groups).map(|j| (wavelength_m * j as f64 / groups as f64, 0.0, weight)).collect()
+                (0..groups)
+                    .map(|j| (wavelength_m * j as f64 / groups as f64, 0.0, weight))
+                    .collect()
             }
         }
     }
@@ -186,10 +205,17 @@ impl Slider {
     /// preload 40 N, no external load, quasi-static vertical.
     pub fn paper_default() -> Self {
         Self {
-            mass_kg: Self::silicon_mass_kg(PAPER_SLIDER_SIDE_M, PAPER_SLIDER_SIDE_M, PAPER_SLIDER_THICKNESS_M),
+            mass_kg: Self::silicon_mass_kg(
+                PAPER_SLIDER_SIDE_M,
+                PAPER_SLIDER_SIDE_M,
+                PAPER_SLIDER_THICKNESS_M,
+            ),
             preload_n: DEFAULT_PRELOAD_N,
             external_load_n: 0.0,
-            layout: PostLayout::SquareArray { posts_per_side: PAPER_POSTS_PER_SIDE, pitch_m: PAPER_PITCH_M },
+            layout: PostLayout::SquareArray {
+                posts_per_side: PAPER_POSTS_PER_SIDE,
+                pitch_m: PAPER_PITCH_M,
+            },
             effective_ratio: PAPER_EFFECTIVE_RATIO,
             vertical: VerticalModel::PeriodMean,
         }
@@ -215,7 +241,10 @@ impl Slider {
         if self.effective_ratio > 1.0 {
             warnings.push(Warning::new(
                 "slider.effective_ratio",
-                format!("η = {} > 1 uses more posts than the slider has", self.effective_ratio),
+                format!(
+                    "η = {} > 1 uses more posts than the slider has",
+                    self.effective_ratio
+                ),
             ));
         }
         self.layout.validate()?;

@@ -44,7 +44,13 @@ pub fn solve_with_histories(scene: &DynamicScene) -> Result<(DynamicResult, RunH
         ModelKind::Transient => {
             let (result, run) = TransientModel::new(scene)?.solve_with_runs()?;
             let post = run.post_history.unwrap_or_default();
-            Ok((result, RunHistories { post, slider: run.slider_history }))
+            Ok((
+                result,
+                RunHistories {
+                    post,
+                    slider: run.slider_history,
+                },
+            ))
         }
     }
 }

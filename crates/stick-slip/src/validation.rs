@@ -13,7 +13,9 @@ use crate::contact::PostContact;
 use crate::error::{Result, StickSlipError};
 use crate::integrator::{Integrator, StabilityPolicy};
 use crate::periodic::PeriodicAverageModel;
-use crate::plots::{write_post_history_chart, write_slider_history_chart, write_speed_thrust_comparison};
+use crate::plots::{
+    write_post_history_chart, write_slider_history_chart, write_speed_thrust_comparison,
+};
 use crate::scene::{DynamicScene, ModelChoice, ModelKind, TransientStart};
 use crate::slider::{PostLayout, VerticalModel};
 use crate::transient::TransientModel;
@@ -177,19 +179,29 @@ pub struct ValidationReport {
 
 fn paper_scene(setup: &ValidationSetup) -> DynamicScene {
     let mut scene = DynamicScene::paper_default(setup.k_n_n_per_m, setup.k_t_n_per_m);
-    scene.contact = PostContact::new(setup.k_n_n_per_m, setup.k_t_n_per_m, crate::contact::PAPER_FRICTION_COEFFICIENT)
-        .with_post_mass(setup.post_mass_kg);
+    scene.contact = PostContact::new(
+        setup.k_n_n_per_m,
+        setup.k_t_n_per_m,
+        crate::contact::PAPER_FRICTION_COEFFICIENT,
+    )
+    .with_post_mass(setup.post_mass_kg);
     scene.model = ModelChoice::PeriodicAverage;
     scene
 }
 
 fn chart_error(stem: &Path) -> impl FnOnce(charts::ChartError) -> StickSlipError + '_ {
-    move |source| StickSlipError::Chart { path: stem.to_path_buf(), source }
+    move |source| StickSlipError::Chart {
+        path: stem.to_path_buf(),
+        source,
+    }
 }
 
 /// Run the whole study, writing charts and `report.json` into `out_dir`.
 pub fn run_validation(setup: &ValidationSetup, out_dir: &Path) -> Result<ValidationReport> {
-    std::fs::create_dir_all(out_dir).map_err(|source| StickSlipError::Io { path: out_dir.to_path_buf(), source })?;
+    std::fs::create_dir_all(out_dir).map_err(|source| StickSlipError::Io {
+        path: out_dir.to_path_buf(),
+        source,
+    })?;
     let mut files = Vec::new();
     let scene = paper_scene(setup);
     // Reference: closed-form event-driven post.
@@ -204,7 +216,10 @@ pub fn run_validation(setup: &ValidationSetup, out_dir: &Path) -> Result<Validat
     let report_points = work_precision(setup, &scene, stall, v0, reference_time)?;
     files.extend(write_work_precision(&report_points, out_dir)?);
     let order = observed_order(&report_points, "return-mapping");
-    let maps = vec![regularized_map(setup, &scene, v0)?, post_mass_map(setup, &scene, v0)?];
+    let maps = vec![
+        regularized_map(setup, &scene, v0)?,
+        post_mass_map(setup, &scene, v0)?,
+    ];
     for map in &maps {
         let stem = out_dir.join(format!("stability_{}", map.scheme));
         let chart = CategoryMap {
@@ -223,10 +238,16 @@ pub fn run_validation(setup: &ValidationSetup, out_dir: &Path) -> Result<Validat
     let agreement = agreement(setup, &scene, out_dir, &mut files)?;
     let trends = trends(setup, out_dir, &mut files)?;
     // Fig. 6: one post at half the stall thrust.
-    let operating = reference.at_load(0.5 * stall)?.map_or(0.5 * v0, |s| s.speed_m_per_s);
+    let operating = reference
+        .at_load(0.5 * stall)?
+        .map_or(0.5 * v0, |s| s.speed_m_per_s);
     let history = reference.post_history(operating, 3.0, 400)?;
     let stem = out_dir.join("fig6_post_history");
-    files.extend(write_post_history_chart("paper scene, 40 N, load ½ stall", &history, &stem)?);
+    files.extend(write_post_history_chart(
+        "paper scene, 40 N, load ½ stall",
+        &history,
+        &stem,
+    )?);
     let report = ValidationReport {
         reference_stall_thrust_n: stall,
         reference_no_load_speed_m_per_s: v0,
@@ -236,7 +257,13 @@ pub fn run_validation(setup: &ValidationSetup, out_dir: &Path) -> Result<Validat
         mass_model_values: ["post-mass", "regularized-explicit"]
             .iter()
             .filter_map(|scheme| {
-                work_precision_finest(&report_points, scheme).map(|p| (scheme.to_string(), p.stall_thrust_n, p.no_load_speed_m_per_s))
+                work_precision_finest(&report_points, scheme).map(|p| {
+                    (
+                        scheme.to_string(),
+                        p.stall_thrust_n,
+                        p.no_load_speed_m_per_s,
+                    )
+                })
             })
             .collect(),
         stability_maps: maps,
@@ -246,7 +273,10 @@ pub fn run_validation(setup: &ValidationSetup, out_dir: &Path) -> Result<Validat
     };
     let path = out_dir.join("report.json");
     let json = serde_json::to_string_pretty(&report).unwrap_or_default();
-    std::fs::write(&path, json).map_err(|source| StickSlipError::Io { path: path.clone(), source })?;
+    std::fs::write(&path, json).map_err(|source| StickSlipError::Io {
+        path: path.clone(),
+        source,
+    })?;
     let mut report = report;
     report.files.push(path);
     Ok(report)
@@ -277,18 +307,29 @@ fn work_precision(
     let mut runs: Vec<(String, Integrator, f64)> = Vec::new();
     for k in 3..=top {
         let n = f64::from(1u32 << k);
-        runs.push(("return-mapping".into(), Integrator::ReturnMapping { dt_s: period / n }, n));
+        runs.push((
+            "return-mapping".into(),
+            Integrator::ReturnMapping { dt_s: period / n },
+            n,
+        ));
     }
     for k in 6..=top.max(7) {
         let n = f64::from(1u32 << k);
-        runs.push(("post-mass".into(), Integrator::PostMass { dt_s: period / n }, n));
+        runs.push((
+            "post-mass".into(),
+            Integrator::PostMass { dt_s: period / n },
+            n,
+        ));
     }
     let reg_top = setup.level.pick(12, 13, 15);
     for k in 12..=reg_top {
         let n = f64::from(1u32 << k);
         runs.push((
             "regularized-explicit".into(),
-            Integrator::RegularizedExplicit { dt_s: period / n, regularization_speed_m_per_s: WORK_PRECISION_REGULARIZATION_M_PER_S },
+            Integrator::RegularizedExplicit {
+                dt_s: period / n,
+                regularization_speed_m_per_s: WORK_PRECISION_REGULARIZATION_M_PER_S,
+            },
             n,
         ));
     }
@@ -332,12 +373,18 @@ fn work_precision(
 fn observed_order(points: &[WorkPrecisionPoint], scheme: &str) -> (f64, f64) {
     let own: Vec<&WorkPrecisionPoint> = points.iter().filter(|p| p.scheme == scheme).collect();
     let slope = |pick: fn(&WorkPrecisionPoint) -> f64| {
-        let xy: Vec<(f64, f64)> = own.iter().map(|p| (p.steps_per_period.ln(), pick(p).ln())).collect();
+        let xy: Vec<(f64, f64)> = own
+            .iter()
+            .map(|p| (p.steps_per_period.ln(), pick(p).ln()))
+            .collect();
         let n = xy.len() as f64;
         if n < 2.0 {
             return f64::NAN;
         }
-        let (mx, my) = (xy.iter().map(|p| p.0).sum::<f64>() / n, xy.iter().map(|p| p.1).sum::<f64>() / n);
+        let (mx, my) = (
+            xy.iter().map(|p| p.0).sum::<f64>() / n,
+            xy.iter().map(|p| p.1).sum::<f64>() / n,
+        );
         let sxy: f64 = xy.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
         let sxx: f64 = xy.iter().map(|p| (p.0 - mx).powi(2)).sum();
         -sxy / sxx
@@ -347,46 +394,89 @@ fn observed_order(points: &[WorkPrecisionPoint], scheme: &str) -> (f64, f64) {
 
 /// Stall thrust (`no_load` false) or no-load speed of a point.
 fn pick_value(p: &WorkPrecisionPoint, no_load: bool) -> f64 {
-    if no_load { p.no_load_speed_m_per_s } else { p.stall_thrust_n }
+    if no_load {
+        p.no_load_speed_m_per_s
+    } else {
+        p.stall_thrust_n
+    }
 }
 
-fn work_precision_finest<'a>(points: &'a [WorkPrecisionPoint], scheme: &str) -> Option<&'a WorkPrecisionPoint> {
-    points.iter().filter(|p| p.scheme == scheme).max_by(|a, b| a.steps_per_period.total_cmp(&b.steps_per_period))
+fn work_precision_finest<'a>(
+    points: &'a [WorkPrecisionPoint],
+    scheme: &str,
+) -> Option<&'a WorkPrecisionPoint> {
+    points
+        .iter()
+        .filter(|p| p.scheme == scheme)
+        .max_by(|a, b| a.steps_per_period.total_cmp(&b.steps_per_period))
 }
 
 fn write_work_precision(points: &[WorkPrecisionPoint], out_dir: &Path) -> Result<Vec<PathBuf>> {
-    let schemes = ["event-driven", "return-mapping", "post-mass", "regularized-explicit"];
+    let schemes = [
+        "event-driven",
+        "return-mapping",
+        "post-mass",
+        "regularized-explicit",
+    ];
     let panel = |title: &str, y_label: &str, no_load: bool| {
-        let error = |p: &WorkPrecisionPoint| if no_load { p.no_load_error } else { p.stall_error };
+        let error = |p: &WorkPrecisionPoint| {
+            if no_load {
+                p.no_load_error
+            } else {
+                p.stall_error
+            }
+        };
         let mut chart = Chart::new(title, "wall time (s)", y_label).log_log();
         for scheme in schemes {
-            let mut series: Vec<(f64, f64)> =
-                points.iter().filter(|p| p.scheme == scheme).map(|p| (p.wall_time_s, error(p))).collect();
+            let mut series: Vec<(f64, f64)> = points
+                .iter()
+                .filter(|p| p.scheme == scheme)
+                .map(|p| (p.wall_time_s, error(p)))
+                .collect();
             series.sort_by(|a, b| a.0.total_cmp(&b.0));
             let label = match scheme {
                 "event-driven" => "event-driven (closed form, error at round-off)".to_string(),
-                "regularized-explicit" => format!("regularized-explicit (v_reg = {WORK_PRECISION_REGULARIZATION_M_PER_S} m/s)"),
+                "regularized-explicit" => format!(
+                    "regularized-explicit (v_reg = {WORK_PRECISION_REGULARIZATION_M_PER_S} m/s)"
+                ),
                 other => other.to_string(),
             };
-            chart.series.push(Series::new(label, series, Style::LineMarkers));
+            chart
+                .series
+                .push(Series::new(label, series, Style::LineMarkers));
         }
         // Schemes with post mass converge to their own (massive-post) model: error against
         // their finest step, dashed.
         for scheme in ["post-mass", "regularized-explicit"] {
-            let Some(finest) = work_precision_finest(points, scheme) else { continue };
+            let Some(finest) = work_precision_finest(points, scheme) else {
+                continue;
+            };
             let finest_value = pick_value(finest, no_load);
             let mut series: Vec<(f64, f64)> = points
                 .iter()
                 .filter(|p| p.scheme == scheme && p.steps_per_period < finest.steps_per_period)
-                .map(|p| (p.wall_time_s, relative(pick_value(p, no_load), finest_value).max(f64::EPSILON)))
+                .map(|p| {
+                    (
+                        p.wall_time_s,
+                        relative(pick_value(p, no_load), finest_value).max(f64::EPSILON),
+                    )
+                })
                 .collect();
             series.sort_by(|a, b| a.0.total_cmp(&b.0));
-            chart.series.push(Series::new(format!("{scheme} vs its finest step"), series, Style::Dashed));
+            chart.series.push(Series::new(
+                format!("{scheme} vs its finest step"),
+                series,
+                Style::Dashed,
+            ));
         }
         chart
     };
     let charts = [
-        panel("work-precision, paper scene at 40 N (solid: error vs massless closed form)", "relative error of stall thrust", false),
+        panel(
+            "work-precision, paper scene at 40 N (solid: error vs massless closed form)",
+            "relative error of stall thrust",
+            false,
+        ),
         panel("", "relative error of no-load speed", true),
     ];
     let stem = out_dir.join("work_precision");
@@ -394,15 +484,25 @@ fn write_work_precision(points: &[WorkPrecisionPoint], out_dir: &Path) -> Result
 }
 
 fn log_grid(lo_exp: f64, hi_exp: f64, n: usize) -> Vec<f64> {
-    (0..n).map(|i| 10f64.powf(lo_exp + (hi_exp - lo_exp) * i as f64 / (n - 1) as f64)).collect()
+    (0..n)
+        .map(|i| 10f64.powf(lo_exp + (hi_exp - lo_exp) * i as f64 / (n - 1) as f64))
+        .collect()
 }
 
-const MAP_CATEGORIES: [&str; 4] =
-    ["accurate (within 2 % of the row's finest)", "stable, inaccurate", "oscillating at the step", "diverged"];
+const MAP_CATEGORIES: [&str; 4] = [
+    "accurate (within 2 % of the row's finest)",
+    "stable, inaccurate",
+    "oscillating at the step",
+    "diverged",
+];
 
 /// Classify one row of probes against its finest stable result.
 fn classify_row(probes: &[Option<crate::post::stepping::StabilityProbe>]) -> Vec<usize> {
-    let reference = probes.iter().flatten().find(|p| !p.diverged && !p.oscillating).map(|p| p.mean_force);
+    let reference = probes
+        .iter()
+        .flatten()
+        .find(|p| !p.diverged && !p.oscillating)
+        .map(|p| p.mean_force);
     probes
         .iter()
         .map(|p| match p {
@@ -417,7 +517,11 @@ fn classify_row(probes: &[Option<crate::post::stepping::StabilityProbe>]) -> Vec
         .collect()
 }
 
-fn probe_row(scene: &DynamicScene, integrators: &[Integrator], speed: f64) -> Result<Vec<Option<crate::post::stepping::StabilityProbe>>> {
+fn probe_row(
+    scene: &DynamicScene,
+    integrators: &[Integrator],
+    speed: f64,
+) -> Result<Vec<Option<crate::post::stepping::StabilityProbe>>> {
     // Columns are passed from the finest step to the coarsest.
     integrators
         .iter()
@@ -431,7 +535,11 @@ fn probe_row(scene: &DynamicScene, integrators: &[Integrator], speed: f64) -> Re
         .collect()
 }
 
-fn regularized_map(setup: &ValidationSetup, scene: &DynamicScene, v0: f64) -> Result<StabilityMapReport> {
+fn regularized_map(
+    setup: &ValidationSetup,
+    scene: &DynamicScene,
+    v0: f64,
+) -> Result<StabilityMapReport> {
     let n = setup.level.pick(3, 7, 11);
     let steps = log_grid(-6.0, -2.0, n);
     let speeds = log_grid(-4.0, 0.0, n);
@@ -442,11 +550,16 @@ fn regularized_map(setup: &ValidationSetup, scene: &DynamicScene, v0: f64) -> Re
     for &v_reg in &speeds {
         let integrators: Vec<Integrator> = steps
             .iter()
-            .map(|&f| Integrator::RegularizedExplicit { dt_s: f * period, regularization_speed_m_per_s: v_reg })
+            .map(|&f| Integrator::RegularizedExplicit {
+                dt_s: f * period,
+                regularization_speed_m_per_s: v_reg,
+            })
             .collect();
         let probes = probe_row(scene, &integrators, 0.5 * v0)?;
         cells.push(classify_row(&probes));
-        let limit = integrators[0].stability_limit(&setting).map_or(f64::NAN, |l| l.limit_s / period);
+        let limit = integrators[0]
+            .stability_limit(&setting)
+            .map_or(f64::NAN, |l| l.limit_s / period);
         limits.push(limit);
     }
     Ok(StabilityMapReport {
@@ -460,7 +573,11 @@ fn regularized_map(setup: &ValidationSetup, scene: &DynamicScene, v0: f64) -> Re
     })
 }
 
-fn post_mass_map(setup: &ValidationSetup, scene: &DynamicScene, v0: f64) -> Result<StabilityMapReport> {
+fn post_mass_map(
+    setup: &ValidationSetup,
+    scene: &DynamicScene,
+    v0: f64,
+) -> Result<StabilityMapReport> {
     let n = setup.level.pick(3, 7, 11);
     let steps = log_grid(-4.0, -1.0, n);
     let masses = log_grid(-15.0, -10.0, n);
@@ -470,11 +587,18 @@ fn post_mass_map(setup: &ValidationSetup, scene: &DynamicScene, v0: f64) -> Resu
     for &mass in &masses {
         let mut s = scene.clone();
         s.contact.post_mass_kg = Some(mass);
-        let integrators: Vec<Integrator> = steps.iter().map(|&f| Integrator::PostMass { dt_s: f * period }).collect();
+        let integrators: Vec<Integrator> = steps
+            .iter()
+            .map(|&f| Integrator::PostMass { dt_s: f * period })
+            .collect();
         let probes = probe_row(&s, &integrators, 0.5 * v0)?;
         cells.push(classify_row(&probes));
         let setting = s.stability_setting(ModelKind::PeriodicAverage);
-        limits.push(integrators[0].stability_limit(&setting).map_or(f64::NAN, |l| l.limit_s / period));
+        limits.push(
+            integrators[0]
+                .stability_limit(&setting)
+                .map_or(f64::NAN, |l| l.limit_s / period),
+        );
     }
     Ok(StabilityMapReport {
         scheme: "post-mass".into(),
@@ -487,13 +611,21 @@ fn post_mass_map(setup: &ValidationSetup, scene: &DynamicScene, v0: f64) -> Resu
     })
 }
 
-fn agreement(setup: &ValidationSetup, scene: &DynamicScene, out_dir: &Path, files: &mut Vec<PathBuf>) -> Result<AgreementReport> {
+fn agreement(
+    setup: &ValidationSetup,
+    scene: &DynamicScene,
+    out_dir: &Path,
+    files: &mut Vec<PathBuf>,
+) -> Result<AgreementReport> {
     let periodic = PeriodicAverageModel::new(scene)?;
     let periodic_result = periodic.solve()?;
     let mut transient_scene = scene.clone();
     transient_scene.model = ModelChoice::Transient;
     transient_scene.integrator = Integrator::Auto;
-    let (periods, average, loads) = setup.level.pick((60.0, 20.0, 2), (200.0, 80.0, 4), (400.0, 100.0, 6));
+    let (periods, average, loads) =
+        setup
+            .level
+            .pick((60.0, 20.0, 2), (200.0, 80.0, 4), (400.0, 100.0, 6));
     transient_scene.options.transient.periods = periods;
     transient_scene.options.transient.average_periods = average;
     transient_scene.options.transient.curve_loads = loads;
@@ -504,7 +636,10 @@ fn agreement(setup: &ValidationSetup, scene: &DynamicScene, out_dir: &Path, file
     let stem = out_dir.join("speed_thrust_transient_vs_periodic");
     files.extend(write_speed_thrust_comparison(
         "paper scene 40 N: transient (100 phase groups) vs period average",
-        &[("period average", &periodic_result), ("transient", &transient_result)],
+        &[
+            ("period average", &periodic_result),
+            ("transient", &transient_result),
+        ],
         &stem,
     )?);
     let stall = periodic_result.stall_thrust_n;
@@ -512,21 +647,42 @@ fn agreement(setup: &ValidationSetup, scene: &DynamicScene, out_dir: &Path, file
     let (mut p_speeds, mut t_speeds) = (Vec::new(), Vec::new());
     for &load in &loads {
         p_speeds.push(periodic.at_load(load)?.map_or(0.0, |s| s.speed_m_per_s));
-        t_speeds.push(transient.run(load, TransientStart::Estimate, false)?.speed_m_per_s);
+        t_speeds.push(
+            transient
+                .run(load, TransientStart::Estimate, false)?
+                .speed_m_per_s,
+        );
     }
-    let max_speed_difference = p_speeds.iter().zip(&t_speeds).map(|(p, t)| relative(*t, *p)).fold(0.0, f64::max);
+    let max_speed_difference = p_speeds
+        .iter()
+        .zip(&t_speeds)
+        .map(|(p, t)| relative(*t, *p))
+        .fold(0.0, f64::max);
     // Step response from rest (slider history chart).
     let step = transient.run(0.0, TransientStart::Rest, true)?;
     if let Some(history) = &step.slider_history {
         let stem = out_dir.join("transient_step_response");
-        files.extend(write_slider_history_chart("step response from rest, paper scene 40 N, no load", history, &stem)?);
+        files.extend(write_slider_history_chart(
+            "step response from rest, paper scene 40 N, no load",
+            history,
+            &stem,
+        )?);
     }
     // Incommensurate pitch.
     let mut odd = transient_scene.clone();
-    odd.slider.layout = PostLayout::SquareArray { posts_per_side: 33, pitch_m: 121e-6 };
+    odd.slider.layout = PostLayout::SquareArray {
+        posts_per_side: 33,
+        pitch_m: 121e-6,
+    };
     odd.slider.preload_n = 10.0;
-    let odd_periodic = PeriodicAverageModel::new(&DynamicScene { model: ModelChoice::PeriodicAverage, ..odd.clone() })?.no_load_speed_m_per_s()?;
-    let odd_transient = TransientModel::new(&odd)?.run(0.0, TransientStart::Estimate, false)?.speed_m_per_s;
+    let odd_periodic = PeriodicAverageModel::new(&DynamicScene {
+        model: ModelChoice::PeriodicAverage,
+        ..odd.clone()
+    })?
+    .no_load_speed_m_per_s()?;
+    let odd_transient = TransientModel::new(&odd)?
+        .run(0.0, TransientStart::Estimate, false)?
+        .speed_m_per_s;
     // Burst of 20 periods with a bouncing slider.
     let mut burst = transient_scene.clone();
     burst.wave.burst_periods = Some(20.0);
@@ -536,7 +692,11 @@ fn agreement(setup: &ValidationSetup, scene: &DynamicScene, out_dir: &Path, file
     let burst_run = TransientModel::new(&burst)?.run(0.0, TransientStart::Rest, true)?;
     if let Some(history) = &burst_run.slider_history {
         let stem = out_dir.join("transient_burst");
-        files.extend(write_slider_history_chart("20-period burst, dynamic vertical (ζ = 0.2), paper scene 40 N", history, &stem)?);
+        files.extend(write_slider_history_chart(
+            "20-period burst, dynamic vertical (ζ = 0.2), paper scene 40 N",
+            history,
+            &stem,
+        )?);
     }
     Ok(AgreementReport {
         loads_n: loads,
@@ -544,7 +704,10 @@ fn agreement(setup: &ValidationSetup, scene: &DynamicScene, out_dir: &Path, file
         transient_speed_m_per_s: t_speeds,
         max_speed_difference,
         stall_thrust_n: (stall, transient_result.stall_thrust_n),
-        no_load_speed_m_per_s: (periodic_result.no_load_speed_m_per_s, transient_result.no_load_speed_m_per_s),
+        no_load_speed_m_per_s: (
+            periodic_result.no_load_speed_m_per_s,
+            transient_result.no_load_speed_m_per_s,
+        ),
         transient_wall_time_s: transient_time,
         incommensurate_no_load_m_per_s: (odd_periodic, odd_transient),
         burst_displacement_m: burst_run.displacement_m,
@@ -552,41 +715,85 @@ fn agreement(setup: &ValidationSetup, scene: &DynamicScene, out_dir: &Path, file
     })
 }
 
-fn trends(setup: &ValidationSetup, out_dir: &Path, files: &mut Vec<PathBuf>) -> Result<Vec<TrendCurve>> {
+fn trends(
+    setup: &ValidationSetup,
+    out_dir: &Path,
+    files: &mut Vec<PathBuf>,
+) -> Result<Vec<TrendCurve>> {
     let count = setup.level.pick(3, 20, 20);
-    let preloads: Vec<f64> = (1..=count).map(|i| 100.0 * i as f64 / count as f64).collect();
+    let preloads: Vec<f64> = (1..=count)
+        .map(|i| 100.0 * i as f64 / count as f64)
+        .collect();
     let sweep = |label: String, k_n: f64, k_t: f64, side: usize| -> Result<TrendCurve> {
-        let mut curve = TrendCurve { label, preload_n: preloads.clone(), stall_thrust_n: vec![], no_load_speed_m_per_s: vec![] };
+        let mut curve = TrendCurve {
+            label,
+            preload_n: preloads.clone(),
+            stall_thrust_n: vec![],
+            no_load_speed_m_per_s: vec![],
+        };
         for &p in &preloads {
             let mut scene = DynamicScene::paper_default(k_n, k_t);
-            scene.slider.layout = PostLayout::SquareArray { posts_per_side: side, pitch_m: 4e-3 / side as f64 };
+            scene.slider.layout = PostLayout::SquareArray {
+                posts_per_side: side,
+                pitch_m: 4e-3 / side as f64,
+            };
             scene.slider.preload_n = p;
-            let model = PeriodicAverageModel::new(&DynamicScene { model: ModelChoice::PeriodicAverage, ..scene })?;
+            let model = PeriodicAverageModel::new(&DynamicScene {
+                model: ModelChoice::PeriodicAverage,
+                ..scene
+            })?;
             curve.stall_thrust_n.push(model.stall_thrust_n()?.max(0.0));
-            curve.no_load_speed_m_per_s.push(model.no_load_speed_m_per_s()?);
+            curve
+                .no_load_speed_m_per_s
+                .push(model.no_load_speed_m_per_s()?);
         }
         Ok(curve)
     };
     let mut curves = Vec::new();
     for side in [100, 80, 66, 50, 33] {
-        curves.push(sweep(format!("{} posts, 20 µm", side * side), setup.k_n_n_per_m, setup.k_t_n_per_m, side)?);
+        curves.push(sweep(
+            format!("{} posts, 20 µm", side * side),
+            setup.k_n_n_per_m,
+            setup.k_t_n_per_m,
+            side,
+        )?);
     }
-    curves.push(sweep("1600 posts, 50 µm".into(), setup.k_n_50um_n_per_m, setup.k_t_50um_n_per_m, 40)?);
-    let panel = |title: &str, y: &str, selected: &[&TrendCurve], pick: fn(&TrendCurve) -> &Vec<f64>| {
-        let mut chart = Chart::new(title, "preload (N)", y);
-        for c in selected {
-            let points = c.preload_n.iter().copied().zip(pick(c).iter().copied()).collect();
-            chart.series.push(Series::new(c.label.clone(), points, Style::LineMarkers));
-        }
-        chart
-    };
+    curves.push(sweep(
+        "1600 posts, 50 µm".into(),
+        setup.k_n_50um_n_per_m,
+        setup.k_t_50um_n_per_m,
+        40,
+    )?);
+    let panel =
+        |title: &str, y: &str, selected: &[&TrendCurve], pick: fn(&TrendCurve) -> &Vec<f64>| {
+            let mut chart = Chart::new(title, "preload (N)", y);
+            for c in selected {
+                let points = c
+                    .preload_n
+                    .iter()
+                    .copied()
+                    .zip(pick(c).iter().copied())
+                    .collect();
+                chart
+                    .series
+                    .push(Series::new(c.label.clone(), points, Style::LineMarkers));
+            }
+            chart
+        };
     let counts: Vec<&TrendCurve> = curves[..5].iter().collect();
     let stem = out_dir.join("trend_post_count");
     files.extend(
         write_stacked(
             &[
-                panel("post count (η = 0.36; paper Figs 7–8)", "stall thrust (N)", &counts, |c| &c.stall_thrust_n),
-                panel("", "no-load speed (m/s)", &counts, |c| &c.no_load_speed_m_per_s),
+                panel(
+                    "post count (η = 0.36; paper Figs 7–8)",
+                    "stall thrust (N)",
+                    &counts,
+                    |c| &c.stall_thrust_n,
+                ),
+                panel("", "no-load speed (m/s)", &counts, |c| {
+                    &c.no_load_speed_m_per_s
+                }),
             ],
             &stem,
         )
@@ -597,8 +804,15 @@ fn trends(setup: &ValidationSetup, out_dir: &Path, files: &mut Vec<PathBuf>) -> 
     files.extend(
         write_stacked(
             &[
-                panel("20 µm vs 50 µm at equal contact area (paper Figs 9–12)", "stall thrust (N)", &diameters, |c| &c.stall_thrust_n),
-                panel("", "no-load speed (m/s)", &diameters, |c| &c.no_load_speed_m_per_s),
+                panel(
+                    "20 µm vs 50 µm at equal contact area (paper Figs 9–12)",
+                    "stall thrust (N)",
+                    &diameters,
+                    |c| &c.stall_thrust_n,
+                ),
+                panel("", "no-load speed (m/s)", &diameters, |c| {
+                    &c.no_load_speed_m_per_s
+                }),
             ],
             &stem,
         )
@@ -609,10 +823,18 @@ fn trends(setup: &ValidationSetup, out_dir: &Path, files: &mut Vec<PathBuf>) -> 
     for p in [10.0, 40.0, 100.0] {
         let mut scene = DynamicScene::paper_default(setup.k_n_n_per_m, setup.k_t_n_per_m);
         scene.slider.preload_n = p;
-        results.push((format!("P = {p} N"), PeriodicAverageModel::new(&scene)?.solve()?));
+        results.push((
+            format!("P = {p} N"),
+            PeriodicAverageModel::new(&scene)?.solve()?,
+        ));
     }
-    let labelled: Vec<(&str, &crate::result::DynamicResult)> = results.iter().map(|(l, r)| (l.as_str(), r)).collect();
+    let labelled: Vec<(&str, &crate::result::DynamicResult)> =
+        results.iter().map(|(l, r)| (l.as_str(), r)).collect();
     let stem = out_dir.join("speed_thrust_preloads");
-    files.extend(write_speed_thrust_comparison("paper scene (10000 posts of 20 µm, η = 0.36)", &labelled, &stem)?);
+    files.extend(write_speed_thrust_comparison(
+        "paper scene (10000 posts of 20 µm, η = 0.36)",
+        &labelled,
+        &stem,
+    )?);
     Ok(curves)
 }

@@ -5,8 +5,8 @@
 mod johnson;
 
 use stick_slip::{
-    DynamicScene, Integrator, ModelChoice, ModelKind, PostLayout, StabilityPolicy, StickSlipError, VerticalModel,
-    curve_csv, solve,
+    DynamicScene, Integrator, ModelChoice, ModelKind, PostLayout, StabilityPolicy, StickSlipError,
+    VerticalModel, curve_csv, solve,
 };
 
 fn paper_scene() -> DynamicScene {
@@ -25,10 +25,18 @@ fn invalid_parameter(result: Result<Vec<stick_slip::Warning>, StickSlipError>) -
 fn negative_friction_is_refused_naming_the_coefficient() {
     let mut scene = paper_scene();
     scene.contact.mu_static = -0.1;
-    assert_eq!(invalid_parameter(scene.validate()), "contact.mu_static", "negative μ_s");
+    assert_eq!(
+        invalid_parameter(scene.validate()),
+        "contact.mu_static",
+        "negative μ_s"
+    );
     let mut scene = paper_scene();
     scene.contact.mu_kinetic = 0.5;
-    assert_eq!(invalid_parameter(scene.validate()), "contact.mu_kinetic", "μ_k above μ_s");
+    assert_eq!(
+        invalid_parameter(scene.validate()),
+        "contact.mu_kinetic",
+        "μ_k above μ_s"
+    );
 }
 
 #[test]
@@ -36,16 +44,28 @@ fn zero_or_negative_preload_and_mass_are_refused() {
     for preload in [0.0, -5.0, f64::NAN] {
         let mut scene = paper_scene();
         scene.slider.preload_n = preload;
-        assert_eq!(invalid_parameter(scene.validate()), "slider.preload_n", "preload {preload} N");
+        assert_eq!(
+            invalid_parameter(scene.validate()),
+            "slider.preload_n",
+            "preload {preload} N"
+        );
     }
     for mass in [0.0, -1e-5] {
         let mut scene = paper_scene();
         scene.slider.mass_kg = mass;
-        assert_eq!(invalid_parameter(scene.validate()), "slider.mass_kg", "mass {mass} kg");
+        assert_eq!(
+            invalid_parameter(scene.validate()),
+            "slider.mass_kg",
+            "mass {mass} kg"
+        );
     }
     let mut scene = paper_scene();
     scene.slider.effective_ratio = 0.0;
-    assert_eq!(invalid_parameter(scene.validate()), "slider.effective_ratio", "η = 0");
+    assert_eq!(
+        invalid_parameter(scene.validate()),
+        "slider.effective_ratio",
+        "η = 0"
+    );
 }
 
 #[test]
@@ -53,16 +73,26 @@ fn wave_faster_than_the_fastest_bulk_wave_is_refused() {
     let mut scene = paper_scene();
     scene.wave.phase_velocity_m_per_s = 8000.0;
     match scene.validate() {
-        Err(StickSlipError::UnphysicalWave { parameter, limit, .. }) => {
+        Err(StickSlipError::UnphysicalWave {
+            parameter, limit, ..
+        }) => {
             assert_eq!(parameter, "wave.phase_velocity_m_per_s", "parameter named");
-            assert!(limit > 7000.0 && limit < 8000.0, "bulk-wave bound {limit} m/s");
+            assert!(
+                limit > 7000.0 && limit < 8000.0,
+                "bulk-wave bound {limit} m/s"
+            );
         }
         other => panic!("expected an unphysical-wave error, got {other:?}"),
     }
     // Between the shear and the longitudinal bound: allowed with a warning.
     scene.wave.phase_velocity_m_per_s = 5500.0;
     let warnings = scene.validate().unwrap();
-    assert!(warnings.iter().any(|w| w.parameter == "wave.phase_velocity_m_per_s"), "shear-speed warning, got {warnings:?}");
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.parameter == "wave.phase_velocity_m_per_s"),
+        "shear-speed warning, got {warnings:?}"
+    );
 }
 
 #[test]
@@ -72,13 +102,21 @@ fn wave_strained_beyond_linear_elasticity_is_refused() {
     scene.wave.tangential_amplitude_m = 100.0 / scene.wave.angular_frequency_rad_per_s();
     match scene.validate() {
         Err(StickSlipError::UnphysicalWave { value, limit, .. }) => {
-            assert!(value > limit, "surface strain {value} should exceed the limit {limit}");
+            assert!(
+                value > limit,
+                "surface strain {value} should exceed the limit {limit}"
+            );
         }
         other => panic!("expected an unphysical-wave error for strain, got {other:?}"),
     }
     scene.wave.tangential_amplitude_m = 12.0 / scene.wave.angular_frequency_rad_per_s();
     let warnings = scene.validate().unwrap();
-    assert!(warnings.iter().any(|w| w.message.contains("surface strain")), "strain warning, got {warnings:?}");
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.message.contains("surface strain")),
+        "strain warning, got {warnings:?}"
+    );
 }
 
 #[test]
@@ -86,32 +124,65 @@ fn step_beyond_the_stability_limit_is_refused_or_warned_with_the_limit() {
     let mut scene = paper_scene();
     scene.contact.post_mass_kg = Some(johnson::post_mass(10e-6));
     let period = scene.wave.period_s();
-    scene.integrator = Integrator::PostMass { dt_s: period / 20.0 };
+    scene.integrator = Integrator::PostMass {
+        dt_s: period / 20.0,
+    };
     match scene.validate() {
-        Err(StickSlipError::StepAboveStabilityLimit { integrator, step_s, limit_s, criterion, .. }) => {
+        Err(StickSlipError::StepAboveStabilityLimit {
+            integrator,
+            step_s,
+            limit_s,
+            criterion,
+            ..
+        }) => {
             assert_eq!(integrator, "post-mass", "integrator named");
             assert!(step_s > limit_s, "step {step_s} s vs limit {limit_s} s");
             // h·ω_p < 2 with ω_p ≈ 2π·163 MHz: limit ≈ 2 ns.
-            assert!((1.5e-9..2.5e-9).contains(&limit_s), "post-mass limit {limit_s} s");
-            assert!(criterion.contains("ω_p"), "criterion names the post resonance: {criterion}");
+            assert!(
+                (1.5e-9..2.5e-9).contains(&limit_s),
+                "post-mass limit {limit_s} s"
+            );
+            assert!(
+                criterion.contains("ω_p"),
+                "criterion names the post resonance: {criterion}"
+            );
         }
         other => panic!("expected a stability error, got {other:?}"),
     }
     scene.options.stability = StabilityPolicy::Warn;
     let warnings = scene.validate().unwrap();
-    assert!(warnings.iter().any(|w| w.message.contains("stability limit")), "stability warning, got {warnings:?}");
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.message.contains("stability limit")),
+        "stability warning, got {warnings:?}"
+    );
     // Regularised friction adds a far stiffer limit.
     scene.options.stability = StabilityPolicy::Refuse;
-    scene.integrator = Integrator::RegularizedExplicit { dt_s: period / 1000.0, regularization_speed_m_per_s: 1e-3 };
-    assert!(matches!(scene.validate(), Err(StickSlipError::StepAboveStabilityLimit { .. })), "regularised step refused");
+    scene.integrator = Integrator::RegularizedExplicit {
+        dt_s: period / 1000.0,
+        regularization_speed_m_per_s: 1e-3,
+    };
+    assert!(
+        matches!(
+            scene.validate(),
+            Err(StickSlipError::StepAboveStabilityLimit { .. })
+        ),
+        "regularised step refused"
+    );
 }
 
 #[test]
 fn coarse_return_mapping_step_is_warned_about() {
     let mut scene = paper_scene();
-    scene.integrator = Integrator::ReturnMapping { dt_s: scene.wave.period_s() / 10.0 };
+    scene.integrator = Integrator::ReturnMapping {
+        dt_s: scene.wave.period_s() / 10.0,
+    };
     let warnings = scene.validate().unwrap();
-    assert!(warnings.iter().any(|w| w.parameter == "integrator.dt_s"), "accuracy warning, got {warnings:?}");
+    assert!(
+        warnings.iter().any(|w| w.parameter == "integrator.dt_s"),
+        "accuracy warning, got {warnings:?}"
+    );
 }
 
 #[test]
@@ -119,7 +190,12 @@ fn mass_schemes_without_a_post_mass_are_refused() {
     let mut scene = paper_scene();
     scene.integrator = Integrator::PostMass { dt_s: 1e-10 };
     assert!(
-        matches!(scene.validate(), Err(StickSlipError::MissingPostMass { integrator: "post-mass" })),
+        matches!(
+            scene.validate(),
+            Err(StickSlipError::MissingPostMass {
+                integrator: "post-mass"
+            })
+        ),
         "post-mass integrator without post_mass_kg"
     );
 }
@@ -127,12 +203,30 @@ fn mass_schemes_without_a_post_mass_are_refused() {
 #[test]
 fn inconsistent_layouts_are_refused() {
     let mut scene = paper_scene();
-    scene.slider.layout = PostLayout::Positions { x_m: vec![0.0, 1e-4], gap_m: Some(vec![0.0]) };
-    assert!(matches!(scene.validate(), Err(StickSlipError::InvalidLayout { .. })), "gap list length mismatch");
-    scene.slider.layout = PostLayout::Positions { x_m: vec![], gap_m: None };
-    assert!(matches!(scene.validate(), Err(StickSlipError::InvalidLayout { .. })), "empty layout");
-    scene.slider.layout = PostLayout::SquareArray { posts_per_side: 0, pitch_m: 1e-5 };
-    assert!(matches!(scene.validate(), Err(StickSlipError::InvalidLayout { .. })), "zero posts per side");
+    scene.slider.layout = PostLayout::Positions {
+        x_m: vec![0.0, 1e-4],
+        gap_m: Some(vec![0.0]),
+    };
+    assert!(
+        matches!(scene.validate(), Err(StickSlipError::InvalidLayout { .. })),
+        "gap list length mismatch"
+    );
+    scene.slider.layout = PostLayout::Positions {
+        x_m: vec![],
+        gap_m: None,
+    };
+    assert!(
+        matches!(scene.validate(), Err(StickSlipError::InvalidLayout { .. })),
+        "empty layout"
+    );
+    scene.slider.layout = PostLayout::SquareArray {
+        posts_per_side: 0,
+        pitch_m: 1e-5,
+    };
+    assert!(
+        matches!(scene.validate(), Err(StickSlipError::InvalidLayout { .. })),
+        "zero posts per side"
+    );
 }
 
 #[test]
@@ -152,18 +246,42 @@ fn period_average_is_refused_for_scenes_it_cannot_represent() {
 #[test]
 fn auto_choice_follows_what_the_scene_needs() {
     let scene = paper_scene();
-    assert_eq!(scene.resolve_model().unwrap().0, ModelKind::PeriodicAverage, "paper scene → period average");
+    assert_eq!(
+        scene.resolve_model().unwrap().0,
+        ModelKind::PeriodicAverage,
+        "paper scene → period average"
+    );
     let mut incommensurate = paper_scene();
-    incommensurate.slider.layout = PostLayout::SquareArray { posts_per_side: 33, pitch_m: 121e-6 };
+    incommensurate.slider.layout = PostLayout::SquareArray {
+        posts_per_side: 33,
+        pitch_m: 121e-6,
+    };
     let (kind, reason) = incommensurate.resolve_model().unwrap();
-    assert_eq!(kind, ModelKind::Transient, "33 × 33 at 121 µm pitch → transient ({reason})");
-    assert!(reason.contains("phase"), "reason names the phase non-uniformity: {reason}");
+    assert_eq!(
+        kind,
+        ModelKind::Transient,
+        "33 × 33 at 121 µm pitch → transient ({reason})"
+    );
+    assert!(
+        reason.contains("phase"),
+        "reason names the phase non-uniformity: {reason}"
+    );
     let mut light = paper_scene();
     light.slider.mass_kg = 1e-9;
-    assert_eq!(light.resolve_model().unwrap().0, ModelKind::Transient, "1 µg slider → transient");
+    assert_eq!(
+        light.resolve_model().unwrap().0,
+        ModelKind::Transient,
+        "1 µg slider → transient"
+    );
     let mut bouncing = paper_scene();
-    bouncing.slider.vertical = VerticalModel::Dynamic { damping_ratio: 0.05 };
-    assert_eq!(bouncing.resolve_model().unwrap().0, ModelKind::Transient, "dynamic vertical → transient");
+    bouncing.slider.vertical = VerticalModel::Dynamic {
+        damping_ratio: 0.05,
+    };
+    assert_eq!(
+        bouncing.resolve_model().unwrap().0,
+        ModelKind::Transient,
+        "dynamic vertical → transient"
+    );
 }
 
 #[test]
@@ -198,23 +316,45 @@ fn scene_round_trips_through_json_and_toml() {
     assert_eq!(parsed.integrator, Integrator::Auto, "default integrator");
     assert_eq!(parsed.slider.effective_ratio, 1.0, "default η");
     let typo = minimal.replace("preload_n", "preload");
-    assert!(toml::from_str::<DynamicScene>(&typo).is_err(), "unknown field `preload` must be refused");
+    assert!(
+        toml::from_str::<DynamicScene>(&typo).is_err(),
+        "unknown field `preload` must be refused"
+    );
 }
 
 #[test]
 fn result_serialises_with_the_documented_keys_and_csv_header() {
     let result = solve(&paper_scene()).unwrap();
     let json: serde_json::Value = serde_json::to_value(&result).unwrap();
-    for key in ["stall_thrust_n", "no_load_speed_m_per_s", "curve", "stick_fraction", "efficiency", "model", "wall_time_s"] {
+    for key in [
+        "stall_thrust_n",
+        "no_load_speed_m_per_s",
+        "curve",
+        "stick_fraction",
+        "efficiency",
+        "model",
+        "wall_time_s",
+    ] {
         assert!(json.get(key).is_some(), "result JSON lacks `{key}`");
     }
     assert_eq!(json["model"], "periodic-average", "model key value");
     let point = &json["curve"][0];
-    assert!(point.get("speed_m_per_s").is_some() && point.get("thrust_n").is_some(), "curve point keys");
+    assert!(
+        point.get("speed_m_per_s").is_some() && point.get("thrust_n").is_some(),
+        "curve point keys"
+    );
     let csv = curve_csv(&result.curve);
     let mut lines = csv.lines();
-    assert_eq!(lines.next(), Some("speed_m_per_s,thrust_n,output_power_w,efficiency,stick_fraction"), "CSV header");
-    assert_eq!(lines.count(), result.curve.len(), "one CSV row per curve point");
+    assert_eq!(
+        lines.next(),
+        Some("speed_m_per_s,thrust_n,output_power_w,efficiency,stick_fraction"),
+        "CSV header"
+    );
+    assert_eq!(
+        lines.count(),
+        result.curve.len(),
+        "one CSV row per curve point"
+    );
 }
 
 #[test]
@@ -224,15 +364,30 @@ fn histories_for_the_charts_cover_the_requested_periods() {
     let post = &histories.post;
     let span = post.time_s.last().unwrap() - post.time_s[0];
     let expected = scene.options.history.periods * scene.wave.period_s();
-    assert!((span / expected - 1.0).abs() < 1e-3, "history span {span} s vs {expected} s (Doppler-shifted periods)");
-    assert!(!post.stick_intervals_s.is_empty(), "stick intervals of the post");
-    assert!(post.normal_force_n.iter().all(|&n| n >= 0.0), "normal force never tensile");
-    let bound_ok = post.tangential_force_n.iter().zip(&post.friction_bound_n).all(|(f, b)| f.abs() <= b * (1.0 + 1e-9) + 1e-15);
+    assert!(
+        (span / expected - 1.0).abs() < 1e-3,
+        "history span {span} s vs {expected} s (Doppler-shifted periods)"
+    );
+    assert!(
+        !post.stick_intervals_s.is_empty(),
+        "stick intervals of the post"
+    );
+    assert!(
+        post.normal_force_n.iter().all(|&n| n >= 0.0),
+        "normal force never tensile"
+    );
+    let bound_ok = post
+        .tangential_force_n
+        .iter()
+        .zip(&post.friction_bound_n)
+        .all(|(f, b)| f.abs() <= b * (1.0 + 1e-9) + 1e-15);
     assert!(bound_ok, "|F| ≤ μ_k N at every sample (μ_s = μ_k)");
     let dir = tempfile::tempdir().unwrap();
-    let files = stick_slip::plots::write_post_history_chart("test", post, &dir.path().join("fig6")).unwrap();
+    let files = stick_slip::plots::write_post_history_chart("test", post, &dir.path().join("fig6"))
+        .unwrap();
     assert!(files[0].exists(), "Fig. 6 chart written");
-    let files = stick_slip::plots::write_speed_thrust_chart(&result, &dir.path().join("curve")).unwrap();
+    let files =
+        stick_slip::plots::write_speed_thrust_chart(&result, &dir.path().join("curve")).unwrap();
     assert!(files[0].exists(), "speed–thrust chart written");
     stick_slip::write_curve_csv(&result.curve, &dir.path().join("curve.csv")).unwrap();
     assert!(dir.path().join("curve.csv").exists(), "curve CSV written");

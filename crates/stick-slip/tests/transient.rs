@@ -5,8 +5,8 @@
 mod johnson;
 
 use stick_slip::{
-    DynamicScene, Integrator, ModelChoice, PeriodicAverageModel, PostLayout, TransientModel, TransientStart,
-    VerticalModel,
+    DynamicScene, Integrator, ModelChoice, PeriodicAverageModel, PostLayout, TransientModel,
+    TransientStart, VerticalModel,
 };
 
 fn transient_scene() -> DynamicScene {
@@ -27,9 +27,15 @@ fn transient_agrees_with_period_average_to_one_percent_in_speed_and_thrust() {
     for load in [0.0, 0.5 * stall, 0.85 * stall] {
         let run = model.run(load, TransientStart::Estimate, false).unwrap();
         let expected = periodic.at_load(load).unwrap().unwrap();
-        let speed_error = (run.speed_m_per_s - expected.speed_m_per_s).abs() / expected.speed_m_per_s;
+        let speed_error =
+            (run.speed_m_per_s - expected.speed_m_per_s).abs() / expected.speed_m_per_s;
         assert!(run.steady, "transient at load {load:.3} N did not settle");
-        assert!(speed_error < 0.01, "load {load:.3} N: transient speed {} vs period average {} m/s", run.speed_m_per_s, expected.speed_m_per_s);
+        assert!(
+            speed_error < 0.01,
+            "load {load:.3} N: transient speed {} vs period average {} m/s",
+            run.speed_m_per_s,
+            expected.speed_m_per_s
+        );
         let thrust_at_speed = periodic.at_speed(run.speed_m_per_s).unwrap().thrust_n;
         assert!(
             (run.thrust_n - thrust_at_speed).abs() < 0.01 * stall,
@@ -50,20 +56,49 @@ fn transient_stall_thrust_and_no_load_speed_match_the_period_average() {
     let result = TransientModel::new(&scene).unwrap().solve().unwrap();
     let stall = periodic.stall_thrust_n().unwrap();
     let v0 = periodic.no_load_speed_m_per_s().unwrap();
-    assert!((result.stall_thrust_n / stall - 1.0).abs() < 0.01, "stall thrust transient {} vs {stall} N", result.stall_thrust_n);
-    assert!((result.no_load_speed_m_per_s / v0 - 1.0).abs() < 0.01, "no-load speed transient {} vs {v0} m/s", result.no_load_speed_m_per_s);
-    assert!(result.curve.windows(2).all(|w| w[1].speed_m_per_s >= w[0].speed_m_per_s), "curve sorted by speed");
+    assert!(
+        (result.stall_thrust_n / stall - 1.0).abs() < 0.01,
+        "stall thrust transient {} vs {stall} N",
+        result.stall_thrust_n
+    );
+    assert!(
+        (result.no_load_speed_m_per_s / v0 - 1.0).abs() < 0.01,
+        "no-load speed transient {} vs {v0} m/s",
+        result.no_load_speed_m_per_s
+    );
+    assert!(
+        result
+            .curve
+            .windows(2)
+            .all(|w| w[1].speed_m_per_s >= w[0].speed_m_per_s),
+        "curve sorted by speed"
+    );
 }
 
 #[test]
 fn square_array_groups_posts_by_phase() {
     let mut scene = transient_scene();
-    assert_eq!(TransientModel::new(&scene).unwrap().phase_groups(), 100, "100 × 100 posts at 40 µm: 100 phases");
+    assert_eq!(
+        TransientModel::new(&scene).unwrap().phase_groups(),
+        100,
+        "100 × 100 posts at 40 µm: 100 phases"
+    );
     let lambda = scene.wave.wavelength_m();
-    scene.slider.layout = PostLayout::SquareArray { posts_per_side: 8, pitch_m: lambda / 4.0 };
-    assert_eq!(TransientModel::new(&scene).unwrap().phase_groups(), 4, "8 columns a quarter wavelength apart: 4 phases");
+    scene.slider.layout = PostLayout::SquareArray {
+        posts_per_side: 8,
+        pitch_m: lambda / 4.0,
+    };
+    assert_eq!(
+        TransientModel::new(&scene).unwrap().phase_groups(),
+        4,
+        "8 columns a quarter wavelength apart: 4 phases"
+    );
     scene.wave.decay_length_m = Some(0.05);
-    assert_eq!(TransientModel::new(&scene).unwrap().phase_groups(), 8, "with decay every column is its own group");
+    assert_eq!(
+        TransientModel::new(&scene).unwrap().phase_groups(),
+        8,
+        "with decay every column is its own group"
+    );
 }
 
 #[test]
@@ -74,23 +109,43 @@ fn event_driven_transient_balances_energy_over_steady_periods() {
     scene.options.transient.periods = 40.0;
     scene.options.transient.average_periods = 10.0;
     scene.integrator = Integrator::EventDriven { max_step_s: None };
-    let run = TransientModel::new(&scene).unwrap().run(3.0, TransientStart::Estimate, false).unwrap();
+    let run = TransientModel::new(&scene)
+        .unwrap()
+        .run(3.0, TransientStart::Estimate, false)
+        .unwrap();
     assert!(
         run.energy_balance_residual.abs() < 1e-6,
         "stator − output − friction − stored = {:e} of the power flow",
         run.energy_balance_residual
     );
-    assert!(run.friction_dissipation_w > 0.0 && run.output_power_w > 0.0, "dissipation and output must be positive");
+    assert!(
+        run.friction_dissipation_w > 0.0 && run.output_power_w > 0.0,
+        "dissipation and output must be positive"
+    );
 }
 
 #[test]
 fn step_response_from_rest_rises_to_the_steady_speed() {
     let scene = transient_scene();
-    let run = TransientModel::new(&scene).unwrap().run(0.0, TransientStart::Rest, false).unwrap();
+    let run = TransientModel::new(&scene)
+        .unwrap()
+        .run(0.0, TransientStart::Rest, false)
+        .unwrap();
     let speeds = &run.period_speed_m_per_s;
-    assert!(speeds[0] < 0.5 * run.speed_m_per_s, "first-period speed {} vs steady {}", speeds[0], run.speed_m_per_s);
-    let settled = speeds.iter().position(|&v| (v / run.speed_m_per_s - 1.0).abs() < 0.01).unwrap();
-    assert!(settled < 100, "speed within 1 % of steady after {settled} periods");
+    assert!(
+        speeds[0] < 0.5 * run.speed_m_per_s,
+        "first-period speed {} vs steady {}",
+        speeds[0],
+        run.speed_m_per_s
+    );
+    let settled = speeds
+        .iter()
+        .position(|&v| (v / run.speed_m_per_s - 1.0).abs() < 0.01)
+        .unwrap();
+    assert!(
+        settled < 100,
+        "speed within 1 % of steady after {settled} periods"
+    );
 }
 
 #[test]
@@ -100,11 +155,23 @@ fn burst_moves_the_slider_a_finite_distance_then_it_stops() {
     scene.slider.vertical = VerticalModel::Dynamic { damping_ratio: 0.2 };
     scene.options.transient.periods = 80.0;
     scene.options.transient.average_periods = 10.0;
-    let run = TransientModel::new(&scene).unwrap().run(0.0, TransientStart::Rest, false).unwrap();
-    assert!(run.displacement_m > 0.0, "burst displacement along the drive direction {} m", run.displacement_m);
+    let run = TransientModel::new(&scene)
+        .unwrap()
+        .run(0.0, TransientStart::Rest, false)
+        .unwrap();
+    assert!(
+        run.displacement_m > 0.0,
+        "burst displacement along the drive direction {} m",
+        run.displacement_m
+    );
     // Bound: the crest speed for the burst duration plus the time the wave takes to cross the slider.
-    let bound = scene.wave.crest_speed_m_per_s() * (20.0 * scene.wave.period_s() + 4e-3 / scene.wave.phase_velocity_m_per_s);
-    assert!(run.displacement_m < bound, "burst displacement {} m above the crest-speed bound {bound} m", run.displacement_m);
+    let bound = scene.wave.crest_speed_m_per_s()
+        * (20.0 * scene.wave.period_s() + 4e-3 / scene.wave.phase_velocity_m_per_s);
+    assert!(
+        run.displacement_m < bound,
+        "burst displacement {} m above the crest-speed bound {bound} m",
+        run.displacement_m
+    );
     assert!(
         run.speed_m_per_s.abs() < 0.02 * run.peak_speed_m_per_s,
         "speed after the burst {} m/s should vanish (peak {} m/s)",
@@ -116,15 +183,38 @@ fn burst_moves_the_slider_a_finite_distance_then_it_stops() {
 #[test]
 fn incommensurate_light_slider_ripples_and_bounces() {
     let mut scene = transient_scene();
-    scene.slider.layout = PostLayout::SquareArray { posts_per_side: 33, pitch_m: 121e-6 };
+    scene.slider.layout = PostLayout::SquareArray {
+        posts_per_side: 33,
+        pitch_m: 121e-6,
+    };
     scene.slider.preload_n = 10.0;
     scene.slider.mass_kg *= 0.1;
-    scene.slider.vertical = VerticalModel::Dynamic { damping_ratio: 0.05 };
-    let run = TransientModel::new(&scene).unwrap().run(0.0, TransientStart::Estimate, false).unwrap();
-    assert!(run.vertical_bounce_m > 0.0, "vertical bounce {} m", run.vertical_bounce_m);
+    scene.slider.vertical = VerticalModel::Dynamic {
+        damping_ratio: 0.05,
+    };
+    let run = TransientModel::new(&scene)
+        .unwrap()
+        .run(0.0, TransientStart::Estimate, false)
+        .unwrap();
+    assert!(
+        run.vertical_bounce_m > 0.0,
+        "vertical bounce {} m",
+        run.vertical_bounce_m
+    );
     let relative_ripple = run.speed_ripple_m_per_s / run.speed_m_per_s;
-    assert!(relative_ripple > 1e-3, "speed ripple {relative_ripple} of the mean for an incommensurate light slider");
-    let periodic = PeriodicAverageModel::new(&DynamicScene { model: ModelChoice::PeriodicAverage, slider: stick_slip::Slider { vertical: VerticalModel::PeriodMean, ..scene.slider.clone() }, ..scene.clone() }).unwrap();
+    assert!(
+        relative_ripple > 1e-3,
+        "speed ripple {relative_ripple} of the mean for an incommensurate light slider"
+    );
+    let periodic = PeriodicAverageModel::new(&DynamicScene {
+        model: ModelChoice::PeriodicAverage,
+        slider: stick_slip::Slider {
+            vertical: VerticalModel::PeriodMean,
+            ..scene.slider.clone()
+        },
+        ..scene.clone()
+    })
+    .unwrap();
     let v0 = periodic.no_load_speed_m_per_s().unwrap();
     assert!(
         (run.speed_m_per_s / v0 - 1.0).abs() < 0.2,

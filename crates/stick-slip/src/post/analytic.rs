@@ -57,7 +57,13 @@ pub(crate) struct AnalyticPost {
 impl AnalyticPost {
     pub fn new(p: PostParams, v: f64) -> Self {
         let s = p.phase_rate(v);
-        Self { p, v, s, alpha: p.tangential_ratio / s, gamma: -v / s }
+        Self {
+            p,
+            v,
+            s,
+            alpha: p.tangential_ratio / s,
+            gamma: -v / s,
+        }
     }
 
     fn x_tol(theta: f64) -> f64 {
@@ -66,7 +72,12 @@ impl AnalyticPost {
 
     /// The stuck trajectory through (θ_a, ê_a) as a [`TrigLinear`].
     fn stick_line(&self, theta_a: f64, e_a: f64) -> TrigLinear {
-        TrigLinear { a: self.alpha, b: 0.0, g: self.gamma, d: e_a - self.alpha * theta_a.cos() - self.gamma * theta_a }
+        TrigLinear {
+            a: self.alpha,
+            b: 0.0,
+            g: self.gamma,
+            d: e_a - self.alpha * theta_a.cos() - self.gamma * theta_a,
+        }
     }
 
     /// Slip rate per unit phase σ_ς(θ) of a post sliding along the bound of sign ς.
@@ -83,24 +94,43 @@ impl AnalyticPost {
     pub fn deflection(&self, seg: &Segment, theta: f64) -> f64 {
         match seg.mode {
             Mode::Separated => 0.0,
-            Mode::Stick => self.stick_line(seg.start, seg.deflection_start).value(theta),
-            Mode::Slip(sign) => sign * self.p.mu_kinetic * self.p.normal(theta) / self.p.stiffness_ratio,
+            Mode::Stick => self
+                .stick_line(seg.start, seg.deflection_start)
+                .value(theta),
+            Mode::Slip(sign) => {
+                sign * self.p.mu_kinetic * self.p.normal(theta) / self.p.stiffness_ratio
+            }
         }
     }
 
     /// Stick ends at θ with the static bound of sign ς reached: the force drops to the kinetic
     /// bound (releasing ½ρ(ê² − ê_k²) into `dissipated`) and slip starts if the slip rate
     /// points outward, else the post re-sticks at the kinetic bound.
-    fn enter_slip(&self, theta: f64, sign: f64, deflection: f64, dissipated: &mut f64) -> PostState {
+    fn enter_slip(
+        &self,
+        theta: f64,
+        sign: f64,
+        deflection: f64,
+        dissipated: &mut f64,
+    ) -> PostState {
         let rho = self.p.stiffness_ratio;
         let kinetic = sign * self.p.mu_kinetic * self.p.normal(theta) / rho;
         *dissipated += 0.5 * rho * (deflection * deflection - kinetic * kinetic);
         let rate = self.slip_rate(sign);
         let outward = sign * rate.value(theta);
         let tolerance = 1e-13 * (self.alpha + self.gamma.abs() + self.p.mu_kinetic / rho);
-        let slipping = outward > 0.0 || (outward >= -tolerance && sign * rate.derivative(theta) > 0.0);
-        let mode = if slipping { Mode::Slip(sign) } else { Mode::Stick };
-        PostState { mode, deflection: kinetic, tip_velocity: 0.0 }
+        let slipping =
+            outward > 0.0 || (outward >= -tolerance && sign * rate.derivative(theta) > 0.0);
+        let mode = if slipping {
+            Mode::Slip(sign)
+        } else {
+            Mode::Stick
+        };
+        PostState {
+            mode,
+            deflection: kinetic,
+            tip_velocity: 0.0,
+        }
     }
 
     /// Advance from (θ, state) to θ_end, appending the closed-form segments; energy released by
@@ -118,7 +148,12 @@ impl AnalyticPost {
         let mut scratch = Vec::new();
         let push = |segments: &mut Vec<Segment>, mode, start: f64, end: f64, e: f64| {
             if end > start {
-                segments.push(Segment { mode, start, end, deflection_start: e });
+                segments.push(Segment {
+                    mode,
+                    start,
+                    end,
+                    deflection_start: e,
+                });
             }
         };
         for _ in 0..MAX_EVENTS {
@@ -129,18 +164,32 @@ impl AnalyticPost {
             // End of the current contact (if it ends before θ_end) and whether it separates there.
             let contact_limit = match window {
                 None => Some((theta_end, false)),
-                Some((true, sep)) => Some(if sep < theta_end { (sep, true) } else { (theta_end, false) }),
+                Some((true, sep)) => Some(if sep < theta_end {
+                    (sep, true)
+                } else {
+                    (theta_end, false)
+                }),
                 Some((false, _)) => None,
             };
             match state.mode {
                 Mode::Separated => match window {
-                    None | Some((true, _)) => state = PostState { mode: Mode::Stick, deflection: 0.0, tip_velocity: 0.0 },
+                    None | Some((true, _)) => {
+                        state = PostState {
+                            mode: Mode::Stick,
+                            deflection: 0.0,
+                            tip_velocity: 0.0,
+                        }
+                    }
                     Some((false, touchdown)) => {
                         let end = touchdown.min(theta_end);
                         push(segments, Mode::Separated, theta, end, 0.0);
                         theta = end;
                         if touchdown <= theta_end {
-                            state = PostState { mode: Mode::Stick, deflection: 0.0, tip_velocity: 0.0 };
+                            state = PostState {
+                                mode: Mode::Stick,
+                                deflection: 0.0,
+                                tip_velocity: 0.0,
+                            };
                         }
                     }
                 },
@@ -151,11 +200,21 @@ impl AnalyticPost {
                     };
                     let line = self.stick_line(theta, state.deflection);
                     let c_term = bound_s * p.height.c;
-                    let upper = TrigLinear { b: -bound_s, d: line.d + c_term, ..line };
-                    let lower = TrigLinear { b: bound_s, d: line.d - c_term, ..line };
+                    let upper = TrigLinear {
+                        b: -bound_s,
+                        d: line.d + c_term,
+                        ..line
+                    };
+                    let lower = TrigLinear {
+                        b: bound_s,
+                        d: line.d - c_term,
+                        ..line
+                    };
                     let tol = Self::x_tol(limit);
-                    let up = upper.first_crossing(theta, limit, Crossing::Upward, tol, &mut scratch);
-                    let down = lower.first_crossing(theta, limit, Crossing::Downward, tol, &mut scratch);
+                    let up =
+                        upper.first_crossing(theta, limit, Crossing::Upward, tol, &mut scratch);
+                    let down =
+                        lower.first_crossing(theta, limit, Crossing::Downward, tol, &mut scratch);
                     let event = match (up, down) {
                         (Some(u), Some(d)) => Some(if u <= d { (u, 1.0) } else { (d, -1.0) }),
                         (Some(u), None) => Some((u, 1.0)),
@@ -184,12 +243,20 @@ impl AnalyticPost {
                         continue;
                     };
                     let rate = self.slip_rate(sign);
-                    let dir = if sign > 0.0 { Crossing::Downward } else { Crossing::Upward };
+                    let dir = if sign > 0.0 {
+                        Crossing::Downward
+                    } else {
+                        Crossing::Upward
+                    };
                     match rate.first_crossing(theta, limit, dir, Self::x_tol(limit), &mut scratch) {
                         Some(at) => {
                             push(segments, Mode::Slip(sign), theta, at, state.deflection);
                             let deflection = sign * p.mu_kinetic * p.normal(at) / p.stiffness_ratio;
-                            state = PostState { mode: Mode::Stick, deflection, tip_velocity: 0.0 };
+                            state = PostState {
+                                mode: Mode::Stick,
+                                deflection,
+                                tip_velocity: 0.0,
+                            };
                             theta = at;
                         }
                         None => {
@@ -198,8 +265,13 @@ impl AnalyticPost {
                             state = if separates {
                                 PostState::separated()
                             } else {
-                                let deflection = sign * p.mu_kinetic * p.normal(limit) / p.stiffness_ratio;
-                                PostState { mode: Mode::Slip(sign), deflection, tip_velocity: 0.0 }
+                                let deflection =
+                                    sign * p.mu_kinetic * p.normal(limit) / p.stiffness_ratio;
+                                PostState {
+                                    mode: Mode::Slip(sign),
+                                    deflection,
+                                    tip_velocity: 0.0,
+                                }
                             };
                         }
                     }
@@ -222,7 +294,10 @@ impl AnalyticPost {
         let mut total = PeriodIntegrals::default();
         for seg in segments {
             let duration = (seg.end - seg.start) / s;
-            let mut piece = PeriodIntegrals { time: duration, ..Default::default() };
+            let mut piece = PeriodIntegrals {
+                time: duration,
+                ..Default::default()
+            };
             match seg.mode {
                 Mode::Separated => {}
                 Mode::Stick => {
@@ -246,7 +321,13 @@ impl AnalyticPost {
                         let normal = p.normal(t);
                         let force = sign * mu * normal;
                         let power = -force * a_t * t.sin();
-                        [force, normal, power, mu * normal * rate.value(t).abs(), power.abs()]
+                        [
+                            force,
+                            normal,
+                            power,
+                            mu * normal * rate.value(t).abs(),
+                            power.abs(),
+                        ]
                     });
                     piece.force_time = f / s;
                     piece.normal_time = n / s;
@@ -300,34 +381,59 @@ impl AnalyticPost {
             let theta0 = 0.5 * PI - phi;
             let start = PostState::separated();
             let (_, ints, _) = self.period_from(theta0, start, &mut segments)?;
-            return Ok(SteadyPost { integrals: ints, start: (theta0, start), converged: true });
+            return Ok(SteadyPost {
+                integrals: ints,
+                start: (theta0, start),
+                converged: true,
+            });
         }
         if self.v == 0.0 {
             if let Some(stall) = self.stall_orbit(&mut segments)? {
                 return Ok(stall);
             }
         }
-        let initial = if self.v == 0.0 { self.touching_orbit_start() } else { 0.0 };
-        self.iterate_always_contact(PostState { mode: Mode::Stick, deflection: initial, tip_velocity: 0.0 }, &mut segments)
+        let initial = if self.v == 0.0 {
+            self.touching_orbit_start()
+        } else {
+            0.0
+        };
+        self.iterate_always_contact(
+            PostState {
+                mode: Mode::Stick,
+                deflection: initial,
+                tip_velocity: 0.0,
+            },
+            &mut segments,
+        )
     }
 
     /// Start deflection (at θ = −π/2) of the stuck v = 0 orbit that touches its upper static
     /// bound, minus a round-off offset: ê0 = −(μ_s/ρ)c − hypot(μ_s/ρ, â/s).
     fn touching_orbit_start(&self) -> f64 {
         let bound = self.p.mu_static / self.p.stiffness_ratio;
-        -bound * self.p.height.c - bound.hypot(self.alpha) - TOUCH_OFFSET * self.p.deflection_scale()
+        -bound * self.p.height.c
+            - bound.hypot(self.alpha)
+            - TOUCH_OFFSET * self.p.deflection_scale()
     }
 
     /// The v → 0⁺ orbit of a post that never separates, if it is a stuck orbit.
     fn stall_orbit(&self, segments: &mut Vec<Segment>) -> Result<Option<SteadyPost>> {
         let theta0 = ALWAYS_CONTACT_START;
-        let touching = PostState { mode: Mode::Stick, deflection: self.touching_orbit_start(), tip_velocity: 0.0 };
+        let touching = PostState {
+            mode: Mode::Stick,
+            deflection: self.touching_orbit_start(),
+            tip_velocity: 0.0,
+        };
         let (_, ints, slipped) = self.period_from(theta0, touching, segments)?;
         if slipped {
             return Ok(None);
         }
         if self.p.mu_kinetic >= self.p.mu_static {
-            return Ok(Some(SteadyPost { integrals: ints, start: (theta0, touching), converged: true }));
+            return Ok(Some(SteadyPost {
+                integrals: ints,
+                start: (theta0, touching),
+                converged: true,
+            }));
         }
         // Snap at the touching point θ_t (minimum of (μ_s/ρ) sin θ − (â/s) cos θ), then follow
         // one period to find the orbit the creep restarts from.
@@ -342,9 +448,17 @@ impl AnalyticPost {
             return Ok(None);
         }
         let restart = after.deflection - self.alpha * (touch.cos() - theta0.cos());
-        let mid = PostState { mode: Mode::Stick, deflection: 0.5 * (restart + touching.deflection), tip_velocity: 0.0 };
+        let mid = PostState {
+            mode: Mode::Stick,
+            deflection: 0.5 * (restart + touching.deflection),
+            tip_velocity: 0.0,
+        };
         let (_, ints, slipped) = self.period_from(theta0, mid, segments)?;
-        Ok((!slipped).then_some(SteadyPost { integrals: ints, start: (theta0, mid), converged: true }))
+        Ok((!slipped).then_some(SteadyPost {
+            integrals: ints,
+            start: (theta0, mid),
+            converged: true,
+        }))
     }
 
     /// Distance of the stuck period from (θ0, ê0) to the static bound in the drift direction.
@@ -361,7 +475,11 @@ impl AnalyticPost {
         gap.min_on(theta0, theta0 + 2.0 * PI, scratch).max(0.0)
     }
 
-    fn iterate_always_contact(&self, mut state: PostState, segments: &mut Vec<Segment>) -> Result<SteadyPost> {
+    fn iterate_always_contact(
+        &self,
+        mut state: PostState,
+        segments: &mut Vec<Segment>,
+    ) -> Result<SteadyPost> {
         let theta0 = ALWAYS_CONTACT_START;
         let tol = CYCLE_TOLERANCE * self.p.deflection_scale();
         let rho = self.p.stiffness_ratio;
@@ -375,10 +493,15 @@ impl AnalyticPost {
             if !slipped {
                 let drift = end.deflection - state.deflection;
                 if drift == 0.0 {
-                    return Ok(SteadyPost { integrals: ints, start: (theta0, state), converged: true });
+                    return Ok(SteadyPost {
+                        integrals: ints,
+                        start: (theta0, state),
+                        converged: true,
+                    });
                 }
                 // Periods j = 1..n from ê0 + j·drift stay stuck; add them in closed form.
-                let margin = self.stuck_margin(theta0, state.deflection, drift.signum(), &mut scratch);
+                let margin =
+                    self.stuck_margin(theta0, state.deflection, drift.signum(), &mut scratch);
                 let n = (margin / drift.abs()).floor().min(1e12);
                 let triangle = 0.5 * n * (n + 1.0);
                 let mut skipped = PeriodIntegrals {
@@ -387,7 +510,8 @@ impl AnalyticPost {
                     normal_time: n * ints.normal_time,
                     stator_work: n * ints.stator_work,
                     power_flow: n * ints.power_flow,
-                    output_work: n * ints.output_work + self.v * rho * drift * period_time * triangle,
+                    output_work: n * ints.output_work
+                        + self.v * rho * drift * period_time * triangle,
                     dissipation: 0.0,
                     stick_time: n * ints.stick_time,
                     contact_time: n * ints.contact_time,
@@ -395,19 +519,33 @@ impl AnalyticPost {
                 };
                 let e_start = state.deflection;
                 let e_end = e_start + (n + 1.0) * drift;
-                skipped.stored_energy_change = 0.5 * rho * (e_end * e_end - end.deflection * end.deflection);
+                skipped.stored_energy_change =
+                    0.5 * rho * (e_end * e_end - end.deflection * end.deflection);
                 cumulative = cumulative + ints + skipped;
-                state = PostState { deflection: e_end, ..end };
+                state = PostState {
+                    deflection: e_end,
+                    ..end
+                };
                 continue;
             }
             cumulative = cumulative + ints;
-            let same = |a: &PostState, b: &PostState| a.mode == b.mode && (a.deflection - b.deflection).abs() <= tol;
+            let same = |a: &PostState, b: &PostState| {
+                a.mode == b.mode && (a.deflection - b.deflection).abs() <= tol
+            };
             if same(&end, &state) {
-                return Ok(SteadyPost { integrals: ints, start: (theta0, state), converged: true });
+                return Ok(SteadyPost {
+                    integrals: ints,
+                    start: (theta0, state),
+                    converged: true,
+                });
             }
             if let Some((_, earlier)) = records.iter().rev().take(16).find(|(s, _)| same(s, &end)) {
                 let cycle = cumulative - *earlier;
-                return Ok(SteadyPost { integrals: cycle, start: (theta0, end), converged: true });
+                return Ok(SteadyPost {
+                    integrals: cycle,
+                    start: (theta0, end),
+                    converged: true,
+                });
             }
             last_change = (end.deflection - state.deflection).abs();
             records.push((end, cumulative));
@@ -415,9 +553,11 @@ impl AnalyticPost {
         }
         // Quasi-periodic: average over the second half of the recorded super-cycles.
         match records.get(records.len() / 2) {
-            Some((_, mid)) if records.len() >= 2 => {
-                Ok(SteadyPost { integrals: cumulative - *mid, start: (theta0, state), converged: false })
-            }
+            Some((_, mid)) if records.len() >= 2 => Ok(SteadyPost {
+                integrals: cumulative - *mid,
+                start: (theta0, state),
+                converged: false,
+            }),
             _ => Err(StickSlipError::NotConverged {
                 model: "event-driven post",
                 what: "periodic steady state of a post in permanent contact",

@@ -13,8 +13,8 @@ pub(crate) mod stepping;
 use std::f64::consts::PI;
 use std::ops::{Add, Sub};
 
-use crate::mean_normal::TipHeight;
 use crate::math::wrap_angle;
+use crate::mean_normal::TipHeight;
 
 /// Parameters of one post in solver units.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -101,7 +101,11 @@ pub(crate) struct PostState {
 
 impl PostState {
     pub fn separated() -> Self {
-        Self { mode: Mode::Separated, deflection: 0.0, tip_velocity: 0.0 }
+        Self {
+            mode: Mode::Separated,
+            deflection: 0.0,
+            tip_velocity: 0.0,
+        }
     }
 }
 
@@ -178,8 +182,14 @@ impl PeriodIntegrals {
     /// Residual of the energy balance, stator work − output − dissipation − stored change,
     /// relative to the stator work.
     pub fn energy_balance_residual(&self) -> f64 {
-        let residual = self.stator_work - self.output_work - self.dissipation - self.stored_energy_change;
-        residual / self.power_flow.max(self.stator_work.abs()).max(self.dissipation.abs()).max(1e-300)
+        let residual =
+            self.stator_work - self.output_work - self.dissipation - self.stored_energy_change;
+        residual
+            / self
+                .power_flow
+                .max(self.stator_work.abs())
+                .max(self.dissipation.abs())
+                .max(1e-300)
     }
 }
 

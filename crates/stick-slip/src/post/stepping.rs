@@ -58,7 +58,9 @@ impl StepScheme {
 
     fn step(&self) -> f64 {
         match *self {
-            Self::ReturnMapping { step } | Self::PostMass { step } | Self::Regularized { step, .. } => step,
+            Self::ReturnMapping { step }
+            | Self::PostMass { step }
+            | Self::Regularized { step, .. } => step,
         }
     }
 }
@@ -77,8 +79,14 @@ pub(crate) struct SteppedPost {
 
 impl SteppedPost {
     pub fn new(p: PostParams, v: f64, scheme: StepScheme) -> Result<Self> {
-        if matches!(scheme, StepScheme::PostMass { .. } | StepScheme::Regularized { .. }) && p.mass.is_none() {
-            return Err(StickSlipError::MissingPostMass { integrator: scheme.name() });
+        if matches!(
+            scheme,
+            StepScheme::PostMass { .. } | StepScheme::Regularized { .. }
+        ) && p.mass.is_none()
+        {
+            return Err(StickSlipError::MissingPostMass {
+                integrator: scheme.name(),
+            });
         }
         let s = p.phase_rate(v);
         let period = 2.0 * PI / s;
@@ -90,7 +98,14 @@ impl SteppedPost {
                 requirement: "more than 1e12 steps per wave period".into(),
             });
         }
-        Ok(Self { p, v, scheme, s, steps_per_period: steps as usize, h: period / steps })
+        Ok(Self {
+            p,
+            v,
+            scheme,
+            s,
+            steps_per_period: steps as usize,
+            h: period / steps,
+        })
     }
 
     /// Advance one step from phase θ; returns the new state and adds the step's integrals.
@@ -100,7 +115,11 @@ impl SteppedPost {
         let theta1 = theta + s * h;
         let normal = p.normal(theta1);
         let in_contact = normal > 0.0;
-        let threshold = if matches!(state.mode, Mode::Slip(_)) { p.mu_kinetic } else { p.mu_static };
+        let threshold = if matches!(state.mode, Mode::Slip(_)) {
+            p.mu_kinetic
+        } else {
+            p.mu_static
+        };
         let next = match self.scheme {
             StepScheme::ReturnMapping { .. } => {
                 // Exact stator displacement increment along the step, then clamp.
@@ -120,7 +139,11 @@ impl SteppedPost {
                 ints.output_work += force * self.v * h;
                 ints.dissipation += force * (trial - deflection);
                 ints.force_time += force * h;
-                PostState { mode, deflection, tip_velocity: 0.0 }
+                PostState {
+                    mode,
+                    deflection,
+                    tip_velocity: 0.0,
+                }
             }
             StepScheme::PostMass { .. } => {
                 let mass = p.mass.unwrap_or(f64::NAN);
@@ -142,7 +165,11 @@ impl SteppedPost {
                 ints.dissipation += impulse * (stator - tip_velocity);
                 ints.force_time += rho * deflection * h;
                 ints.output_work += rho * deflection * self.v * h;
-                PostState { mode, deflection, tip_velocity }
+                PostState {
+                    mode,
+                    deflection,
+                    tip_velocity,
+                }
             }
             StepScheme::Regularized { regularization, .. } => {
                 let mass = p.mass.unwrap_or(f64::NAN);
@@ -150,7 +177,8 @@ impl SteppedPost {
                 let stator = -a_t * theta.sin();
                 let slip = stator - state.tip_velocity;
                 let friction = p.mu_kinetic * normal0 * (slip / regularization).tanh();
-                let tip_velocity = state.tip_velocity + h * (friction - rho * state.deflection) / mass;
+                let tip_velocity =
+                    state.tip_velocity + h * (friction - rho * state.deflection) / mass;
                 let deflection = state.deflection + h * (tip_velocity - self.v);
                 ints.stator_work += friction * stator * h;
                 ints.power_flow += (friction * stator * h).abs();
@@ -164,7 +192,11 @@ impl SteppedPost {
                 } else {
                     Mode::Slip(slip.signum())
                 };
-                PostState { mode, deflection, tip_velocity }
+                PostState {
+                    mode,
+                    deflection,
+                    tip_velocity,
+                }
             }
         };
         ints.time += h;
@@ -181,18 +213,28 @@ impl SteppedPost {
     /// Stored energy of the post: spring ½ρê², plus ½m̂(tip velocity)² with mass.
     fn stored_energy(&self, state: &PostState) -> f64 {
         let spring = 0.5 * self.p.stiffness_ratio * state.deflection * state.deflection;
-        spring + self.p.mass.map_or(0.0, |m| 0.5 * m * state.tip_velocity * state.tip_velocity)
+        spring
+            + self
+                .p
+                .mass
+                .map_or(0.0, |m| 0.5 * m * state.tip_velocity * state.tip_velocity)
     }
 
     /// One period from (θ0, state).
-    pub fn period(&self, theta0: f64, mut state: PostState) -> Result<(PostState, PeriodIntegrals)> {
+    pub fn period(
+        &self,
+        theta0: f64,
+        mut state: PostState,
+    ) -> Result<(PostState, PeriodIntegrals)> {
         let mut ints = PeriodIntegrals::default();
         let start_energy = self.stored_energy(&state);
         let limit = DIVERGENCE_FACTOR * self.p.deflection_scale().max(self.p.tangential_ratio);
         for k in 0..self.steps_per_period {
             let theta = theta0 + k as f64 * self.s * self.h;
             state = self.step(theta, state, &mut ints);
-            if !(state.deflection.abs() <= limit) || !state.tip_velocity.is_finite() {
+            // Written so that a NaN deflection also counts as divergence.
+            let bounded = state.deflection.abs() <= limit && state.tip_velocity.is_finite();
+            if !bounded {
                 return Err(StickSlipError::Diverged {
                     integrator: self.scheme.name(),
                     time_s: f64::NAN,
@@ -218,15 +260,25 @@ impl SteppedPost {
             let mean = ints.mean_force();
             if let Some(prev) = previous {
                 if (mean - prev).abs() <= PERIODIC_TOLERANCE * force_scale {
-                    return Ok(SteadyPost { integrals: ints, start: (theta0, period_start), converged: true });
+                    return Ok(SteadyPost {
+                        integrals: ints,
+                        start: (theta0, period_start),
+                        converged: true,
+                    });
                 }
             }
             previous = Some(mean);
             history.push(ints);
             state = end;
         }
-        let tail = history[MAX_PERIODS / 2..].iter().fold(PeriodIntegrals::default(), |acc, i| acc + *i);
-        Ok(SteadyPost { integrals: tail, start: (theta0, state), converged: false })
+        let tail = history[MAX_PERIODS / 2..]
+            .iter()
+            .fold(PeriodIntegrals::default(), |acc, i| acc + *i);
+        Ok(SteadyPost {
+            integrals: tail,
+            start: (theta0, state),
+            converged: false,
+        })
     }
 
     /// Run `periods` periods from (θ0, state) for a stability study: divergence, step-to-step
@@ -237,21 +289,37 @@ impl SteppedPost {
         for _ in 0..periods.saturating_sub(1) {
             match self.period(theta0, state) {
                 Ok((end, _)) => state = end,
-                Err(_) => return StabilityProbe { diverged: true, oscillating: false, mean_force: f64::NAN },
+                Err(_) => {
+                    return StabilityProbe {
+                        diverged: true,
+                        oscillating: false,
+                        mean_force: f64::NAN,
+                    };
+                }
             }
         }
         // Last period step by step: count steps where three successive differences of the
         // signal that would ring (tip velocity with mass, deflection without) alternate in sign
         // — a period-2 pattern at the step frequency; physical ringing resolved by ≳ 6 steps per
         // cycle does not alternate.
-        let signal = |s: &PostState| if self.p.mass.is_some() { s.tip_velocity } else { s.deflection };
+        let signal = |s: &PostState| {
+            if self.p.mass.is_some() {
+                s.tip_velocity
+            } else {
+                s.deflection
+            }
+        };
         let (mut previous, mut deltas, mut flips) = (signal(&state), [0.0f64; 2], 0usize);
         let limit = DIVERGENCE_FACTOR * self.p.deflection_scale().max(self.p.tangential_ratio);
         for k in 0..self.steps_per_period {
             let theta = theta0 + k as f64 * self.s * self.h;
             state = self.step(theta, state, &mut ints);
             if !(state.deflection.abs() <= limit && state.tip_velocity.is_finite()) {
-                return StabilityProbe { diverged: true, oscillating: false, mean_force: f64::NAN };
+                return StabilityProbe {
+                    diverged: true,
+                    oscillating: false,
+                    mean_force: f64::NAN,
+                };
             }
             let value = signal(&state);
             let delta = value - previous;
@@ -261,20 +329,34 @@ impl SteppedPost {
             previous = value;
             deltas = [deltas[1], delta];
         }
-        let oscillating =
-            flips > OSCILLATION_MIN_FLIPS && flips as f64 > OSCILLATION_FLIP_FRACTION * self.steps_per_period as f64;
-        StabilityProbe { diverged: false, oscillating, mean_force: ints.mean_force() }
+        let oscillating = flips > OSCILLATION_MIN_FLIPS
+            && flips as f64 > OSCILLATION_FLIP_FRACTION * self.steps_per_period as f64;
+        StabilityProbe {
+            diverged: false,
+            oscillating,
+            mean_force: ints.mean_force(),
+        }
     }
 
     /// Sample N̂, F̂ = ρê and the mode from (θ0, state) at every step for `periods` periods.
-    pub fn sample(&self, theta0: f64, mut state: PostState, periods: usize) -> Vec<(f64, f64, f64, Mode)> {
+    pub fn sample(
+        &self,
+        theta0: f64,
+        mut state: PostState,
+        periods: usize,
+    ) -> Vec<(f64, f64, f64, Mode)> {
         let mut samples = Vec::with_capacity(periods * self.steps_per_period + 1);
         let mut ints = PeriodIntegrals::default();
         for k in 0..periods * self.steps_per_period {
             let theta = theta0 + k as f64 * self.s * self.h;
             state = self.step(theta, state, &mut ints);
             let t = (k + 1) as f64 * self.h;
-            samples.push((t, self.p.normal(theta + self.s * self.h), self.p.stiffness_ratio * state.deflection, state.mode));
+            samples.push((
+                t,
+                self.p.normal(theta + self.s * self.h),
+                self.p.stiffness_ratio * state.deflection,
+                state.mode,
+            ));
         }
         samples
     }

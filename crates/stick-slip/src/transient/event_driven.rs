@@ -107,7 +107,12 @@ impl<'a> EventDriven<'a> {
             modes: vec![Mode::Stick; n],
             f0: None,
             events0: vec![0.0; n],
-            k: [vec![0.0; size], vec![0.0; size], vec![0.0; size], vec![0.0; size]],
+            k: [
+                vec![0.0; size],
+                vec![0.0; size],
+                vec![0.0; size],
+                vec![0.0; size],
+            ],
             y_stage: vec![0.0; size],
             y1: vec![0.0; size],
             f1: vec![0.0; size],
@@ -121,7 +126,9 @@ impl<'a> EventDriven<'a> {
             zero_steps: 0,
         };
         // Initial modes: contact where the post penetrates, stuck with zero deflection.
-        stepper.phases.fill(&sys.groups, &sys.wave, start.t, start.x);
+        stepper
+            .phases
+            .fill(&sys.groups, &sys.wave, start.t, start.x);
         for g in 0..n {
             if sys.normal(&stepper.phases, g, start.z) <= 0.0 {
                 stepper.modes[g] = Mode::Separated;
@@ -144,10 +151,18 @@ impl<'a> EventDriven<'a> {
         }
     }
 
-    fn event_value(sys: &System, mode: Mode, kin: &GroupKinematics, deflection: f64, v: f64) -> f64 {
+    fn event_value(
+        sys: &System,
+        mode: Mode,
+        kin: &GroupKinematics,
+        deflection: f64,
+        v: f64,
+    ) -> f64 {
         match mode {
             Mode::Separated => kin.pen,
-            Mode::Stick => (sys.rho * deflection.abs() - sys.mu_s * kin.pen).max(-kin.pen - SEPARATION_OFFSET),
+            Mode::Stick => {
+                (sys.rho * deflection.abs() - sys.mu_s * kin.pen).max(-kin.pen - SEPARATION_OFFSET)
+            }
             Mode::Slip(sign) => {
                 let slip = kin.particle_velocity - v - sign * sys.mu_k * kin.normal_rate / sys.rho;
                 (-sign * slip).max(-kin.pen - SEPARATION_OFFSET)
@@ -167,7 +182,8 @@ impl<'a> EventDriven<'a> {
     ) {
         phases.fill(&sys.groups, &sys.wave, t, y[IX]);
         let v = y[IV];
-        let (mut force, mut normal, mut stator, mut dissipation, mut flow) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        let (mut force, mut normal, mut stator, mut dissipation, mut flow) =
+            (0.0, 0.0, 0.0, 0.0, 0.0);
         let mut events = events;
         for g in 0..sys.groups.len() {
             let kin = Self::kinematics(sys, phases, g, y);
@@ -222,30 +238,60 @@ impl<'a> EventDriven<'a> {
     fn rk4(&mut self, h: f64) {
         let sys = self.sys;
         let f0 = self.f0.as_ref().expect("f0 computed before stepping");
-        let n = self.y.len();
         let [k1, k2, k3, k4] = &mut self.k;
         k1.copy_from_slice(f0);
-        for i in 0..n {
-            self.y_stage[i] = self.y[i] + 0.5 * h * k1[i];
-        }
-        Self::rhs(sys, &mut self.phases, &self.modes, self.t + 0.5 * h, &self.y_stage, k2, None);
-        for i in 0..n {
-            self.y_stage[i] = self.y[i] + 0.5 * h * k2[i];
-        }
-        Self::rhs(sys, &mut self.phases, &self.modes, self.t + 0.5 * h, &self.y_stage, k3, Some(&mut self.events_mid));
-        for i in 0..n {
-            self.y_stage[i] = self.y[i] + h * k3[i];
-        }
-        Self::rhs(sys, &mut self.phases, &self.modes, self.t + h, &self.y_stage, k4, None);
-        for i in 0..n {
-            self.y1[i] = self.y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+        let stage = |out: &mut [f64], y: &[f64], k: &[f64], factor: f64| {
+            for ((o, y), k) in out.iter_mut().zip(y).zip(k) {
+                *o = y + factor * k;
+            }
+        };
+        stage(&mut self.y_stage, &self.y, k1, 0.5 * h);
+        Self::rhs(
+            sys,
+            &mut self.phases,
+            &self.modes,
+            self.t + 0.5 * h,
+            &self.y_stage,
+            k2,
+            None,
+        );
+        stage(&mut self.y_stage, &self.y, k2, 0.5 * h);
+        Self::rhs(
+            sys,
+            &mut self.phases,
+            &self.modes,
+            self.t + 0.5 * h,
+            &self.y_stage,
+            k3,
+            Some(&mut self.events_mid),
+        );
+        stage(&mut self.y_stage, &self.y, k3, h);
+        Self::rhs(
+            sys,
+            &mut self.phases,
+            &self.modes,
+            self.t + h,
+            &self.y_stage,
+            k4,
+            None,
+        );
+        for (i, y1) in self.y1.iter_mut().enumerate() {
+            *y1 = self.y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
         }
     }
 
     fn ensure_f0(&mut self) {
         if self.f0.is_none() {
             let mut f0 = vec![0.0; self.y.len()];
-            Self::rhs(self.sys, &mut self.phases, &self.modes, self.t, &self.y, &mut f0, Some(&mut self.events0));
+            Self::rhs(
+                self.sys,
+                &mut self.phases,
+                &self.modes,
+                self.t,
+                &self.y,
+                &mut f0,
+                Some(&mut self.events0),
+            );
             self.f0 = Some(f0);
         }
     }
@@ -255,8 +301,14 @@ impl<'a> EventDriven<'a> {
         let sys = self.sys;
         let f0 = self.f0.as_ref().expect("f0");
         let (t2, t3) = (tau * tau, tau * tau * tau);
-        let (h00, h10, h01, h11) = (2.0 * t3 - 3.0 * t2 + 1.0, t3 - 2.0 * t2 + tau, -2.0 * t3 + 3.0 * t2, t3 - t2);
-        let at = |i: usize| h00 * self.y[i] + h10 * h * f0[i] + h01 * self.y1[i] + h11 * h * self.f1[i];
+        let (h00, h10, h01, h11) = (
+            2.0 * t3 - 3.0 * t2 + 1.0,
+            t3 - 2.0 * t2 + tau,
+            -2.0 * t3 + 3.0 * t2,
+            t3 - t2,
+        );
+        let at =
+            |i: usize| h00 * self.y[i] + h10 * h * f0[i] + h01 * self.y1[i] + h11 * h * self.f1[i];
         let mut y = [0.0; IE + 1];
         for i in [IX, IV, IZ, IW] {
             y[i] = at(i);
@@ -268,7 +320,11 @@ impl<'a> EventDriven<'a> {
         let theta = alpha - sys.groups.phase[g];
         let (s, c) = theta.sin_cos();
         let on = sys.wave.is_on(theta);
-        let drive = if on { sys.groups.amplitude[g] * sys.wave.amplitude_at(y[IX]) } else { 0.0 };
+        let drive = if on {
+            sys.groups.amplitude[g] * sys.wave.amplitude_at(y[IX])
+        } else {
+            0.0
+        };
         let kin = {
             let (v, z, w) = (y[IV], y[IZ], y[IW]);
             let pen = drive * s - z - sys.groups.gap[g];
@@ -297,7 +353,11 @@ impl<'a> EventDriven<'a> {
         let separating = kin.pen <= SEPARATION_OFFSET && kin.normal_rate <= 0.0;
         let (mode, deflection) = match self.modes[g] {
             Mode::Separated => {
-                if separating { (Mode::Separated, 0.0) } else { (Mode::Stick, 0.0) }
+                if separating {
+                    (Mode::Separated, 0.0)
+                } else {
+                    (Mode::Stick, 0.0)
+                }
             }
             Mode::Stick => {
                 if separating {
@@ -308,9 +368,17 @@ impl<'a> EventDriven<'a> {
                     let sign = if e >= 0.0 { 1.0 } else { -1.0 };
                     let kinetic = sign * sys.mu_k * kin.normal / sys.rho;
                     self.y[I_DISSIPATION] += weight * 0.5 * sys.rho * (e * e - kinetic * kinetic);
-                    let slip = kin.particle_velocity - v - sign * sys.mu_k * kin.normal_rate / sys.rho;
+                    let slip =
+                        kin.particle_velocity - v - sign * sys.mu_k * kin.normal_rate / sys.rho;
                     let slipping = sign * slip > -EVENT_TOLERANCE;
-                    (if slipping { Mode::Slip(sign) } else { Mode::Stick }, kinetic)
+                    (
+                        if slipping {
+                            Mode::Slip(sign)
+                        } else {
+                            Mode::Stick
+                        },
+                        kinetic,
+                    )
                 }
             }
             Mode::Slip(sign) => {
@@ -341,7 +409,10 @@ impl<'a> EventDriven<'a> {
         self.phases.fill(&sys.groups, &sys.wave, self.t, self.y[IX]);
         for g in 0..sys.groups.len() {
             match self.modes[g] {
-                Mode::Slip(sign) => self.y[IE + g] = sign * sys.mu_k * sys.normal(&self.phases, g, self.y[IZ]) / sys.rho,
+                Mode::Slip(sign) => {
+                    self.y[IE + g] =
+                        sign * sys.mu_k * sys.normal(&self.phases, g, self.y[IZ]) / sys.rho
+                }
                 Mode::Separated => self.y[IE + g] = 0.0,
                 Mode::Stick => {}
             }
@@ -350,14 +421,17 @@ impl<'a> EventDriven<'a> {
 
     fn weights_by_mode(&self) -> (f64, f64) {
         let sys = self.sys;
-        self.modes.iter().enumerate().fold((0.0, 0.0), |(stick, contact), (g, m)| {
-            let w = sys.groups.weight[g];
-            match m {
-                Mode::Stick => (stick + w, contact + w),
-                Mode::Slip(_) => (stick, contact + w),
-                Mode::Separated => (stick, contact),
-            }
-        })
+        self.modes
+            .iter()
+            .enumerate()
+            .fold((0.0, 0.0), |(stick, contact), (g, m)| {
+                let w = sys.groups.weight[g];
+                match m {
+                    Mode::Stick => (stick + w, contact + w),
+                    Mode::Slip(_) => (stick, contact + w),
+                    Mode::Separated => (stick, contact),
+                }
+            })
     }
 
     fn accept(&mut self, h: f64, sums: &mut Sums) {
@@ -380,7 +454,13 @@ impl<'a> EventDriven<'a> {
 
 impl Stepper for EventDriven<'_> {
     fn state(&self) -> SliderState {
-        SliderState { t: self.t, x: self.y[IX], v: self.y[IV], z: self.y[IZ], w: self.y[IW] }
+        SliderState {
+            t: self.t,
+            x: self.y[IX],
+            v: self.y[IV],
+            z: self.y[IZ],
+            w: self.y[IW],
+        }
     }
 
     fn steps(&self) -> u64 {
@@ -401,7 +481,9 @@ impl Stepper for EventDriven<'_> {
         self.ensure_f0();
         // Groups already past their event at the start (round-off, or an event at this very
         // instant) transition now.
-        if let Some(g) = (0..n).find(|&g| self.events0[g] > EVENT_TOLERANCE && self.held_until[g] < self.t) {
+        if let Some(g) =
+            (0..n).find(|&g| self.events0[g] > EVENT_TOLERANCE && self.held_until[g] < self.t)
+        {
             self.transition(g);
             self.zero_steps += 1;
             if self.zero_steps > MAX_ZERO_STEPS {
@@ -420,7 +502,15 @@ impl Stepper for EventDriven<'_> {
         }
         self.rk4(h);
         let (f1, events1) = (&mut self.f1, &mut self.events1);
-        Self::rhs(sys, &mut self.phases, &self.modes, self.t + h, &self.y1, f1, Some(events1));
+        Self::rhs(
+            sys,
+            &mut self.phases,
+            &self.modes,
+            self.t + h,
+            &self.y1,
+            f1,
+            Some(events1),
+        );
         // Earliest crossing among the groups.
         let mut earliest: Option<(f64, usize)> = None;
         for g in 0..n {
@@ -448,7 +538,11 @@ impl Stepper for EventDriven<'_> {
             // The midpoint catches a crossing and return within one step (a short slip); the
             // stage estimate screens out groups far from any event.
             let screened = self.events_mid[g] < -MIDPOINT_SCREEN * h * h - EVENT_TOLERANCE;
-            let m = if screened { f64::NEG_INFINITY } else { self.interpolated_event(g, h, 0.5) };
+            let m = if screened {
+                f64::NEG_INFINITY
+            } else {
+                self.interpolated_event(g, h, 0.5)
+            };
             let bracket = if m > EVENT_TOLERANCE {
                 Some((lo, 0.5))
             } else if b > EVENT_TOLERANCE.max(a) {
@@ -502,7 +596,9 @@ impl Stepper for EventDriven<'_> {
 
     fn stored_energy(&self) -> f64 {
         let sys = self.sys;
-        (0..sys.groups.len()).map(|g| sys.groups.weight[g] * 0.5 * sys.rho * self.y[IE + g].powi(2)).sum()
+        (0..sys.groups.len())
+            .map(|g| sys.groups.weight[g] * 0.5 * sys.rho * self.y[IE + g].powi(2))
+            .sum()
     }
 
     fn group(&self, g: usize) -> (f64, f64, Mode) {

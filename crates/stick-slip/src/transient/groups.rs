@@ -37,7 +37,10 @@ impl Groups {
         let k = scene.wave.wavenumber_rad_per_m();
         let a_n = scene.wave.normal_amplitude_m;
         let by_phase = scene.wave.decay_length_m.is_none() && scene.wave.burst_periods.is_none();
-        let mut columns = scene.slider.layout.columns(lambda, scene.options.transient.uniform_phase_groups);
+        let mut columns = scene
+            .slider
+            .layout
+            .columns(lambda, scene.options.transient.uniform_phase_groups);
         if by_phase {
             // Merge columns whose x agree mod λ (keep the first x as representative).
             for c in &mut columns {
@@ -50,7 +53,12 @@ impl Groups {
             let mut merged: Vec<(f64, f64, f64)> = Vec::with_capacity(columns.len());
             for c in columns {
                 match merged.last_mut() {
-                    Some(last) if (c.0 - last.0).abs() <= PHASE_MERGE_TOLERANCE * lambda && c.1 == last.1 => last.2 += c.2,
+                    Some(last)
+                        if (c.0 - last.0).abs() <= PHASE_MERGE_TOLERANCE * lambda
+                            && c.1 == last.1 =>
+                    {
+                        last.2 += c.2
+                    }
                     _ => merged.push(c),
                 }
             }
@@ -65,7 +73,9 @@ impl Groups {
             groups.phase.push(phase);
             groups.cos_phase.push(phase.cos());
             groups.sin_phase.push(phase.sin());
-            groups.amplitude.push(scene.wave.decay_length_m.map_or(1.0, |l| (-x / l).exp()));
+            groups
+                .amplitude
+                .push(scene.wave.decay_length_m.map_or(1.0, |l| (-x / l).exp()));
             groups.gap.push(gap / a_n);
         }
         groups
@@ -87,7 +97,11 @@ pub(crate) struct Phases {
 
 impl Phases {
     pub fn new(n: usize) -> Self {
-        Self { sin: vec![0.0; n], cos: vec![0.0; n], drive: vec![0.0; n] }
+        Self {
+            sin: vec![0.0; n],
+            cos: vec![0.0; n],
+            drive: vec![0.0; n],
+        }
     }
 
     /// Fill for time `t` and slider position `x` (solver units).
@@ -125,12 +139,26 @@ pub(crate) fn running_wave_equilibrium(groups: &Groups, preload: f64) -> f64 {
     // Above a_max nothing touches; well below, everything is pressed in by at least `preload`.
     let hi = a_max;
     let lo = -preload - a_max - gap_max - 1.0;
-    crate::math::decreasing_root(|z| mean_total_normal(groups, z) - preload, lo, hi, 1e-15 * (1.0 + preload))
+    crate::math::decreasing_root(
+        |z| mean_total_normal(groups, z) - preload,
+        lo,
+        hi,
+        1e-15 * (1.0 + preload),
+    )
 }
 
 /// Tip height z on a flat (wave-free) stator with Σ w ⟨−z − g⟩₊ = `preload`.
 pub(crate) fn flat_equilibrium(groups: &Groups, preload: f64) -> f64 {
     let gap_max = groups.gap.iter().copied().fold(0.0, f64::max);
-    let total = |z: f64| (0..groups.len()).map(|g| groups.weight[g] * (-z - groups.gap[g]).max(0.0)).sum::<f64>();
-    crate::math::decreasing_root(|z| total(z) - preload, -preload - gap_max - 1.0, 0.0, 1e-15 * (1.0 + preload))
+    let total = |z: f64| {
+        (0..groups.len())
+            .map(|g| groups.weight[g] * (-z - groups.gap[g]).max(0.0))
+            .sum::<f64>()
+    };
+    crate::math::decreasing_root(
+        |z| total(z) - preload,
+        -preload - gap_max - 1.0,
+        0.0,
+        1e-15 * (1.0 + preload),
+    )
 }

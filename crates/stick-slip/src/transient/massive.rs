@@ -40,20 +40,34 @@ pub(crate) struct MassivePosts<'a> {
 
 impl<'a> MassivePosts<'a> {
     /// A stepper with step ≈ `step` (shortened to divide the wave period) from `start`.
-    pub fn new(sys: &'a System, friction: TipFriction, step: f64, start: SliderState) -> Result<Self> {
+    pub fn new(
+        sys: &'a System,
+        friction: TipFriction,
+        step: f64,
+        start: SliderState,
+    ) -> Result<Self> {
         let name = match friction {
             TipFriction::Coulomb => "post-mass",
             TipFriction::Regularized { .. } => "regularized-explicit",
         };
-        let mass = sys.post_mass.ok_or(StickSlipError::MissingPostMass { integrator: name })?;
+        let mass = sys
+            .post_mass
+            .ok_or(StickSlipError::MissingPostMass { integrator: name })?;
         let n = sys.groups.len();
         let per_period = (2.0 * PI / step).ceil().max(1.0);
         let mut phases = Phases::new(n);
         phases.fill(&sys.groups, &sys.wave, start.t, start.x);
         let normal: Vec<f64> = (0..n).map(|g| sys.normal(&phases, g, start.z)).collect();
         // Tips start moving with the stator where in contact, with the slider elsewhere.
-        let tip_velocity =
-            (0..n).map(|g| if normal[g] > 0.0 { sys.particle_velocity(&phases, g) } else { start.v }).collect();
+        let tip_velocity = (0..n)
+            .map(|g| {
+                if normal[g] > 0.0 {
+                    sys.particle_velocity(&phases, g)
+                } else {
+                    start.v
+                }
+            })
+            .collect();
         Ok(Self {
             sys,
             friction,
@@ -105,13 +119,18 @@ impl Stepper for MassivePosts<'_> {
         };
         // Old-time friction inputs (regularised law is explicit).
         let regularized_inputs: Option<Vec<(f64, f64)>> = match self.friction {
-            TipFriction::Regularized { .. } => {
-                Some((0..n).map(|g| (self.normal[g], sys.particle_velocity(&self.phases, g))).collect())
-            }
+            TipFriction::Regularized { .. } => Some(
+                (0..n)
+                    .map(|g| (self.normal[g], sys.particle_velocity(&self.phases, g)))
+                    .collect(),
+            ),
             TipFriction::Coulomb => None,
         };
         self.phases.fill(&sys.groups, &sys.wave, t1, x1);
-        let mut step_sums = Sums { time: h, ..Default::default() };
+        let mut step_sums = Sums {
+            time: h,
+            ..Default::default()
+        };
         for g in 0..n {
             let weight = sys.groups.weight[g];
             let q = self.deflection[g];
@@ -123,7 +142,11 @@ impl Stepper for MassivePosts<'_> {
                 TipFriction::Coulomb => {
                     let free = self.tip_velocity[g] - h * sys.rho * q / m;
                     let needed = m * (stator1 - free);
-                    let threshold = if matches!(self.mode[g], Mode::Slip(_)) { sys.mu_k } else { sys.mu_s };
+                    let threshold = if matches!(self.mode[g], Mode::Slip(_)) {
+                        sys.mu_k
+                    } else {
+                        sys.mu_s
+                    };
                     let (mode, impulse) = if normal1 <= 0.0 {
                         (Mode::Separated, 0.0)
                     } else if needed.abs() <= threshold * normal1 * h {
@@ -136,7 +159,9 @@ impl Stepper for MassivePosts<'_> {
                     (mode, tip, impulse * stator1, impulse * (stator1 - tip))
                 }
                 TipFriction::Regularized { speed } => {
-                    let (normal_old, stator_old) = regularized_inputs.as_ref().map_or((0.0, 0.0), |inputs| inputs[g]);
+                    let (normal_old, stator_old) = regularized_inputs
+                        .as_ref()
+                        .map_or((0.0, 0.0), |inputs| inputs[g]);
                     let slip = stator_old - self.tip_velocity[g];
                     let friction = sys.mu_k * normal_old * (slip / speed).tanh();
                     let tip = self.tip_velocity[g] + h * (friction - sys.rho * q) / m;
@@ -166,7 +191,13 @@ impl Stepper for MassivePosts<'_> {
             self.normal[g] = normal1;
         }
         *sums += step_sums;
-        self.st = SliderState { t: t1, x: x1, v: v1, z: z1, w: w1 };
+        self.st = SliderState {
+            t: t1,
+            x: x1,
+            v: v1,
+            z: z1,
+            w: w1,
+        };
         self.steps += 1;
         let worst = self.deflection.iter().fold(0.0f64, |a, q| a.max(q.abs()));
         if !(worst.is_finite() && worst < 1e8 && v1.is_finite()) {
@@ -192,14 +223,21 @@ impl Stepper for MassivePosts<'_> {
     }
 
     fn group(&self, g: usize) -> (f64, f64, Mode) {
-        (self.normal[g], self.sys.rho * self.deflection[g], self.mode[g])
+        (
+            self.normal[g],
+            self.sys.rho * self.deflection[g],
+            self.mode[g],
+        )
     }
 
     fn totals(&self) -> (f64, f64) {
         let sys = self.sys;
         (0..sys.groups.len()).fold((0.0, 0.0), |(f, nn), g| {
             let w = sys.groups.weight[g];
-            (f + w * sys.rho * self.deflection[g], nn + w * self.normal[g])
+            (
+                f + w * sys.rho * self.deflection[g],
+                nn + w * self.normal[g],
+            )
         })
     }
 }

@@ -119,7 +119,9 @@ impl TransientModel {
     pub fn new(scene: &DynamicScene) -> Result<Self> {
         let mut warnings = scene.validate()?;
         let setting = scene.stability_setting(ModelKind::Transient);
-        let integrator = scene.integrator.resolve(ModelKind::Transient, scene.wave.period_s());
+        let integrator = scene
+            .integrator
+            .resolve(ModelKind::Transient, scene.wave.period_s());
         for w in integrator.check(&setting, scene.wave.period_s(), scene.options.stability)? {
             if !warnings.contains(&w) {
                 warnings.push(w);
@@ -127,9 +129,13 @@ impl TransientModel {
         }
         let reason = match scene.resolve_model()? {
             (ModelKind::Transient, reason) => reason,
-            (ModelKind::PeriodicAverage, _) => "transient model built directly (the scene alone would allow the period average)".into(),
+            (ModelKind::PeriodicAverage, _) => {
+                "transient model built directly (the scene alone would allow the period average)"
+                    .into()
+            }
         };
-        if scene.wave.burst_periods.is_some() && scene.slider.vertical == VerticalModel::PeriodMean {
+        if scene.wave.burst_periods.is_some() && scene.slider.vertical == VerticalModel::PeriodMean
+        {
             warnings.push(Warning::new(
                 "slider.vertical",
                 "burst with quasi-static vertical model: z_s stays at the running-wave equilibrium, so posts hang free before and after the burst; use `dynamic`",
@@ -137,7 +143,13 @@ impl TransientModel {
         }
         let estimate = PeriodicAverageModel::new(&Self::estimate_scene(scene)).ok();
         let groups = groups::Groups::build(scene).len();
-        Ok(Self { scene: scene.clone(), estimate, reason, warnings, groups })
+        Ok(Self {
+            scene: scene.clone(),
+            estimate,
+            reason,
+            warnings,
+            groups,
+        })
     }
 
     /// The scene's continuous, uniform-height, quasi-static companion for the period average.
@@ -156,7 +168,9 @@ impl TransientModel {
 
     /// The concrete integrator (`auto` resolved for the transient).
     pub fn integrator(&self) -> Integrator {
-        self.scene.integrator.resolve(ModelKind::Transient, self.scene.wave.period_s())
+        self.scene
+            .integrator
+            .resolve(ModelKind::Transient, self.scene.wave.period_s())
     }
 
     /// Number of phase groups integrated.
@@ -179,17 +193,34 @@ impl TransientModel {
         Ok(match self.integrator() {
             Integrator::Auto | Integrator::EventDriven { max_step_s: None } => {
                 let slider_mode = (sys.rho.max(1.0) / sys.mass).sqrt();
-                let h = (2.0 * PI / EVENT_DRIVEN_STEPS_PER_PERIOD).min(EVENT_DRIVEN_SAFETY * RK4_STABILITY_BOUND / slider_mode);
+                let h = (2.0 * PI / EVENT_DRIVEN_STEPS_PER_PERIOD)
+                    .min(EVENT_DRIVEN_SAFETY * RK4_STABILITY_BOUND / slider_mode);
                 Box::new(EventDriven::new(sys, h, start))
             }
-            Integrator::EventDriven { max_step_s: Some(max_step_s) } => {
-                Box::new(EventDriven::new(sys, max_step_s * omega, start))
+            Integrator::EventDriven {
+                max_step_s: Some(max_step_s),
+            } => Box::new(EventDriven::new(sys, max_step_s * omega, start)),
+            Integrator::ReturnMapping { dt_s } => {
+                Box::new(ReturnMapping::new(sys, dt_s * omega, start))
             }
-            Integrator::ReturnMapping { dt_s } => Box::new(ReturnMapping::new(sys, dt_s * omega, start)),
-            Integrator::PostMass { dt_s } => Box::new(MassivePosts::new(sys, TipFriction::Coulomb, dt_s * omega, start)?),
-            Integrator::RegularizedExplicit { dt_s, regularization_speed_m_per_s } => {
-                let speed = regularization_speed_m_per_s / (self.scene.wave.normal_amplitude_m * omega);
-                Box::new(MassivePosts::new(sys, TipFriction::Regularized { speed }, dt_s * omega, start)?)
+            Integrator::PostMass { dt_s } => Box::new(MassivePosts::new(
+                sys,
+                TipFriction::Coulomb,
+                dt_s * omega,
+                start,
+            )?),
+            Integrator::RegularizedExplicit {
+                dt_s,
+                regularization_speed_m_per_s,
+            } => {
+                let speed =
+                    regularization_speed_m_per_s / (self.scene.wave.normal_amplitude_m * omega);
+                Box::new(MassivePosts::new(
+                    sys,
+                    TipFriction::Regularized { speed },
+                    dt_s * omega,
+                    start,
+                )?)
             }
         })
     }
@@ -212,8 +243,13 @@ impl TransientModel {
                 None => 0.0,
             },
         };
-        let start_state =
-            SliderState { t: sys.t_start, x: 0.0, v: -initial_speed / (a_n * omega), z: sys.initial_height(), w: 0.0 };
+        let start_state = SliderState {
+            t: sys.t_start,
+            x: 0.0,
+            v: -initial_speed / (a_n * omega),
+            z: sys.initial_height(),
+            w: 0.0,
+        };
         let mut stepper = self.stepper(&sys, start_state)?;
         let periods = options.periods.ceil() as usize;
         let window = (options.average_periods.round() as usize).clamp(1, periods);
@@ -273,7 +309,9 @@ impl TransientModel {
                             let alpha = st.t - sys.wave.doppler * st.x - sys.groups.phase[0];
                             let drive = sys.groups.amplitude[0] * sys.wave.amplitude_at(st.x);
                             let on = if sys.wave.is_on(alpha) { 1.0 } else { 0.0 };
-                            h.stator_velocity_m_per_s.push(sys.wave.tangential_ratio * on * drive * alpha.sin() * a_n * omega);
+                            h.stator_velocity_m_per_s.push(
+                                sys.wave.tangential_ratio * on * drive * alpha.sin() * a_n * omega,
+                            );
                             h.state.push(ContactState::from(mode));
                         }
                     }
@@ -303,19 +341,38 @@ impl TransientModel {
         let time = sums.time;
         let power_unit = force_unit * a_n * omega;
         let speed_of = |records: &[PeriodRecord]| {
-            let (x, t) = records.iter().fold((0.0, 0.0), |(x, t), r| (x + r.dx, t + r.sums.time));
+            let (x, t) = records
+                .iter()
+                .fold((0.0, 0.0), |(x, t), r| (x + r.dx, t + r.sums.time));
             -x / t
         };
         let half = window / 2;
-        let drift = if half >= 1 { (speed_of(&tail[..half]) - speed_of(&tail[half..])).abs() } else { 0.0 };
+        let drift = if half >= 1 {
+            (speed_of(&tail[..half]) - speed_of(&tail[half..])).abs()
+        } else {
+            0.0
+        };
         let mean_speed = -dx / time;
-        let steady = drift <= STEADY_TOLERANCE * mean_speed.abs().max(1e-3 * sys.wave.tangential_ratio);
+        let steady =
+            drift <= STEADY_TOLERANCE * mean_speed.abs().max(1e-3 * sys.wave.tangential_ratio);
         let stator = sums.stator_work / time * power_unit;
         let output = sums.output_work / time * power_unit;
         let residual = (sums.stator_work - sums.output_work - sums.dissipation - stored)
-            / sums.power_flow.max(sums.stator_work.abs()).max(sums.dissipation.abs()).max(1e-300);
-        let (v_min, v_max) = tail.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| (a.min(r.v_min), b.max(r.v_max)));
-        let (z_min, z_max) = tail.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| (a.min(r.z_min), b.max(r.z_max)));
+            / sums
+                .power_flow
+                .max(sums.stator_work.abs())
+                .max(sums.dissipation.abs())
+                .max(1e-300);
+        let (v_min, v_max) = tail
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
+                (a.min(r.v_min), b.max(r.v_max))
+            });
+        let (z_min, z_max) = tail
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
+                (a.min(r.z_min), b.max(r.z_max))
+            });
         if let Some(h) = post_history.as_mut() {
             h.speed_m_per_s = mean_speed * a_n * omega;
         }
@@ -329,7 +386,11 @@ impl TransientModel {
             stator_power_w: stator,
             friction_dissipation_w: sums.dissipation / time * power_unit,
             efficiency: if stator > 0.0 { output / stator } else { 0.0 },
-            stick_fraction: if sums.contact_time > 0.0 { sums.stick_time / sums.contact_time } else { 0.0 },
+            stick_fraction: if sums.contact_time > 0.0 {
+                sums.stick_time / sums.contact_time
+            } else {
+                0.0
+            },
             contact_fraction: sums.contact_time / time,
             energy_balance_residual: residual,
             steady,
@@ -340,7 +401,10 @@ impl TransientModel {
             peak_speed_m_per_s: peak_speed * a_n * omega,
             steps: stepper.steps(),
             periods,
-            period_speed_m_per_s: records.iter().map(|r| -r.dx / r.sums.time * a_n * omega).collect(),
+            period_speed_m_per_s: records
+                .iter()
+                .map(|r| -r.dx / r.sums.time * a_n * omega)
+                .collect(),
             slider_history,
             post_history,
         })
@@ -379,7 +443,11 @@ impl TransientModel {
             None
         };
         let curve_model = continuous.as_ref().unwrap_or(self);
-        let start = if scene.wave.burst_periods.is_some() { TransientStart::Rest } else { options.start };
+        let start = if scene.wave.burst_periods.is_some() {
+            TransientStart::Rest
+        } else {
+            options.start
+        };
         let operating = self.run(load, start, true)?;
         let mut runs = 1;
         let stall_estimate = match &self.estimate {
@@ -394,7 +462,11 @@ impl TransientModel {
         }
         let no_load = points[0].speed_m_per_s.max(0.0);
         let stalled = |run: &TransientRun| run.speed_m_per_s <= STALL_SPEED_FRACTION * no_load;
-        let mut lo = points.iter().filter(|r| !stalled(r)).map(|r| r.load_n).fold(0.0, f64::max);
+        let mut lo = points
+            .iter()
+            .filter(|r| !stalled(r))
+            .map(|r| r.load_n)
+            .fold(0.0, f64::max);
         let stall = if options.find_stall && no_load > 0.0 {
             let mut hi = stall_estimate.max(lo) * 1.1;
             let mut expansions = 0;
@@ -436,12 +508,19 @@ impl TransientModel {
             points.sort_by(|a, b| a.speed_m_per_s.total_cmp(&b.speed_m_per_s));
             match points.as_slice() {
                 [a, b, ..] if b.speed_m_per_s > a.speed_m_per_s => {
-                    a.thrust_n - a.speed_m_per_s * (b.thrust_n - a.thrust_n) / (b.speed_m_per_s - a.speed_m_per_s)
+                    a.thrust_n
+                        - a.speed_m_per_s * (b.thrust_n - a.thrust_n)
+                            / (b.speed_m_per_s - a.speed_m_per_s)
                 }
                 _ => stall_estimate,
             }
         };
-        if points.iter().chain(std::iter::once(&operating)).any(|r| !r.steady) && scene.wave.burst_periods.is_none() {
+        if points
+            .iter()
+            .chain(std::iter::once(&operating))
+            .any(|r| !r.steady)
+            && scene.wave.burst_periods.is_none()
+        {
             warnings.push(Warning::new(
                 "options.transient.periods",
                 format!(
@@ -451,7 +530,9 @@ impl TransientModel {
             ));
         }
         let residual_limit = 1e-2;
-        if operating.energy_balance_residual.abs() > residual_limit && scene.wave.burst_periods.is_none() {
+        if operating.energy_balance_residual.abs() > residual_limit
+            && scene.wave.burst_periods.is_none()
+        {
             warnings.push(Warning::new(
                 "integrator",
                 format!(
@@ -461,25 +542,37 @@ impl TransientModel {
             ));
         }
         points.sort_by(|a, b| a.speed_m_per_s.total_cmp(&b.speed_m_per_s));
-        let mut curve = vec![CurvePoint { speed_m_per_s: 0.0, thrust_n: stall, output_power_w: 0.0, efficiency: 0.0, stick_fraction: f64::NAN }];
-        curve.extend(points.iter().filter(|r| r.speed_m_per_s > 0.0).map(Self::curve_point));
+        let mut curve = vec![CurvePoint {
+            speed_m_per_s: 0.0,
+            thrust_n: stall,
+            output_power_w: 0.0,
+            efficiency: 0.0,
+            stick_fraction: f64::NAN,
+        }];
+        curve.extend(
+            points
+                .iter()
+                .filter(|r| r.speed_m_per_s > 0.0)
+                .map(Self::curve_point),
+        );
         if let Some(first) = points.first() {
             curve[0].stick_fraction = first.stick_fraction;
         }
         let efficiency = curve.iter().map(|p| p.efficiency).fold(0.0, f64::max);
         let max_power = curve.iter().map(|p| p.output_power_w).fold(0.0, f64::max);
-        let operating_point = (load <= stall || scene.wave.burst_periods.is_some()).then(|| OperatingPoint {
-            load_n: load,
-            speed_m_per_s: operating.speed_m_per_s,
-            thrust_n: operating.thrust_n,
-            output_power_w: operating.output_power_w,
-            stator_power_w: operating.stator_power_w,
-            friction_dissipation_w: operating.friction_dissipation_w,
-            efficiency: operating.efficiency,
-            stick_fraction: operating.stick_fraction,
-            contact_fraction: operating.contact_fraction,
-            energy_balance_residual: operating.energy_balance_residual,
-        });
+        let operating_point =
+            (load <= stall || scene.wave.burst_periods.is_some()).then_some(OperatingPoint {
+                load_n: load,
+                speed_m_per_s: operating.speed_m_per_s,
+                thrust_n: operating.thrust_n,
+                output_power_w: operating.output_power_w,
+                stator_power_w: operating.stator_power_w,
+                friction_dissipation_w: operating.friction_dissipation_w,
+                efficiency: operating.efficiency,
+                stick_fraction: operating.stick_fraction,
+                contact_fraction: operating.contact_fraction,
+                energy_balance_residual: operating.energy_balance_residual,
+            });
         if operating_point.is_none() {
             warnings.push(Warning::new(
                 "slider.external_load_n",
@@ -490,7 +583,10 @@ impl TransientModel {
             model: ModelKind::Transient,
             model_reason: self.reason.clone(),
             integrator: match self.integrator() {
-                Integrator::ReturnMapping { dt_s } => format!("return-mapping (dt = T/{:.0})", scene.wave.period_s() / dt_s),
+                Integrator::ReturnMapping { dt_s } => format!(
+                    "return-mapping (dt = T/{:.0})",
+                    scene.wave.period_s() / dt_s
+                ),
                 other => other.name().to_string(),
             },
             stall_thrust_n: stall,
@@ -517,7 +613,10 @@ impl TransientModel {
                 vertical_bounce_m: operating.vertical_bounce_m,
                 steps: operating.steps,
                 burst_displacement_m: scene.wave.burst_periods.map(|_| operating.displacement_m),
-                burst_peak_speed_m_per_s: scene.wave.burst_periods.map(|_| operating.peak_speed_m_per_s),
+                burst_peak_speed_m_per_s: scene
+                    .wave
+                    .burst_periods
+                    .map(|_| operating.peak_speed_m_per_s),
             }),
         };
         Ok((result, operating))

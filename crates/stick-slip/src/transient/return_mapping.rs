@@ -138,6 +138,8 @@ impl Stepper for ReturnMapping<'_> {
         "return-mapping"
     }
 
+    // Structure-of-arrays over the groups: index loops read several arrays at once.
+    #[allow(clippy::needless_range_loop)]
     fn step(&mut self, _t_limit: f64, sums: &mut Sums) -> Result<()> {
         let sys = self.sys;
         let n = sys.groups.len();
@@ -172,7 +174,11 @@ impl Stepper for ReturnMapping<'_> {
             let normal = sys.normal(&self.phases1, g, z1);
             self.normal[g] = normal;
             self.trial[g] = self.deflection[g] + self.increment[g];
-            let threshold = if matches!(self.mode[g], Mode::Slip(_)) { mu_k } else { mu_s };
+            let threshold = if matches!(self.mode[g], Mode::Slip(_)) {
+                mu_k
+            } else {
+                mu_s
+            };
             self.threshold[g] = threshold * normal / rho;
         }
         // Active set on the slider velocity: status 0 stuck, ±1 slipping, 2 separated.
@@ -235,7 +241,10 @@ impl Stepper for ReturnMapping<'_> {
             });
         }
         // Update the posts and the sums.
-        let mut step_sums = Sums { time: h, ..Default::default() };
+        let mut step_sums = Sums {
+            time: h,
+            ..Default::default()
+        };
         for g in 0..n {
             let w = weights[g];
             let trial = self.trial[g] - v1 * h;
@@ -268,7 +277,13 @@ impl Stepper for ReturnMapping<'_> {
             self.deflection[g] = e;
         }
         *sums += step_sums;
-        self.st = SliderState { t: t1, x: self.st.x + h * v1, v: v1, z: z1, w: w1 };
+        self.st = SliderState {
+            t: t1,
+            x: self.st.x + h * v1,
+            v: v1,
+            z: z1,
+            w: w1,
+        };
         self.alpha = alpha1;
         std::mem::swap(&mut self.phases0, &mut self.phases1);
         self.steps += 1;
@@ -277,18 +292,27 @@ impl Stepper for ReturnMapping<'_> {
 
     fn stored_energy(&self) -> f64 {
         let sys = self.sys;
-        (0..sys.groups.len()).map(|g| sys.groups.weight[g] * 0.5 * sys.rho * self.deflection[g].powi(2)).sum()
+        (0..sys.groups.len())
+            .map(|g| sys.groups.weight[g] * 0.5 * sys.rho * self.deflection[g].powi(2))
+            .sum()
     }
 
     fn group(&self, g: usize) -> (f64, f64, Mode) {
-        (self.normal[g], self.sys.rho * self.deflection[g], self.mode[g])
+        (
+            self.normal[g],
+            self.sys.rho * self.deflection[g],
+            self.mode[g],
+        )
     }
 
     fn totals(&self) -> (f64, f64) {
         let sys = self.sys;
         (0..sys.groups.len()).fold((0.0, 0.0), |(f, nn), g| {
             let w = sys.groups.weight[g];
-            (f + w * sys.rho * self.deflection[g], nn + w * self.normal[g])
+            (
+                f + w * sys.rho * self.deflection[g],
+                nn + w * self.normal[g],
+            )
         })
     }
 }

@@ -77,7 +77,11 @@ impl System {
 
     /// Initial tip height: flat-stator equilibrium before a burst, else the running-wave one.
     pub fn initial_height(&self) -> f64 {
-        if self.wave.burst_phase_end.is_some() && self.vertical_damping.is_some() { self.z_flat } else { self.z_equilibrium }
+        if self.wave.burst_phase_end.is_some() && self.vertical_damping.is_some() {
+            self.z_flat
+        } else {
+            self.z_equilibrium
+        }
     }
 
     /// Normal force of group g given the phases and tip height.
