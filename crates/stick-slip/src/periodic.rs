@@ -134,6 +134,13 @@ impl PeriodicAverageModel {
                 format!("period-average model assumes posts uniform over the phase; this layout's non-uniformity is {nonuniformity:.3}"),
             ));
         }
+        let ripple = scene.speed_ripple_estimate();
+        if ripple > crate::scene::SPEED_RIPPLE_LIMIT {
+            warnings.push(Warning::new(
+                "slider.mass_kg",
+                format!("period-average model assumes a heavy slider; the estimated speed ripple is {ripple:.1e} of A_t ω"),
+            ));
+        }
         let wave = &scene.wave;
         let contact = &scene.contact;
         let length_m = wave.normal_amplitude_m;

@@ -222,3 +222,55 @@ fn incommensurate_light_slider_ripples_and_bounces() {
         run.speed_m_per_s
     );
 }
+
+#[test]
+fn posts_held_off_by_a_gap_carry_no_load() {
+    // 24 phases over one wavelength; in the gapped scene every phase has a second post lifted
+    // 50 A_n above the wave (never touching). Same contact, same η: it must run like the scene
+    // with only the touching posts.
+    let base = transient_scene();
+    let lambda = base.wave.wavelength_m();
+    let phases: Vec<f64> = (0..24).map(|j| lambda * j as f64 / 24.0).collect();
+    let touching: Vec<f64> = phases
+        .iter()
+        .flat_map(|&x| std::iter::repeat_n(x, 100))
+        .collect();
+    let mut plain = base.clone();
+    plain.slider.layout = PostLayout::Positions {
+        x_m: touching.clone(),
+        gap_m: None,
+    };
+    let mut gapped = base.clone();
+    let mut x_m = touching.clone();
+    x_m.extend(&touching);
+    let mut gap_m = vec![0.0; touching.len()];
+    gap_m.extend(std::iter::repeat_n(
+        50.0 * base.wave.normal_amplitude_m,
+        touching.len(),
+    ));
+    gapped.slider.layout = PostLayout::Positions {
+        x_m,
+        gap_m: Some(gap_m),
+    };
+    // Same η: N_eff = η·N doubles with N, and the lifted half carries nothing.
+    let plain_model = TransientModel::new(&plain).unwrap();
+    let gapped_model = TransientModel::new(&gapped).unwrap();
+    assert_eq!(
+        gapped_model.phase_groups(),
+        2 * plain_model.phase_groups(),
+        "gaps split phase groups"
+    );
+    // Same start (rest): the runs must coincide to round-off, not merely settle alike.
+    let a = plain_model.run(0.0, TransientStart::Rest, false).unwrap();
+    let b = gapped_model.run(0.0, TransientStart::Rest, false).unwrap();
+    assert!(
+        (a.speed_m_per_s / b.speed_m_per_s - 1.0).abs() < 1e-6,
+        "no-load speed with lifted posts {} vs without them {} m/s",
+        b.speed_m_per_s,
+        a.speed_m_per_s
+    );
+    assert!(
+        (a.mean_tip_height_m - b.mean_tip_height_m).abs() < 1e-6 * base.wave.normal_amplitude_m,
+        "same tip height"
+    );
+}
