@@ -274,3 +274,93 @@ fn posts_held_off_by_a_gap_carry_no_load() {
         "same tip height"
     );
 }
+
+#[test]
+fn every_integrator_runs_the_transient_near_the_period_average() {
+    let mut scene = transient_scene();
+    scene.slider.layout = PostLayout::UniformPhase { post_count: 10000 };
+    scene.options.transient.uniform_phase_groups = 12;
+    scene.options.transient.periods = 60.0;
+    scene.options.transient.average_periods = 20.0;
+    scene.contact.post_mass_kg = Some(johnson::post_mass(10e-6));
+    scene.slider.vertical = VerticalModel::Dynamic { damping_ratio: 0.3 };
+    let period = scene.wave.period_s();
+    let v0 = PeriodicAverageModel::new(&DynamicScene {
+        model: ModelChoice::PeriodicAverage,
+        slider: stick_slip::Slider {
+            vertical: VerticalModel::PeriodMean,
+            ..scene.slider.clone()
+        },
+        ..scene.clone()
+    })
+    .unwrap()
+    .no_load_speed_m_per_s()
+    .unwrap();
+    // Massless schemes within 0.5 %, schemes with post mass within their ≈ 2–5 % model floor.
+    for (integrator, tolerance) in [
+        (Integrator::EventDriven { max_step_s: None }, 5e-3),
+        (
+            Integrator::ReturnMapping {
+                dt_s: period / 256.0,
+            },
+            5e-3,
+        ),
+        (
+            Integrator::PostMass {
+                dt_s: period / 256.0,
+            },
+            0.05,
+        ),
+        (
+            Integrator::RegularizedExplicit {
+                dt_s: period / 8192.0,
+                regularization_speed_m_per_s: 0.1,
+            },
+            0.08,
+        ),
+    ] {
+        scene.integrator = integrator;
+        let run = TransientModel::new(&scene)
+            .unwrap()
+            .run(0.0, TransientStart::Estimate, false)
+            .unwrap();
+        let error = (run.speed_m_per_s / v0 - 1.0).abs();
+        assert!(
+            error < tolerance,
+            "{}: no-load speed {} vs period average {v0} m/s",
+            integrator.name(),
+            run.speed_m_per_s
+        );
+        assert!(
+            run.vertical_bounce_m < 0.05 * scene.wave.normal_amplitude_m,
+            "{}: bounce {} m with uniform phases",
+            integrator.name(),
+            run.vertical_bounce_m
+        );
+    }
+}
+
+#[test]
+fn locked_slider_does_not_advance_in_the_transient_either() {
+    let mut scene = transient_scene();
+    scene.slider.layout = PostLayout::SquareArray {
+        posts_per_side: 33,
+        pitch_m: 121e-6,
+    };
+    scene.slider.preload_n = 100.0;
+    scene.options.transient.periods = 60.0;
+    scene.options.transient.average_periods = 20.0;
+    scene.options.transient.curve_loads = 2;
+    let result = TransientModel::new(&scene).unwrap().solve().unwrap();
+    assert!(
+        result.no_load_speed_m_per_s.abs() < 1e-3,
+        "locked slider's no-load speed {} m/s",
+        result.no_load_speed_m_per_s
+    );
+    assert_eq!(result.stall_thrust_n, 0.0, "locked slider's stall thrust");
+    assert!(
+        result.warnings.iter().any(|w| w.message.contains("locked")),
+        "warning, got {:?}",
+        result.warnings
+    );
+}

@@ -37,6 +37,9 @@ const STEADY_TOLERANCE: f64 = 1e-3;
 const STALL_SPEED_FRACTION: f64 = 1e-3;
 /// Largest number of samples of a recorded slider history (keeps charts small). Default 4000.
 const MAX_SLIDER_SAMPLES: f64 = 4000.0;
+/// Smallest load scale of the transient curve, as a fraction of μ_k P, when the period-average
+/// estimate finds the slider locked. Default 0.05.
+const STALL_ESTIMATE_FLOOR: f64 = 0.05;
 /// Largest number of runs of the stall search. Default 16.
 const MAX_STALL_RUNS: usize = 16;
 
@@ -450,10 +453,12 @@ impl TransientModel {
         };
         let operating = self.run(load, start, true)?;
         let mut runs = 1;
+        // A locked estimate (F(0⁺) ≤ 0) still needs a positive load scale for the curve.
         let stall_estimate = match &self.estimate {
             Some(e) => e.stall_thrust_n()?,
             None => scene.contact.mu_static * scene.slider.preload_n,
-        };
+        }
+        .max(STALL_ESTIMATE_FLOOR * scene.contact.mu_kinetic * scene.slider.preload_n);
         let mut points: Vec<TransientRun> = Vec::new();
         for i in 0..options.curve_loads.max(1) {
             let l = stall_estimate * i as f64 / options.curve_loads.max(1) as f64;
@@ -503,6 +508,12 @@ impl TransientModel {
                 }
             }
             0.5 * (lo + hi)
+        } else if no_load <= 0.0 {
+            warnings.push(Warning::new(
+                "slider.preload_n",
+                "the slider does not advance under no load (locked: posts never separate and stay stuck); stall thrust reported as 0",
+            ));
+            0.0
         } else {
             // Linear extrapolation of the two slowest points to zero speed.
             points.sort_by(|a, b| a.speed_m_per_s.total_cmp(&b.speed_m_per_s));
