@@ -260,7 +260,7 @@ impl DynamicScene {
         }
     }
 
-    /// Phase non-uniformity of the posts, max over m = 1..[`PHASE_HARMONICS`] of
+    /// Phase non-uniformity of the posts, max over m = 1..8 (`PHASE_HARMONICS`) of
     /// |Σ_i e^{i m k x_i}| / N (0: uniform over the phase; 1: all in phase).
     pub fn phase_nonuniformity(&self) -> f64 {
         if matches!(self.slider.layout, PostLayout::UniformPhase { .. }) {
