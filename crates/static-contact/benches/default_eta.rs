@@ -1,1 +1,55 @@
-fn main() {}
+//! Wall time of η for the default scene (100 × 100 posts of 20 µm, 40 N, 4 phases, Tet10 strip
+//! of the whole post row, half-space stator), from a cached mesh, against the 10-post strip of
+//! the same slider as a reference measured in the same run.
+//!
+//! ```sh
+//! cargo bench -p static-contact --bench default_eta     # ≈ 10 runs of ≈ 40 s: run on a quiet machine
+//! ```
+//! The mesh is generated (gmsh) or found in the cache before timing starts.
+
+use std::time::Duration;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use static_contact::mesh_source::resolve_mesh;
+use static_contact::{MeshChoice, StaticParams, run};
+
+fn with_cached_mesh(params: StaticParams) -> StaticParams {
+    let path = resolve_mesh(&params).expect("mesh for the benchmark (gmsh installed?)");
+    StaticParams {
+        mesh: MeshChoice::File(path),
+        ..params
+    }
+}
+
+fn default_eta(c: &mut Criterion) {
+    let default = with_cached_mesh(StaticParams::default());
+    let reference = with_cached_mesh(StaticParams {
+        strip_posts: Some(10),
+        ..StaticParams::default()
+    });
+    let mut group = c.benchmark_group("static_contact");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(1))
+        .measurement_time(Duration::from_secs(1));
+    group.bench_function("eta_10_post_strip_tet10", |b| {
+        b.iter(|| {
+            run(&reference)
+                .expect("10-post strip")
+                .report
+                .effective_contact_ratio
+        })
+    });
+    group.bench_function("eta_default_scene_100x100_tet10", |b| {
+        b.iter(|| {
+            run(&default)
+                .expect("default scene")
+                .report
+                .effective_contact_ratio
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, default_eta);
+criterion_main!(benches);

@@ -326,7 +326,6 @@ pub fn run_with(params: &StaticParams, options: ActiveSetOptions) -> Result<Stat
     let t = Instant::now();
     let model = StripModel::build(mesh, strip_config(params))?;
     let condensation_s = t.elapsed().as_secs_f64();
-    let t = Instant::now();
     let report = report_for_model(
         &model,
         params,
@@ -337,7 +336,6 @@ pub fn run_with(params: &StaticParams, options: ActiveSetOptions) -> Result<Stat
         condensation_s,
         start,
     )?;
-    let _ = t;
     Ok(StaticAnalysis {
         params: params.clone(),
         model,

@@ -120,13 +120,22 @@ pub fn resolve_mesh(params: &StaticParams) -> Result<PathBuf> {
     if out.is_file() {
         return Ok(out);
     }
+    generate_mesh("slider-strip", &out, &setnumbers)?;
+    Ok(out)
+}
+
+/// Runs `scripts/mesh.sh --binary GEOMETRY OUT NAME=VALUE...` (gmsh), creating OUT's directory.
+/// Errors carry gmsh's message, or how to install gmsh if it is missing.
+pub fn generate_mesh(geometry: &str, out: &Path, setnumbers: &[(&str, f64)]) -> Result<()> {
     let meshing_error = |detail: String| ContactError::Meshing {
-        geometry: "slider-strip".into(),
-        out: out.clone(),
+        geometry: geometry.into(),
+        out: out.to_path_buf(),
         detail,
     };
-    std::fs::create_dir_all(&dir)
-        .map_err(|e| meshing_error(format!("cannot create the cache directory: {e}")))?;
+    if let Some(dir) = out.parent() {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| meshing_error(format!("cannot create the directory: {e}")))?;
+    }
     let script = workspace_root().join("scripts/mesh.sh");
     if !script.is_file() {
         return Err(meshing_error(format!(
@@ -135,12 +144,8 @@ pub fn resolve_mesh(params: &StaticParams) -> Result<PathBuf> {
         )));
     }
     let mut command = Command::new("bash");
-    command
-        .arg(&script)
-        .arg("--binary")
-        .arg("slider-strip")
-        .arg(&out);
-    for (name, value) in &setnumbers {
+    command.arg(&script).arg("--binary").arg(geometry).arg(out);
+    for (name, value) in setnumbers {
         command.arg(format!("{name}={value:e}"));
     }
     let output = command
@@ -158,7 +163,7 @@ pub fn resolve_mesh(params: &StaticParams) -> Result<PathBuf> {
             stderr.trim()
         )));
     }
-    Ok(out)
+    Ok(())
 }
 
 #[cfg(test)]

@@ -177,22 +177,25 @@ pub fn write_force_chart(
             (x * mm, amplitude * (phase - k * x).sin() * 1e9)
         })
         .collect();
+    // Height w_i + g_i: on the undeformed wave where a post is in contact, above it by its gap.
     let tips: Vec<(f64, f64)> = snapshot
         .posts
         .iter()
-        .map(|p| (p.x_m * mm, snapshot.reference_height_m * 1e9))
+        .map(|p| (p.x_m * mm, (p.surface_height_m + p.gap_m) * 1e9))
         .collect();
     let mut wave_chart = Chart::new(
-        "Frozen wave and slider reference height",
+        "Frozen wave and the gaps under the posts",
         "x (mm)",
         "height (nm)",
     );
     wave_chart
         .series
         .push(Series::new("stator surface w(x)", wave, Style::Line));
-    wave_chart
-        .series
-        .push(Series::new("post-tip reference z_s", tips, Style::Dashed));
+    wave_chart.series.push(Series::new(
+        "w + gap at each post (on w where in contact)",
+        tips,
+        Style::Markers,
+    ));
     write_stacked(&[force_chart, wave_chart], stem).map_err(|e| ContactError::Output {
         path: stem.to_path_buf(),
         detail: e.to_string(),

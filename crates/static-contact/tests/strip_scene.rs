@@ -226,3 +226,38 @@ fn a_mesh_with_another_post_count_is_refused() {
         "error names both post counts: {err}"
     );
 }
+
+/// Needs gmsh and ≈ 1 min: `cargo test -p static-contact --release -- --ignored`.
+#[test]
+#[ignore]
+fn eta_converges_under_mesh_refinement() {
+    let etas: Vec<f64> = [1.0, 0.5, 0.25]
+        .iter()
+        .map(|&h| {
+            let params = StaticParams {
+                element_order: 2,
+                mesh_sizes: MeshSizes {
+                    h_post_over_radius: h,
+                    ..MeshSizes::default()
+                },
+                ..ten_post_params(Vec::new())
+            };
+            run(&params)
+                .expect("refined 10-post strip")
+                .report
+                .effective_contact_ratio
+                .expect("η on the wave")
+        })
+        .collect();
+    let (d1, d2) = (etas[0] - etas[1], etas[1] - etas[2]);
+    assert!(
+        d1 * d2 > 0.0 && d2.abs() < d1.abs(),
+        "η must converge monotonically under refinement: {etas:?}"
+    );
+    let order = (d1 / d2).abs().log2();
+    assert!(
+        order > 0.5,
+        "observed order of convergence of η: {order:.2} (η = {etas:?})"
+    );
+    println!("η at tip size a, a/2, a/4: {etas:?}, observed order {order:.2}");
+}
