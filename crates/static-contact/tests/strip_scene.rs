@@ -261,3 +261,20 @@ fn eta_converges_under_mesh_refinement() {
     );
     println!("η at tip size a, a/2, a/4: {etas:?}, observed order {order:.2}");
 }
+
+#[test]
+fn an_inverted_element_is_refused_naming_its_gmsh_tag() {
+    let mut mesh =
+        gmsh_mesh::read_msh(committed("slider-strip_p40um_d20um_n10_tet4_10k.msh")).unwrap();
+    let first_slider_tet = mesh.group_tets("slider").unwrap()[0];
+    let tag = mesh.tet_tags[first_slider_tet];
+    match &mut mesh.tets {
+        gmsh_mesh::Tets::Linear(tets) => tets[first_slider_tet].swap(0, 1),
+        gmsh_mesh::Tets::Quadratic(_) => unreachable!("the committed strip is Tet4"),
+    }
+    let err = StripModel::build(mesh, strip_config(&ten_post_params(Vec::new()))).unwrap_err();
+    assert!(
+        err.to_string().contains(&format!("gmsh tag {tag}")),
+        "error names the inverted element's gmsh tag {tag}: {err}"
+    );
+}
