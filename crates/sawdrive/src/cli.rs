@@ -23,6 +23,71 @@ pub enum Command {
     /// Mesh tools.
     #[command(subcommand)]
     Mesh(MeshCommand),
+    /// Static FEM contact of the slider on the stator: post forces and the effective contact
+    /// ratio η. Writes OUT/<scene>/static/.
+    Static(StageArgs),
+    /// Dynamic stick/slip model: speed–thrust curve, stall thrust, no-load speed, efficiency.
+    /// Uses the scene's η, or runs the static stage when effective_ratio = "fem".
+    /// Writes OUT/<scene>/dynamic/.
+    Dynamic(StageArgs),
+    /// The whole pipeline (springs → static → η → dynamic) into OUT/<scene>/.
+    Run(StageArgs),
+    /// Run a sweep file: a grid of scene overrides, in parallel, resumable.
+    Sweep(SweepArgs),
+    /// Validation studies.
+    #[command(subcommand)]
+    Validate(ValidateCommand),
+}
+
+/// Options of the commands that run a stage on a scene.
+#[derive(Debug, Args)]
+pub struct StageArgs {
+    #[command(flatten)]
+    pub input: SceneInput,
+    /// Results folder; each scene writes OUT/<scene name>/.
+    #[arg(long = "out", default_value = "out", value_name = "DIR")]
+    pub out: PathBuf,
+    /// Print the result as JSON on stdout (no progress display).
+    #[arg(long)]
+    pub json: bool,
+    /// Do not read or write the FEM result cache (OUT/.cache).
+    #[arg(long)]
+    pub no_cache: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct SweepArgs {
+    /// Sweep file (TOML).
+    pub sweep: PathBuf,
+    /// Results folder; the sweep writes OUT/<sweep name>/.
+    #[arg(long = "out", default_value = "out", value_name = "DIR")]
+    pub out: PathBuf,
+    /// Parallel jobs (default: all cores).
+    #[arg(long)]
+    pub jobs: Option<usize>,
+    /// Print the results table as JSON on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum ValidateCommand {
+    /// Integrators of the stick/slip model: work-precision chart, stability maps, agreement of
+    /// the transient with the period average, paper trends.
+    StickSlip(ValidateStickSlipArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct ValidateStickSlipArgs {
+    /// Output folder for the charts and report.json.
+    #[arg(long = "out", default_value = "validation/stick-slip/figures", value_name = "DIR")]
+    pub out: PathBuf,
+    /// Study size: smoke (seconds), quick, full (the committed figures).
+    #[arg(long, default_value = "full", value_parser = ["smoke", "quick", "full"])]
+    pub level: String,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(Debug, Subcommand)]

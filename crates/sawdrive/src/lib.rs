@@ -5,6 +5,7 @@
 //! ([`scene`]), converts human units ([`units`]) and drives the stages.
 
 pub mod output;
+pub mod pipeline;
 pub mod scene;
 pub mod sweep;
 pub mod units;

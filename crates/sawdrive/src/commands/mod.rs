@@ -1,10 +1,15 @@
 //! One module per subcommand.
 
+mod dynamic;
 mod mesh;
+mod run;
 mod scene;
+mod statics;
+mod sweep;
+mod validate;
 mod springs;
 
-use crate::cli::{Cli, Command, MeshCommand};
+use crate::cli::{Cli, Command, MeshCommand, ValidateCommand};
 
 /// Run the parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
@@ -12,5 +17,10 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Scene(args) => scene::run(&args),
         Command::Springs(args) => springs::run(&args),
         Command::Mesh(MeshCommand::Info(args)) => mesh::info(&args),
+        Command::Static(args) => statics::run(&args),
+        Command::Dynamic(args) => dynamic::run(&args),
+        Command::Run(args) => run::run(&args),
+        Command::Sweep(args) => sweep::run(&args),
+        Command::Validate(ValidateCommand::StickSlip(args)) => validate::stick_slip(&args),
     }
 }

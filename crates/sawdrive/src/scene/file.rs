@@ -110,7 +110,7 @@ pub struct ContactFile {
 pub struct ModelFile {
     /// `auto`, `periodic-average` or `transient`.
     pub dynamics: String,
-    /// `event-driven`, `return-mapping`, `regularized` or `post-mass`.
+    /// `auto`, `event-driven`, `return-mapping`, `regularized` or `post-mass`.
     pub integrator: String,
     /// Integrator time step; `"auto"` picks one inside the stability limit.
     pub time_step: AutoOr<Time>,
@@ -122,6 +122,8 @@ pub struct ModelFile {
     pub periods: u32,
     /// `quasi-static` (⟨ΣN⟩ = P over a period) or `dynamic` (M z̈ = ΣN − P).
     pub vertical: String,
+    /// Damping ratio ζ of the slider's vertical mode (`vertical = "dynamic"`).
+    pub vertical_damping_ratio: f64,
 }
 
 /// Static FEM contact settings.
@@ -134,6 +136,8 @@ pub struct StaticFile {
     pub element_order: u32,
     /// Mesh file for the slider strip; `"auto"`: committed mesh or gmsh.
     pub mesh: String,
+    /// Stator compliance: `half-space` (Johnson rigid-disk compliances) or `meshed-block`.
+    pub stator: String,
     /// Relative complementarity tolerance of the contact solver.
     pub tolerance: f64,
     /// Maximum active-set iterations.

@@ -13,7 +13,8 @@ mod resolved;
 use std::path::Path;
 
 pub use resolved::{
-    Contact, DynamicsChoice, Friction, IntegratorChoice, Load, Model, Posts, Scene, Slider, StaticSettings, VerticalChoice, Wave,
+    Contact, DynamicsChoice, Friction, IntegratorChoice, Load, Model, Posts, Scene, Slider, StaticSettings, StatorChoice, VerticalChoice,
+    Wave,
 };
 
 /// The embedded default scene: the source paper's motor.

@@ -118,6 +118,7 @@ pub enum DynamicsChoice {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum IntegratorChoice {
+    Auto,
     EventDriven,
     ReturnMapping,
     Regularized,
@@ -132,6 +133,14 @@ pub enum VerticalChoice {
     Dynamic,
 }
 
+/// Stator compliance model of the static stage.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum StatorChoice {
+    HalfSpace,
+    MeshedBlock,
+}
+
 /// Dynamic-model settings.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Model {
@@ -143,6 +152,7 @@ pub struct Model {
     pub curve_points: u32,
     pub periods: u32,
     pub vertical: VerticalChoice,
+    pub vertical_damping_ratio: f64,
 }
 
 /// Static FEM contact settings.
@@ -151,6 +161,7 @@ pub struct StaticSettings {
     pub phases: u32,
     pub element_order: u32,
     pub mesh: String,
+    pub stator: StatorChoice,
     pub tolerance: f64,
     pub max_iterations: u32,
 }
@@ -291,6 +302,7 @@ impl Scene {
             ("transient", DynamicsChoice::Transient),
         ])?;
         let integrator = choice("model.integrator", &m.integrator, &[
+            ("auto", IntegratorChoice::Auto),
             ("event-driven", IntegratorChoice::EventDriven),
             ("return-mapping", IntegratorChoice::ReturnMapping),
             ("regularized", IntegratorChoice::Regularized),
@@ -314,7 +326,19 @@ impl Scene {
         if m.periods == 0 {
             return Err(invalid("model.periods", "need at least one wave period"));
         }
-        let model = Model { dynamics, integrator, time_step_s, regularization_velocity_m_per_s, curve_points: m.curve_points, periods: m.periods, vertical };
+        if !(m.vertical_damping_ratio.is_finite() && m.vertical_damping_ratio >= 0.0) {
+            return Err(invalid("model.vertical_damping_ratio", format!("must be ≥ 0, got {}", m.vertical_damping_ratio)));
+        }
+        let model = Model {
+            dynamics,
+            integrator,
+            time_step_s,
+            regularization_velocity_m_per_s,
+            curve_points: m.curve_points,
+            periods: m.periods,
+            vertical,
+            vertical_damping_ratio: m.vertical_damping_ratio,
+        };
 
         let st = &file.static_fem;
         if st.phases == 0 {
@@ -327,10 +351,15 @@ impl Scene {
         if st.max_iterations == 0 {
             return Err(invalid("static.max_iterations", "must be ≥ 1"));
         }
+        let stator_model = choice("static.stator", &st.stator, &[
+            ("half-space", StatorChoice::HalfSpace),
+            ("meshed-block", StatorChoice::MeshedBlock),
+        ])?;
         let static_fem = StaticSettings {
             phases: st.phases,
             element_order: st.element_order,
             mesh: st.mesh.clone(),
+            stator: stator_model,
             tolerance: st.tolerance,
             max_iterations: st.max_iterations,
         };

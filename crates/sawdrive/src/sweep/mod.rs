@@ -1,5 +1,8 @@
-//! Parameter sweeps over scene keys: grid files, points, resumable results.
+//! Parameter sweeps over scene keys: grid files, points, resumable parallel runs, one CSV and
+//! charts of all results.
 
 mod file;
+mod run;
 
 pub use file::{ChartSpec, SweepError, SweepFile, SweepPoint, Variant};
+pub use run::{results_csv, run_sweep, PointRow, SweepOutcome, SweepRunError, NUMERIC_COLUMNS};

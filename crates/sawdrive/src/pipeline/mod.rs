@@ -1,0 +1,17 @@
+//! The static → dynamic pipeline: a resolved [`Scene`](crate::scene::Scene) to springs, the
+//! static FEM contact (η), the dynamic stick/slip model, and the files a run writes.
+//!
+//! Each stage is a function of the scene (and the previous stage's output), so a user can stop
+//! after any stage or feed a hand-chosen η to the dynamics (`effective_ratio = 0.36`).
+
+mod dynamics;
+mod error;
+mod run;
+mod springs;
+mod statics;
+
+pub use dynamics::{dynamic_scene, run_dynamic, write_dynamic_files};
+pub use error::PipelineError;
+pub use run::{run_pipeline, RunOptions, RunSummary, StageTimings};
+pub use springs::scene_springs;
+pub use statics::{run_static, static_params, write_static_files, StaticOutcome};

@@ -1,0 +1,111 @@
+//! Static stage: the slider strip pressed on the frozen wave → post forces and η.
+
+use std::path::{Path, PathBuf};
+
+use static_contact::{MeshChoice, StaticAnalysis, StaticParams, StatorModel};
+
+use super::PipelineError;
+use crate::scene::{Scene, StatorChoice};
+
+/// Relative tolerance on equal x and y pitch (the strip model needs a square post lattice).
+const PITCH_MISMATCH_TOLERANCE: f64 = 1e-9;
+
+/// The static stage's parameters for `scene`.
+pub fn static_params(scene: &Scene, mesh_cache_dir: Option<&Path>) -> Result<StaticParams, PipelineError> {
+    let posts = &scene.posts;
+    if (posts.pitch_x_m - posts.pitch_y_m).abs() > PITCH_MISMATCH_TOLERANCE * posts.pitch_x_m {
+        return Err(PipelineError::Unsupported {
+            stage: "static",
+            message: format!(
+                "the strip model needs equal pitch in x and y, got {} m and {} m (posts.array / count): \
+                 give effective_ratio as a number to skip the static stage",
+                posts.pitch_x_m, posts.pitch_y_m
+            ),
+        });
+    }
+    let mesh = match scene.static_fem.mesh.as_str() {
+        "auto" => MeshChoice::Auto,
+        path => MeshChoice::File(PathBuf::from(path)),
+    };
+    Ok(StaticParams {
+        slider_material: scene.slider.material.clone(),
+        stator_material: scene.stator.clone(),
+        post_diameter_m: posts.diameter_m,
+        post_height_m: posts.height_m,
+        posts_x: posts.count_x as usize,
+        posts_y: posts.count_y as usize,
+        post_pitch_m: posts.pitch_x_m,
+        slider_length_m: scene.slider.length_m,
+        slider_width_m: scene.slider.width_m,
+        slider_thickness_m: scene.slider.thickness_m,
+        wave_amplitude_m: scene.wave.normal_amplitude_m,
+        wavelength_m: scene.wave.wavelength_m,
+        preload_n: scene.load.preload_n,
+        phases: scene.static_fem.phases as usize,
+        element_order: scene.static_fem.element_order as u8,
+        stator: match scene.static_fem.stator {
+            StatorChoice::HalfSpace => StatorModel::HalfSpace,
+            StatorChoice::MeshedBlock => StatorModel::MeshedBlock,
+        },
+        mesh,
+        mesh_cache_dir: mesh_cache_dir.map(Path::to_owned),
+        ..StaticParams::default()
+    })
+}
+
+/// Result of the static stage: the analysis (fresh runs) or the cached report.
+#[derive(Debug)]
+pub struct StaticOutcome {
+    /// The report as JSON (fresh or from the cache).
+    pub report_json: serde_json::Value,
+    /// η at the scene's preload (`None`: not identifiable, e.g. flat stator).
+    pub effective_ratio: Option<f64>,
+    /// Content hash of the inputs.
+    pub content_hash: String,
+    /// Whether the report came from the cache.
+    pub cached: bool,
+    /// The analysis, for field and chart output (fresh runs only).
+    pub analysis: Option<StaticAnalysis>,
+}
+
+/// Run the static stage, or take its report from `cache_dir/static-<hash>.json` when the same
+/// inputs ran before.
+pub fn run_static(scene: &Scene, cache_dir: Option<&Path>) -> Result<StaticOutcome, PipelineError> {
+    let params = static_params(scene, cache_dir.map(|d| d.join("meshes")).as_deref())?;
+    let content_hash = params.content_hash()?;
+    let cache_file = cache_dir.map(|d| d.join(format!("static-{content_hash}.json")));
+    if let Some(file) = &cache_file {
+        if let Some(report_json) = std::fs::read(file).ok().and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok()) {
+            let effective_ratio = report_json["effective_contact_ratio"].as_f64();
+            return Ok(StaticOutcome { report_json, effective_ratio, content_hash, cached: true, analysis: None });
+        }
+    }
+    let analysis = static_contact::run(&params)?;
+    let report_json = serde_json::to_value(&analysis.report)?;
+    if let Some(file) = &cache_file {
+        crate::output::write_atomically(file, serde_json::to_vec(&report_json)?)?;
+    }
+    Ok(StaticOutcome {
+        effective_ratio: analysis.report.effective_contact_ratio,
+        report_json,
+        content_hash,
+        cached: false,
+        analysis: Some(analysis),
+    })
+}
+
+/// Write `static.json`, the post-force chart and the VTU of the first snapshot into `dir`.
+pub fn write_static_files(outcome: &StaticOutcome, dir: &Path) -> Result<Vec<PathBuf>, PipelineError> {
+    let mut files = vec![dir.join("static.json")];
+    std::fs::write(&files[0], serde_json::to_vec_pretty(&outcome.report_json)?)
+        .map_err(|source| crate::output::OutputError::Io { action: "write", path: files[0].clone(), source })?;
+    if let Some(analysis) = &outcome.analysis {
+        files.extend(static_contact::output::write_force_chart(analysis, 0, 0, &dir.join("post_forces"))?);
+        if let Some(snapshot) = analysis.report.preloads.first().and_then(|p| p.snapshots.first()) {
+            let vtu = dir.join("static_snapshot0.vtu");
+            static_contact::output::write_snapshot_vtu(analysis, snapshot, &vtu)?;
+            files.push(vtu);
+        }
+    }
+    Ok(files)
+}
