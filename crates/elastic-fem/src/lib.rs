@@ -23,6 +23,7 @@
 //! assert!((total_reaction_x + 1e6).abs() < 1e-3, "reaction balances the 1 MN load");
 //! ```
 
+#![warn(missing_docs)]
 // Index loops mirror the tensor formulas (C_ijkl, K_ab,ij); iterator chains would obscure them.
 #![allow(clippy::needless_range_loop)]
 
