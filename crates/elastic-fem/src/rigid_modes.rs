@@ -65,10 +65,10 @@ fn find_bodies(model: &Model) -> Bodies {
     let conn = model.connectivity();
     for e in 0..conn.len() {
         let en = conn.element_nodes(e);
-        let r0 = find(&mut parent, en[0]);
         for &node in en {
             in_element[node] = true;
-            let r = find(&mut parent, node);
+            // Both roots are looked up afresh: the first node's root changes as links are made.
+            let (r0, r) = (find(&mut parent, en[0]), find(&mut parent, node));
             if r != r0 {
                 let (lo, hi) = (r.min(r0), r.max(r0));
                 parent[hi] = lo;

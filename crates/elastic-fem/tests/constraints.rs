@@ -404,3 +404,64 @@ fn reactions_balance_applied_loads() {
         "total pressure force {fz} N, expected -2e6 N"
     );
 }
+
+/// Regression: the body detection once linked a stale root, so an element whose first node
+/// was not the smallest (e.g. [2, 1, 3, 0]) split one connected mesh into two "bodies".
+#[test]
+fn one_element_with_unsorted_nodes_is_one_body_with_six_rigid_modes() {
+    let nodes = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    let model = elastic_fem::Model::tet4(
+        &nodes,
+        &[[2, 1, 3, 0]],
+        Material::isotropic(E_PA, NU).unwrap(),
+    )
+    .unwrap();
+    let modes =
+        elastic_fem::free_rigid_body_modes(&model, &elastic_fem::DofMap::unconstrained(4)).unwrap();
+    assert_eq!(
+        modes.len(),
+        6,
+        "a single free tetrahedron has 6 rigid modes, found {modes:?}"
+    );
+    assert!(
+        modes.iter().all(|m| m.body == 0),
+        "all modes must belong to body 0: {modes:?}"
+    );
+
+    // A shuffled box mesh is one body too.
+    let mesh = BoxMesh::tet10([1.0, 1.0, 1.0], [2, 2, 2]);
+    let n = mesh.nodes.len();
+    let perm: Vec<usize> = (0..n).map(|i| (i * 37 + 11) % n).collect();
+    assert!(
+        {
+            let mut p = perm.clone();
+            p.sort_unstable();
+            p.dedup();
+            p.len() == n
+        },
+        "37 must be coprime with the node count for a permutation"
+    );
+    let mut nodes = vec![[0.0; 3]; n];
+    for (old, &new) in perm.iter().enumerate() {
+        nodes[new] = mesh.nodes[old];
+    }
+    let elastic_fem::Connectivity::Tet10(conn) = &mesh.connectivity else {
+        unreachable!()
+    };
+    let conn: Vec<[usize; 10]> = conn.iter().map(|e| e.map(|i| perm[i])).collect();
+    let model =
+        elastic_fem::Model::tet10(&nodes, &conn, Material::isotropic(E_PA, NU).unwrap()).unwrap();
+    let modes =
+        elastic_fem::free_rigid_body_modes(&model, &elastic_fem::DofMap::unconstrained(n)).unwrap();
+    assert_eq!(
+        modes.len(),
+        6,
+        "a free shuffled box has 6 rigid modes in one body, found {} modes",
+        modes.len()
+    );
+}
