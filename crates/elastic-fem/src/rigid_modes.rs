@@ -23,6 +23,11 @@ pub const RIGID_MODE_TOLERANCE: f64 = 1e-9;
 /// default 1e-6.
 const NAMING_PIVOT_TOLERANCE: f64 = 1e-6;
 
+/// Largest Gram matrix (6 × bodies coupled by ties) analysed; larger groups of tied bodies are
+/// skipped by the pre-check (the factorisation's pivot check still catches a singular system).
+/// Default 1200 (200 bodies).
+pub const MAX_GROUP_DIMENSION: usize = 1200;
+
 const MODE_NAMES: [&str; 6] = [
     "rotation about x",
     "rotation about y",
@@ -163,46 +168,28 @@ pub fn free_rigid_body_modes(model: &Model, dof_map: &DofMap) -> FemResult<Vec<F
     }
     let bodies = find_bodies(model);
     let nb = bodies.first_node.len();
-    let dim = 6 * nb;
-    let mut g = DMatrix::<f64>::zeros(dim, dim);
-    let mut add_row = |entries: &[(usize, f64)]| {
-        for &(i, a) in entries {
-            for &(j, b) in entries {
-                g[(i, j)] += a * b;
-            }
+    let body_of = |dof: usize| Some(bodies.of_node[dof / 3]).filter(|&b| b != usize::MAX);
+    // Bodies coupled by ties form groups; each group is analysed on its own.
+    let mut group_parent: Vec<usize> = (0..nb).collect();
+    fn root(p: &mut [usize], mut x: usize) -> usize {
+        while p[x] != x {
+            p[x] = p[p[x]];
+            x = p[x];
         }
-    };
+        x
+    }
     let mut orphans = Vec::new();
     for (dof, target) in dof_map.targets().iter().enumerate() {
-        let mv = mode_values(model, &bodies, dof);
-        match (target, mv) {
-            (DofTarget::Prescribed(_), Some((b, v))) => {
-                let row: Vec<(usize, f64)> = (0..6).map(|m| (6 * b + m, v[m])).collect();
-                add_row(&row);
+        if let DofTarget::Reduced(j) = target {
+            let rep = dof_map.representative_dof(*j);
+            match (body_of(dof), body_of(rep)) {
+                (None, _) if rep == dof => orphans.push(dof / 3),
+                (Some(a), Some(b)) if a != b => {
+                    let (ra, rb) = (root(&mut group_parent, a), root(&mut group_parent, b));
+                    group_parent[ra.max(rb)] = ra.min(rb);
+                }
+                _ => {}
             }
-            (DofTarget::Reduced(j), mv) => {
-                let rep = dof_map.representative_dof(*j);
-                if mv.is_none() && rep == dof {
-                    orphans.push(dof / 3);
-                }
-                if rep == dof {
-                    continue;
-                }
-                let mut row: Vec<(usize, f64)> = Vec::with_capacity(12);
-                if let Some((b, v)) = mv {
-                    row.extend((0..6).map(|m| (6 * b + m, v[m])));
-                }
-                if let Some((b, v)) = mode_values(model, &bodies, rep) {
-                    for m in 0..6 {
-                        match row.iter_mut().find(|(i, _)| *i == 6 * b + m) {
-                            Some(entry) => entry.1 -= v[m],
-                            None => row.push((6 * b + m, -v[m])),
-                        }
-                    }
-                }
-                add_row(&row);
-            }
-            (DofTarget::Prescribed(_), None) => {}
         }
     }
     if let Some(&node) = orphans.first() {
@@ -214,17 +201,107 @@ pub fn free_rigid_body_modes(model: &Model, dof_map: &DofMap) -> FemResult<Vec<F
             ),
         });
     }
+    let mut group_of_root = vec![usize::MAX; nb];
+    let mut group_bodies: Vec<Vec<usize>> = Vec::new();
+    let mut local = vec![0usize; nb];
+    let mut group_of_body = vec![0usize; nb];
+    for b in 0..nb {
+        let r = root(&mut group_parent, b);
+        if group_of_root[r] == usize::MAX {
+            group_of_root[r] = group_bodies.len();
+            group_bodies.push(Vec::new());
+        }
+        let g = group_of_root[r];
+        local[b] = group_bodies[g].len();
+        group_of_body[b] = g;
+        group_bodies[g].push(b);
+    }
+    let mut grams: Vec<Option<DMatrix<f64>>> = group_bodies
+        .iter()
+        .map(|bs| {
+            (6 * bs.len() <= MAX_GROUP_DIMENSION)
+                .then(|| DMatrix::zeros(6 * bs.len(), 6 * bs.len()))
+        })
+        .collect();
+    let mut row: Vec<(usize, f64)> = Vec::with_capacity(12);
+    for (dof, target) in dof_map.targets().iter().enumerate() {
+        row.clear();
+        let group = match target {
+            DofTarget::Prescribed(_) => {
+                let Some((b, v)) = mode_values(model, &bodies, dof) else {
+                    continue;
+                };
+                row.extend((0..6).map(|m| (6 * local[b] + m, v[m])));
+                group_of_body[b]
+            }
+            DofTarget::Reduced(j) => {
+                let rep = dof_map.representative_dof(*j);
+                if rep == dof {
+                    continue;
+                }
+                let (Some((b, v)), Some((br, vr))) = (
+                    mode_values(model, &bodies, dof),
+                    mode_values(model, &bodies, rep),
+                ) else {
+                    continue;
+                };
+                row.extend((0..6).map(|m| (6 * local[b] + m, v[m])));
+                for m in 0..6 {
+                    let col = 6 * local[br] + m;
+                    match row.iter_mut().find(|(i, _)| *i == col) {
+                        Some(entry) => entry.1 -= vr[m],
+                        None => row.push((col, -vr[m])),
+                    }
+                }
+                group_of_body[b]
+            }
+        };
+        if let Some(g) = grams[group].as_mut() {
+            for &(i, a) in &row {
+                for &(j, b) in &row {
+                    g[(i, j)] += a * b;
+                }
+            }
+        }
+    }
+    let mut modes = Vec::new();
+    for (group, gram) in grams.into_iter().enumerate() {
+        let Some(gram) = gram else { continue };
+        for col in null_space_pivots(gram) {
+            let body = group_bodies[group][col / 6];
+            modes.push(FreeRigidMode {
+                body,
+                body_node: bodies.first_node[body],
+                name: MODE_NAMES[col % 6],
+            });
+        }
+    }
+    // Report translations before rotations within a body.
+    modes.sort_by_key(|m| {
+        (
+            m.body,
+            if m.name.starts_with("translation") {
+                0
+            } else {
+                1
+            },
+            m.name,
+        )
+    });
+    Ok(modes)
+}
+
+/// Null space of the Gram matrix G, named by the pivot columns of its row-reduced basis
+/// (columns ordered ω_x, ω_y, ω_z, t_x, t_y, t_z per body).
+fn null_space_pivots(g: DMatrix<f64>) -> Vec<usize> {
+    let dim = g.nrows();
     if dim == 0 {
-        return Ok(Vec::new());
+        return Vec::new();
     }
     let eigen = SymmetricEigen::new(g);
     let null: Vec<usize> = (0..dim)
         .filter(|&i| eigen.eigenvalues[i] < RIGID_MODE_TOLERANCE)
         .collect();
-    if null.is_empty() {
-        return Ok(Vec::new());
-    }
-    // Row-reduce the null-space basis (rows) to name its vectors by their pivot columns.
     let mut rows: Vec<Vec<f64>> = null
         .iter()
         .map(|&i| eigen.eigenvectors.column(i).iter().copied().collect())
@@ -244,13 +321,12 @@ pub fn free_rigid_body_modes(model: &Model, dof_map: &DofMap) -> FemResult<Vec<F
         rows.swap(next, best);
         let p = rows[next][col];
         rows[next].iter_mut().for_each(|v| *v /= p);
-        for r in 0..rows.len() {
+        let pivot_row = rows[next].clone();
+        for (r, row) in rows.iter_mut().enumerate() {
             if r != next {
-                let factor = rows[r][col];
+                let factor = row[col];
                 if factor != 0.0 {
-                    let pivot_row = rows[next].clone();
-                    rows[r]
-                        .iter_mut()
+                    row.iter_mut()
                         .zip(&pivot_row)
                         .for_each(|(v, q)| *v -= factor * q);
                 }
@@ -259,27 +335,7 @@ pub fn free_rigid_body_modes(model: &Model, dof_map: &DofMap) -> FemResult<Vec<F
         pivots.push(col);
         next += 1;
     }
-    let mut modes: Vec<FreeRigidMode> = pivots
-        .into_iter()
-        .map(|col| FreeRigidMode {
-            body: col / 6,
-            body_node: bodies.first_node[col / 6],
-            name: MODE_NAMES[col % 6],
-        })
-        .collect();
-    // Report translations before rotations within a body.
-    modes.sort_by_key(|m| {
-        (
-            m.body,
-            if m.name.starts_with("translation") {
-                0
-            } else {
-                1
-            },
-            m.name,
-        )
-    });
-    Ok(modes)
+    pivots
 }
 
 /// Fails with [`FemError::UnconstrainedRigidBodyModes`] naming every free mode, e.g.

@@ -465,3 +465,68 @@ fn one_element_with_unsorted_nodes_is_one_body_with_six_rigid_modes() {
         modes.len()
     );
 }
+
+/// Two disjoint blocks: A clamped at its bottom, B floating. B is reported alone (body 1);
+/// tying B's x-min face to A's x-max face (periodic pairs across the gap) fixes it.
+#[test]
+fn a_floating_second_body_is_named_and_ties_to_a_fixed_body_constrain_it() {
+    let a = BoxMesh::tet4([1.0, 1.0, 1.0], [2, 2, 2]);
+    let offset = a.nodes.len();
+    let mut nodes = a.nodes.clone();
+    nodes.extend(a.nodes.iter().map(|x| [x[0] + 2.0, x[1], x[2]]));
+    let elastic_fem::Connectivity::Tet4(conn) = &a.connectivity else {
+        unreachable!()
+    };
+    let mut tets = conn.clone();
+    tets.extend(conn.iter().map(|e| e.map(|i| i + offset)));
+    let model =
+        elastic_fem::Model::tet4(&nodes, &tets, Material::isotropic(E_PA, NU).unwrap()).unwrap();
+    let clamp = vec![Dirichlet::clamped(a.face_nodes(BoxFace::ZMin))];
+    let loose = Constraints {
+        dirichlet: clamp.clone(),
+        ..Default::default()
+    };
+    let modes = elastic_fem::free_rigid_body_modes(
+        &model,
+        &elastic_fem::DofMap::new(nodes.len(), &loose).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(
+        modes.len(),
+        6,
+        "the floating block has 6 free modes: {modes:?}"
+    );
+    assert!(
+        modes.iter().all(|m| m.body == 1 && m.body_node == offset),
+        "all free modes belong to the second block: {modes:?}"
+    );
+
+    let slaves: Vec<usize> = a
+        .face_nodes(BoxFace::XMin)
+        .iter()
+        .map(|i| i + offset)
+        .collect();
+    let tie = PeriodicPairs::match_by_translation(
+        &nodes,
+        &slaves,
+        &a.face_nodes(BoxFace::XMax),
+        [1.0, 0.0, 0.0],
+        1e-9,
+        [true; 3],
+    )
+    .unwrap();
+    let tied = Constraints {
+        dirichlet: clamp,
+        periodic: vec![tie],
+        ..Default::default()
+    };
+    let modes = elastic_fem::free_rigid_body_modes(
+        &model,
+        &elastic_fem::DofMap::new(nodes.len(), &tied).unwrap(),
+    )
+    .unwrap();
+    assert!(
+        modes.is_empty(),
+        "the tied block must have no free rigid mode: {modes:?}"
+    );
+}
