@@ -18,7 +18,18 @@ fn main() -> ExitCode {
     }
 }
 
-/// One line: the error and its causes, joined by ": ".
+/// One line: the error and its causes, joined by ": ". A cause whose text its parent's message
+/// already contains (errors that print their source) is not repeated.
 fn error_chain(error: &anyhow::Error) -> String {
-    error.chain().map(ToString::to_string).collect::<Vec<_>>().join(": ")
+    let mut line = String::new();
+    for cause in error.chain().map(ToString::to_string) {
+        if line.contains(&cause) {
+            continue;
+        }
+        if !line.is_empty() {
+            line.push_str(": ");
+        }
+        line.push_str(&cause);
+    }
+    line.replace('\n', " ")
 }

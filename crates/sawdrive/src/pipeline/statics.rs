@@ -109,3 +109,74 @@ pub fn write_static_files(outcome: &StaticOutcome, dir: &Path) -> Result<Vec<Pat
     }
     Ok(files)
 }
+
+/// Hash of what the condensed strip model depends on: the static inputs without the preloads
+/// and snapshot phases (which only enter the cheap contact solves).
+pub fn geometry_key(params: &StaticParams) -> Result<String, PipelineError> {
+    let mut geometry = params.clone();
+    geometry.preload_n = 1.0;
+    geometry.preload_sweep_n.clear();
+    geometry.phases = 1;
+    Ok(geometry.content_hash()?)
+}
+
+/// Fill the static cache for many scenes (a sweep) with one FEM condensation per distinct
+/// geometry: scenes that differ only in preload share the factorised strip, and each gets its
+/// own cached report. Scenes with a given η or an existing cache entry are skipped. Returns the
+/// number of condensations run and the groups that failed (their points fail on their own later).
+pub fn fill_static_cache(scenes: &[Scene], cache_dir: &Path) -> (usize, Vec<(String, String)>) {
+    let mut groups: Vec<(String, Vec<(StaticParams, String)>)> = Vec::new();
+    for scene in scenes.iter().filter(|s| s.contact.effective_ratio.is_none()) {
+        let Ok(params) = static_params(scene, Some(&cache_dir.join("meshes"))) else { continue };
+        let (Ok(key), Ok(hash)) = (geometry_key(&params), params.content_hash()) else { continue };
+        if cache_dir.join(format!("static-{hash}.json")).exists() {
+            continue;
+        }
+        match groups.iter_mut().find(|(k, _)| *k == key) {
+            Some((_, members)) if !members.iter().any(|(_, h)| *h == hash) => members.push((params, hash)),
+            Some(_) => {}
+            None => groups.push((key, vec![(params, hash)])),
+        }
+    }
+    let mut built = 0;
+    let mut failures = Vec::new();
+    for (key, members) in groups {
+        if let Err(e) = condense_and_cache(&members, cache_dir) {
+            failures.push((key, e.to_string()));
+        } else {
+            built += 1;
+        }
+    }
+    (built, failures)
+}
+
+/// Build the strip model of the first member once and cache a report for every member.
+fn condense_and_cache(members: &[(StaticParams, String)], cache_dir: &Path) -> Result<(), PipelineError> {
+    let start = std::time::Instant::now();
+    let first = &members[0].0;
+    first.validate()?;
+    let path = static_contact::mesh_source::resolve_mesh(first)?;
+    let mesh = gmsh_mesh::read_msh(&path).map_err(|source| static_contact::ContactError::Mesh {
+        file: path.display().to_string(),
+        source: Box::new(source),
+    })?;
+    let mesh_s = start.elapsed().as_secs_f64();
+    let t = std::time::Instant::now();
+    let model = static_contact::StripModel::build(mesh, static_contact::analysis::strip_config(first))?;
+    let condensation_s = t.elapsed().as_secs_f64();
+    for (params, hash) in members {
+        let report = static_contact::analysis::report_for_model(
+            &model,
+            params,
+            hash.clone(),
+            path.display().to_string(),
+            static_contact::ActiveSetOptions::default(),
+            mesh_s,
+            condensation_s,
+            std::time::Instant::now(),
+        )?;
+        let file = cache_dir.join(format!("static-{hash}.json"));
+        crate::output::write_atomically(&file, serde_json::to_vec(&report)?)?;
+    }
+    Ok(())
+}

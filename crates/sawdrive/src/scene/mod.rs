@@ -83,7 +83,9 @@ pub fn load_scene(path: Option<&Path>, overrides: &[String]) -> Result<Scene, Sc
             let text = std::fs::read_to_string(path)
                 .map_err(|source| SceneError::Io { path: path.display().to_string(), source })?;
             let origin = path.display().to_string();
-            merge::deep_merge(&mut table, parse_table(&text, &origin)?);
+            let mut user = parse_table(&text, &origin)?;
+            resolve_relative_mesh(&mut user, path);
+            merge::deep_merge(&mut table, user);
             origin
         }
         None => "default scene".to_owned(),
@@ -101,6 +103,16 @@ pub fn load_scene(path: Option<&Path>, overrides: &[String]) -> Result<Scene, Sc
     })?;
     check_name(&file.name)?;
     Scene::resolve(file)
+}
+
+/// A relative `static.mesh` in a scene file is relative to that file's folder.
+fn resolve_relative_mesh(table: &mut toml::Table, scene_path: &Path) {
+    let Some(toml::Value::Table(fem)) = table.get_mut("static") else { return };
+    let Some(toml::Value::String(mesh)) = fem.get_mut("mesh") else { return };
+    if mesh != "auto" && Path::new(mesh.as_str()).is_relative() {
+        let base = scene_path.parent().unwrap_or(Path::new("."));
+        *mesh = base.join(mesh.as_str()).display().to_string();
+    }
 }
 
 /// Scene names become directory names: letters, digits, `-`, `_`, `.`.

@@ -11,7 +11,7 @@ use sha2::{Digest, Sha256};
 
 use super::{SweepFile, SweepPoint};
 use crate::output::write_atomically;
-use crate::pipeline::{run_pipeline, RunOptions};
+use crate::pipeline::{fill_static_cache, run_pipeline, RunOptions};
 use crate::scene::load_scene;
 
 /// Numeric result columns a chart may use.
@@ -168,6 +168,15 @@ pub fn run_sweep(sweep: &SweepFile, out_dir: &Path, jobs: Option<usize>) -> Resu
         serde_json::from_slice(&bytes).ok()
     };
     let resumed = hashes.iter().filter(|h| done(h).is_some()).count();
+    // One FEM condensation per distinct slider geometry, before the parallel points (which then
+    // read their static reports from the cache).
+    let pending_scenes: Vec<_> = points
+        .iter()
+        .zip(&hashes)
+        .filter(|(_, h)| done(h).is_none())
+        .filter_map(|(p, _)| load_scene(sweep.scene.as_deref(), &p.overrides).ok())
+        .collect();
+    let (_, _static_failures) = fill_static_cache(&pending_scenes, &cache);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(jobs.unwrap_or(0))
         .build()
