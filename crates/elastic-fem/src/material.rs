@@ -124,7 +124,7 @@ pub struct CubicCrystal {
     pub c12_pa: f64,
     /// C44 in the crystal frame (Pa).
     pub c44_pa: f64,
-    /// Rotation R whose columns are the crystal axes [100], [010], [001] expressed in global
+    /// Rotation R whose columns are the crystal axes \[100\], \[010\], \[001\] expressed in global
     /// coordinates: v_global = R v_crystal.
     pub rotation: Matrix3<f64>,
 }
