@@ -127,3 +127,24 @@ fn sweep_refuses_empty_grids_and_unwritable_folders() {
     let sweep = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/sweeps/small-preload.toml");
     sawdrive_err(&["sweep", sweep, "--out", blocker.join("out").to_str().unwrap()], "file/out");
 }
+
+#[test]
+fn readme_dynamic_example_runs() {
+    let out = tempfile::tempdir().unwrap();
+    let json: serde_json::Value = serde_json::from_str(&sawdrive_ok(&[
+        "dynamic", "--set", "preload=20N", "--set", "posts.count=50x50", "--set", "effective_ratio=0.36", "--json",
+        "--out", out.path().to_str().unwrap(),
+    ]))
+    .unwrap();
+    let stall = json["stall_thrust_n"].as_f64().unwrap();
+    assert!(stall > 0.0 && stall <= 0.3 * 20.0 + 1e-9, "stall thrust {stall} ≤ μP = 6 N");
+}
+
+#[test]
+fn validate_stick_slip_smoke_writes_its_figures() {
+    let out = tempfile::tempdir().unwrap();
+    sawdrive_ok(&["validate", "stick-slip", "--level", "smoke", "--out", out.path().to_str().unwrap()]);
+    assert!(out.path().join("report.json").is_file(), "report.json");
+    let svgs = std::fs::read_dir(out.path()).unwrap().filter(|e| e.as_ref().unwrap().path().extension().is_some_and(|x| x == "svg")).count();
+    assert!(svgs >= 3, "work-precision and stability charts written, found {svgs} svg files");
+}
