@@ -1,0 +1,72 @@
+//! One-shot stage timings of the punch FEM (k_sn, LiNbO3, quarter or any punch mesh): unknowns,
+//! assembly, symbolic and numeric factorisation, solve, time per unknown, factor memory and peak
+//! resident memory. One JSON object per mesh on stdout.
+//!
+//! ```sh
+//! cargo run --release -p validation --example punch_scaling -- MESH.msh [MESH.msh ...]
+//! cargo run --release -p validation --example punch_scaling -- --level 3   # family level (gmsh)
+//! ```
+//! `--level L` takes the quarter Tet10 mesh of level L of the springs study family (generated
+//! into the mesh cache if missing). Used for the ≥ 300k-unknown point of the benchmark table and
+//! by scripts/compare-skfem.sh.
+
+use contact_springs::Material;
+use validation::{AssembledPunch, MeshCache, MeshFamily, MeshSymmetry, PunchMesh, PunchSolveOptions, Spring};
+
+/// Peak resident set size of this process (MB), from /proc/self/status (Linux), or NaN.
+fn peak_rss_mb() -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok()))
+        .map_or(f64::NAN, |kb| kb / 1024.0)
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut paths = Vec::new();
+    let mut args = std::env::args().skip(1);
+    while let Some(arg) = args.next() {
+        if arg == "--level" {
+            let level: usize = args.next().ok_or("--level needs a number")?.parse()?;
+            let parameters = MeshFamily::tet10().parameters(level, 10e-6, MeshSymmetry::Quarter);
+            paths.push(MeshCache::default().punch_mesh(&parameters)?);
+        } else {
+            paths.push(arg.into());
+        }
+    }
+    let material = Material::lithium_niobate();
+    for path in paths {
+        let t = std::time::Instant::now();
+        let mesh = PunchMesh::read(&path)?;
+        let read_s = t.elapsed().as_secs_f64();
+        let assembled = AssembledPunch::new(&mesh, &material)?;
+        let r = assembled.solve(Spring::FrictionlessNormal, &PunchSolveOptions::default())?;
+        let analytic = Spring::FrictionlessNormal.analytic_n_per_m(&material, mesh.radius_m)?;
+        let t = r.timings;
+        let json = serde_json::json!({
+            "mesh": path.display().to_string(),
+            "order": mesh.order,
+            "nodes": mesh.node_count(),
+            "elements": mesh.element_count(),
+            "unknowns": r.unknowns,
+            "k_sn_n_per_m": r.stiffness_n_per_m,
+            "k_sn_clamped_n_per_m": r.clamped_stiffness_n_per_m,
+            "k_sn_over_analytic": r.stiffness_n_per_m / analytic,
+            "k_sn_clamped_over_analytic": r.clamped_stiffness_n_per_m / analytic,
+            "read_s": read_s,
+            "pattern_s": t.pattern_s,
+            "assembly_s": t.assembly_s,
+            "reduction_s": t.reduction_s,
+            "symbolic_s": t.symbolic_s,
+            "numeric_s": t.numeric_s,
+            "solve_s": t.solve_s,
+            "total_s": t.total_s(),
+            "assembly_over_numeric": (t.pattern_s + t.assembly_s) / t.numeric_s,
+            "total_us_per_unknown": 1e6 * t.total_s() / r.unknowns as f64,
+            "factor_nnz": r.factor_nnz,
+            "factor_mb": r.factor_nnz as f64 * 8.0 / 1e6,
+            "peak_rss_mb": peak_rss_mb(),
+        });
+        println!("{json}");
+    }
+    Ok(())
+}
