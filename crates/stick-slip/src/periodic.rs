@@ -273,7 +273,13 @@ impl PeriodicAverageModel {
             output_power_w: output,
             stator_power_w: stator,
             friction_dissipation_w: i.dissipation * power,
-            efficiency: if stator > 0.0 { output / stator } else { 0.0 },
+            // Output over the power delivered into the contacts, counted as output + friction
+            // dissipation: output/stator in an exactly steady period, and bounded by 1 where the
+            // two small works near the no-load speed do not balance to round-off.
+            efficiency: {
+                let delivered = output + (i.dissipation * power).max(0.0);
+                if delivered > 0.0 && output > 0.0 { output / delivered } else { 0.0 }
+            },
             stick_fraction: if i.contact_time > 0.0 {
                 i.stick_time / i.contact_time
             } else {

@@ -388,7 +388,14 @@ impl TransientModel {
             output_power_w: output,
             stator_power_w: stator,
             friction_dissipation_w: sums.dissipation / time * power_unit,
-            efficiency: if stator > 0.0 { output / stator } else { 0.0 },
+            // Output over the power the contacts take from the stator, counted as output +
+            // dissipation: equal to output/stator in a steady state, and never above 1 when a
+            // finite window still sees the slider's stored energy change.
+            efficiency: {
+                let dissipation = sums.dissipation / time * power_unit;
+                let delivered = output + dissipation;
+                if delivered > 0.0 && output > 0.0 { output / delivered } else { 0.0 }
+            },
             stick_fraction: if sums.contact_time > 0.0 {
                 sums.stick_time / sums.contact_time
             } else {
