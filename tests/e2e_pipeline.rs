@@ -148,3 +148,24 @@ fn validate_stick_slip_smoke_writes_its_figures() {
     let svgs = std::fs::read_dir(out.path()).unwrap().filter(|e| e.as_ref().unwrap().path().extension().is_some_and(|x| x == "svg")).count();
     assert!(svgs >= 3, "work-precision and stability charts written, found {svgs} svg files");
 }
+
+#[test]
+fn validate_springs_smoke_reports_every_spring_as_json() {
+    if std::process::Command::new("gmsh").arg("--version").output().is_err() {
+        eprintln!("gmsh is not installed (scripts/install-deps.sh): the punch meshes cannot be made; skipped");
+        return;
+    }
+    let out = tempfile::tempdir().unwrap();
+    let json: serde_json::Value =
+        serde_json::from_str(&sawdrive_ok(&["validate", "springs", "--smoke", "--json", "--out", out.path().to_str().unwrap()])).unwrap();
+    let cases = json.as_array().expect("an array of cases");
+    for spring in ["k_pn", "k_pt", "k_sn", "k_st"] {
+        let case = cases.iter().find(|c| c["spring"] == spring).unwrap_or_else(|| panic!("case {spring}"));
+        for key in ["material", "radius_m", "fem_n_per_m", "fem_error_estimate", "analytic_n_per_m", "relative_difference"] {
+            assert!(!case[key].is_null(), "{spring}: key {key}");
+        }
+        let difference = case["relative_difference"].as_f64().unwrap();
+        assert!(difference.abs() < 0.05, "{spring}: even the smoke mesh is within 5 % of Johnson, got {difference}");
+    }
+    assert!(out.path().join("cases.json").is_file(), "cases.json written");
+}

@@ -72,9 +72,26 @@ pub struct SweepArgs {
 
 #[derive(Debug, Subcommand)]
 pub enum ValidateCommand {
+    /// FEM of a rigid punch on a half-space against the four Johnson springs (k_pn, k_pt, k_sn,
+    /// k_st) for Si and LiNbO3, a = 10 and 25 µm: converged FEM value, error estimate, formula,
+    /// difference; charts. The full study takes ≈ 30 min on 2 cores (gmsh meshes the punches).
+    Springs(ValidateSpringsArgs),
     /// Integrators of the stick/slip model: work-precision chart, stability maps, agreement of
     /// the transient with the period average, paper trends.
     StickSlip(ValidateStickSlipArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct ValidateSpringsArgs {
+    /// Output folder for the charts, results.json and cases.json.
+    #[arg(long = "out", default_value = "validation/springs", value_name = "DIR")]
+    pub out: PathBuf,
+    /// A seconds-long smoke study (one radius, coarse meshes) instead of the full one.
+    #[arg(long)]
+    pub smoke: bool,
+    /// Print the cases as a JSON array.
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(Debug, Args)]

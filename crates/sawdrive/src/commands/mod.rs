@@ -22,5 +22,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Run(args) => run::run(&args),
         Command::Sweep(args) => sweep::run(&args),
         Command::Validate(ValidateCommand::StickSlip(args)) => validate::stick_slip(&args),
+        Command::Validate(ValidateCommand::Springs(args)) => validate::springs(&args),
     }
 }

@@ -4,7 +4,7 @@ use sawdrive::scene::load_scene;
 use stick_slip::validation::{run_validation, ValidationLevel, ValidationSetup};
 use stick_slip::PostContact;
 
-use crate::cli::ValidateStickSlipArgs;
+use crate::cli::{ValidateSpringsArgs, ValidateStickSlipArgs};
 
 pub fn stick_slip(args: &ValidateStickSlipArgs) -> anyhow::Result<()> {
     let paper = load_scene(None, &[])?;
@@ -32,6 +32,21 @@ pub fn stick_slip(args: &ValidateStickSlipArgs) -> anyhow::Result<()> {
     } else {
         println!("stick-slip validation ({}) written to {}", args.level, args.out.display());
         println!("reference stall thrust {:.6} N, no-load speed {:.6} m/s", report.reference_stall_thrust_n, report.reference_no_load_speed_m_per_s);
+    }
+    Ok(())
+}
+
+pub fn springs(args: &ValidateSpringsArgs) -> anyhow::Result<()> {
+    let mut options = if args.smoke { validation::SpringsOptions::smoke() } else { validation::SpringsOptions::default() };
+    options.progress = !args.json;
+    let result = validation::validate_springs(&options)?;
+    validation::report::write_charts(&result, &args.out)?;
+    sawdrive::output::write_atomically(&args.out.join("cases.json"), result.cases_json()?)?;
+    if args.json {
+        println!("{}", result.cases_json()?);
+    } else {
+        println!("{result}");
+        println!("charts and cases.json in {}", args.out.display());
     }
     Ok(())
 }
