@@ -18,23 +18,36 @@ use elastic_fem::{DofMap, ReducedSystem, StiffnessPattern, assemble_stiffness_in
 use validation::{AssembledPunch, MeshCache, MeshFamily, MeshSymmetry, PunchMesh, Spring};
 
 fn levels() -> Vec<usize> {
-    if std::env::var_os("VALIDATION_BENCH_LARGE").is_some() { vec![0, 1, 2] } else { vec![0, 1] }
+    if std::env::var_os("VALIDATION_BENCH_LARGE").is_some() {
+        vec![0, 1, 2]
+    } else {
+        vec![0, 1]
+    }
 }
 
 fn stages(c: &mut Criterion) {
     let material = Material::lithium_niobate();
     for level in levels() {
         let parameters = MeshFamily::tet10().parameters(level, 10e-6, MeshSymmetry::Quarter);
-        let path = MeshCache::default().punch_mesh(&parameters).expect("punch mesh (gmsh)");
+        let path = MeshCache::default()
+            .punch_mesh(&parameters)
+            .expect("punch mesh (gmsh)");
         let mesh = PunchMesh::read(&path).expect("punch mesh reads");
         let assembled = AssembledPunch::new(&mesh, &material).expect("model");
         let model = assembled.model();
         let pattern = StiffnessPattern::build(model);
         let mut stiffness = assembled.stiffness().clone();
-        let constraints = assembled.clamped_constraints(Spring::FrictionlessNormal, 1e-3 * mesh.radius_m);
-        let reduced = ReducedSystem::new(&stiffness, DofMap::new(mesh.node_count(), &constraints).unwrap()).unwrap();
+        let constraints =
+            assembled.clamped_constraints(Spring::FrictionlessNormal, 1e-3 * mesh.radius_m);
+        let reduced = ReducedSystem::new(
+            &stiffness,
+            DofMap::new(mesh.node_count(), &constraints).unwrap(),
+        )
+        .unwrap();
         let k_red = reduced.reduce_matrix(&stiffness).unwrap();
-        let load = reduced.reduce_load(&stiffness, &vec![0.0; 3 * mesh.node_count()]).unwrap();
+        let load = reduced
+            .reduce_load(&stiffness, &vec![0.0; 3 * mesh.node_count()])
+            .unwrap();
         let symbolic = SymbolicCholesky::analyze(&k_red, Ordering::Metis).unwrap();
         let numeric = symbolic.factor(&k_red).unwrap();
         let unknowns = reduced.dim();
@@ -48,22 +61,30 @@ fn stages(c: &mut Criterion) {
 
         let mut g = c.benchmark_group("punch_assembly");
         g.throughput(throughput.clone());
-        g.bench_function(id.clone(), |b| b.iter(|| assemble_stiffness_into(model, &pattern, black_box(&mut stiffness)).unwrap()));
+        g.bench_function(id.clone(), |b| {
+            b.iter(|| assemble_stiffness_into(model, &pattern, black_box(&mut stiffness)).unwrap())
+        });
         g.finish();
 
         let mut g = c.benchmark_group("punch_symbolic");
         g.throughput(throughput.clone());
-        g.bench_function(id.clone(), |b| b.iter(|| black_box(SymbolicCholesky::analyze(&k_red, Ordering::Metis).unwrap())));
+        g.bench_function(id.clone(), |b| {
+            b.iter(|| black_box(SymbolicCholesky::analyze(&k_red, Ordering::Metis).unwrap()))
+        });
         g.finish();
 
         let mut g = c.benchmark_group("punch_numeric");
         g.throughput(throughput.clone());
-        g.bench_function(id.clone(), |b| b.iter(|| black_box(symbolic.factor(&k_red).unwrap())));
+        g.bench_function(id.clone(), |b| {
+            b.iter(|| black_box(symbolic.factor(&k_red).unwrap()))
+        });
         g.finish();
 
         let mut g = c.benchmark_group("punch_solve");
         g.throughput(throughput.clone());
-        g.bench_function(id.clone(), |b| b.iter(|| black_box(numeric.solve(&load).unwrap())));
+        g.bench_function(id.clone(), |b| {
+            b.iter(|| black_box(numeric.solve(&load).unwrap()))
+        });
         g.finish();
     }
 }

@@ -11,13 +11,19 @@
 //! by scripts/compare-skfem.sh.
 
 use contact_springs::Material;
-use validation::{AssembledPunch, MeshCache, MeshFamily, MeshSymmetry, PunchMesh, PunchSolveOptions, Spring};
+use validation::{
+    AssembledPunch, MeshCache, MeshFamily, MeshSymmetry, PunchMesh, PunchSolveOptions, Spring,
+};
 
 /// Peak resident set size of this process (MB), from /proc/self/status (Linux), or NaN.
 fn peak_rss_mb() -> f64 {
     std::fs::read_to_string("/proc/self/status")
         .ok()
-        .and_then(|s| s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok()))
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("VmHWM:"))
+                .and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
+        })
         .map_or(f64::NAN, |kb| kb / 1024.0)
 }
 

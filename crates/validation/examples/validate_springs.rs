@@ -15,7 +15,10 @@ use std::path::PathBuf;
 use validation::{MeshSymmetry, SpringsOptions, report, validate_springs};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut options = SpringsOptions { progress: true, ..SpringsOptions::default() };
+    let mut options = SpringsOptions {
+        progress: true,
+        ..SpringsOptions::default()
+    };
     let mut json = false;
     let mut out: Option<PathBuf> = None;
     let mut from_json: Option<PathBuf> = None;
@@ -23,13 +26,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     while let Some(arg) = args.next() {
         match arg.as_str() {
             "--json" => json = true,
-            "--smoke" => options = SpringsOptions { progress: options.progress, ..SpringsOptions::smoke() },
+            "--smoke" => {
+                options = SpringsOptions {
+                    progress: options.progress,
+                    ..SpringsOptions::smoke()
+                }
+            }
             "--quarter-tangential" => options.tangential_symmetry = MeshSymmetry::Quarter,
             "--quiet" => options.progress = false,
-            "--from-json" => from_json = Some(PathBuf::from(args.next().ok_or("--from-json needs a results.json")?)),
+            "--from-json" => {
+                from_json = Some(PathBuf::from(
+                    args.next().ok_or("--from-json needs a results.json")?,
+                ))
+            }
             "--out" => out = Some(args.next().ok_or("--out needs a folder")?.into()),
             "--help" | "-h" => {
-                println!("validate_springs [--json] [--smoke] [--quarter-tangential] [--out DIR] [--quiet] [--from-json results.json]");
+                println!(
+                    "validate_springs [--json] [--smoke] [--quarter-tangential] [--out DIR] [--quiet] [--from-json results.json]"
+                );
                 return Ok(());
             }
             other => return Err(format!("unknown argument `{other}` (see --help)").into()),
@@ -40,7 +54,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         None => validate_springs(&options)?,
     };
     if let Some(dir) = &out {
-        for file in report::write_json(&validation, dir)?.into_iter().chain(report::write_charts(&validation, dir)?) {
+        // A reloaded study only redraws its charts; its JSON files stay as computed.
+        let json_files = if from_json.is_some() {
+            Vec::new()
+        } else {
+            report::write_json(&validation, dir)?
+        };
+        for file in json_files
+            .into_iter()
+            .chain(report::write_charts(&validation, dir)?)
+        {
             eprintln!("wrote {}", file.display());
         }
     }

@@ -13,8 +13,8 @@ pub enum ValidationError {
     MeshRead {
         /// The mesh file.
         path: PathBuf,
-        /// The reader's error.
-        source: gmsh_mesh::MeshError,
+        /// The reader's error (boxed: it is large).
+        source: Box<gmsh_mesh::MeshError>,
     },
     /// A punch mesh lacks a physical group the problem needs.
     #[error("validation: mesh {mesh} has no physical group `{group}` ({why})")]

@@ -39,12 +39,26 @@ pub struct MeshFamily {
 impl MeshFamily {
     /// Tet10 family of the springs study: h_e = 0.04 a, g = 0.3 on level 0, R = 100 a.
     pub fn tet10() -> Self {
-        Self { order: 2, h_edge_over_a: 0.04, growth: 0.3, refinement_ratio: 2.0, truncation_ratio: 100.0, h_max_over_a: 0.0 }
+        Self {
+            order: 2,
+            h_edge_over_a: 0.04,
+            growth: 0.3,
+            refinement_ratio: 2.0,
+            truncation_ratio: 100.0,
+            h_max_over_a: 0.0,
+        }
     }
 
     /// Tet4 family for the work-precision comparison: h_e = 0.02 a, g = 0.3 on level 0, R = 100 a.
     pub fn tet4() -> Self {
-        Self { order: 1, h_edge_over_a: 0.02, growth: 0.3, refinement_ratio: 2.0, truncation_ratio: 100.0, h_max_over_a: 0.0 }
+        Self {
+            order: 1,
+            h_edge_over_a: 0.02,
+            growth: 0.3,
+            refinement_ratio: 2.0,
+            truncation_ratio: 100.0,
+            h_max_over_a: 0.0,
+        }
     }
 
     /// h_e / a on `level`.
@@ -61,12 +75,23 @@ impl MeshFamily {
     }
 
     /// gmsh parameters of `level` for punch radius `radius_m` and model part `symmetry`.
-    pub fn parameters(&self, level: usize, radius_m: f64, symmetry: MeshSymmetry) -> PunchMeshParameters {
+    pub fn parameters(
+        &self,
+        level: usize,
+        radius_m: f64,
+        symmetry: MeshSymmetry,
+    ) -> PunchMeshParameters {
         self.with_truncation(level, radius_m, symmetry, self.truncation_ratio)
     }
 
     /// As [`Self::parameters`] with another R / a (truncation study).
-    pub fn with_truncation(&self, level: usize, radius_m: f64, symmetry: MeshSymmetry, truncation_ratio: f64) -> PunchMeshParameters {
+    pub fn with_truncation(
+        &self,
+        level: usize,
+        radius_m: f64,
+        symmetry: MeshSymmetry,
+        truncation_ratio: f64,
+    ) -> PunchMeshParameters {
         PunchMeshParameters {
             radius_m,
             truncation_ratio,

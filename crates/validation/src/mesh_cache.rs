@@ -25,7 +25,9 @@ pub fn workspace_root() -> PathBuf {
 
 /// Default cache folder: `$SAWDRIVE_MESH_CACHE` or `<workspace>/target/sawdrive-meshes`.
 pub fn default_cache_dir() -> PathBuf {
-    std::env::var_os(MESH_CACHE_ENV).map(PathBuf::from).unwrap_or_else(|| workspace_root().join("target/sawdrive-meshes"))
+    std::env::var_os(MESH_CACHE_ENV)
+        .map(PathBuf::from)
+        .unwrap_or_else(|| workspace_root().join("target/sawdrive-meshes"))
 }
 
 /// Default geometry: `<workspace>/meshes/punch.geo`.
@@ -113,27 +115,51 @@ impl MeshCache {
         if path.is_file() {
             return Ok(path);
         }
-        std::fs::create_dir_all(&self.dir).map_err(|source| ValidationError::Io { path: self.dir.clone(), source })?;
-        let tmp = self.dir.join(format!(".{}.{}.tmp.msh", parameters.file_name(), std::process::id()));
+        std::fs::create_dir_all(&self.dir).map_err(|source| ValidationError::Io {
+            path: self.dir.clone(),
+            source,
+        })?;
+        let tmp = self.dir.join(format!(
+            ".{}.{}.tmp.msh",
+            parameters.file_name(),
+            std::process::id()
+        ));
         let mut command = Command::new(&self.gmsh);
-        command.arg(&self.geometry).args(["-3", "-format", "msh41", "-bin", "-nt", "1"]);
+        command
+            .arg(&self.geometry)
+            .args(["-3", "-format", "msh41", "-bin", "-nt", "1"]);
         for (name, value) in parameters.setnumbers() {
             command.args(["-setnumber", name, &value]);
         }
         command.arg("-o").arg(&tmp);
         let shown = format!("{command:?}");
-        let output = command.output().map_err(|e| ValidationError::MeshGeneration {
-            command: shown.clone(),
-            detail: format!("cannot run gmsh ({e}); install it (apt-get install gmsh) or set {GMSH_ENV}"),
-        })?;
-        let log = String::from_utf8_lossy(&output.stdout).to_string() + &String::from_utf8_lossy(&output.stderr);
+        let output = command
+            .output()
+            .map_err(|e| ValidationError::MeshGeneration {
+                command: shown.clone(),
+                detail: format!(
+                    "cannot run gmsh ({e}); install it (apt-get install gmsh) or set {GMSH_ENV}"
+                ),
+            })?;
+        let log = String::from_utf8_lossy(&output.stdout).to_string()
+            + &String::from_utf8_lossy(&output.stderr);
         let errors: Vec<&str> = log.lines().filter(|l| l.starts_with("Error")).collect();
         if !output.status.success() || !errors.is_empty() || !tmp.is_file() {
             let _ = std::fs::remove_file(&tmp);
-            let detail = if errors.is_empty() { log.lines().rev().take(10).collect::<Vec<_>>().join(" | ") } else { errors.join(" | ") };
-            return Err(ValidationError::MeshGeneration { command: shown, detail });
+            let detail = if errors.is_empty() {
+                log.lines().rev().take(10).collect::<Vec<_>>().join(" | ")
+            } else {
+                errors.join(" | ")
+            };
+            return Err(ValidationError::MeshGeneration {
+                command: shown,
+                detail,
+            });
         }
-        std::fs::rename(&tmp, &path).map_err(|source| ValidationError::Io { path: path.clone(), source })?;
+        std::fs::rename(&tmp, &path).map_err(|source| ValidationError::Io {
+            path: path.clone(),
+            source,
+        })?;
         Ok(path)
     }
 }

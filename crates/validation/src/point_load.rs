@@ -40,7 +40,12 @@ impl PointForce {
     /// Displacement (m per N of force) at `point` (m, z ≤ 0, not the origin) of a half-space with
     /// shear modulus `shear_modulus_pa` and Poisson ratio `poisson_ratio`. Returns `None` at the
     /// origin or above the surface.
-    pub fn displacement_m_per_n(&self, point: [f64; 3], shear_modulus_pa: f64, poisson_ratio: f64) -> Option<[f64; 3]> {
+    pub fn displacement_m_per_n(
+        &self,
+        point: [f64; 3],
+        shear_modulus_pa: f64,
+        poisson_ratio: f64,
+    ) -> Option<[f64; 3]> {
         let [x, y, z] = point;
         let zeta = -z;
         let rho = (x * x + y * y + z * z).sqrt();
@@ -137,9 +142,17 @@ mod tests {
                         div[i] += (sp[i][j] - sm[i][j]) / (2.0 * h);
                     }
                 }
-                let scale = stress(force, p).iter().flatten().map(|v| v.abs()).fold(0.0, f64::max) / rho;
-                for i in 0..3 {
-                    assert!(div[i].abs() < 1e-4 * scale, "{force:?}: div σ_{i} = {} at {p:?} (scale {scale})", div[i]);
+                let scale = stress(force, p)
+                    .iter()
+                    .flatten()
+                    .map(|v| v.abs())
+                    .fold(0.0, f64::max)
+                    / rho;
+                for (i, d) in div.iter().enumerate() {
+                    assert!(
+                        d.abs() < 1e-4 * scale,
+                        "{force:?}: div σ_{i} = {d} at {p:?} (scale {scale})"
+                    );
                 }
             }
         }
@@ -156,8 +169,12 @@ mod tests {
                 let p = [x, y, -2.0 * STEP * rho];
                 let s = stress(force, p);
                 let scale = s.iter().flatten().map(|v| v.abs()).fold(0.0, f64::max);
-                for i in 0..3 {
-                    assert!(s[i][2].abs() < 1e-3 * scale, "{force:?}: surface traction σ_{i}z = {} at {p:?} (scale {scale})", s[i][2]);
+                for (i, row) in s.iter().enumerate() {
+                    assert!(
+                        row[2].abs() < 1e-3 * scale,
+                        "{force:?}: surface traction σ_{i}z = {} at {p:?} (scale {scale})",
+                        row[2]
+                    );
                 }
             }
         }
@@ -185,13 +202,20 @@ mod tests {
             // rule over 4 panels because the integrand varies strongly near the surface.
             let panels = 4;
             for panel in 0..panels {
-                let (t0, t1) = (panel as f64 * std::f64::consts::FRAC_PI_2 / panels as f64, (panel + 1) as f64 * std::f64::consts::FRAC_PI_2 / panels as f64);
+                let (t0, t1) = (
+                    panel as f64 * std::f64::consts::FRAC_PI_2 / panels as f64,
+                    (panel + 1) as f64 * std::f64::consts::FRAC_PI_2 / panels as f64,
+                );
                 for &(xi, w) in &gl {
                     let theta = 0.5 * (t0 + t1) + 0.5 * (t1 - t0) * xi;
                     let wt = 0.5 * (t1 - t0) * w;
                     for k in 0..n_phi {
                         let phi = (k as f64 + 0.5) * 2.0 * std::f64::consts::PI / n_phi as f64;
-                        let n = [theta.sin() * phi.cos(), theta.sin() * phi.sin(), -theta.cos()];
+                        let n = [
+                            theta.sin() * phi.cos(),
+                            theta.sin() * phi.sin(),
+                            -theta.cos(),
+                        ];
                         let s = stress(force, n);
                         let da = theta.sin() * wt * 2.0 * std::f64::consts::PI / n_phi as f64;
                         for i in 0..3 {
@@ -202,14 +226,27 @@ mod tests {
             }
             let d = force.direction();
             for i in 0..3 {
-                assert!((total[i] + d[i]).abs() < 2e-3, "{force:?}: hemisphere traction resultant {total:?} should be −{d:?}");
+                assert!(
+                    (total[i] + d[i]).abs() < 2e-3,
+                    "{force:?}: hemisphere traction resultant {total:?} should be −{d:?}"
+                );
             }
         }
     }
 
     #[test]
     fn point_force_field_is_undefined_at_the_origin_and_above_the_surface() {
-        assert!(PointForce::NormalIntoSolid.displacement_m_per_n([0.0; 3], G, NU).is_none(), "displacement at the load point");
-        assert!(PointForce::TangentialX.displacement_m_per_n([0.0, 0.0, 0.1], G, NU).is_none(), "displacement above the surface");
+        assert!(
+            PointForce::NormalIntoSolid
+                .displacement_m_per_n([0.0; 3], G, NU)
+                .is_none(),
+            "displacement at the load point"
+        );
+        assert!(
+            PointForce::TangentialX
+                .displacement_m_per_n([0.0, 0.0, 0.1], G, NU)
+                .is_none(),
+            "displacement above the surface"
+        );
     }
 }

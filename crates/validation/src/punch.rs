@@ -35,8 +35,8 @@ use std::time::Instant;
 use contact_springs::Material as SpringMaterial;
 use elastic_fem::sparse::{FactorOptions, Ordering, SymbolicCholesky, SymmetricMatrix};
 use elastic_fem::{
-    Constraints, Dirichlet, DofMap, FemError, LameParameters, Material, Model, ReducedSystem, StiffnessPattern, assemble_stiffness,
-    static_solver::locate_factor_error,
+    Constraints, Dirichlet, DofMap, FemError, LameParameters, Material, Model, ReducedSystem,
+    StiffnessPattern, assemble_stiffness, static_solver::locate_factor_error,
 };
 use serde::{Deserialize, Serialize};
 
@@ -69,7 +69,12 @@ pub struct StageTimings {
 impl StageTimings {
     /// Wall time of one complete solve of one spring on a fresh mesh: every stage counted once.
     pub fn total_s(&self) -> f64 {
-        self.pattern_s + self.assembly_s + self.reduction_s + self.symbolic_s + self.numeric_s + self.solve_s
+        self.pattern_s
+            + self.assembly_s
+            + self.reduction_s
+            + self.symbolic_s
+            + self.numeric_s
+            + self.solve_s
     }
 }
 
@@ -108,7 +113,10 @@ pub struct PunchStiffness {
 pub fn fem_material(material: &SpringMaterial) -> Result<Material, ValidationError> {
     LameParameters::from_shear_poisson(material.shear_modulus_pa, material.poisson_ratio)
         .map(Material::Isotropic)
-        .map_err(|source| ValidationError::Fem { context: format!("material {}", material.name), source })
+        .map_err(|source| ValidationError::Fem {
+            context: format!("material {}", material.name),
+            source,
+        })
 }
 
 /// Options of the punch solves.
@@ -122,7 +130,10 @@ pub struct PunchSolveOptions {
 
 impl Default for PunchSolveOptions {
     fn default() -> Self {
-        Self { ordering: Ordering::Metis, threads: 0 }
+        Self {
+            ordering: Ordering::Metis,
+            threads: 0,
+        }
     }
 }
 
@@ -141,15 +152,33 @@ impl<'m> AssembledPunch<'m> {
     /// Builds the model, the pattern and K for `material`.
     pub fn new(mesh: &'m PunchMesh, material: &SpringMaterial) -> Result<Self, ValidationError> {
         let context = || format!("mesh {} ({})", mesh.source, material.name);
-        let model = Model::new(mesh.nodes.clone(), mesh.connectivity.clone(), fem_material(material)?)
-            .map_err(|source| ValidationError::Fem { context: context(), source })?;
+        let model = Model::new(
+            mesh.nodes.clone(),
+            mesh.connectivity.clone(),
+            fem_material(material)?,
+        )
+        .map_err(|source| ValidationError::Fem {
+            context: context(),
+            source,
+        })?;
         let t = Instant::now();
         let pattern = StiffnessPattern::build(&model);
         let pattern_s = t.elapsed().as_secs_f64();
         let t = Instant::now();
-        let stiffness = assemble_stiffness(&model, &pattern).map_err(|source| ValidationError::Fem { context: context(), source })?;
+        let stiffness =
+            assemble_stiffness(&model, &pattern).map_err(|source| ValidationError::Fem {
+                context: context(),
+                source,
+            })?;
         let assembly_s = t.elapsed().as_secs_f64();
-        Ok(Self { mesh, model, stiffness, material: material.clone(), pattern_s, assembly_s })
+        Ok(Self {
+            mesh,
+            model,
+            stiffness,
+            material: material.clone(),
+            pattern_s,
+            assembly_s,
+        })
     }
 
     /// The elastic-fem model (nodes, elements, material).
@@ -169,7 +198,12 @@ impl<'m> AssembledPunch<'m> {
 
     /// The Dirichlet conditions of `spring` with the punch at `punch_m` (m) and the far field
     /// given per far-field node.
-    fn constraints(&self, spring: Spring, punch_m: f64, far_field_m: &dyn Fn([f64; 3]) -> [f64; 3]) -> Constraints {
+    fn constraints(
+        &self,
+        spring: Spring,
+        punch_m: f64,
+        far_field_m: &dyn Fn([f64; 3]) -> [f64; 3],
+    ) -> Constraints {
         let mesh = self.mesh;
         let mut values: Vec<Option<[Option<f64>; 3]>> = vec![None; mesh.node_count()];
         let mut set = |n: usize, c: usize, v: f64| {
@@ -204,16 +238,38 @@ impl<'m> AssembledPunch<'m> {
         let dirichlet = values
             .into_iter()
             .enumerate()
-            .filter_map(|(n, v)| v.map(|displacement_m| Dirichlet { nodes: vec![n], displacement_m }))
+            .filter_map(|(n, v)| {
+                v.map(|displacement_m| Dirichlet {
+                    nodes: vec![n],
+                    displacement_m,
+                })
+            })
             .collect();
-        Constraints { dirichlet, ..Default::default() }
+        Constraints {
+            dirichlet,
+            ..Default::default()
+        }
     }
 
     /// Solves `spring` and returns its stiffness with both far-field conditions.
-    pub fn solve(&self, spring: Spring, options: &PunchSolveOptions) -> Result<PunchStiffness, ValidationError> {
+    pub fn solve(
+        &self,
+        spring: Spring,
+        options: &PunchSolveOptions,
+    ) -> Result<PunchStiffness, ValidationError> {
         let mesh = self.mesh;
-        let context = || format!("{} on mesh {} ({})", spring.label(), mesh.source, self.material.name);
-        let fem = |source: FemError| ValidationError::Fem { context: context(), source };
+        let context = || {
+            format!(
+                "{} on mesh {} ({})",
+                spring.label(),
+                mesh.source,
+                self.material.name
+            )
+        };
+        let fem = |source: FemError| ValidationError::Fem {
+            context: context(),
+            source,
+        };
         let delta_m = PUNCH_DISPLACEMENT_OVER_RADIUS * mesh.radius_m;
         let (g, nu) = (self.material.shear_modulus_pa, self.material.poisson_ratio);
         // Reference force F_ref = G a δ... scaled so that u_B is O(δ a / R) on the far field.
@@ -222,7 +278,10 @@ impl<'m> AssembledPunch<'m> {
         let t = Instant::now();
         let constraints_a = self.constraints(spring, delta_m, &|_| [0.0; 3]);
         let far_b = |x: [f64; 3]| {
-            point_force.displacement_m_per_n(x, g, nu).map(|u| u.map(|v| v * reference_force_n)).unwrap_or([0.0; 3])
+            point_force
+                .displacement_m_per_n(x, g, nu)
+                .map(|u| u.map(|v| v * reference_force_n))
+                .unwrap_or([0.0; 3])
         };
         let constraints_b = self.constraints(spring, 0.0, &far_b);
         let n = mesh.node_count();
@@ -234,19 +293,33 @@ impl<'m> AssembledPunch<'m> {
         // reported). A singular system would still be caught by the factorisation's pivot check.
         let reduced = ReducedSystem::new(&self.stiffness, map_a).map_err(fem)?;
         let k_red = reduced.reduce_matrix(&self.stiffness).map_err(fem)?;
-        let load_a = reduced.reduce_load(&self.stiffness, &vec![0.0; 3 * n]).map_err(fem)?;
+        let load_a = reduced
+            .reduce_load(&self.stiffness, &vec![0.0; 3 * n])
+            .map_err(fem)?;
         // f_red(B) = −Tᵀ K u_p(B); T is the same for A and B (same constrained DOFs).
         let mut k_up = vec![0.0; 3 * n];
-        self.stiffness.mul_vec(&map_b.prescribed_vector(), &mut k_up);
-        let load_b: Vec<f64> = reduced.dof_map().restrict(&k_up).map_err(fem)?.into_iter().map(|v| -v).collect();
+        self.stiffness
+            .mul_vec(&map_b.prescribed_vector(), &mut k_up);
+        let load_b: Vec<f64> = reduced
+            .dof_map()
+            .restrict(&k_up)
+            .map_err(fem)?
+            .into_iter()
+            .map(|v| -v)
+            .collect();
         let reduction_s = t.elapsed().as_secs_f64();
 
         let t = Instant::now();
         let symbolic = SymbolicCholesky::analyze(&k_red, options.ordering).map_err(fem)?;
         let symbolic_s = t.elapsed().as_secs_f64();
         let t = Instant::now();
-        let factor_options = FactorOptions { threads: options.threads, ..FactorOptions::default() };
-        let numeric = symbolic.factor_with(&k_red, factor_options).map_err(|e| fem(locate_factor_error(e, reduced.dof_map())))?;
+        let factor_options = FactorOptions {
+            threads: options.threads,
+            ..FactorOptions::default()
+        };
+        let numeric = symbolic
+            .factor_with(&k_red, factor_options)
+            .map_err(|e| fem(locate_factor_error(e, reduced.dof_map())))?;
         let numeric_s = t.elapsed().as_secs_f64();
 
         let t = Instant::now();
@@ -261,7 +334,10 @@ impl<'m> AssembledPunch<'m> {
         let punch_force = |u: &[f64]| -> f64 {
             let mut r = vec![0.0; u.len()];
             self.stiffness.mul_vec(u, &mut r);
-            mesh.punch_nodes.iter().map(|&p| (0..3).map(|c| r[3 * p + c] * direction[c]).sum::<f64>()).sum::<f64>()
+            mesh.punch_nodes
+                .iter()
+                .map(|&p| (0..3).map(|c| r[3 * p + c] * direction[c]).sum::<f64>())
+                .sum::<f64>()
                 * mesh.symmetry.multiplicity()
         };
         let force_a = punch_force(&u_a);
@@ -287,7 +363,14 @@ impl<'m> AssembledPunch<'m> {
             elements: mesh.element_count(),
             unknowns: m,
             factor_nnz: symbolic.factor_nnz(),
-            timings: StageTimings { pattern_s: self.pattern_s, assembly_s: self.assembly_s, reduction_s, symbolic_s, numeric_s, solve_s },
+            timings: StageTimings {
+                pattern_s: self.pattern_s,
+                assembly_s: self.assembly_s,
+                reduction_s,
+                symbolic_s,
+                numeric_s,
+                solve_s,
+            },
         })
     }
 }

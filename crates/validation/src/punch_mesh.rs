@@ -74,25 +74,48 @@ pub struct PunchMesh {
     pub sym_y0_nodes: Vec<usize>,
 }
 
-fn group_nodes(mesh: &TetMesh, group: &'static str, why: &'static str) -> Result<Vec<usize>, ValidationError> {
+fn group_nodes(
+    mesh: &TetMesh,
+    group: &'static str,
+    why: &'static str,
+) -> Result<Vec<usize>, ValidationError> {
     if !mesh.surface_groups.contains_key(group) {
-        return Err(ValidationError::MissingGroup { mesh: mesh.source.clone(), group, why });
+        return Err(ValidationError::MissingGroup {
+            mesh: mesh.source.clone(),
+            group,
+            why,
+        });
     }
-    mesh.group_nodes(group).map_err(|source| ValidationError::MeshRead { path: mesh.source.clone().into(), source })
+    mesh.group_nodes(group)
+        .map_err(|source| ValidationError::MeshRead {
+            path: mesh.source.clone().into(),
+            source: Box::new(source),
+        })
 }
 
 impl PunchMesh {
     /// Reads and checks a punch mesh file.
     pub fn read(path: &Path) -> Result<Self, ValidationError> {
-        let mesh = gmsh_mesh::read_msh(path).map_err(|source| ValidationError::MeshRead { path: path.to_path_buf(), source })?;
+        let mesh = gmsh_mesh::read_msh(path).map_err(|source| ValidationError::MeshRead {
+            path: path.to_path_buf(),
+            source: Box::new(source),
+        })?;
         Self::from_tet_mesh(mesh)
     }
 
     /// Checks a punch mesh: groups `punch` and `far_field` present, `sym_y0` / `sym_x0` decide
     /// the symmetry, the punch disk lies on z = 0 and inside the truncation radius.
     pub fn from_tet_mesh(mesh: TetMesh) -> Result<Self, ValidationError> {
-        let punch_nodes = group_nodes(&mesh, "punch", "the punch disk where the displacement is prescribed")?;
-        let far_field_nodes = group_nodes(&mesh, "far_field", "the truncation surface where the far-field condition acts")?;
+        let punch_nodes = group_nodes(
+            &mesh,
+            "punch",
+            "the punch disk where the displacement is prescribed",
+        )?;
+        let far_field_nodes = group_nodes(
+            &mesh,
+            "far_field",
+            "the truncation surface where the far-field condition acts",
+        )?;
         let has_x0 = mesh.surface_groups.contains_key("sym_x0");
         let has_y0 = mesh.surface_groups.contains_key("sym_y0");
         let symmetry = match (has_x0, has_y0) {
@@ -107,27 +130,51 @@ impl PunchMesh {
                 });
             }
         };
-        let free_surface_nodes =
-            if mesh.surface_groups.contains_key("free_surface") { group_nodes(&mesh, "free_surface", "traction-free surface")? } else { Vec::new() };
-        let sym_x0_nodes = if has_x0 { group_nodes(&mesh, "sym_x0", "symmetry plane x = 0")? } else { Vec::new() };
-        let sym_y0_nodes = if has_y0 { group_nodes(&mesh, "sym_y0", "symmetry plane y = 0")? } else { Vec::new() };
+        let free_surface_nodes = if mesh.surface_groups.contains_key("free_surface") {
+            group_nodes(&mesh, "free_surface", "traction-free surface")?
+        } else {
+            Vec::new()
+        };
+        let sym_x0_nodes = if has_x0 {
+            group_nodes(&mesh, "sym_x0", "symmetry plane x = 0")?
+        } else {
+            Vec::new()
+        };
+        let sym_y0_nodes = if has_y0 {
+            group_nodes(&mesh, "sym_y0", "symmetry plane y = 0")?
+        } else {
+            Vec::new()
+        };
         let radial = |n: usize| (mesh.nodes[n][0].powi(2) + mesh.nodes[n][1].powi(2)).sqrt();
         let radius_m = punch_nodes.iter().map(|&n| radial(n)).fold(0.0, f64::max);
-        let truncation_radius_m =
-            far_field_nodes.iter().map(|&n| mesh.nodes[n].iter().map(|v| v * v).sum::<f64>().sqrt()).fold(0.0, f64::max);
-        if !(radius_m > 0.0) || punch_nodes.is_empty() {
-            return Err(ValidationError::BadPunchMesh { mesh: mesh.source.clone(), detail: "the punch group has no extent".into() });
-        }
-        if let Some(&n) = punch_nodes.iter().find(|&&n| mesh.nodes[n][2].abs() > PUNCH_PLANE_TOLERANCE * radius_m) {
+        let truncation_radius_m = far_field_nodes
+            .iter()
+            .map(|&n| mesh.nodes[n].iter().map(|v| v * v).sum::<f64>().sqrt())
+            .fold(0.0, f64::max);
+        if radius_m.is_nan() || radius_m <= 0.0 || punch_nodes.is_empty() {
             return Err(ValidationError::BadPunchMesh {
                 mesh: mesh.source.clone(),
-                detail: format!("punch node {n} at {:?} is not on the plane z = 0", mesh.nodes[n]),
+                detail: "the punch group has no extent".into(),
             });
         }
-        if !(truncation_radius_m > radius_m) {
+        if let Some(&n) = punch_nodes
+            .iter()
+            .find(|&&n| mesh.nodes[n][2].abs() > PUNCH_PLANE_TOLERANCE * radius_m)
+        {
             return Err(ValidationError::BadPunchMesh {
                 mesh: mesh.source.clone(),
-                detail: format!("truncation radius {truncation_radius_m:e} m is not larger than the punch radius {radius_m:e} m"),
+                detail: format!(
+                    "punch node {n} at {:?} is not on the plane z = 0",
+                    mesh.nodes[n]
+                ),
+            });
+        }
+        if truncation_radius_m.is_nan() || truncation_radius_m <= radius_m {
+            return Err(ValidationError::BadPunchMesh {
+                mesh: mesh.source.clone(),
+                detail: format!(
+                    "truncation radius {truncation_radius_m:e} m is not larger than the punch radius {radius_m:e} m"
+                ),
             });
         }
         let (order, connectivity) = match mesh.tets {
@@ -153,7 +200,13 @@ impl PunchMesh {
     /// Whether node `n` lies on none of the boundary groups (an interior node).
     pub fn interior_mask(&self) -> Vec<bool> {
         let mut interior = vec![true; self.nodes.len()];
-        for set in [&self.punch_nodes, &self.far_field_nodes, &self.free_surface_nodes, &self.sym_x0_nodes, &self.sym_y0_nodes] {
+        for set in [
+            &self.punch_nodes,
+            &self.far_field_nodes,
+            &self.free_surface_nodes,
+            &self.sym_x0_nodes,
+            &self.sym_y0_nodes,
+        ] {
             for &n in set {
                 interior[n] = false;
             }
@@ -204,7 +257,11 @@ impl PunchMesh {
             MirrorPlane::Y0 => (1, &self.sym_y0_nodes, "sym_y0"),
         };
         if plane_nodes.is_empty() {
-            return Err(ValidationError::MissingGroup { mesh: self.source.clone(), group: name, why: "the mirror plane" });
+            return Err(ValidationError::MissingGroup {
+                mesh: self.source.clone(),
+                group: name,
+                why: "the mirror plane",
+            });
         }
         let on_plane: std::collections::HashSet<usize> = plane_nodes.iter().copied().collect();
         let mut nodes = self.nodes.clone();
@@ -230,13 +287,25 @@ impl PunchMesh {
             }
         };
         let unite = |set: &[usize]| -> Vec<usize> {
-            let mut all: Vec<usize> = set.iter().copied().chain(set.iter().map(|&n| image[n])).collect();
+            let mut all: Vec<usize> = set
+                .iter()
+                .copied()
+                .chain(set.iter().map(|&n| image[n]))
+                .collect();
             all.sort_unstable();
             all.dedup();
             all
         };
         let (sym_x0_nodes, sym_y0_nodes, symmetry) = match plane {
-            MirrorPlane::X0 => (Vec::new(), unite(&self.sym_y0_nodes), if self.sym_y0_nodes.is_empty() { MeshSymmetry::Full } else { MeshSymmetry::Half }),
+            MirrorPlane::X0 => (
+                Vec::new(),
+                unite(&self.sym_y0_nodes),
+                if self.sym_y0_nodes.is_empty() {
+                    MeshSymmetry::Full
+                } else {
+                    MeshSymmetry::Half
+                },
+            ),
             MirrorPlane::Y0 => {
                 if !self.sym_x0_nodes.is_empty() {
                     return Err(ValidationError::BadPunchMesh {

@@ -41,33 +41,60 @@ pub struct Extrapolation {
 }
 
 /// Extrapolates `values[i]` computed at mesh parameters `h[i]` (decreasing, constant ratio).
-pub fn extrapolate(quantity: &str, h: &[f64], values: &[f64]) -> Result<Extrapolation, ValidationError> {
-    let fail = |reason: String| ValidationError::Extrapolation { quantity: quantity.to_string(), reason };
+pub fn extrapolate(
+    quantity: &str,
+    h: &[f64],
+    values: &[f64],
+) -> Result<Extrapolation, ValidationError> {
+    let fail = |reason: String| ValidationError::Extrapolation {
+        quantity: quantity.to_string(),
+        reason,
+    };
     if h.len() != values.len() {
-        return Err(fail(format!("{} mesh parameters for {} values", h.len(), values.len())));
+        return Err(fail(format!(
+            "{} mesh parameters for {} values",
+            h.len(),
+            values.len()
+        )));
     }
     if h.len() < 3 {
         return Err(fail(format!("needs at least 3 levels, got {}", h.len())));
     }
     if values.iter().chain(h).any(|v| !v.is_finite()) || h.iter().any(|&v| v <= 0.0) {
-        return Err(fail("non-finite value or non-positive mesh parameter".into()));
+        return Err(fail(
+            "non-finite value or non-positive mesh parameter".into(),
+        ));
     }
     let n = h.len();
     let ratio = h[n - 2] / h[n - 1];
     for i in 1..n {
         let r = h[i - 1] / h[i];
-        if !(r > 1.0) || (r / ratio - 1.0).abs() > RATIO_TOLERANCE {
-            return Err(fail(format!("refinement ratios must be equal and > 1 (level {i}: {r}, finest {ratio})")));
+        if r.is_nan() || r <= 1.0 || (r / ratio - 1.0).abs() > RATIO_TOLERANCE {
+            return Err(fail(format!(
+                "refinement ratios must be equal and > 1 (level {i}: {r}, finest {ratio})"
+            )));
         }
     }
     let (k0, k1, k2) = (values[n - 3], values[n - 2], values[n - 1]);
-    let pair = |coarse: f64, fine: f64| fine + (fine - coarse) / (ratio.powf(THEORETICAL_ORDER) - 1.0);
+    let pair =
+        |coarse: f64, fine: f64| fine + (fine - coarse) / (ratio.powf(THEORETICAL_ORDER) - 1.0);
     let value = pair(k1, k2);
     let previous = pair(k0, k1);
     let q = (k0 - k1) / (k1 - k2);
-    let observed_order = if q > 0.0 { q.ln() / ratio.ln() } else { f64::NAN };
-    let asymptotic = observed_order >= ASYMPTOTIC_ORDER_RANGE.0 && observed_order <= ASYMPTOTIC_ORDER_RANGE.1;
-    Ok(Extrapolation { value, error_estimate: (value - previous).abs(), observed_order, asymptotic, finest: k2 })
+    let observed_order = if q > 0.0 {
+        q.ln() / ratio.ln()
+    } else {
+        f64::NAN
+    };
+    let asymptotic =
+        observed_order >= ASYMPTOTIC_ORDER_RANGE.0 && observed_order <= ASYMPTOTIC_ORDER_RANGE.1;
+    Ok(Extrapolation {
+        value,
+        error_estimate: (value - previous).abs(),
+        observed_order,
+        asymptotic,
+        finest: k2,
+    })
 }
 
 /// Relative tolerance on equal refinement ratios. Dimensionless; default 1e-6.
@@ -82,9 +109,21 @@ mod tests {
         let h = [0.04, 0.02, 0.01];
         let k: Vec<f64> = h.iter().map(|h| 3.0 + 2.0 * h).collect();
         let e = extrapolate("stiffness", &h, &k).unwrap();
-        assert!((e.value - 3.0).abs() < 1e-12, "extrapolated stiffness {}", e.value);
-        assert!(e.error_estimate < 1e-12, "error estimate {}", e.error_estimate);
-        assert!((e.observed_order - 1.0).abs() < 1e-9, "observed order {}", e.observed_order);
+        assert!(
+            (e.value - 3.0).abs() < 1e-12,
+            "extrapolated stiffness {}",
+            e.value
+        );
+        assert!(
+            e.error_estimate < 1e-12,
+            "error estimate {}",
+            e.error_estimate
+        );
+        assert!(
+            (e.observed_order - 1.0).abs() < 1e-9,
+            "observed order {}",
+            e.observed_order
+        );
         assert!(e.asymptotic, "a pure first-order sequence is asymptotic");
     }
 
@@ -95,19 +134,36 @@ mod tests {
         let e = extrapolate("stiffness", &h, &k).unwrap();
         let true_error = (e.value - 3.0).abs();
         assert!(true_error > 0.0, "a quadratic remainder leaves an error");
-        assert!((e.error_estimate / true_error - 3.0).abs() < 1e-9, "estimate {} is 3 × the true error {}", e.error_estimate, true_error);
+        assert!(
+            (e.error_estimate / true_error - 3.0).abs() < 1e-9,
+            "estimate {} is 3 × the true error {}",
+            e.error_estimate,
+            true_error
+        );
     }
 
     #[test]
     fn oscillating_sequence_is_flagged_not_asymptotic() {
         let e = extrapolate("stiffness", &[0.04, 0.02, 0.01], &[3.1, 3.0, 3.05]).unwrap();
-        assert!(e.observed_order.is_nan() && !e.asymptotic, "sign change of the differences must be flagged");
+        assert!(
+            e.observed_order.is_nan() && !e.asymptotic,
+            "sign change of the differences must be flagged"
+        );
     }
 
     #[test]
     fn too_few_levels_or_unequal_ratios_are_refused() {
-        assert!(extrapolate("k", &[0.02, 0.01], &[1.0, 1.0]).is_err(), "two levels");
-        assert!(extrapolate("k", &[0.04, 0.02, 0.005], &[1.0, 1.0, 1.0]).is_err(), "unequal ratios");
-        assert!(extrapolate("k", &[0.01, 0.02, 0.04], &[1.0, 1.0, 1.0]).is_err(), "increasing h");
+        assert!(
+            extrapolate("k", &[0.02, 0.01], &[1.0, 1.0]).is_err(),
+            "two levels"
+        );
+        assert!(
+            extrapolate("k", &[0.04, 0.02, 0.005], &[1.0, 1.0, 1.0]).is_err(),
+            "unequal ratios"
+        );
+        assert!(
+            extrapolate("k", &[0.01, 0.02, 0.04], &[1.0, 1.0, 1.0]).is_err(),
+            "increasing h"
+        );
     }
 }

@@ -39,7 +39,12 @@ pub enum PunchComponent {
 
 impl Spring {
     /// All four, in report order.
-    pub const ALL: [Spring; 4] = [Spring::BondedNormal, Spring::BondedTangential, Spring::FrictionlessNormal, Spring::FreeNormalTangential];
+    pub const ALL: [Spring; 4] = [
+        Spring::BondedNormal,
+        Spring::BondedTangential,
+        Spring::FrictionlessNormal,
+        Spring::FreeNormalTangential,
+    ];
 
     /// The short name used in reports and JSON (`k_pn`, `k_pt`, `k_sn`, `k_st`).
     pub fn label(&self) -> &'static str {
@@ -89,7 +94,11 @@ impl Spring {
 
     /// The resultant the punch exerts on the half-space, as a unit point force (its far field).
     pub fn point_force(&self) -> PointForce {
-        if self.is_normal() { PointForce::NormalIntoSolid } else { PointForce::TangentialX }
+        if self.is_normal() {
+            PointForce::NormalIntoSolid
+        } else {
+            PointForce::TangentialX
+        }
     }
 
     /// The spring with the same load direction and the other interface condition (bonded ↔
@@ -105,14 +114,21 @@ impl Spring {
     }
 
     /// The analytic stiffness (N/m) from `contact-springs` (physics.md §3, eqs (1)–(4)).
-    pub fn analytic_n_per_m(&self, material: &Material, radius_m: f64) -> Result<f64, ValidationError> {
+    pub fn analytic_n_per_m(
+        &self,
+        material: &Material,
+        radius_m: f64,
+    ) -> Result<f64, ValidationError> {
         let k = match self {
             Spring::BondedNormal => contact_springs::k_pn(material, radius_m),
             Spring::BondedTangential => contact_springs::k_pt(material, radius_m),
             Spring::FrictionlessNormal => contact_springs::k_sn(material, radius_m),
             Spring::FreeNormalTangential => contact_springs::k_st(material, radius_m),
         };
-        k.map_err(|source| ValidationError::Formula { spring: self.label(), source })
+        k.map_err(|source| ValidationError::Formula {
+            spring: self.label(),
+            source,
+        })
     }
 }
 

@@ -34,12 +34,22 @@ pub fn locking_study(
 ) -> Result<Vec<LockingPoint>, ValidationError> {
     let mut points = Vec::with_capacity(poisson_ratios.len());
     for &nu in poisson_ratios {
-        let m = SpringMaterial { name: format!("{} with nu = {nu}", material.name), poisson_ratio: nu, ..material.clone() };
+        let m = SpringMaterial {
+            name: format!("{} with nu = {nu}", material.name),
+            poisson_ratio: nu,
+            ..material.clone()
+        };
         let ratio = |mesh: &PunchMesh| -> Result<f64, ValidationError> {
-            let k = AssembledPunch::new(mesh, &m)?.solve(Spring::FrictionlessNormal, options)?.stiffness_n_per_m;
+            let k = AssembledPunch::new(mesh, &m)?
+                .solve(Spring::FrictionlessNormal, options)?
+                .stiffness_n_per_m;
             Ok(k / Spring::FrictionlessNormal.analytic_n_per_m(&m, mesh.radius_m)?)
         };
-        points.push(LockingPoint { poisson_ratio: nu, tet4_over_analytic: ratio(tet4)?, tet10_over_analytic: ratio(tet10)? });
+        points.push(LockingPoint {
+            poisson_ratio: nu,
+            tet4_over_analytic: ratio(tet4)?,
+            tet10_over_analytic: ratio(tet10)?,
+        });
     }
     Ok(points)
 }
@@ -56,15 +66,38 @@ pub struct SingularSystemReport {
 
 /// Solves the floating punch through elastic-fem's `solve_static`, with and without its
 /// rigid-mode check, and returns both errors. An `Ok` solution is itself an error here.
-pub fn singular_system(mesh: &PunchMesh, material: &SpringMaterial) -> Result<SingularSystemReport, ValidationError> {
-    let model = Model::new(mesh.nodes.clone(), mesh.connectivity.clone(), fem_material(material)?)
-        .map_err(|source| ValidationError::Fem { context: format!("floating punch on {}", mesh.source), source })?;
-    let constraints =
-        Constraints { dirichlet: vec![Dirichlet::component(mesh.punch_nodes.clone(), 2, -1e-3 * mesh.radius_m)], ..Default::default() };
+pub fn singular_system(
+    mesh: &PunchMesh,
+    material: &SpringMaterial,
+) -> Result<SingularSystemReport, ValidationError> {
+    let model = Model::new(
+        mesh.nodes.clone(),
+        mesh.connectivity.clone(),
+        fem_material(material)?,
+    )
+    .map_err(|source| ValidationError::Fem {
+        context: format!("floating punch on {}", mesh.source),
+        source,
+    })?;
+    let constraints = Constraints {
+        dirichlet: vec![Dirichlet::component(
+            mesh.punch_nodes.clone(),
+            2,
+            -1e-3 * mesh.radius_m,
+        )],
+        ..Default::default()
+    };
     let load = vec![0.0; model.dof_count()];
-    let problem = StaticProblem { model: &model, constraints: &constraints, load_n: &load };
+    let problem = StaticProblem {
+        model: &model,
+        constraints: &constraints,
+        load_n: &load,
+    };
     let attempt = |check: bool| -> Result<String, ValidationError> {
-        let options = SolverOptions { check_rigid_body_modes: check, ..SolverOptions::default() };
+        let options = SolverOptions {
+            check_rigid_body_modes: check,
+            ..SolverOptions::default()
+        };
         match solve_static(&problem, &options) {
             Err(e) => Ok(e.to_string()),
             Ok(solution) => Err(ValidationError::BadPunchMesh {
@@ -76,7 +109,10 @@ pub fn singular_system(mesh: &PunchMesh, material: &SpringMaterial) -> Result<Si
             }),
         }
     };
-    Ok(SingularSystemReport { with_rigid_mode_check: attempt(true)?, without_rigid_mode_check: attempt(false)? })
+    Ok(SingularSystemReport {
+        with_rigid_mode_check: attempt(true)?,
+        without_rigid_mode_check: attempt(false)?,
+    })
 }
 
 /// One row of the distorted-mesh study.
@@ -119,7 +155,12 @@ pub fn distorted(mesh: &PunchMesh, amplitude: f64, seed: u64) -> PunchMesh {
         let en = mesh.connectivity.element_nodes(e);
         [en[0], en[1], en[2], en[3]]
     };
-    let dist = |a: usize, b: usize| (0..3).map(|j| (mesh.nodes[a][j] - mesh.nodes[b][j]).powi(2)).sum::<f64>().sqrt();
+    let dist = |a: usize, b: usize| {
+        (0..3)
+            .map(|j| (mesh.nodes[a][j] - mesh.nodes[b][j]).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
     for e in 0..mesh.element_count() {
         let c = corners(e);
         for i in 0..4 {
@@ -140,8 +181,8 @@ pub fn distorted(mesh: &PunchMesh, amplitude: f64, seed: u64) -> PunchMesh {
     }
     for n in 0..nodes.len() {
         if interior[n] && is_corner[n] {
-            for j in 0..3 {
-                nodes[n][j] += amplitude * shortest[n] * symmetric_unit(&mut state) / 3f64.sqrt();
+            for x in nodes[n].iter_mut() {
+                *x += amplitude * shortest[n] * symmetric_unit(&mut state) / 3f64.sqrt();
             }
         }
     }
@@ -157,7 +198,11 @@ pub fn distorted(mesh: &PunchMesh, amplitude: f64, seed: u64) -> PunchMesh {
             }
         }
     }
-    PunchMesh { source: format!("{} distorted by {amplitude}", mesh.source), nodes, ..mesh.clone() }
+    PunchMesh {
+        source: format!("{} distorted by {amplitude}", mesh.source),
+        nodes,
+        ..mesh.clone()
+    }
 }
 
 /// The stiffness of `spring` on distorted copies of `mesh`, one per amplitude.

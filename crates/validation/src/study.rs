@@ -20,7 +20,10 @@ use crate::punch::{AssembledPunch, PunchSolveOptions, PunchStiffness};
 use crate::punch_mesh::{MeshSymmetry, PunchMesh};
 use crate::richardson::extrapolate;
 use crate::spring::Spring;
-use crate::stability::{DistortionPoint, LockingPoint, SingularSystemReport, distortion_study, locking_study, singular_system};
+use crate::stability::{
+    DistortionPoint, LockingPoint, SingularSystemReport, distortion_study, locking_study,
+    singular_system,
+};
 
 /// Solves per work-precision point; the fastest is kept, to reduce the effect of other
 /// processes on a shared machine. Default 2.
@@ -130,7 +133,14 @@ impl SpringsOptions {
     /// A small, fast version of the whole pipeline (coarse meshes, R = 20a, a = 10 µm only, no
     /// work-precision, no stability): for tests and smoke runs, not for conclusions.
     pub fn smoke() -> Self {
-        let family = MeshFamily { order: 2, h_edge_over_a: 0.2, growth: 0.6, refinement_ratio: 2.0, truncation_ratio: 20.0, h_max_over_a: 0.0 };
+        let family = MeshFamily {
+            order: 2,
+            h_edge_over_a: 0.2,
+            growth: 0.6,
+            refinement_ratio: 2.0,
+            truncation_ratio: 20.0,
+            h_max_over_a: 0.0,
+        };
         Self {
             radii_m: vec![10e-6],
             family,
@@ -143,25 +153,51 @@ impl SpringsOptions {
     }
 
     fn validate(&self) -> Result<(), ValidationError> {
-        let bad = |option: &'static str, value: String, reason: &'static str| Err(ValidationError::InvalidOption { option, value, reason });
+        let bad = |option: &'static str, value: String, reason: &'static str| {
+            Err(ValidationError::InvalidOption {
+                option,
+                value,
+                reason,
+            })
+        };
         if self.levels < 3 {
-            return bad("levels", self.levels.to_string(), "Richardson extrapolation with an error estimate needs at least 3 levels");
+            return bad(
+                "levels",
+                self.levels.to_string(),
+                "Richardson extrapolation with an error estimate needs at least 3 levels",
+            );
         }
         if self.materials.is_empty() || self.radii_m.is_empty() || self.springs.is_empty() {
-            return bad("materials/radii/springs", String::new(), "need at least one of each");
+            return bad(
+                "materials/radii/springs",
+                String::new(),
+                "need at least one of each",
+            );
         }
         if let Some(r) = self.radii_m.iter().find(|r| !(r.is_finite() && **r > 0.0)) {
             return bad("radii_m", r.to_string(), "radii must be positive");
         }
         if self.tangential_symmetry == MeshSymmetry::Full {
-            return bad("tangential_symmetry", "full".into(), "use half or quarter (both exact; full is only a waste)");
+            return bad(
+                "tangential_symmetry",
+                "full".into(),
+                "use half or quarter (both exact; full is only a waste)",
+            );
         }
         if let Some(wp) = &self.work_precision {
             if !self.materials.iter().any(|m| m.name == wp.material) {
-                return bad("work_precision.material", wp.material.clone(), "must be one of the study's materials");
+                return bad(
+                    "work_precision.material",
+                    wp.material.clone(),
+                    "must be one of the study's materials",
+                );
             }
             if wp.tet10_levels < 3 || wp.tet4_levels < 3 {
-                return bad("work_precision levels", format!("{} / {}", wp.tet10_levels, wp.tet4_levels), "need at least 3 levels each");
+                return bad(
+                    "work_precision levels",
+                    format!("{} / {}", wp.tet10_levels, wp.tet4_levels),
+                    "need at least 3 levels each",
+                );
             }
         }
         Ok(())
@@ -320,7 +356,10 @@ pub struct SpringsValidation {
 
 /// The 1-minute load average, or NaN.
 fn load_average() -> f64 {
-    std::fs::read_to_string("/proc/loadavg").ok().and_then(|s| s.split_whitespace().next()?.parse().ok()).unwrap_or(f64::NAN)
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .and_then(|s| s.split_whitespace().next()?.parse().ok())
+        .unwrap_or(f64::NAN)
 }
 
 impl SpringsValidation {
@@ -331,7 +370,10 @@ impl SpringsValidation {
 
     /// The `--json` output: the array of cases.
     pub fn cases_json(&self) -> Result<String, ValidationError> {
-        serde_json::to_string_pretty(&self.cases).map_err(|source| ValidationError::Json { what: "springs validation cases", source })
+        serde_json::to_string_pretty(&self.cases).map_err(|source| ValidationError::Json {
+            what: "springs validation cases",
+            source,
+        })
     }
 }
 
@@ -343,12 +385,20 @@ struct Runner<'o> {
 impl Runner<'_> {
     fn log(&self, message: impl AsRef<str>) {
         if self.options.progress {
-            eprintln!("[{:7.1} s] {}", self.start.elapsed().as_secs_f64(), message.as_ref());
+            eprintln!(
+                "[{:7.1} s] {}",
+                self.start.elapsed().as_secs_f64(),
+                message.as_ref()
+            );
         }
     }
 
     fn symmetry_of(&self, spring: Spring) -> MeshSymmetry {
-        if spring.is_normal() { MeshSymmetry::Quarter } else { self.options.tangential_symmetry }
+        if spring.is_normal() {
+            MeshSymmetry::Quarter
+        } else {
+            self.options.tangential_symmetry
+        }
     }
 
     /// Springs grouped by the mesh symmetry they use (quarter first).
@@ -356,12 +406,27 @@ impl Runner<'_> {
         let mut groups: BTreeMap<&'static str, (MeshSymmetry, Vec<Spring>)> = BTreeMap::new();
         for &s in &self.options.springs {
             let sym = self.symmetry_of(s);
-            groups.entry(if sym == MeshSymmetry::Quarter { "0" } else { "1" }).or_insert((sym, Vec::new())).1.push(s);
+            groups
+                .entry(if sym == MeshSymmetry::Quarter {
+                    "0"
+                } else {
+                    "1"
+                })
+                .or_insert((sym, Vec::new()))
+                .1
+                .push(s);
         }
         groups
     }
 
-    fn read_mesh(&self, family: &MeshFamily, level: usize, radius_m: f64, symmetry: MeshSymmetry, ratio: f64) -> Result<(PunchMesh, String), ValidationError> {
+    fn read_mesh(
+        &self,
+        family: &MeshFamily,
+        level: usize,
+        radius_m: f64,
+        symmetry: MeshSymmetry,
+        ratio: f64,
+    ) -> Result<(PunchMesh, String), ValidationError> {
         let parameters = family.with_truncation(level, radius_m, symmetry, ratio);
         let t = Instant::now();
         let path = self.options.cache.punch_mesh(&parameters)?;
@@ -373,12 +438,20 @@ impl Runner<'_> {
             mesh.node_count(),
             mesh.element_count()
         ));
-        let name = path.file_name().map(|f| f.to_string_lossy().to_string()).unwrap_or_default();
+        let name = path
+            .file_name()
+            .map(|f| f.to_string_lossy().to_string())
+            .unwrap_or_default();
         Ok((mesh, name))
     }
 
     /// Solves `springs` for all materials on one mesh.
-    fn solve_on(&self, mesh: &PunchMesh, materials: &[Material], springs: &[Spring]) -> Result<Vec<PunchStiffness>, ValidationError> {
+    fn solve_on(
+        &self,
+        mesh: &PunchMesh,
+        materials: &[Material],
+        springs: &[Spring],
+    ) -> Result<Vec<PunchStiffness>, ValidationError> {
         let mut out = Vec::new();
         for material in materials {
             let assembled = AssembledPunch::new(mesh, material)?;
@@ -404,7 +477,10 @@ impl Runner<'_> {
 /// Runs the springs validation.
 pub fn validate_springs(options: &SpringsOptions) -> Result<SpringsValidation, ValidationError> {
     options.validate()?;
-    let runner = Runner { options, start: Instant::now() };
+    let runner = Runner {
+        options,
+        start: Instant::now(),
+    };
     let load_at_start = load_average();
     let family = options.family;
 
@@ -413,9 +489,21 @@ pub fn validate_springs(options: &SpringsOptions) -> Result<SpringsValidation, V
     for &radius_m in &options.radii_m {
         for level in 0..options.levels {
             for (symmetry, springs) in runner.spring_groups().into_values() {
-                let (mesh, name) = runner.read_mesh(&family, level, radius_m, symmetry, family.truncation_ratio)?;
+                let (mesh, name) = runner.read_mesh(
+                    &family,
+                    level,
+                    radius_m,
+                    symmetry,
+                    family.truncation_ratio,
+                )?;
                 for result in runner.solve_on(&mesh, &options.materials, &springs)? {
-                    levels.push(LevelResult { level, h_edge_over_a: family.h_edge(level), growth: family.growth(level), mesh: name.clone(), result });
+                    levels.push(LevelResult {
+                        level,
+                        h_edge_over_a: family.h_edge(level),
+                        growth: family.growth(level),
+                        mesh: name.clone(),
+                        result,
+                    });
                 }
             }
         }
@@ -427,7 +515,12 @@ pub fn validate_springs(options: &SpringsOptions) -> Result<SpringsValidation, V
         for (symmetry, springs) in runner.spring_groups().into_values() {
             let (mesh, _) = runner.read_mesh(&family, 0, options.radii_m[0], symmetry, ratio)?;
             for r in runner.solve_on(&mesh, &options.materials, &springs)? {
-                let material = options.materials.iter().find(|m| m.name == r.material).cloned().unwrap_or_else(Material::silicon);
+                let material = options
+                    .materials
+                    .iter()
+                    .find(|m| m.name == r.material)
+                    .cloned()
+                    .unwrap_or_else(Material::silicon);
                 let analytic = r.spring.analytic_n_per_m(&material, r.radius_m)?;
                 truncation.push(TruncationPoint {
                     spring: r.spring,
@@ -446,7 +539,14 @@ pub fn validate_springs(options: &SpringsOptions) -> Result<SpringsValidation, V
     for &radius_m in &options.radii_m {
         for material in &options.materials {
             for &spring in &options.springs {
-                cases.push(make_case(options, &levels, &truncation, spring, material, radius_m)?);
+                cases.push(make_case(
+                    options,
+                    &levels,
+                    &truncation,
+                    spring,
+                    material,
+                    radius_m,
+                )?);
             }
         }
     }
@@ -454,16 +554,27 @@ pub fn validate_springs(options: &SpringsOptions) -> Result<SpringsValidation, V
     // 4. Work-precision.
     let mut work_precision = Vec::new();
     if let Some(wp) = &options.work_precision {
-        let material = options.materials.iter().find(|m| m.name == wp.material).cloned().unwrap_or_else(Material::lithium_niobate);
+        let material = options
+            .materials
+            .iter()
+            .find(|m| m.name == wp.material)
+            .cloned()
+            .unwrap_or_else(Material::lithium_niobate);
         let exact = wp.spring.analytic_n_per_m(&material, wp.radius_m)?;
         let symmetry = runner.symmetry_of(wp.spring);
         for (fam, count) in [(family, wp.tet10_levels), (wp.tet4_family, wp.tet4_levels)] {
             for level in 0..count {
-                let (mesh, _) = runner.read_mesh(&fam, level, wp.radius_m, symmetry, fam.truncation_ratio)?;
+                let (mesh, _) =
+                    runner.read_mesh(&fam, level, wp.radius_m, symmetry, fam.truncation_ratio)?;
                 let mut best: Option<PunchStiffness> = None;
                 for _ in 0..WORK_PRECISION_REPETITIONS {
-                    let r = runner.solve_on(&mesh, std::slice::from_ref(&material), &[wp.spring])?.remove(0);
-                    if best.as_ref().is_none_or(|b| r.timings.total_s() < b.timings.total_s()) {
+                    let r = runner
+                        .solve_on(&mesh, std::slice::from_ref(&material), &[wp.spring])?
+                        .remove(0);
+                    if best
+                        .as_ref()
+                        .is_none_or(|b| r.timings.total_s() < b.timings.total_s())
+                    {
                         best = Some(r);
                     }
                 }
@@ -485,23 +596,60 @@ pub fn validate_springs(options: &SpringsOptions) -> Result<SpringsValidation, V
     let stability = match &options.stability {
         None => None,
         Some(st) => {
-            let material = options.materials.iter().find(|m| m.name == "linbo3").cloned().unwrap_or_else(|| options.materials[0].clone());
+            let material = options
+                .materials
+                .iter()
+                .find(|m| m.name == "linbo3")
+                .cloned()
+                .unwrap_or_else(|| options.materials[0].clone());
             let radius_m = options.radii_m[0];
-            let tet4_family = options.work_precision.as_ref().map_or_else(MeshFamily::tet4, |w| w.tet4_family);
-            let (tet4, _) = runner.read_mesh(&tet4_family, st.tet4_level, radius_m, MeshSymmetry::Quarter, tet4_family.truncation_ratio)?;
-            let (tet10, tet10_name) = runner.read_mesh(&family, st.tet10_level, radius_m, MeshSymmetry::Quarter, family.truncation_ratio)?;
+            let tet4_family = options
+                .work_precision
+                .as_ref()
+                .map_or_else(MeshFamily::tet4, |w| w.tet4_family);
+            let (tet4, _) = runner.read_mesh(
+                &tet4_family,
+                st.tet4_level,
+                radius_m,
+                MeshSymmetry::Quarter,
+                tet4_family.truncation_ratio,
+            )?;
+            let (tet10, tet10_name) = runner.read_mesh(
+                &family,
+                st.tet10_level,
+                radius_m,
+                MeshSymmetry::Quarter,
+                family.truncation_ratio,
+            )?;
             runner.log("locking study");
-            let locking = locking_study(&tet4, &tet10, &material, &st.poisson_ratios, &options.solve)?;
+            let locking =
+                locking_study(&tet4, &tet10, &material, &st.poisson_ratios, &options.solve)?;
             let unknowns = |m: &PunchMesh| -> Result<usize, ValidationError> {
-                Ok(AssembledPunch::new(m, &material)?.solve(Spring::FrictionlessNormal, &options.solve)?.unknowns)
+                Ok(AssembledPunch::new(m, &material)?
+                    .solve(Spring::FrictionlessNormal, &options.solve)?
+                    .unknowns)
             };
             let locking_unknowns = [unknowns(&tet4)?, unknowns(&tet10)?];
             runner.log("singular system");
-            let full = tet4.mirrored(crate::punch_mesh::MirrorPlane::X0)?.mirrored(crate::punch_mesh::MirrorPlane::Y0)?;
+            let full = tet4
+                .mirrored(crate::punch_mesh::MirrorPlane::X0)?
+                .mirrored(crate::punch_mesh::MirrorPlane::Y0)?;
             let singular = singular_system(&full, &material)?;
             runner.log("distorted meshes");
-            let distortion = distortion_study(&tet10, &material, Spring::FrictionlessNormal, &st.distortion_amplitudes, &options.solve)?;
-            Some(StabilityResults { locking_unknowns, locking, singular_system: singular, distortion, distortion_mesh: tet10_name })
+            let distortion = distortion_study(
+                &tet10,
+                &material,
+                Spring::FrictionlessNormal,
+                &st.distortion_amplitudes,
+                &options.solve,
+            )?;
+            Some(StabilityResults {
+                locking_unknowns,
+                locking,
+                singular_system: singular,
+                distortion,
+                distortion_mesh: tet10_name,
+            })
         }
     };
 
@@ -528,16 +676,31 @@ const RATIO_MATCH_TOLERANCE: f64 = 1e-9;
 /// Relative truncation error at the family's R/a from the point-force results at R/a and at the
 /// largest R/a of the study, assuming the O((a/R)²) behaviour of the point-force far field:
 /// e(R) = (k(R) − k(R_max)) / (1 − (R/R_max)²). NaN if the study lacks either.
-fn truncation_estimate(truncation: &[TruncationPoint], spring: Spring, material: &str, ratio: f64) -> f64 {
+fn truncation_estimate(
+    truncation: &[TruncationPoint],
+    spring: Spring,
+    material: &str,
+    ratio: f64,
+) -> f64 {
     let of = |r: f64| {
         truncation
             .iter()
-            .find(|t| t.spring == spring && t.material == material && (t.truncation_ratio / r - 1.0).abs() < RATIO_MATCH_TOLERANCE)
+            .find(|t| {
+                t.spring == spring
+                    && t.material == material
+                    && (t.truncation_ratio / r - 1.0).abs() < RATIO_MATCH_TOLERANCE
+            })
             .map(|t| t.point_force_over_analytic)
     };
-    let largest = truncation.iter().filter(|t| t.spring == spring && t.material == material).map(|t| t.truncation_ratio).fold(f64::NAN, f64::max);
+    let largest = truncation
+        .iter()
+        .filter(|t| t.spring == spring && t.material == material)
+        .map(|t| t.truncation_ratio)
+        .fold(f64::NAN, f64::max);
     match (of(ratio), of(largest)) {
-        (Some(k), Some(k_far)) if largest > ratio => ((k - k_far) / (1.0 - (ratio / largest).powi(2))).abs() / k_far,
+        (Some(k), Some(k_far)) if largest > ratio => {
+            ((k - k_far) / (1.0 - (ratio / largest).powi(2))).abs() / k_far
+        }
         _ => f64::NAN,
     }
 }
@@ -552,7 +715,11 @@ fn make_case(
 ) -> Result<SpringCase, ValidationError> {
     let mut ladder: Vec<&LevelResult> = levels
         .iter()
-        .filter(|l| l.result.spring == spring && l.result.material == material.name && (l.result.radius_m / radius_m - 1.0).abs() < MESH_RADIUS_TOLERANCE)
+        .filter(|l| {
+            l.result.spring == spring
+                && l.result.material == material.name
+                && (l.result.radius_m / radius_m - 1.0).abs() < MESH_RADIUS_TOLERANCE
+        })
         .collect();
     ladder.sort_by_key(|l| l.level);
     let h: Vec<f64> = ladder.iter().map(|l| l.h_edge_over_a).collect();
@@ -564,8 +731,18 @@ fn make_case(
     let partner_analytic = partner.analytic_n_per_m(material, radius_m)?;
     let fem = extrapolation.value;
     let discretisation = extrapolation.error_estimate / fem;
-    let truncation_rel = truncation_estimate(truncation, spring, &material.name, options.family.truncation_ratio);
-    let error = discretisation + if truncation_rel.is_finite() { truncation_rel } else { 0.0 };
+    let truncation_rel = truncation_estimate(
+        truncation,
+        spring,
+        &material.name,
+        options.family.truncation_ratio,
+    );
+    let error = discretisation
+        + if truncation_rel.is_finite() {
+            truncation_rel
+        } else {
+            0.0
+        };
     let relative_difference = fem / analytic - 1.0;
     let partner_relative_difference = fem / partner_analytic - 1.0;
     let finest = ladder.last().map(|l| &l.result);
@@ -583,7 +760,9 @@ fn make_case(
         asymptotic: extrapolation.asymptotic,
         finest_level_n_per_m: extrapolation.finest,
         finest_level_unknowns: finest.map_or(0, |r| r.unknowns),
-        converged: error <= ERROR_TOLERANCE && extrapolation.asymptotic && truncation_rel.is_finite(),
+        converged: error <= ERROR_TOLERANCE
+            && extrapolation.asymptotic
+            && truncation_rel.is_finite(),
         agrees: relative_difference.abs() <= AGREEMENT_TOLERANCE,
         partner_spring: partner,
         partner_relative_difference,

@@ -6,7 +6,8 @@ use validation::mesh_cache::workspace_root;
 use validation::{AssembledPunch, MeshSymmetry, MirrorPlane, PunchMesh, PunchSolveOptions, Spring};
 
 fn committed(name: &str) -> PunchMesh {
-    PunchMesh::read(&workspace_root().join("meshes").join(name)).expect("committed punch mesh reads")
+    PunchMesh::read(&workspace_root().join("meshes").join(name))
+        .expect("committed punch mesh reads")
 }
 
 fn quarter() -> PunchMesh {
@@ -21,8 +22,16 @@ const ROUND_OFF: f64 = 1e-8;
 fn committed_meshes_have_the_expected_symmetry_radius_and_truncation() {
     let q = quarter();
     assert_eq!(q.symmetry, MeshSymmetry::Quarter, "quarter mesh symmetry");
-    assert!((q.radius_m / 10e-6 - 1.0).abs() < 1e-9, "punch radius {} m", q.radius_m);
-    assert!((q.truncation_ratio() / 100.0 - 1.0).abs() < 1e-9, "R/a = {}", q.truncation_ratio());
+    assert!(
+        (q.radius_m / 10e-6 - 1.0).abs() < 1e-9,
+        "punch radius {} m",
+        q.radius_m
+    );
+    assert!(
+        (q.truncation_ratio() / 100.0 - 1.0).abs() < 1e-9,
+        "R/a = {}",
+        q.truncation_ratio()
+    );
     let full = committed("punch_a10um_R20a_tet4_5k.msh");
     assert_eq!(full.symmetry, MeshSymmetry::Full, "full Tet4 mesh symmetry");
     assert_eq!(full.order, 1, "element order of the Tet4 mesh");
@@ -35,8 +44,16 @@ fn committed_meshes_have_the_expected_symmetry_radius_and_truncation() {
 fn symmetry_conditions_are_exact_quarter_model_equals_mirrored_half_model() {
     let q = quarter();
     let half = q.mirrored(MirrorPlane::X0).unwrap();
-    assert_eq!(half.symmetry, MeshSymmetry::Half, "mirrored quarter is a half model");
-    assert_eq!(half.element_count(), 2 * q.element_count(), "mirrored element count");
+    assert_eq!(
+        half.symmetry,
+        MeshSymmetry::Half,
+        "mirrored quarter is a half model"
+    );
+    assert_eq!(
+        half.element_count(),
+        2 * q.element_count(),
+        "mirrored element count"
+    );
     let material = Material::lithium_niobate();
     let options = PunchSolveOptions::default();
     let on_quarter = AssembledPunch::new(&q, &material).unwrap();
@@ -45,10 +62,21 @@ fn symmetry_conditions_are_exact_quarter_model_equals_mirrored_half_model() {
         let kq = on_quarter.solve(spring, &options).unwrap();
         let kh = on_half.solve(spring, &options).unwrap();
         for (what, a, b) in [
-            ("point-force far field", kq.stiffness_n_per_m, kh.stiffness_n_per_m),
-            ("clamped far field", kq.clamped_stiffness_n_per_m, kh.clamped_stiffness_n_per_m),
+            (
+                "point-force far field",
+                kq.stiffness_n_per_m,
+                kh.stiffness_n_per_m,
+            ),
+            (
+                "clamped far field",
+                kq.clamped_stiffness_n_per_m,
+                kh.clamped_stiffness_n_per_m,
+            ),
         ] {
-            assert!((a / b - 1.0).abs() < ROUND_OFF, "{spring} stiffness ({what}): quarter {a:e} vs half {b:e} N/m");
+            assert!(
+                (a / b - 1.0).abs() < ROUND_OFF,
+                "{spring} stiffness ({what}): quarter {a:e} vs half {b:e} N/m"
+            );
         }
     }
 }
@@ -64,9 +92,15 @@ fn clamped_stiffness_bounds_the_exact_value_and_the_point_force_far_field_is_clo
     let material = Material::lithium_niobate();
     let assembled = AssembledPunch::new(&q, &material).unwrap();
     for spring in [Spring::FrictionlessNormal, Spring::FreeNormalTangential] {
-        let r = assembled.solve(spring, &PunchSolveOptions::default()).unwrap();
+        let r = assembled
+            .solve(spring, &PunchSolveOptions::default())
+            .unwrap();
         let exact = spring.analytic_n_per_m(&material, q.radius_m).unwrap();
-        assert!(r.clamped_stiffness_n_per_m > exact, "{spring}: clamped FEM {:e} must exceed exact {exact:e} N/m", r.clamped_stiffness_n_per_m);
+        assert!(
+            r.clamped_stiffness_n_per_m > exact,
+            "{spring}: clamped FEM {:e} must exceed exact {exact:e} N/m",
+            r.clamped_stiffness_n_per_m
+        );
         let truncation_shift = r.clamped_stiffness_n_per_m / r.stiffness_n_per_m - 1.0;
         assert!(
             (0.005..0.015).contains(&truncation_shift),
@@ -87,7 +121,10 @@ fn committed_quarter_mesh_matches_the_formulas_within_its_discretisation_error()
     for material in [Material::silicon(), Material::lithium_niobate()] {
         let assembled = AssembledPunch::new(&q, &material).unwrap();
         for spring in Spring::ALL {
-            let k = assembled.solve(spring, &PunchSolveOptions::default()).unwrap().stiffness_n_per_m;
+            let k = assembled
+                .solve(spring, &PunchSolveOptions::default())
+                .unwrap()
+                .stiffness_n_per_m;
             let ratio = k / spring.analytic_n_per_m(&material, q.radius_m).unwrap();
             assert!(
                 ratio > 1.0 && ratio < 1.0 + COARSE_MESH_TOLERANCE,
@@ -105,15 +142,31 @@ fn stiffness_scales_with_shear_modulus_times_radius() {
     let q = quarter();
     let mut scaled = q.clone();
     let factor = 2.5;
-    scaled.nodes.iter_mut().for_each(|x| x.iter_mut().for_each(|v| *v *= factor));
+    scaled
+        .nodes
+        .iter_mut()
+        .for_each(|x| x.iter_mut().for_each(|v| *v *= factor));
     scaled.radius_m *= factor;
     scaled.truncation_radius_m *= factor;
     let material = Material::silicon();
-    let stiffer = Material { shear_modulus_pa: 2.0 * material.shear_modulus_pa, ..material.clone() };
-    let k = AssembledPunch::new(&q, &material).unwrap().solve(Spring::BondedNormal, &PunchSolveOptions::default()).unwrap();
-    let k_scaled = AssembledPunch::new(&scaled, &stiffer).unwrap().solve(Spring::BondedNormal, &PunchSolveOptions::default()).unwrap();
+    let stiffer = Material {
+        shear_modulus_pa: 2.0 * material.shear_modulus_pa,
+        ..material.clone()
+    };
+    let k = AssembledPunch::new(&q, &material)
+        .unwrap()
+        .solve(Spring::BondedNormal, &PunchSolveOptions::default())
+        .unwrap();
+    let k_scaled = AssembledPunch::new(&scaled, &stiffer)
+        .unwrap()
+        .solve(Spring::BondedNormal, &PunchSolveOptions::default())
+        .unwrap();
     let ratio = k_scaled.stiffness_n_per_m / k.stiffness_n_per_m;
-    assert!((ratio / (2.0 * factor) - 1.0).abs() < ROUND_OFF, "k_pn scaling with G a: ratio {ratio}, expected {}", 2.0 * factor);
+    assert!(
+        (ratio / (2.0 * factor) - 1.0).abs() < ROUND_OFF,
+        "k_pn scaling with G a: ratio {ratio}, expected {}",
+        2.0 * factor
+    );
 }
 
 #[test]
@@ -123,8 +176,17 @@ fn tangential_springs_on_the_committed_half_mesh_are_told_apart() {
     let half = committed("punch-half_a10um_R100a_tet10_14k.msh");
     let material = Material::silicon();
     let assembled = AssembledPunch::new(&half, &material).unwrap();
-    let bonded = assembled.solve(Spring::BondedTangential, &PunchSolveOptions::default()).unwrap().stiffness_n_per_m;
-    let free = assembled.solve(Spring::FreeNormalTangential, &PunchSolveOptions::default()).unwrap().stiffness_n_per_m;
+    let bonded = assembled
+        .solve(Spring::BondedTangential, &PunchSolveOptions::default())
+        .unwrap()
+        .stiffness_n_per_m;
+    let free = assembled
+        .solve(Spring::FreeNormalTangential, &PunchSolveOptions::default())
+        .unwrap()
+        .stiffness_n_per_m;
     let difference = bonded / free - 1.0;
-    assert!((0.012..0.03).contains(&difference), "bonded / u_z-free tangential stiffness - 1 = {difference}");
+    assert!(
+        (0.012..0.03).contains(&difference),
+        "bonded / u_z-free tangential stiffness - 1 = {difference}"
+    );
 }
