@@ -38,6 +38,7 @@ impl StagedDir {
         let parent = destination.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
         std::fs::create_dir_all(parent).map_err(io("create the output folder", parent))?;
         let name = destination.file_name().and_then(|n| n.to_str()).unwrap_or("results");
+        remove_abandoned_staging(parent, name);
         let staging = parent.join(format!(".{name}.staging-{}", std::process::id()));
         if staging.exists() {
             std::fs::remove_dir_all(&staging).map_err(io("clear the staging folder", &staging))?;
@@ -91,6 +92,21 @@ impl Drop for StagedDir {
     }
 }
 
+/// Remove `.{name}.staging-PID` folders left by runs that were killed (Ctrl-C, crash): those
+/// whose process no longer exists (checked through /proc where there is one).
+fn remove_abandoned_staging(parent: &Path, name: &str) {
+    let prefix = format!(".{name}.staging-");
+    let Ok(entries) = std::fs::read_dir(parent) else { return };
+    for entry in entries.flatten() {
+        let file_name = entry.file_name();
+        let Some(pid) = file_name.to_str().and_then(|n| n.strip_prefix(&prefix)) else { continue };
+        let alive = Path::new("/proc").is_dir().then(|| Path::new("/proc").join(pid).exists());
+        if alive == Some(false) {
+            let _ = std::fs::remove_dir_all(entry.path());
+        }
+    }
+}
+
 /// Write `bytes` to `path` atomically (temporary sibling, then rename).
 pub fn write_atomically(path: &Path, bytes: impl AsRef<[u8]>) -> Result<(), OutputError> {
     if let Some(dir) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
@@ -118,6 +134,20 @@ mod tests {
         assert!(dest.join("summary.json").exists() && !dest.join("old.txt").exists());
         let names: Vec<_> = std::fs::read_dir(root.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
         assert_eq!(names.len(), 1, "no staging or previous folders left: {names:?}");
+    }
+
+    #[test]
+    fn folders_of_killed_runs_are_cleaned_up_by_the_next_run() {
+        let root = tempfile::tempdir().unwrap();
+        let dest = root.path().join("scene");
+        // No process has PID 4294967295: this folder belongs to a run that was killed.
+        let stale = root.path().join(".scene.staging-4294967295");
+        std::fs::create_dir(&stale).unwrap();
+        let staged = StagedDir::create(&dest).unwrap();
+        if Path::new("/proc").is_dir() {
+            assert!(!stale.exists(), "stale staging folder removed");
+        }
+        staged.commit().unwrap();
     }
 
     #[test]
