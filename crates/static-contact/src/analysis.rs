@@ -302,11 +302,24 @@ pub fn run(params: &StaticParams) -> Result<StaticAnalysis> {
     run_with(params, ActiveSetOptions::default())
 }
 
-/// [`run`] with explicit solver options.
-pub fn run_with(params: &StaticParams, options: ActiveSetOptions) -> Result<StaticAnalysis> {
+/// A condensed strip model and where it came from: everything of a static run that does not
+/// depend on the preload (a sweep over preloads builds it once).
+#[derive(Debug)]
+pub struct PreparedStrip {
+    /// The condensed strip.
+    pub model: StripModel,
+    /// Mesh file used.
+    pub mesh_file: String,
+    /// Wall time of mesh choice, generation and reading (s).
+    pub mesh_s: f64,
+    /// Wall time of FEM assembly, factorisation and condensation (s).
+    pub condensation_s: f64,
+}
+
+/// Validates `params`, finds or makes the mesh, reads it and condenses the strip onto the posts.
+pub fn prepare_strip(params: &StaticParams) -> Result<PreparedStrip> {
     let start = Instant::now();
     params.validate()?;
-    let content_hash = params.content_hash()?;
     let path = crate::mesh_source::resolve_mesh(params)?;
     let mesh = gmsh_mesh::read_msh(&path).map_err(|source| ContactError::Mesh {
         file: path.display().to_string(),
@@ -325,20 +338,33 @@ pub fn run_with(params: &StaticParams, options: ActiveSetOptions) -> Result<Stat
     let mesh_s = start.elapsed().as_secs_f64();
     let t = Instant::now();
     let model = StripModel::build(mesh, strip_config(params))?;
-    let condensation_s = t.elapsed().as_secs_f64();
+    Ok(PreparedStrip {
+        model,
+        mesh_file: path.display().to_string(),
+        mesh_s,
+        condensation_s: t.elapsed().as_secs_f64(),
+    })
+}
+
+/// [`run`] with explicit solver options.
+pub fn run_with(params: &StaticParams, options: ActiveSetOptions) -> Result<StaticAnalysis> {
+    let start = Instant::now();
+    params.validate()?;
+    let content_hash = params.content_hash()?;
+    let prepared = prepare_strip(params)?;
     let report = report_for_model(
-        &model,
+        &prepared.model,
         params,
         content_hash,
-        path.display().to_string(),
+        prepared.mesh_file,
         options,
-        mesh_s,
-        condensation_s,
+        prepared.mesh_s,
+        prepared.condensation_s,
         start,
     )?;
     Ok(StaticAnalysis {
         params: params.clone(),
-        model,
+        model: prepared.model,
         report,
     })
 }

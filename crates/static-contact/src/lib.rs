@@ -37,7 +37,8 @@ pub mod posts;
 pub mod scene;
 
 pub use analysis::{
-    PostResult, PreloadResult, SnapshotResult, StaticAnalysis, StaticReport, run, run_with,
+    PostResult, PreloadResult, PreparedStrip, SnapshotResult, StaticAnalysis, StaticReport,
+    prepare_strip, run, run_with,
 };
 pub use body::{BodyCompliance, BodySpec, Disk, FemStats, TipLateral};
 pub use error::{ContactError, Result};

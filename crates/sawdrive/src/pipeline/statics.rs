@@ -152,27 +152,16 @@ pub fn fill_static_cache(scenes: &[Scene], cache_dir: &Path) -> (usize, Vec<(Str
 
 /// Build the strip model of the first member once and cache a report for every member.
 fn condense_and_cache(members: &[(StaticParams, String)], cache_dir: &Path) -> Result<(), PipelineError> {
-    let start = std::time::Instant::now();
-    let first = &members[0].0;
-    first.validate()?;
-    let path = static_contact::mesh_source::resolve_mesh(first)?;
-    let mesh = gmsh_mesh::read_msh(&path).map_err(|source| static_contact::ContactError::Mesh {
-        file: path.display().to_string(),
-        source: Box::new(source),
-    })?;
-    let mesh_s = start.elapsed().as_secs_f64();
-    let t = std::time::Instant::now();
-    let model = static_contact::StripModel::build(mesh, static_contact::analysis::strip_config(first))?;
-    let condensation_s = t.elapsed().as_secs_f64();
+    let prepared = static_contact::prepare_strip(&members[0].0)?;
     for (params, hash) in members {
         let report = static_contact::analysis::report_for_model(
-            &model,
+            &prepared.model,
             params,
             hash.clone(),
-            path.display().to_string(),
+            prepared.mesh_file.clone(),
             static_contact::ActiveSetOptions::default(),
-            mesh_s,
-            condensation_s,
+            prepared.mesh_s,
+            prepared.condensation_s,
             std::time::Instant::now(),
         )?;
         let file = cache_dir.join(format!("static-{hash}.json"));
