@@ -278,7 +278,11 @@ impl PeriodicAverageModel {
             // two small works near the no-load speed do not balance to round-off.
             efficiency: {
                 let delivered = output + (i.dissipation * power).max(0.0);
-                if delivered > 0.0 && output > 0.0 { output / delivered } else { 0.0 }
+                if delivered > 0.0 && output > 0.0 {
+                    output / delivered
+                } else {
+                    0.0
+                }
             },
             stick_fraction: if i.contact_time > 0.0 {
                 i.stick_time / i.contact_time

@@ -372,12 +372,24 @@ fn locked_slider_does_not_advance_in_the_transient_either() {
 fn efficiency_never_exceeds_one_along_the_curve() {
     let (k_n, k_t) = johnson::springs(10e-6);
     let mut scene = DynamicScene::paper_default(k_n, k_t);
-    scene.slider.layout = PostLayout::SquareArray { posts_per_side: 80, pitch_m: 50e-6 };
+    scene.slider.layout = PostLayout::SquareArray {
+        posts_per_side: 80,
+        pitch_m: 50e-6,
+    };
     scene.slider.preload_n = 20.0;
     scene.slider.effective_ratio = 0.8761936079883987;
     let result = stick_slip::solve(&scene).unwrap();
     for point in &result.curve {
-        assert!(point.efficiency <= 1.0, "efficiency {} at {} m/s", point.efficiency, point.speed_m_per_s);
+        assert!(
+            point.efficiency <= 1.0,
+            "efficiency {} at {} m/s",
+            point.efficiency,
+            point.speed_m_per_s
+        );
     }
-    assert!(result.efficiency > 0.0 && result.efficiency <= 1.0, "max efficiency {}", result.efficiency);
+    assert!(
+        result.efficiency > 0.0 && result.efficiency <= 1.0,
+        "max efficiency {}",
+        result.efficiency
+    );
 }

@@ -231,13 +231,6 @@ impl Stepper for MassivePosts<'_> {
     }
 
     fn totals(&self) -> (f64, f64) {
-        let sys = self.sys;
-        (0..sys.groups.len()).fold((0.0, 0.0), |(f, nn), g| {
-            let w = sys.groups.weight[g];
-            (
-                f + w * sys.rho * self.deflection[g],
-                nn + w * self.normal[g],
-            )
-        })
+        self.sys.spring_totals(&self.deflection, &self.normal)
     }
 }

@@ -394,7 +394,11 @@ impl TransientModel {
             efficiency: {
                 let dissipation = sums.dissipation / time * power_unit;
                 let delivered = output + dissipation;
-                if delivered > 0.0 && output > 0.0 { output / delivered } else { 0.0 }
+                if delivered > 0.0 && output > 0.0 {
+                    output / delivered
+                } else {
+                    0.0
+                }
             },
             stick_fraction: if sums.contact_time > 0.0 {
                 sums.stick_time / sums.contact_time

@@ -95,6 +95,15 @@ impl System {
     pub fn particle_velocity(&self, phases: &Phases, g: usize) -> f64 {
         -self.wave.tangential_ratio * phases.drive[g] * phases.sin[g]
     }
+
+    /// Σ_g w_g (ρ e_g, N_g): the total tangential (x) and normal contact force of posts whose
+    /// tangential force is their spring force ρ e (the fixed-step schemes).
+    pub fn spring_totals(&self, deflection: &[f64], normal: &[f64]) -> (f64, f64) {
+        (0..self.groups.len()).fold((0.0, 0.0), |(f, nn), g| {
+            let w = self.groups.weight[g];
+            (f + w * self.rho * deflection[g], nn + w * normal[g])
+        })
+    }
 }
 
 /// The slider's kinematic state (solver units).

@@ -13,7 +13,8 @@ pub const POST_HEIGHT_M: f64 = 2e-6;
 /// (k_n, k_t) in N/m of one rigid post of radius `a` (m) of Si on LiNbO3: bonded slider springs
 /// in series with the stator's frictionless/free springs.
 pub fn springs(a: f64) -> (f64, f64) {
-    let s = post_springs(&Material::silicon(), &Material::lithium_niobate(), a).expect("valid post radius");
+    let s = post_springs(&Material::silicon(), &Material::lithium_niobate(), a)
+        .expect("valid post radius");
     (s.k_n_n_per_m, s.k_t_n_per_m)
 }
 
