@@ -97,7 +97,11 @@ pub struct ValidateSpringsArgs {
 #[derive(Debug, Args)]
 pub struct ValidateStickSlipArgs {
     /// Output folder for the charts and report.json.
-    #[arg(long = "out", default_value = "validation/stick-slip/figures", value_name = "DIR")]
+    #[arg(
+        long = "out",
+        default_value = "validation/stick-slip/figures",
+        value_name = "DIR"
+    )]
     pub out: PathBuf,
     /// Study size: smoke (seconds), quick, full (the committed figures).
     #[arg(long, default_value = "full", value_parser = ["smoke", "quick", "full"])]

@@ -21,7 +21,11 @@ pub enum OutputError {
 }
 
 fn io<'a>(action: &'static str, path: &'a Path) -> impl FnOnce(std::io::Error) -> OutputError + 'a {
-    move |source| OutputError::Io { action, path: path.to_owned(), source }
+    move |source| OutputError::Io {
+        action,
+        path: path.to_owned(),
+        source,
+    }
 }
 
 /// A results folder being written.
@@ -35,16 +39,25 @@ impl StagedDir {
     /// Start writing `destination` (e.g. `out/paper-motor`). Fails early if the parent folder
     /// cannot be created or written.
     pub fn create(destination: &Path) -> Result<Self, OutputError> {
-        let parent = destination.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        let parent = destination
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
         std::fs::create_dir_all(parent).map_err(io("create the output folder", parent))?;
-        let name = destination.file_name().and_then(|n| n.to_str()).unwrap_or("results");
+        let name = destination
+            .file_name()
+            .and_then(|n| n.to_str())
+            .unwrap_or("results");
         remove_abandoned_staging(parent, name);
         let staging = parent.join(format!(".{name}.staging-{}", std::process::id()));
         if staging.exists() {
             std::fs::remove_dir_all(&staging).map_err(io("clear the staging folder", &staging))?;
         }
         std::fs::create_dir(&staging).map_err(io("create the staging folder", &staging))?;
-        Ok(Self { staging, destination: destination.to_owned() })
+        Ok(Self {
+            staging,
+            destination: destination.to_owned(),
+        })
     }
 
     /// Folder to write files into until [`StagedDir::commit`].
@@ -64,18 +77,26 @@ impl StagedDir {
         let destination = self.destination.clone();
         let previous = destination.with_file_name(format!(
             ".{}.previous-{}",
-            destination.file_name().and_then(|n| n.to_str()).unwrap_or("results"),
+            destination
+                .file_name()
+                .and_then(|n| n.to_str())
+                .unwrap_or("results"),
             std::process::id()
         ));
         let had_previous = destination.exists();
         if had_previous {
-            std::fs::rename(&destination, &previous).map_err(io("move aside the previous results", &destination))?;
+            std::fs::rename(&destination, &previous)
+                .map_err(io("move aside the previous results", &destination))?;
         }
         if let Err(source) = std::fs::rename(&self.staging, &destination) {
             if had_previous {
                 let _ = std::fs::rename(&previous, &destination);
             }
-            return Err(OutputError::Io { action: "move the new results into", path: destination, source });
+            return Err(OutputError::Io {
+                action: "move the new results into",
+                path: destination,
+                source,
+            });
         }
         if had_previous {
             let _ = std::fs::remove_dir_all(&previous);
@@ -96,11 +117,17 @@ impl Drop for StagedDir {
 /// whose process no longer exists (checked through /proc where there is one).
 fn remove_abandoned_staging(parent: &Path, name: &str) {
     let prefix = format!(".{name}.staging-");
-    let Ok(entries) = std::fs::read_dir(parent) else { return };
+    let Ok(entries) = std::fs::read_dir(parent) else {
+        return;
+    };
     for entry in entries.flatten() {
         let file_name = entry.file_name();
-        let Some(pid) = file_name.to_str().and_then(|n| n.strip_prefix(&prefix)) else { continue };
-        let alive = Path::new("/proc").is_dir().then(|| Path::new("/proc").join(pid).exists());
+        let Some(pid) = file_name.to_str().and_then(|n| n.strip_prefix(&prefix)) else {
+            continue;
+        };
+        let alive = Path::new("/proc")
+            .is_dir()
+            .then(|| Path::new("/proc").join(pid).exists());
         if alive == Some(false) {
             let _ = std::fs::remove_dir_all(entry.path());
         }
@@ -132,8 +159,15 @@ mod tests {
         staged.write("summary.json", "{}").unwrap();
         staged.commit().unwrap();
         assert!(dest.join("summary.json").exists() && !dest.join("old.txt").exists());
-        let names: Vec<_> = std::fs::read_dir(root.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
-        assert_eq!(names.len(), 1, "no staging or previous folders left: {names:?}");
+        let names: Vec<_> = std::fs::read_dir(root.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(
+            names.len(),
+            1,
+            "no staging or previous folders left: {names:?}"
+        );
     }
 
     #[test]
@@ -161,7 +195,14 @@ mod tests {
             staged.write("summary.json", "half").unwrap();
             // dropped without commit: the run failed
         }
-        assert_eq!(std::fs::read_to_string(dest.join("summary.json")).unwrap(), "good");
-        assert_eq!(std::fs::read_dir(root.path()).unwrap().count(), 1, "staging folder removed");
+        assert_eq!(
+            std::fs::read_to_string(dest.join("summary.json")).unwrap(),
+            "good"
+        );
+        assert_eq!(
+            std::fs::read_dir(root.path()).unwrap().count(),
+            1,
+            "staging folder removed"
+        );
     }
 }

@@ -129,7 +129,10 @@ fn unit_factor(dimension: Dimension, unit: &str) -> Option<f64> {
         return (unit == base).then_some(1.0);
     }
     let prefix = unit.strip_suffix(base)?;
-    PREFIXES.iter().find(|(p, _)| *p == prefix).map(|(_, f)| f * dimension.base_to_si())
+    PREFIXES
+        .iter()
+        .find(|(p, _)| *p == prefix)
+        .map(|(_, f)| f * dimension.base_to_si())
 }
 
 /// Split "20.5e-3 mm" into ("20.5e-3", "mm"): the longest leading text that parses as a number.
@@ -142,23 +145,41 @@ fn split_number(text: &str) -> Option<(f64, &str)> {
     (1..=numeric_len)
         .rev()
         .filter(|&end| text.is_char_boundary(end))
-        .find_map(|end| text[..end].parse::<f64>().ok().map(|v| (v, text[end..].trim())))
+        .find_map(|end| {
+            text[..end]
+                .parse::<f64>()
+                .ok()
+                .map(|v| (v, text[end..].trim()))
+        })
 }
 
 /// Read a quantity of `dimension` from `text` and return it in SI units.
 pub fn parse_quantity(text: &str, dimension: Dimension) -> Result<f64, UnitError> {
-    let fail = |reason: String| UnitError { text: text.to_owned(), dimension, reason };
+    let fail = |reason: String| UnitError {
+        text: text.to_owned(),
+        dimension,
+        reason,
+    };
     let trimmed = text.trim();
-    let (value, unit) = split_number(trimmed).ok_or_else(|| fail("it does not start with a number".into()))?;
+    let (value, unit) =
+        split_number(trimmed).ok_or_else(|| fail("it does not start with a number".into()))?;
     if !value.is_finite() {
         return Err(fail("the number is not finite".into()));
     }
     if unit.is_empty() {
-        return Err(fail(format!("the unit is missing (base unit: {})", dimension.base_unit())));
+        return Err(fail(format!(
+            "the unit is missing (base unit: {})",
+            dimension.base_unit()
+        )));
     }
-    let factor = unit_factor(dimension, unit).ok_or_else(|| fail(format!("'{unit}' is not a unit of {dimension}")))?;
+    let factor = unit_factor(dimension, unit)
+        .ok_or_else(|| fail(format!("'{unit}' is not a unit of {dimension}")))?;
     // Dividing by the exact power of ten keeps "20 um" at exactly 2e-5 (20 · 1e-6 is not).
-    Ok(if factor < 1.0 { value / (1.0 / factor).round() } else { value * factor })
+    Ok(if factor < 1.0 {
+        value / (1.0 / factor).round()
+    } else {
+        value * factor
+    })
 }
 
 /// Format an SI value with a sensible prefix for human output, e.g. 2e-5 m → "20 um".
@@ -215,11 +236,23 @@ mod tests {
     #[test]
     fn missing_or_wrong_units_are_refused_with_the_expected_form() {
         let err = parse_quantity("20", Dimension::Length).unwrap_err();
-        assert!(err.to_string().contains("unit is missing") && err.to_string().contains("\"20 um\""), "{err}");
+        assert!(
+            err.to_string().contains("unit is missing") && err.to_string().contains("\"20 um\""),
+            "{err}"
+        );
         let err = parse_quantity("20 kg", Dimension::Length).unwrap_err();
-        assert!(err.to_string().contains("'kg' is not a unit of length"), "{err}");
-        assert!(parse_quantity("MHz", Dimension::Frequency).is_err(), "no number");
-        assert!(parse_quantity("inf N", Dimension::Force).is_err(), "not finite");
+        assert!(
+            err.to_string().contains("'kg' is not a unit of length"),
+            "{err}"
+        );
+        assert!(
+            parse_quantity("MHz", Dimension::Frequency).is_err(),
+            "no number"
+        );
+        assert!(
+            parse_quantity("inf N", Dimension::Force).is_err(),
+            "not finite"
+        );
     }
 
     #[test]
@@ -227,9 +260,16 @@ mod tests {
         assert_eq!(format_quantity(20e-6, Dimension::Length), "20 um");
         assert_eq!(format_quantity(9.61e6, Dimension::Frequency), "9.61 MHz");
         assert_eq!(format_quantity(40.0, Dimension::Force), "40 N");
-        for (value, dimension) in [(1.82e-8, Dimension::Length), (2.9e-5, Dimension::Mass), (3979.0, Dimension::Velocity)] {
+        for (value, dimension) in [
+            (1.82e-8, Dimension::Length),
+            (2.9e-5, Dimension::Mass),
+            (3979.0, Dimension::Velocity),
+        ] {
             let text = format_quantity(value, dimension);
-            assert!(close(parse_quantity(&text, dimension).unwrap(), value), "{text} round trip");
+            assert!(
+                close(parse_quantity(&text, dimension).unwrap(), value),
+                "{text} round trip"
+            );
         }
     }
 }

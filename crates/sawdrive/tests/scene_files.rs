@@ -2,7 +2,7 @@
 
 use std::io::Write;
 
-use sawdrive::scene::{load_scene, DynamicsChoice, SceneError, DEFAULT_SCENE_TOML};
+use sawdrive::scene::{DEFAULT_SCENE_TOML, DynamicsChoice, SceneError, load_scene};
 
 fn scene_file(text: &str) -> tempfile::NamedTempFile {
     let mut file = tempfile::Builder::new().suffix(".toml").tempfile().unwrap();
@@ -13,7 +13,9 @@ fn scene_file(text: &str) -> tempfile::NamedTempFile {
 fn error_of(text: &str, overrides: &[&str]) -> String {
     let file = scene_file(text);
     let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    load_scene(Some(file.path()), &overrides).expect_err("scene must be refused").to_string()
+    load_scene(Some(file.path()), &overrides)
+        .expect_err("scene must be refused")
+        .to_string()
 }
 
 #[test]
@@ -22,28 +24,46 @@ fn default_scene_is_the_papers_motor() {
     assert_eq!(scene.wave.frequency_hz, 9.61e6, "frequency");
     assert_eq!(scene.wave.normal_amplitude_m, 20e-9, "normal amplitude");
     let omega = 2.0 * std::f64::consts::PI * 9.61e6;
-    assert!((scene.wave.tangential_amplitude_m - 1.1 / omega).abs() < 1e-20, "A_t = V_t/ω ≈ 18.2 nm");
-    assert_eq!((scene.posts.count_x, scene.posts.count_y, scene.posts.count), (100, 100, 10_000), "post count");
+    assert!(
+        (scene.wave.tangential_amplitude_m - 1.1 / omega).abs() < 1e-20,
+        "A_t = V_t/ω ≈ 18.2 nm"
+    );
+    assert_eq!(
+        (scene.posts.count_x, scene.posts.count_y, scene.posts.count),
+        (100, 100, 10_000),
+        "post count"
+    );
     assert!((scene.posts.pitch_x_m - 40e-6).abs() < 1e-15, "pitch 40 µm");
     assert_eq!(scene.posts.diameter_m, 20e-6, "post diameter");
     assert_eq!(scene.slider.material.name, "si");
     assert_eq!(scene.stator.name, "linbo3");
     let expected_mass = 2329.0 * 5e-3 * 5e-3 * 0.5e-3;
-    assert!((scene.slider.mass_kg - expected_mass).abs() < 1e-15, "mass from geometry");
+    assert!(
+        (scene.slider.mass_kg - expected_mass).abs() < 1e-15,
+        "mass from geometry"
+    );
     assert_eq!(scene.contact.effective_ratio_source, "fem");
     // λ = c/f ≈ 414 µm
-    assert!((scene.wave.wavelength_m - 3979.0 / 9.61e6).abs() < 1e-15, "wavelength");
+    assert!(
+        (scene.wave.wavelength_m - 3979.0 / 9.61e6).abs() < 1e-15,
+        "wavelength"
+    );
 }
 
 #[test]
 fn printed_default_scene_reads_back_as_a_scene_file() {
     let file = scene_file(DEFAULT_SCENE_TOML);
-    assert_eq!(load_scene(Some(file.path()), &[]).unwrap(), load_scene(None, &[]).unwrap());
+    assert_eq!(
+        load_scene(Some(file.path()), &[]).unwrap(),
+        load_scene(None, &[]).unwrap()
+    );
 }
 
 #[test]
 fn a_partial_scene_overrides_only_what_it_gives() {
-    let file = scene_file("name = \"light\"\n[slider]\nmass = \"5 mg\"\n[model]\ndynamics = \"transient\"\n");
+    let file = scene_file(
+        "name = \"light\"\n[slider]\nmass = \"5 mg\"\n[model]\ndynamics = \"transient\"\n",
+    );
     let scene = load_scene(Some(file.path()), &[]).unwrap();
     assert_eq!(scene.name, "light");
     assert!((scene.slider.mass_kg - 5e-6).abs() < 1e-18, "given mass");
@@ -53,15 +73,24 @@ fn a_partial_scene_overrides_only_what_it_gives() {
 
 #[test]
 fn set_overrides_accept_short_names_and_human_units() {
-    let overrides: Vec<String> =
-        ["preload=20N", "posts.count=50x50", "posts.diameter=30 um", "friction=0.2", "effective_ratio=0.36"]
-            .map(String::from)
-            .to_vec();
+    let overrides: Vec<String> = [
+        "preload=20N",
+        "posts.count=50x50",
+        "posts.diameter=30 um",
+        "friction=0.2",
+        "effective_ratio=0.36",
+    ]
+    .map(String::from)
+    .to_vec();
     let scene = load_scene(None, &overrides).unwrap();
     assert_eq!(scene.load.preload_n, 20.0, "preload");
     assert_eq!(scene.posts.count, 2500, "post count");
     assert!((scene.posts.diameter_m - 30e-6).abs() < 1e-18, "diameter");
-    assert_eq!((scene.friction.mu_static, scene.friction.mu_kinetic), (0.2, 0.2), "friction");
+    assert_eq!(
+        (scene.friction.mu_static, scene.friction.mu_kinetic),
+        (0.2, 0.2),
+        "friction"
+    );
     assert_eq!(scene.contact.effective_ratio, Some(0.36), "η");
 }
 
@@ -83,16 +112,27 @@ fn every_refusal_names_the_field_at_fault() {
         ("[posts]\ndiameter = \"-20 um\"\n", &[], "posts.diameter"),
         ("[posts]\ncount = \"100\"\n", &[], "posts.count"),
         ("[slider]\nthickness = \"0 mm\"\n", &[], "slider.thickness"),
-        ("[slider]\nmaterial = { shear_modulus = \"1 GPa\", poisson_ratio = 0.5, density = \"1 g/cm3\" }\n", &[], "slider.material"),
+        (
+            "[slider]\nmaterial = { shear_modulus = \"1 GPa\", poisson_ratio = 0.5, density = \"1 g/cm3\" }\n",
+            &[],
+            "slider.material",
+        ),
         ("[stator]\nmaterial = \"steel\"\n", &[], "stator.material"),
         ("[load]\npreload = \"0 N\"\n", &[], "load.preload"),
         ("", &["friction=-0.1"], "friction.static"),
         ("", &["model.vertical=sideways"], "model.vertical"),
-        ("[wave]\nfrequency = \"9.61 MHz\"\ncolour = \"red\"\n", &[], "wave.colour"),
+        (
+            "[wave]\nfrequency = \"9.61 MHz\"\ncolour = \"red\"\n",
+            &[],
+            "wave.colour",
+        ),
     ];
     for (text, overrides, field) in cases {
         let message = error_of(text, overrides);
-        assert!(message.contains(field), "error for {field} must name it: {message}");
+        assert!(
+            message.contains(field),
+            "error for {field} must name it: {message}"
+        );
         assert!(!message.contains('\n'), "one-line error: {message}");
     }
 }
@@ -101,13 +141,21 @@ fn every_refusal_names_the_field_at_fault() {
 fn syntax_errors_and_missing_files_name_the_file() {
     let file = scene_file("[wave\n");
     let message = load_scene(Some(file.path()), &[]).unwrap_err().to_string();
-    assert!(message.contains(&file.path().display().to_string()) && message.contains("line 1"), "{message}");
+    assert!(
+        message.contains(&file.path().display().to_string()) && message.contains("line 1"),
+        "{message}"
+    );
     let missing = std::path::Path::new("/nonexistent/scene.toml");
-    assert!(matches!(load_scene(Some(missing), &[]), Err(SceneError::Io { .. })));
+    assert!(matches!(
+        load_scene(Some(missing), &[]),
+        Err(SceneError::Io { .. })
+    ));
 }
 
 #[test]
 fn malformed_set_is_refused() {
-    let message = load_scene(None, &["preload".to_string()]).unwrap_err().to_string();
+    let message = load_scene(None, &["preload".to_string()])
+        .unwrap_err()
+        .to_string();
     assert!(message.starts_with("--set preload"), "{message}");
 }

@@ -9,6 +9,7 @@ use serde::Serialize;
 use crate::FemStats;
 use crate::error::{ContactError, Result};
 use crate::eta::{EtaFit, FitSample, fit_eta};
+use crate::eta_full_contact::full_contact_eta;
 use crate::lcp::{ActiveSetOptions, ContactSolution, IterationLog};
 use crate::params::{MODEL_VERSION, StaticParams};
 use crate::scene::{StatorModel, StripConfig, StripModel};
@@ -130,6 +131,9 @@ pub struct StaticReport {
     pub posts: Vec<PostResult>,
     /// Johnson series stiffness k_n = k_pn ⊕ k_sn of one post (N/m).
     pub k_n_n_per_m: f64,
+    /// η at full contact, the high-preload asymptote of the fitted η
+    /// ([`crate::eta_full_contact`]); `None` if the compliance is singular.
+    pub eta_full_contact: Option<f64>,
     /// Posts in the strip.
     pub posts_in_strip: usize,
     /// Posts of the whole slider.
@@ -421,6 +425,7 @@ pub fn report_for_model(
         post_forces_n: main.snapshots[0].posts.iter().map(|p| p.force_n).collect(),
         posts: main.snapshots[0].posts.clone(),
         k_n_n_per_m: k_n,
+        eta_full_contact: full_contact_eta(model, k_n, params.wavelength_m),
         posts_in_strip: model.post_count(),
         posts_total,
         effective_post_count: main

@@ -27,6 +27,7 @@ pub mod analysis;
 pub mod body;
 mod error;
 pub mod eta;
+pub mod eta_full_contact;
 pub mod halfspace;
 pub mod lcp;
 pub mod lumped;
@@ -43,6 +44,7 @@ pub use analysis::{
 pub use body::{BodyCompliance, BodySpec, Disk, FemStats, TipLateral};
 pub use error::{ContactError, Result};
 pub use eta::{EtaFit, FitSample, fit_eta};
+pub use eta_full_contact::full_contact_eta;
 pub use lcp::{ActiveSetOptions, ActiveSetSolver, ContactProblem, ContactSolution, IterationLog};
 pub use params::{MeshChoice, MeshSizes, StaticParams};
 pub use scene::{PostSite, StatorCompliance, StatorModel, StripConfig, StripModel};

@@ -23,6 +23,7 @@ const COMMITTED: &[(&str, &[(&str, f64)])] = &[(
         ("h", 2e-6),
         ("t", 0.5e-3),
         ("n_posts", 10.0),
+        ("rows", 1.0),
         ("margin", 0.0),
         ("stator_depth", 1e-3),
         ("h_post", 2.5e-6),
@@ -52,7 +53,8 @@ pub fn strip_mesh_parameters(params: &StaticParams) -> Vec<(&'static str, f64)> 
         ("d", params.post_diameter_m),
         ("h", params.post_height_m),
         ("t", params.slider_thickness_m),
-        ("n_posts", params.strip_post_count() as f64),
+        ("n_posts", params.strip_posts_along_x() as f64),
+        ("rows", params.strip_rows as f64),
         ("margin", params.strip_margin_m()),
         ("stator_depth", stator_depth),
         ("h_post", params.mesh_h_post_m()),
@@ -83,6 +85,18 @@ pub fn committed_mesh(params: &StaticParams) -> Option<PathBuf> {
     })
 }
 
+/// The bytes of `meshes/GEOMETRY.geo` (empty if it cannot be read; meshing then fails with its
+/// own error). Cached meshes and results are keyed by them, so editing the geometry script
+/// invalidates both.
+pub fn geometry_source(geometry: &str) -> Vec<u8> {
+    std::fs::read(
+        workspace_root()
+            .join("meshes")
+            .join(format!("{geometry}.geo")),
+    )
+    .unwrap_or_default()
+}
+
 /// The cache directory for automatic meshes.
 pub fn cache_dir(params: &StaticParams) -> PathBuf {
     params
@@ -102,6 +116,7 @@ pub fn resolve_mesh(params: &StaticParams) -> Result<PathBuf> {
     }
     let setnumbers = strip_mesh_parameters(params);
     let mut hasher = Sha256::new();
+    hasher.update(geometry_source("slider-strip"));
     for (name, value) in &setnumbers {
         hasher.update(format!("{name}={value:e}\n"));
     }
@@ -113,8 +128,9 @@ pub fn resolve_mesh(params: &StaticParams) -> Result<PathBuf> {
         .collect();
     let dir = cache_dir(params);
     let out = dir.join(format!(
-        "slider-strip_n{}_o{}_{digest}.msh",
-        params.strip_post_count(),
+        "slider-strip_n{}x{}_o{}_{digest}.msh",
+        params.strip_posts_along_x(),
+        params.strip_rows,
         params.element_order
     ));
     if out.is_file() {

@@ -9,8 +9,9 @@ use sha2::{Digest, Sha256};
 use crate::error::{ContactError, Result};
 use crate::scene::StatorModel;
 
-/// Bumped whenever a change of this crate changes its numbers (part of the content hash).
-pub const MODEL_VERSION: u32 = 1;
+/// Bumped whenever a change of this crate changes its numbers or its report's fields (part of the
+/// content hash). 2: `eta_full_contact`, `strip_rows`.
+pub const MODEL_VERSION: u32 = 2;
 
 /// Where the mesh comes from.
 #[derive(Debug, Clone, PartialEq, Serialize, Default)]
@@ -85,6 +86,10 @@ pub struct StaticParams {
     /// Posts along x inside the strip: `None` = the whole row (posts_x) with the slider's
     /// margins; `Some(n)` = a shorter strip of n posts without margins (free ends).
     pub strip_posts: Option<usize>,
+    /// Rows of posts across the strip, between its two symmetry planes (default 1). A wider
+    /// strip has, up to its mesh, the solution of the one-pitch strip (each row mirrors the next);
+    /// 2 or more checks that.
+    pub strip_rows: usize,
     /// Stator model.
     pub stator: StatorModel,
     /// Stator depth (m) of a meshed stator block.
@@ -121,6 +126,7 @@ impl Default for StaticParams {
             phases: 4,
             element_order: 2,
             strip_posts: None,
+            strip_rows: 1,
             stator: StatorModel::HalfSpace,
             stator_depth_m: 1e-3,
             mesh: MeshChoice::Auto,
@@ -241,6 +247,13 @@ impl StaticParams {
                 ));
             }
         }
+        if self.strip_rows == 0 || self.strip_rows > self.posts_y {
+            return Err(invalid(
+                "strip_rows",
+                self.strip_rows as f64,
+                format!("must lie in 1..={} (the slider's rows)", self.posts_y),
+            ));
+        }
         if self.stator == StatorModel::MeshedBlock {
             positive("stator_depth_m", self.stator_depth_m)?;
         }
@@ -264,9 +277,14 @@ impl StaticParams {
         self.mesh_sizes.h_post_over_radius * 0.5 * self.post_diameter_m
     }
 
-    /// Posts in the strip.
-    pub fn strip_post_count(&self) -> usize {
+    /// Posts along x in each row of the strip.
+    pub fn strip_posts_along_x(&self) -> usize {
         self.strip_posts.unwrap_or(self.posts_x)
+    }
+
+    /// Posts in the strip (all its rows).
+    pub fn strip_post_count(&self) -> usize {
+        self.strip_posts_along_x() * self.strip_rows
     }
 
     /// Margin of the strip beyond its first and last post cell (m).
@@ -295,7 +313,8 @@ impl StaticParams {
     }
 
     /// SHA-256 (hex) of everything the results depend on: the parameters (without the cache
-    /// directory), the mesh file's bytes if a file is given, and [`MODEL_VERSION`].
+    /// directory), the mesh file's bytes if a file is given (else the `slider-strip.geo` script's),
+    /// and [`MODEL_VERSION`].
     pub fn content_hash(&self) -> Result<String> {
         let mut hasher = Sha256::new();
         hasher.update(format!("static-contact model {MODEL_VERSION}\n"));
@@ -308,6 +327,8 @@ impl StaticParams {
                 detail: format!("cannot read the mesh to hash it: {e}"),
             })?;
             hasher.update(&bytes);
+        } else {
+            hasher.update(crate::mesh_source::geometry_source("slider-strip"));
         }
         Ok(hasher
             .finalize()

@@ -162,6 +162,36 @@ fn eta_is_at_most_one_and_falls_as_the_preload_grows() {
 }
 
 #[test]
+fn at_full_contact_the_fitted_eta_reaches_the_load_neutral_wave_response() {
+    // 2000 N on the 100 × 100 slider puts every post of the strip in contact at every phase.
+    let analysis = ten_post_run(vec![2000.0]);
+    let full = analysis
+        .report
+        .preloads
+        .iter()
+        .find(|p| p.preload_n == 2000.0)
+        .expect("the 2000 N preload");
+    assert_eq!(full.contact_fraction, 1.0, "every post touches at 2000 N");
+    let fitted = full
+        .effective_contact_ratio
+        .expect("η on the wave snapshot");
+    let asymptote = analysis
+        .report
+        .eta_full_contact
+        .expect("η at full contact of a regular compliance");
+    // They differ only by the fit's sensitivity to the end posts' extra (mean-load) share.
+    assert!(
+        (fitted / asymptote - 1.0).abs() < 0.03,
+        "fitted η at full contact {fitted:.4} against the load-neutral response {asymptote:.4}"
+    );
+    let at_40_n = analysis.report.effective_contact_ratio.expect("η at 40 N");
+    assert!(
+        at_40_n > asymptote,
+        "η at 40 N ({at_40_n:.4}) lies above the full-contact asymptote ({asymptote:.4})"
+    );
+}
+
+#[test]
 fn snapshot_fields_and_the_force_chart_are_written() {
     let analysis = ten_post_run(Vec::new());
     let dir = tempfile::tempdir().unwrap();

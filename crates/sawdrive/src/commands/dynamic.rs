@@ -14,7 +14,9 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
         None => {
             let cache = (!args.no_cache).then(|| args.out.join(".cache"));
             let outcome = run_static(&scene, cache.as_deref())?;
-            outcome.effective_ratio.ok_or_else(|| anyhow!("the static stage could not identify η: give --set effective_ratio=0.36"))?
+            outcome.effective_ratio.ok_or_else(|| {
+                anyhow!("the static stage could not identify η: give --set effective_ratio=0.36")
+            })?
         }
     };
     let result = run_dynamic(&scene, eta)?;
@@ -28,10 +30,24 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
     for w in &result.warnings {
         eprintln!("warning: {w}");
     }
-    println!("dynamic model of {}: {} ({})", scene.name, serde_json::to_value(result.model)?.as_str().unwrap_or(""), result.model_reason);
-    println!("effective posts η·N        {:.0} (η = {eta:.4})", result.effective_post_count);
-    println!("stall thrust               {:.4} N   (friction limit μP = {:.3} N)", result.stall_thrust_n, result.friction_limit_n);
-    println!("no-load speed              {:.4} m/s (crest speed A_t ω = {:.3} m/s)", result.no_load_speed_m_per_s, result.crest_speed_m_per_s);
+    println!(
+        "dynamic model of {}: {} ({})",
+        scene.name,
+        serde_json::to_value(result.model)?.as_str().unwrap_or(""),
+        result.model_reason
+    );
+    println!(
+        "effective posts η·N        {:.0} (η = {eta:.4})",
+        result.effective_post_count
+    );
+    println!(
+        "stall thrust               {:.4} N   (friction limit μP = {:.3} N)",
+        result.stall_thrust_n, result.friction_limit_n
+    );
+    println!(
+        "no-load speed              {:.4} m/s (crest speed A_t ω = {:.3} m/s)",
+        result.no_load_speed_m_per_s, result.crest_speed_m_per_s
+    );
     println!("max efficiency             {:.4}", result.efficiency);
     println!("stick fraction             {:.4}", result.stick_fraction);
     println!("wall time                  {:.3} s", result.wall_time_s);

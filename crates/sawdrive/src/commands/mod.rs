@@ -4,10 +4,10 @@ mod dynamic;
 mod mesh;
 mod run;
 mod scene;
+mod springs;
 mod statics;
 mod sweep;
 mod validate;
-mod springs;
 
 use crate::cli::{Cli, Command, MeshCommand, ValidateCommand};
 

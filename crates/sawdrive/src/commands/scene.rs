@@ -1,7 +1,7 @@
 //! `sawdrive scene`: print the default scene, or a resolved one.
 
 use anyhow::Context;
-use sawdrive::scene::{load_scene, DEFAULT_SCENE_TOML};
+use sawdrive::scene::{DEFAULT_SCENE_TOML, load_scene};
 
 use crate::cli::SceneArgs;
 

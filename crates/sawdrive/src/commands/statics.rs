@@ -18,17 +18,34 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
         return Ok(());
     }
     let r = &outcome.report_json;
-    let number = |key: &str| r[key].as_f64().map_or("n/a".to_owned(), |v| format!("{v:.4}"));
-    println!("static contact of {} ({} posts in the strip of {})", scene.name, r["posts_in_strip"], r["posts_total"]);
-    println!("effective contact ratio η   {}", number("effective_contact_ratio"));
+    let number = |key: &str| {
+        r[key]
+            .as_f64()
+            .map_or("n/a".to_owned(), |v| format!("{v:.4}"))
+    };
+    println!(
+        "static contact of {} ({} posts in the strip of {})",
+        scene.name, r["posts_in_strip"], r["posts_total"]
+    );
+    println!(
+        "effective contact ratio η   {}",
+        number("effective_contact_ratio")
+    );
     if let Some(note) = r["effective_contact_ratio_note"].as_str() {
         println!("  note: {note}");
     }
     println!("load sharing               {}", number("load_sharing"));
     println!("contact fraction           {}", number("contact_fraction"));
-    println!("complementarity residual   {:.2e}", r["complementarity_residual"].as_f64().unwrap_or(f64::NAN));
+    println!(
+        "complementarity residual   {:.2e}",
+        r["complementarity_residual"].as_f64().unwrap_or(f64::NAN)
+    );
     println!("active-set iterations      {}", r["iterations"]);
-    println!("wall time                  {:.2} s{}", r["timings"]["wall_time_s"].as_f64().unwrap_or(0.0), if outcome.cached { " (cached)" } else { "" });
+    println!(
+        "wall time                  {:.2} s{}",
+        r["timings"]["wall_time_s"].as_f64().unwrap_or(0.0),
+        if outcome.cached { " (cached)" } else { "" }
+    );
     println!("results in {}", folder.display());
     Ok(())
 }

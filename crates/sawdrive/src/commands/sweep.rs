@@ -1,7 +1,7 @@
 //! `sawdrive sweep SWEEP.toml`.
 
 use anyhow::bail;
-use sawdrive::sweep::{run_sweep, SweepFile};
+use sawdrive::sweep::{SweepFile, run_sweep};
 
 use crate::cli::SweepArgs;
 
@@ -23,7 +23,11 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
         eprintln!("point [{overrides}] failed: {error}");
     }
     if !outcome.failures.is_empty() {
-        bail!("{} of {} sweep points failed (completed points are kept; rerun to retry)", outcome.failures.len(), outcome.failures.len() + outcome.rows.len());
+        bail!(
+            "{} of {} sweep points failed (completed points are kept; rerun to retry)",
+            outcome.failures.len(),
+            outcome.failures.len() + outcome.rows.len()
+        );
     }
     Ok(())
 }

@@ -1,15 +1,21 @@
 //! `sawdrive validate …`: validation studies.
 
 use sawdrive::scene::load_scene;
-use stick_slip::validation::{run_validation, ValidationLevel, ValidationSetup};
 use stick_slip::PostContact;
+use stick_slip::validation::{ValidationLevel, ValidationSetup, run_validation};
 
 use crate::cli::{ValidateSpringsArgs, ValidateStickSlipArgs};
 
 pub fn stick_slip(args: &ValidateStickSlipArgs) -> anyhow::Result<()> {
     let paper = load_scene(None, &[])?;
     let springs_at = |diameter: &str| -> anyhow::Result<_> {
-        let scene = load_scene(None, &[format!("posts.diameter={diameter}"), "posts.count=50x50".into()])?;
+        let scene = load_scene(
+            None,
+            &[
+                format!("posts.diameter={diameter}"),
+                "posts.count=50x50".into(),
+            ],
+        )?;
         Ok(sawdrive::pipeline::scene_springs(&scene)?)
     };
     let (s20, s50) = (springs_at("20 um")?, springs_at("50 um")?);
@@ -21,7 +27,11 @@ pub fn stick_slip(args: &ValidateStickSlipArgs) -> anyhow::Result<()> {
     let setup = ValidationSetup {
         k_n_n_per_m: s20.k_n_n_per_m,
         k_t_n_per_m: s20.k_t_n_per_m,
-        post_mass_kg: PostContact::cylinder_mass_kg(paper.slider.material.density_kg_per_m3, 10e-6, paper.posts.height_m),
+        post_mass_kg: PostContact::cylinder_mass_kg(
+            paper.slider.material.density_kg_per_m3,
+            10e-6,
+            paper.posts.height_m,
+        ),
         k_n_50um_n_per_m: s50.k_n_n_per_m,
         k_t_50um_n_per_m: s50.k_t_n_per_m,
         level,
@@ -30,14 +40,25 @@ pub fn stick_slip(args: &ValidateStickSlipArgs) -> anyhow::Result<()> {
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
-        println!("stick-slip validation ({}) written to {}", args.level, args.out.display());
-        println!("reference stall thrust {:.6} N, no-load speed {:.6} m/s", report.reference_stall_thrust_n, report.reference_no_load_speed_m_per_s);
+        println!(
+            "stick-slip validation ({}) written to {}",
+            args.level,
+            args.out.display()
+        );
+        println!(
+            "reference stall thrust {:.6} N, no-load speed {:.6} m/s",
+            report.reference_stall_thrust_n, report.reference_no_load_speed_m_per_s
+        );
     }
     Ok(())
 }
 
 pub fn springs(args: &ValidateSpringsArgs) -> anyhow::Result<()> {
-    let mut options = if args.smoke { validation::SpringsOptions::smoke() } else { validation::SpringsOptions::default() };
+    let mut options = if args.smoke {
+        validation::SpringsOptions::smoke()
+    } else {
+        validation::SpringsOptions::default()
+    };
     options.progress = !args.json;
     let result = validation::validate_springs(&options)?;
     validation::report::write_charts(&result, &args.out)?;

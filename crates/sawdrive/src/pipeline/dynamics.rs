@@ -3,11 +3,11 @@
 use std::path::{Path, PathBuf};
 
 use stick_slip::{
-    DynamicResult, DynamicScene, Integrator, ModelChoice, PeriodicAverageModel, PostContact, PostLayout, Slider, SolveOptions,
-    StabilityPolicy, TransientOptions, VerticalModel, Wave,
+    DynamicResult, DynamicScene, Integrator, ModelChoice, PeriodicAverageModel, PostContact,
+    PostLayout, Slider, SolveOptions, StabilityPolicy, TransientOptions, VerticalModel, Wave,
 };
 
-use super::{scene_springs, PipelineError};
+use super::{PipelineError, scene_springs};
 use crate::scene::{DynamicsChoice, IntegratorChoice, Scene, VerticalChoice};
 
 /// Steps per wave period of a fixed-step integrator when the scene says `time_step = "auto"`.
@@ -25,11 +25,16 @@ const HISTORY_SAMPLES_PER_PERIOD: usize = 256;
 fn layout(scene: &Scene) -> PostLayout {
     let p = &scene.posts;
     if p.count_x == p.count_y && (p.pitch_x_m - p.pitch_y_m).abs() <= 1e-12 * p.pitch_x_m {
-        return PostLayout::SquareArray { posts_per_side: p.count_x as usize, pitch_m: p.pitch_x_m };
+        return PostLayout::SquareArray {
+            posts_per_side: p.count_x as usize,
+            pitch_m: p.pitch_x_m,
+        };
     }
     let centre = 0.5 * (f64::from(p.count_x) - 1.0);
     let x_m = (0..p.count_x)
-        .flat_map(|j| std::iter::repeat_n((f64::from(j) - centre) * p.pitch_x_m, p.count_y as usize))
+        .flat_map(|j| {
+            std::iter::repeat_n((f64::from(j) - centre) * p.pitch_x_m, p.count_y as usize)
+        })
         .collect();
     PostLayout::Positions { x_m, gap_m: None }
 }
@@ -46,8 +51,15 @@ pub fn dynamic_scene(scene: &Scene, effective_ratio: f64) -> Result<DynamicScene
         burst_periods: scene.wave.burst_periods,
     };
     let m = &scene.model;
-    let needs_mass = matches!(m.integrator, IntegratorChoice::Regularized | IntegratorChoice::PostMass);
-    let post_mass = PostContact::cylinder_mass_kg(scene.slider.material.density_kg_per_m3, scene.posts.radius_m(), scene.posts.height_m);
+    let needs_mass = matches!(
+        m.integrator,
+        IntegratorChoice::Regularized | IntegratorChoice::PostMass
+    );
+    let post_mass = PostContact::cylinder_mass_kg(
+        scene.slider.material.density_kg_per_m3,
+        scene.posts.radius_m(),
+        scene.posts.height_m,
+    );
     let contact = PostContact {
         k_n_n_per_m: springs.k_n_n_per_m,
         k_t_n_per_m: springs.k_t_n_per_m,
@@ -63,7 +75,9 @@ pub fn dynamic_scene(scene: &Scene, effective_ratio: f64) -> Result<DynamicScene
         effective_ratio,
         vertical: match m.vertical {
             VerticalChoice::QuasiStatic => VerticalModel::PeriodMean,
-            VerticalChoice::Dynamic => VerticalModel::Dynamic { damping_ratio: m.vertical_damping_ratio },
+            VerticalChoice::Dynamic => VerticalModel::Dynamic {
+                damping_ratio: m.vertical_damping_ratio,
+            },
         },
     };
     let model = match m.dynamics {
@@ -81,7 +95,14 @@ pub fn dynamic_scene(scene: &Scene, effective_ratio: f64) -> Result<DynamicScene
         },
         ..SolveOptions::default()
     };
-    let mut dynamic = DynamicScene { wave, contact, slider, model, integrator: Integrator::Auto, options };
+    let mut dynamic = DynamicScene {
+        wave,
+        contact,
+        slider,
+        model,
+        integrator: Integrator::Auto,
+        options,
+    };
     dynamic.integrator = integrator(scene, &dynamic)?;
     Ok(dynamic)
 }
@@ -95,21 +116,35 @@ fn integrator(scene: &Scene, dynamic: &DynamicScene) -> Result<Integrator, Pipel
             return Ok(dt);
         }
         let model = stick_slip::ModelKind::Transient;
-        let limit = candidate.stability_limit(&dynamic.stability_setting(model)).map_or(period / AUTO_STEPS_PER_PERIOD, |l| l.limit_s);
+        let limit = candidate
+            .stability_limit(&dynamic.stability_setting(model))
+            .map_or(period / AUTO_STEPS_PER_PERIOD, |l| l.limit_s);
         Ok((AUTO_STEP_FRACTION_OF_LIMIT * limit).min(period / AUTO_STEPS_PER_PERIOD))
     };
     Ok(match m.integrator {
         IntegratorChoice::Auto => Integrator::Auto,
-        IntegratorChoice::EventDriven => Integrator::EventDriven { max_step_s: m.time_step_s },
-        IntegratorChoice::ReturnMapping => Integrator::ReturnMapping { dt_s: m.time_step_s.unwrap_or(period / AUTO_STEPS_PER_PERIOD) },
+        IntegratorChoice::EventDriven => Integrator::EventDriven {
+            max_step_s: m.time_step_s,
+        },
+        IntegratorChoice::ReturnMapping => Integrator::ReturnMapping {
+            dt_s: m.time_step_s.unwrap_or(period / AUTO_STEPS_PER_PERIOD),
+        },
         IntegratorChoice::Regularized => {
-            let v_reg = m
-                .regularization_velocity_m_per_s
-                .unwrap_or(AUTO_REGULARIZATION_FRACTION_OF_CREST * dynamic.wave.crest_speed_m_per_s());
-            let probe = Integrator::RegularizedExplicit { dt_s: period, regularization_speed_m_per_s: v_reg };
-            Integrator::RegularizedExplicit { dt_s: explicit_step(probe)?, regularization_speed_m_per_s: v_reg }
+            let v_reg = m.regularization_velocity_m_per_s.unwrap_or(
+                AUTO_REGULARIZATION_FRACTION_OF_CREST * dynamic.wave.crest_speed_m_per_s(),
+            );
+            let probe = Integrator::RegularizedExplicit {
+                dt_s: period,
+                regularization_speed_m_per_s: v_reg,
+            };
+            Integrator::RegularizedExplicit {
+                dt_s: explicit_step(probe)?,
+                regularization_speed_m_per_s: v_reg,
+            }
         }
-        IntegratorChoice::PostMass => Integrator::PostMass { dt_s: explicit_step(Integrator::PostMass { dt_s: period })? },
+        IntegratorChoice::PostMass => Integrator::PostMass {
+            dt_s: explicit_step(Integrator::PostMass { dt_s: period })?,
+        },
     })
 }
 
@@ -120,15 +155,27 @@ pub fn run_dynamic(scene: &Scene, effective_ratio: f64) -> Result<DynamicResult,
 
 /// Write `dynamic.json`, `curve.csv`, the speed–thrust chart and a Fig. 6-style time history of
 /// one post (at the operating speed, or mid-curve when the load stalls the slider) into `dir`.
-pub fn write_dynamic_files(scene: &Scene, effective_ratio: f64, result: &DynamicResult, dir: &Path) -> Result<Vec<PathBuf>, PipelineError> {
+pub fn write_dynamic_files(
+    scene: &Scene,
+    effective_ratio: f64,
+    result: &DynamicResult,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, PipelineError> {
     let mut files = vec![dir.join("dynamic.json"), dir.join("curve.csv")];
     let io = |path: &Path| {
         let path = path.to_owned();
-        move |source| crate::output::OutputError::Io { action: "write", path, source }
+        move |source| crate::output::OutputError::Io {
+            action: "write",
+            path,
+            source,
+        }
     };
     std::fs::write(&files[0], serde_json::to_vec_pretty(result)?).map_err(io(&files[0]))?;
     std::fs::write(&files[1], stick_slip::curve_csv(&result.curve)).map_err(io(&files[1]))?;
-    files.extend(stick_slip::plots::write_speed_thrust_chart(result, &dir.join("speed_thrust"))?);
+    files.extend(stick_slip::plots::write_speed_thrust_chart(
+        result,
+        &dir.join("speed_thrust"),
+    )?);
     let speed = result
         .operating_point
         .as_ref()
@@ -138,6 +185,10 @@ pub fn write_dynamic_files(scene: &Scene, effective_ratio: f64, result: &Dynamic
     let periodic = PeriodicAverageModel::new(&dynamic_scene(scene, effective_ratio)?)?;
     let history = periodic.post_history(speed, HISTORY_PERIODS, HISTORY_SAMPLES_PER_PERIOD)?;
     let title = scene.name.clone();
-    files.extend(stick_slip::plots::write_post_history_chart(&title, &history, &dir.join("post_history"))?);
+    files.extend(stick_slip::plots::write_post_history_chart(
+        &title,
+        &history,
+        &dir.join("post_history"),
+    )?);
     Ok(files)
 }

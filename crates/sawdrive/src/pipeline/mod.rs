@@ -12,6 +12,8 @@ mod statics;
 
 pub use dynamics::{dynamic_scene, run_dynamic, write_dynamic_files};
 pub use error::PipelineError;
-pub use run::{run_pipeline, RunOptions, RunSummary, StageTimings};
+pub use run::{RunOptions, RunSummary, StageTimings, run_pipeline};
 pub use springs::scene_springs;
-pub use statics::{fill_static_cache, geometry_key, run_static, static_params, write_static_files, StaticOutcome};
+pub use statics::{
+    StaticOutcome, fill_static_cache, geometry_key, run_static, static_params, write_static_files,
+};

@@ -9,7 +9,9 @@ use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 use stick_slip::DynamicResult;
 
-use super::{run_dynamic, run_static, scene_springs, write_dynamic_files, write_static_files, PipelineError};
+use super::{
+    PipelineError, run_dynamic, run_static, scene_springs, write_dynamic_files, write_static_files,
+};
 use crate::output::StagedDir;
 use crate::scene::Scene;
 
@@ -92,7 +94,10 @@ fn spinner(enabled: bool) -> ProgressBar {
 
 /// Run every stage of `scene` and write `OUT/<name>/` (replacing earlier results only when all
 /// succeeded). Returns the summary and the folder written.
-pub fn run_pipeline(scene: &Scene, options: &RunOptions) -> Result<(RunSummary, PathBuf), PipelineError> {
+pub fn run_pipeline(
+    scene: &Scene,
+    options: &RunOptions,
+) -> Result<(RunSummary, PathBuf), PipelineError> {
     let start = Instant::now();
     let destination = options.out_dir.join(&scene.name);
     let staged = StagedDir::create(&destination)?;
@@ -105,7 +110,10 @@ pub fn run_pipeline(scene: &Scene, options: &RunOptions) -> Result<(RunSummary, 
     timings.springs_s = t.elapsed().as_secs_f64();
 
     let t = Instant::now();
-    let (effective_ratio, source, static_figures, static_outcome) = match scene.contact.effective_ratio {
+    let (effective_ratio, source, static_figures, static_outcome) = match scene
+        .contact
+        .effective_ratio
+    {
         Some(eta) => (eta, "given", None, None),
         None => {
             bar.set_message("static FEM contact (η)");
@@ -143,7 +151,12 @@ pub fn run_pipeline(scene: &Scene, options: &RunOptions) -> Result<(RunSummary, 
         if let Some(outcome) = &static_outcome {
             files.extend(write_static_files(outcome, staged.path())?);
         }
-        files.extend(write_dynamic_files(scene, effective_ratio, &dynamic, staged.path())?);
+        files.extend(write_dynamic_files(
+            scene,
+            effective_ratio,
+            &dynamic,
+            staged.path(),
+        )?);
     }
     timings.output_s = t.elapsed().as_secs_f64();
     timings.total_s = start.elapsed().as_secs_f64();
@@ -164,7 +177,10 @@ pub fn run_pipeline(scene: &Scene, options: &RunOptions) -> Result<(RunSummary, 
         no_load_speed_m_per_s: dynamic.no_load_speed_m_per_s,
         efficiency: dynamic.efficiency,
         stick_fraction: dynamic.stick_fraction,
-        model: serde_json::to_value(dynamic.model)?.as_str().unwrap_or_default().to_owned(),
+        model: serde_json::to_value(dynamic.model)?
+            .as_str()
+            .unwrap_or_default()
+            .to_owned(),
         model_reason: dynamic.model_reason.clone(),
         curve: dynamic.curve.clone(),
         timings,

@@ -1,8 +1,12 @@
-use contact_springs::{post_springs, PostSprings};
+use contact_springs::{PostSprings, post_springs};
 
 use crate::scene::Scene;
 
 /// The four Johnson springs of one post of `scene` (slider side bonded, stator side frictional).
 pub fn scene_springs(scene: &Scene) -> Result<PostSprings, contact_springs::SpringError> {
-    post_springs(&scene.slider.material, &scene.stator, scene.posts.radius_m())
+    post_springs(
+        &scene.slider.material,
+        &scene.stator,
+        scene.posts.radius_m(),
+    )
 }

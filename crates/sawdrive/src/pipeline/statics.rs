@@ -11,7 +11,10 @@ use crate::scene::{Scene, StatorChoice};
 const PITCH_MISMATCH_TOLERANCE: f64 = 1e-9;
 
 /// The static stage's parameters for `scene`.
-pub fn static_params(scene: &Scene, mesh_cache_dir: Option<&Path>) -> Result<StaticParams, PipelineError> {
+pub fn static_params(
+    scene: &Scene,
+    mesh_cache_dir: Option<&Path>,
+) -> Result<StaticParams, PipelineError> {
     let posts = &scene.posts;
     if (posts.pitch_x_m - posts.pitch_y_m).abs() > PITCH_MISMATCH_TOLERANCE * posts.pitch_x_m {
         return Err(PipelineError::Unsupported {
@@ -43,6 +46,7 @@ pub fn static_params(scene: &Scene, mesh_cache_dir: Option<&Path>) -> Result<Sta
         preload_n: scene.load.preload_n,
         phases: scene.static_fem.phases as usize,
         element_order: scene.static_fem.element_order as u8,
+        strip_rows: scene.static_fem.strip_rows as usize,
         stator: match scene.static_fem.stator {
             StatorChoice::HalfSpace => StatorModel::HalfSpace,
             StatorChoice::MeshedBlock => StatorModel::MeshedBlock,
@@ -75,9 +79,18 @@ pub fn run_static(scene: &Scene, cache_dir: Option<&Path>) -> Result<StaticOutco
     let content_hash = params.content_hash()?;
     let cache_file = cache_dir.map(|d| d.join(format!("static-{content_hash}.json")));
     if let Some(file) = &cache_file {
-        if let Some(report_json) = std::fs::read(file).ok().and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok()) {
+        if let Some(report_json) = std::fs::read(file)
+            .ok()
+            .and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok())
+        {
             let effective_ratio = report_json["effective_contact_ratio"].as_f64();
-            return Ok(StaticOutcome { report_json, effective_ratio, content_hash, cached: true, analysis: None });
+            return Ok(StaticOutcome {
+                report_json,
+                effective_ratio,
+                content_hash,
+                cached: true,
+                analysis: None,
+            });
         }
     }
     let analysis = static_contact::run(&params)?;
@@ -95,13 +108,31 @@ pub fn run_static(scene: &Scene, cache_dir: Option<&Path>) -> Result<StaticOutco
 }
 
 /// Write `static.json`, the post-force chart and the VTU of the first snapshot into `dir`.
-pub fn write_static_files(outcome: &StaticOutcome, dir: &Path) -> Result<Vec<PathBuf>, PipelineError> {
+pub fn write_static_files(
+    outcome: &StaticOutcome,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, PipelineError> {
     let mut files = vec![dir.join("static.json")];
-    std::fs::write(&files[0], serde_json::to_vec_pretty(&outcome.report_json)?)
-        .map_err(|source| crate::output::OutputError::Io { action: "write", path: files[0].clone(), source })?;
+    std::fs::write(&files[0], serde_json::to_vec_pretty(&outcome.report_json)?).map_err(
+        |source| crate::output::OutputError::Io {
+            action: "write",
+            path: files[0].clone(),
+            source,
+        },
+    )?;
     if let Some(analysis) = &outcome.analysis {
-        files.extend(static_contact::output::write_force_chart(analysis, 0, 0, &dir.join("post_forces"))?);
-        if let Some(snapshot) = analysis.report.preloads.first().and_then(|p| p.snapshots.first()) {
+        files.extend(static_contact::output::write_force_chart(
+            analysis,
+            0,
+            0,
+            &dir.join("post_forces"),
+        )?);
+        if let Some(snapshot) = analysis
+            .report
+            .preloads
+            .first()
+            .and_then(|p| p.snapshots.first())
+        {
             let vtu = dir.join("static_snapshot0.vtu");
             static_contact::output::write_snapshot_vtu(analysis, snapshot, &vtu)?;
             files.push(vtu);
@@ -126,14 +157,23 @@ pub fn geometry_key(params: &StaticParams) -> Result<String, PipelineError> {
 /// number of condensations run and the groups that failed (their points fail on their own later).
 pub fn fill_static_cache(scenes: &[Scene], cache_dir: &Path) -> (usize, Vec<(String, String)>) {
     let mut groups: Vec<(String, Vec<(StaticParams, String)>)> = Vec::new();
-    for scene in scenes.iter().filter(|s| s.contact.effective_ratio.is_none()) {
-        let Ok(params) = static_params(scene, Some(&cache_dir.join("meshes"))) else { continue };
-        let (Ok(key), Ok(hash)) = (geometry_key(&params), params.content_hash()) else { continue };
+    for scene in scenes
+        .iter()
+        .filter(|s| s.contact.effective_ratio.is_none())
+    {
+        let Ok(params) = static_params(scene, Some(&cache_dir.join("meshes"))) else {
+            continue;
+        };
+        let (Ok(key), Ok(hash)) = (geometry_key(&params), params.content_hash()) else {
+            continue;
+        };
         if cache_dir.join(format!("static-{hash}.json")).exists() {
             continue;
         }
         match groups.iter_mut().find(|(k, _)| *k == key) {
-            Some((_, members)) if !members.iter().any(|(_, h)| *h == hash) => members.push((params, hash)),
+            Some((_, members)) if !members.iter().any(|(_, h)| *h == hash) => {
+                members.push((params, hash))
+            }
             Some(_) => {}
             None => groups.push((key, vec![(params, hash)])),
         }
@@ -151,7 +191,10 @@ pub fn fill_static_cache(scenes: &[Scene], cache_dir: &Path) -> (usize, Vec<(Str
 }
 
 /// Build the strip model of the first member once and cache a report for every member.
-fn condense_and_cache(members: &[(StaticParams, String)], cache_dir: &Path) -> Result<(), PipelineError> {
+fn condense_and_cache(
+    members: &[(StaticParams, String)],
+    cache_dir: &Path,
+) -> Result<(), PipelineError> {
     let prepared = static_contact::prepare_strip(&members[0].0)?;
     for (params, hash) in members {
         let report = static_contact::analysis::report_for_model(

@@ -2,10 +2,13 @@
 
 use std::fmt;
 
-use serde::de::{self, Deserializer, MapAccess, Visitor};
 use serde::Deserialize;
+use serde::de::{self, Deserializer, MapAccess, Visitor};
 
-use super::quantity::{AutoOr, Density, EffectiveRatio, Force, Frequency, Length, Mass, PostCount, Pressure, Time, Velocity};
+use super::quantity::{
+    AutoOr, Density, EffectiveRatio, Force, Frequency, Length, Mass, PostCount, Pressure, Time,
+    Velocity,
+};
 
 /// One motor: wave, materials, slider, posts, friction, loads, contact ratio and solver settings.
 #[derive(Debug, Clone, Deserialize)]
@@ -138,6 +141,8 @@ pub struct StaticFile {
     pub mesh: String,
     /// Stator compliance: `half-space` (Johnson rigid-disk compliances) or `meshed-block`.
     pub stator: String,
+    /// Rows of posts across the strip between its symmetry planes (1; 2+ to check the strip).
+    pub strip_rows: u32,
     /// Relative complementarity tolerance of the contact solver.
     pub tolerance: f64,
     /// Maximum active-set iterations.
@@ -181,7 +186,8 @@ impl<'de> Deserialize<'de> for MaterialSpec {
                 Ok(MaterialSpec::Named(name.to_owned()))
             }
             fn visit_map<M: MapAccess<'de>>(self, map: M) -> Result<MaterialSpec, M::Error> {
-                CustomMaterial::deserialize(de::value::MapAccessDeserializer::new(map)).map(MaterialSpec::Custom)
+                CustomMaterial::deserialize(de::value::MapAccessDeserializer::new(map))
+                    .map(MaterialSpec::Custom)
             }
         }
         deserializer.deserialize_any(SpecVisitor)

@@ -5,8 +5,10 @@ use toml::{Table, Value};
 use super::SceneError;
 
 /// Keys of which a scene gives exactly one; setting one in an upper layer removes the other.
-const EXCLUSIVE_KEYS: [(&str, &str); 2] =
-    [("wave.tangential_velocity", "wave.tangential_amplitude"), ("wave.tangential_amplitude", "wave.tangential_velocity")];
+const EXCLUSIVE_KEYS: [(&str, &str); 2] = [
+    ("wave.tangential_velocity", "wave.tangential_amplitude"),
+    ("wave.tangential_amplitude", "wave.tangential_velocity"),
+];
 
 /// Short names accepted by `--set`, and the keys they set.
 const OVERRIDE_ALIASES: [(&str, &[&str]); 5] = [
@@ -32,7 +34,9 @@ pub(crate) fn deep_merge(base: &mut Table, overlay: Table) {
 fn merge_tables(base: &mut Table, overlay: Table) {
     for (key, value) in overlay {
         match (base.get_mut(&key), value) {
-            (Some(Value::Table(base_table)), Value::Table(overlay_table)) => merge_tables(base_table, overlay_table),
+            (Some(Value::Table(base_table)), Value::Table(overlay_table)) => {
+                merge_tables(base_table, overlay_table)
+            }
             (_, value) => {
                 base.insert(key, value);
             }
@@ -42,7 +46,11 @@ fn merge_tables(base: &mut Table, overlay: Table) {
 
 fn collect_paths(prefix: &str, table: &Table, out: &mut Vec<String>) {
     for (key, value) in table {
-        let path = if prefix.is_empty() { key.clone() } else { format!("{prefix}.{key}") };
+        let path = if prefix.is_empty() {
+            key.clone()
+        } else {
+            format!("{prefix}.{key}")
+        };
         if let Value::Table(inner) = value {
             collect_paths(&path, inner, out);
         }
@@ -66,13 +74,21 @@ fn remove_path(table: &mut Table, path: &str) {
 /// Parse `key=value` into the table it sets. The value is read as TOML (`0.4`, `"x"`, `true`)
 /// and otherwise taken as a string, so `preload=20N` and `posts.count=50x50` need no quotes.
 pub(crate) fn override_table(text: &str) -> Result<Table, SceneError> {
-    let bad = |reason: &str| SceneError::BadOverride { text: text.to_owned(), reason: reason.to_owned() };
-    let (key, raw) = text.split_once('=').ok_or_else(|| bad("expected key=value, e.g. preload=20N"))?;
+    let bad = |reason: &str| SceneError::BadOverride {
+        text: text.to_owned(),
+        reason: reason.to_owned(),
+    };
+    let (key, raw) = text
+        .split_once('=')
+        .ok_or_else(|| bad("expected key=value, e.g. preload=20N"))?;
     let (key, raw) = (key.trim(), raw.trim());
     if key.is_empty() || raw.is_empty() {
         return Err(bad("expected key=value, e.g. preload=20N"));
     }
-    if !key.split('.').all(|part| !part.is_empty() && part.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')) {
+    if !key
+        .split('.')
+        .all(|part| !part.is_empty() && part.chars().all(|c| c.is_ascii_alphanumeric() || c == '_'))
+    {
         return Err(bad("keys are dotted names like posts.count"));
     }
     let value = format!("v = {raw}")
@@ -80,7 +96,11 @@ pub(crate) fn override_table(text: &str) -> Result<Table, SceneError> {
         .ok()
         .and_then(|mut t| t.remove("v"))
         .unwrap_or_else(|| Value::String(raw.to_owned()));
-    let keys = OVERRIDE_ALIASES.iter().find(|(alias, _)| *alias == key).map(|(_, keys)| keys.to_vec()).unwrap_or(vec![key]);
+    let keys = OVERRIDE_ALIASES
+        .iter()
+        .find(|(alias, _)| *alias == key)
+        .map(|(_, keys)| keys.to_vec())
+        .unwrap_or(vec![key]);
     let mut table = Table::new();
     for path in keys {
         insert_path(&mut table, path, value.clone());
@@ -91,7 +111,9 @@ pub(crate) fn override_table(text: &str) -> Result<Table, SceneError> {
 fn insert_path(table: &mut Table, path: &str, value: Value) {
     match path.split_once('.') {
         Some((head, rest)) => {
-            let inner = table.entry(head).or_insert_with(|| Value::Table(Table::new()));
+            let inner = table
+                .entry(head)
+                .or_insert_with(|| Value::Table(Table::new()));
             if let Value::Table(inner) = inner {
                 insert_path(inner, rest, value);
             }
@@ -126,10 +148,16 @@ mod tests {
 
     #[test]
     fn giving_the_tangential_amplitude_replaces_the_default_velocity() {
-        let mut base: Table = "[wave]\ntangential_velocity = \"1.1 m/s\"\nfrequency = \"1 MHz\"".parse().unwrap();
+        let mut base: Table = "[wave]\ntangential_velocity = \"1.1 m/s\"\nfrequency = \"1 MHz\""
+            .parse()
+            .unwrap();
         let overlay: Table = "[wave]\ntangential_amplitude = \"10 nm\"".parse().unwrap();
         deep_merge(&mut base, overlay);
         assert!(base["wave"].get("tangential_velocity").is_none());
-        assert_eq!(base["wave"]["frequency"].as_str(), Some("1 MHz"), "other keys kept");
+        assert_eq!(
+            base["wave"]["frequency"].as_str(),
+            Some("1 MHz"),
+            "other keys kept"
+        );
     }
 }

@@ -13,8 +13,8 @@ mod resolved;
 use std::path::Path;
 
 pub use resolved::{
-    Contact, DynamicsChoice, Friction, IntegratorChoice, Load, Model, Posts, Scene, Slider, StaticSettings, StatorChoice, VerticalChoice,
-    Wave,
+    Contact, DynamicsChoice, Friction, IntegratorChoice, Load, Model, Posts, Scene, Slider,
+    StaticSettings, StatorChoice, VerticalChoice, Wave,
 };
 
 /// The embedded default scene: the source paper's motor.
@@ -80,8 +80,10 @@ pub fn load_scene(path: Option<&Path>, overrides: &[String]) -> Result<Scene, Sc
     let mut table = parse_table(DEFAULT_SCENE_TOML, "default scene")?;
     let origin = match path {
         Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .map_err(|source| SceneError::Io { path: path.display().to_string(), source })?;
+            let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+                path: path.display().to_string(),
+                source,
+            })?;
             let origin = path.display().to_string();
             let mut user = parse_table(&text, &origin)?;
             resolve_relative_mesh(&mut user, path);
@@ -90,25 +92,38 @@ pub fn load_scene(path: Option<&Path>, overrides: &[String]) -> Result<Scene, Sc
         }
         None => "default scene".to_owned(),
     };
-    let origin = if overrides.is_empty() { origin } else { format!("{origin} with --set") };
+    let origin = if overrides.is_empty() {
+        origin
+    } else {
+        format!("{origin} with --set")
+    };
     for text in overrides {
         merge::deep_merge(&mut table, merge::override_table(text)?);
     }
-    let file: file::SceneFile = serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
-        let field = e.path().to_string();
-        // The TOML value deserializer appends "in `path`" on later lines; the path is already named.
-        let message = e.into_inner().to_string();
-        let message = message.lines().next().unwrap_or_default().to_owned();
-        SceneError::Field { origin: origin.clone(), field, message }
-    })?;
+    let file: file::SceneFile = serde_path_to_error::deserialize(toml::Value::Table(table))
+        .map_err(|e| {
+            let field = e.path().to_string();
+            // The TOML value deserializer appends "in `path`" on later lines; the path is already named.
+            let message = e.into_inner().to_string();
+            let message = message.lines().next().unwrap_or_default().to_owned();
+            SceneError::Field {
+                origin: origin.clone(),
+                field,
+                message,
+            }
+        })?;
     check_name(&file.name)?;
     Scene::resolve(file)
 }
 
 /// A relative `static.mesh` in a scene file is relative to that file's folder.
 fn resolve_relative_mesh(table: &mut toml::Table, scene_path: &Path) {
-    let Some(toml::Value::Table(fem)) = table.get_mut("static") else { return };
-    let Some(toml::Value::String(mesh)) = fem.get_mut("mesh") else { return };
+    let Some(toml::Value::Table(fem)) = table.get_mut("static") else {
+        return;
+    };
+    let Some(toml::Value::String(mesh)) = fem.get_mut("mesh") else {
+        return;
+    };
     if mesh != "auto" && Path::new(mesh.as_str()).is_relative() {
         let base = scene_path.parent().unwrap_or(Path::new("."));
         *mesh = base.join(mesh.as_str()).display().to_string();
@@ -119,13 +134,17 @@ fn resolve_relative_mesh(table: &mut toml::Table, scene_path: &Path) {
 fn check_name(name: &str) -> Result<(), SceneError> {
     let ok = !name.is_empty()
         && !name.starts_with('.')
-        && name.chars().all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'));
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'));
     if ok {
         Ok(())
     } else {
         Err(SceneError::Invalid {
             field: "name".into(),
-            message: format!("\"{name}\" must be non-empty and use only letters, digits, '-', '_', '.' (it names the output folder)"),
+            message: format!(
+                "\"{name}\" must be non-empty and use only letters, digits, '-', '_', '.' (it names the output folder)"
+            ),
         })
     }
 }

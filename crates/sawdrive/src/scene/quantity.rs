@@ -2,13 +2,16 @@
 
 use std::fmt;
 
-use serde::de::{self, Deserializer, Visitor};
 use serde::Deserialize;
+use serde::de::{self, Deserializer, Visitor};
 
-use crate::units::{parse_quantity, Dimension};
+use crate::units::{Dimension, parse_quantity};
 
 /// Deserialize a quantity string of `dimension` into SI; a bare number is refused.
-fn deserialize_quantity<'de, D: Deserializer<'de>>(deserializer: D, dimension: Dimension) -> Result<f64, D::Error> {
+fn deserialize_quantity<'de, D: Deserializer<'de>>(
+    deserializer: D,
+    dimension: Dimension,
+) -> Result<f64, D::Error> {
     struct QuantityVisitor(Dimension);
     impl Visitor<'_> for QuantityVisitor {
         type Value = f64;
@@ -80,7 +83,9 @@ impl<'de, T: Deserialize<'de>> Deserialize<'de> for AutoOr<T> {
         if value.as_str() == Some("auto") {
             return Ok(AutoOr::Auto);
         }
-        T::deserialize(value).map(AutoOr::Value).map_err(|e| de::Error::custom(format!("{e} (or \"auto\")")))
+        T::deserialize(value)
+            .map(AutoOr::Value)
+            .map_err(|e| de::Error::custom(format!("{e} (or \"auto\")")))
     }
 }
 
@@ -96,13 +101,21 @@ pub struct PostCount {
 impl<'de> Deserialize<'de> for PostCount {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
         let value = toml::Value::deserialize(deserializer)?;
-        let text = value.as_str().map_or_else(|| value.to_string(), str::to_owned);
-        let fail = || de::Error::custom(format!("expected a post array like \"100x100\" (posts along x × along y), got {value}"));
+        let text = value
+            .as_str()
+            .map_or_else(|| value.to_string(), str::to_owned);
+        let fail = || {
+            de::Error::custom(format!(
+                "expected a post array like \"100x100\" (posts along x × along y), got {value}"
+            ))
+        };
         let (x, y) = text.split_once(['x', 'X', '×']).ok_or_else(fail)?;
         let along_x: u32 = x.trim().parse().map_err(|_| fail())?;
         let along_y: u32 = y.trim().parse().map_err(|_| fail())?;
         if along_x == 0 || along_y == 0 {
-            return Err(de::Error::custom(format!("post array \"{text}\" must have at least one post each way")));
+            return Err(de::Error::custom(format!(
+                "post array \"{text}\" must have at least one post each way"
+            )));
         }
         Ok(Self { along_x, along_y })
     }
@@ -120,7 +133,11 @@ pub enum EffectiveRatio {
 impl<'de> Deserialize<'de> for EffectiveRatio {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
         let value = toml::Value::deserialize(deserializer)?;
-        let fail = || de::Error::custom(format!("expected a number in (0, 1] or \"fem\", got {value}"));
+        let fail = || {
+            de::Error::custom(format!(
+                "expected a number in (0, 1] or \"fem\", got {value}"
+            ))
+        };
         match &value {
             toml::Value::String(s) if s == "fem" => Ok(Self::Fem),
             toml::Value::Float(v) if *v > 0.0 && *v <= 1.0 => Ok(Self::Given(*v)),

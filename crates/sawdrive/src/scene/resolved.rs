@@ -3,10 +3,10 @@
 use contact_springs::Material;
 use serde::Serialize;
 
+use super::SceneError;
 use super::file::{CustomMaterial, MaterialSpec, SceneFile};
 use super::quantity::{AutoOr, EffectiveRatio};
-use super::SceneError;
-use crate::units::{format_quantity, Dimension};
+use crate::units::{Dimension, format_quantity};
 
 /// One motor, in SI units.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -162,34 +162,66 @@ pub struct StaticSettings {
     pub element_order: u32,
     pub mesh: String,
     pub stator: StatorChoice,
+    pub strip_rows: u32,
     pub tolerance: f64,
     pub max_iterations: u32,
 }
 
 fn invalid(field: &str, message: impl Into<String>) -> SceneError {
-    SceneError::Invalid { field: field.to_owned(), message: message.into() }
+    SceneError::Invalid {
+        field: field.to_owned(),
+        message: message.into(),
+    }
 }
 
 fn positive(field: &str, value: f64) -> Result<f64, SceneError> {
-    if value.is_finite() && value > 0.0 { Ok(value) } else { Err(invalid(field, format!("must be > 0, got {value}"))) }
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(invalid(field, format!("must be > 0, got {value}")))
+    }
 }
 
 fn choice<T: Copy>(field: &str, text: &str, options: &[(&str, T)]) -> Result<T, SceneError> {
-    options.iter().find(|(name, _)| *name == text).map(|(_, v)| *v).ok_or_else(|| {
-        let names: Vec<_> = options.iter().map(|(n, _)| format!("\"{n}\"")).collect();
-        invalid(field, format!("\"{text}\" is not one of {}", names.join(", ")))
-    })
+    options
+        .iter()
+        .find(|(name, _)| *name == text)
+        .map(|(_, v)| *v)
+        .ok_or_else(|| {
+            let names: Vec<_> = options.iter().map(|(n, _)| format!("\"{n}\"")).collect();
+            invalid(
+                field,
+                format!("\"{text}\" is not one of {}", names.join(", ")),
+            )
+        })
 }
 
 fn material(field: &str, spec: &MaterialSpec) -> Result<Material, SceneError> {
     match spec {
-        MaterialSpec::Named(name) => Material::named(name)
-            .ok_or_else(|| invalid(field, format!("unknown material \"{name}\": use \"si\", \"linbo3\" or a table of constants"))),
-        MaterialSpec::Custom(CustomMaterial { name, shear_modulus, youngs_modulus, poisson_ratio, density }) => {
+        MaterialSpec::Named(name) => Material::named(name).ok_or_else(|| {
+            invalid(
+                field,
+                format!(
+                    "unknown material \"{name}\": use \"si\", \"linbo3\" or a table of constants"
+                ),
+            )
+        }),
+        MaterialSpec::Custom(CustomMaterial {
+            name,
+            shear_modulus,
+            youngs_modulus,
+            poisson_ratio,
+            density,
+        }) => {
             let built = match (shear_modulus, youngs_modulus) {
                 (Some(g), None) => Material::from_shear(name, g.0, *poisson_ratio, density.0),
                 (None, Some(e)) => Material::from_young(name, e.0, *poisson_ratio, density.0),
-                _ => return Err(invalid(field, "give exactly one of shear_modulus or youngs_modulus")),
+                _ => {
+                    return Err(invalid(
+                        field,
+                        "give exactly one of shear_modulus or youngs_modulus",
+                    ));
+                }
             };
             built.map_err(|e| invalid(field, e.to_string()))
         }
@@ -206,11 +238,22 @@ impl Scene {
         let tangential_amplitude_m = match (w.tangential_velocity, w.tangential_amplitude) {
             (Some(v), None) => positive("wave.tangential_velocity", v.0)? / omega,
             (None, Some(a)) => positive("wave.tangential_amplitude", a.0)?,
-            _ => return Err(invalid("wave", "give exactly one of tangential_velocity or tangential_amplitude")),
+            _ => {
+                return Err(invalid(
+                    "wave",
+                    "give exactly one of tangential_velocity or tangential_amplitude",
+                ));
+            }
         };
         let phase_velocity_m_per_s = positive("wave.phase_velocity", w.phase_velocity.0)?;
-        let decay_length_m = w.decay_length.map(|d| positive("wave.decay_length", d.0)).transpose()?;
-        let burst_periods = w.burst_periods.map(|b| positive("wave.burst_periods", b)).transpose()?;
+        let decay_length_m = w
+            .decay_length
+            .map(|d| positive("wave.decay_length", d.0))
+            .transpose()?;
+        let burst_periods = w
+            .burst_periods
+            .map(|b| positive("wave.burst_periods", b))
+            .transpose()?;
         let wave = Wave {
             frequency_hz,
             normal_amplitude_m,
@@ -239,19 +282,31 @@ impl Scene {
         };
         if array_x_m > length_m || array_y_m > width_m {
             let len = |v| format_quantity(v, Dimension::Length);
-            return Err(invalid("posts.array", format!(
-                "the post array ({} × {}) must fit on the slider ({} × {})",
-                len(array_x_m), len(array_y_m), len(length_m), len(width_m)
-            )));
+            return Err(invalid(
+                "posts.array",
+                format!(
+                    "the post array ({} × {}) must fit on the slider ({} × {})",
+                    len(array_x_m),
+                    len(array_y_m),
+                    len(length_m),
+                    len(width_m)
+                ),
+            ));
         }
         let (count_x, count_y) = (p.count.along_x, p.count.along_y);
-        let (pitch_x_m, pitch_y_m) = (array_x_m / f64::from(count_x), array_y_m / f64::from(count_y));
+        let (pitch_x_m, pitch_y_m) = (
+            array_x_m / f64::from(count_x),
+            array_y_m / f64::from(count_y),
+        );
         if diameter_m >= pitch_x_m.min(pitch_y_m) {
-            return Err(invalid("posts.diameter", format!(
-                "posts of {} diameter overlap at a pitch of {} (array / count)",
-                format_quantity(diameter_m, Dimension::Length),
-                format_quantity(pitch_x_m.min(pitch_y_m), Dimension::Length)
-            )));
+            return Err(invalid(
+                "posts.diameter",
+                format!(
+                    "posts of {} diameter overlap at a pitch of {} (array / count)",
+                    format_quantity(diameter_m, Dimension::Length),
+                    format_quantity(pitch_x_m.min(pitch_y_m), Dimension::Length)
+                ),
+            ));
         }
         let count = u64::from(count_x) * u64::from(count_y);
         let posts = Posts {
@@ -268,50 +323,93 @@ impl Scene {
         };
 
         let (mass_kg, mass_source) = match s.mass {
-            AutoOr::Auto => (slider_material.density_kg_per_m3 * length_m * width_m * thickness_m, "geometry"),
+            AutoOr::Auto => (
+                slider_material.density_kg_per_m3 * length_m * width_m * thickness_m,
+                "geometry",
+            ),
             AutoOr::Value(m) => (positive("slider.mass", m.0)?, "given"),
         };
-        let slider = Slider { material: slider_material, length_m, width_m, thickness_m, mass_kg, mass_source: mass_source.into() };
+        let slider = Slider {
+            material: slider_material,
+            length_m,
+            width_m,
+            thickness_m,
+            mass_kg,
+            mass_source: mass_source.into(),
+        };
 
         let f = &file.friction;
-        for (field, mu) in [("friction.static", f.mu_static), ("friction.kinetic", f.mu_kinetic)] {
+        for (field, mu) in [
+            ("friction.static", f.mu_static),
+            ("friction.kinetic", f.mu_kinetic),
+        ] {
             if !(mu.is_finite() && mu >= 0.0) {
-                return Err(invalid(field, format!("friction coefficient must be ≥ 0, got {mu}")));
+                return Err(invalid(
+                    field,
+                    format!("friction coefficient must be ≥ 0, got {mu}"),
+                ));
             }
         }
         if f.mu_kinetic > f.mu_static {
-            return Err(invalid("friction.kinetic", format!(
-                "kinetic coefficient {} exceeds the static one {}: stick would break below the force slip sustains",
-                f.mu_kinetic, f.mu_static
-            )));
+            return Err(invalid(
+                "friction.kinetic",
+                format!(
+                    "kinetic coefficient {} exceeds the static one {}: stick would break below the force slip sustains",
+                    f.mu_kinetic, f.mu_static
+                ),
+            ));
         }
-        let friction = Friction { mu_static: f.mu_static, mu_kinetic: f.mu_kinetic };
+        let friction = Friction {
+            mu_static: f.mu_static,
+            mu_kinetic: f.mu_kinetic,
+        };
         let preload_n = positive("load.preload", file.load.preload.0)?;
         let external_load_n = file.load.external.0;
-        let load = Load { preload_n, external_load_n };
+        let load = Load {
+            preload_n,
+            external_load_n,
+        };
 
         let contact = match file.contact.effective_ratio {
-            EffectiveRatio::Fem => Contact { effective_ratio: None, effective_ratio_source: "fem".into() },
-            EffectiveRatio::Given(eta) => Contact { effective_ratio: Some(eta), effective_ratio_source: "given".into() },
+            EffectiveRatio::Fem => Contact {
+                effective_ratio: None,
+                effective_ratio_source: "fem".into(),
+            },
+            EffectiveRatio::Given(eta) => Contact {
+                effective_ratio: Some(eta),
+                effective_ratio_source: "given".into(),
+            },
         };
 
         let m = &file.model;
-        let dynamics = choice("model.dynamics", &m.dynamics, &[
-            ("auto", DynamicsChoice::Auto),
-            ("periodic-average", DynamicsChoice::PeriodicAverage),
-            ("transient", DynamicsChoice::Transient),
-        ])?;
-        let integrator = choice("model.integrator", &m.integrator, &[
-            ("auto", IntegratorChoice::Auto),
-            ("event-driven", IntegratorChoice::EventDriven),
-            ("return-mapping", IntegratorChoice::ReturnMapping),
-            ("regularized", IntegratorChoice::Regularized),
-            ("post-mass", IntegratorChoice::PostMass),
-        ])?;
-        let vertical = choice("model.vertical", &m.vertical, &[
-            ("quasi-static", VerticalChoice::QuasiStatic),
-            ("dynamic", VerticalChoice::Dynamic),
-        ])?;
+        let dynamics = choice(
+            "model.dynamics",
+            &m.dynamics,
+            &[
+                ("auto", DynamicsChoice::Auto),
+                ("periodic-average", DynamicsChoice::PeriodicAverage),
+                ("transient", DynamicsChoice::Transient),
+            ],
+        )?;
+        let integrator = choice(
+            "model.integrator",
+            &m.integrator,
+            &[
+                ("auto", IntegratorChoice::Auto),
+                ("event-driven", IntegratorChoice::EventDriven),
+                ("return-mapping", IntegratorChoice::ReturnMapping),
+                ("regularized", IntegratorChoice::Regularized),
+                ("post-mass", IntegratorChoice::PostMass),
+            ],
+        )?;
+        let vertical = choice(
+            "model.vertical",
+            &m.vertical,
+            &[
+                ("quasi-static", VerticalChoice::QuasiStatic),
+                ("dynamic", VerticalChoice::Dynamic),
+            ],
+        )?;
         let time_step_s = match m.time_step {
             AutoOr::Auto => None,
             AutoOr::Value(t) => Some(positive("model.time_step", t.0)?),
@@ -321,13 +419,19 @@ impl Scene {
             AutoOr::Value(v) => Some(positive("model.regularization_velocity", v.0)?),
         };
         if m.curve_points < 2 {
-            return Err(invalid("model.curve_points", "need at least 2 points on the speed–thrust curve"));
+            return Err(invalid(
+                "model.curve_points",
+                "need at least 2 points on the speed–thrust curve",
+            ));
         }
         if m.periods == 0 {
             return Err(invalid("model.periods", "need at least one wave period"));
         }
         if !(m.vertical_damping_ratio.is_finite() && m.vertical_damping_ratio >= 0.0) {
-            return Err(invalid("model.vertical_damping_ratio", format!("must be ≥ 0, got {}", m.vertical_damping_ratio)));
+            return Err(invalid(
+                "model.vertical_damping_ratio",
+                format!("must be ≥ 0, got {}", m.vertical_damping_ratio),
+            ));
         }
         let model = Model {
             dynamics,
@@ -342,28 +446,60 @@ impl Scene {
 
         let st = &file.static_fem;
         if st.phases == 0 {
-            return Err(invalid("static.phases", "need at least one wave snapshot phase"));
+            return Err(invalid(
+                "static.phases",
+                "need at least one wave snapshot phase",
+            ));
         }
         if !matches!(st.element_order, 1 | 2) {
-            return Err(invalid("static.element_order", format!("must be 1 (Tet4) or 2 (Tet10), got {}", st.element_order)));
+            return Err(invalid(
+                "static.element_order",
+                format!("must be 1 (Tet4) or 2 (Tet10), got {}", st.element_order),
+            ));
         }
         positive("static.tolerance", st.tolerance)?;
         if st.max_iterations == 0 {
             return Err(invalid("static.max_iterations", "must be ≥ 1"));
         }
-        let stator_model = choice("static.stator", &st.stator, &[
-            ("half-space", StatorChoice::HalfSpace),
-            ("meshed-block", StatorChoice::MeshedBlock),
-        ])?;
+        if st.strip_rows == 0 || st.strip_rows > posts.count_y {
+            return Err(invalid(
+                "static.strip_rows",
+                format!(
+                    "must lie in 1..={} (posts.count_y), got {}",
+                    posts.count_y, st.strip_rows
+                ),
+            ));
+        }
+        let stator_model = choice(
+            "static.stator",
+            &st.stator,
+            &[
+                ("half-space", StatorChoice::HalfSpace),
+                ("meshed-block", StatorChoice::MeshedBlock),
+            ],
+        )?;
         let static_fem = StaticSettings {
             phases: st.phases,
             element_order: st.element_order,
             mesh: st.mesh.clone(),
             stator: stator_model,
+            strip_rows: st.strip_rows,
             tolerance: st.tolerance,
             max_iterations: st.max_iterations,
         };
 
-        Ok(Self { name: file.name, description: file.description, wave, stator, slider, posts, friction, load, contact, model, static_fem })
+        Ok(Self {
+            name: file.name,
+            description: file.description,
+            wave,
+            stator,
+            slider,
+            posts,
+            friction,
+            load,
+            contact,
+            model,
+            static_fem,
+        })
     }
 }

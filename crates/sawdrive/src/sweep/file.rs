@@ -127,22 +127,40 @@ impl SweepFile {
     /// Read and check a sweep file.
     pub fn load(path: &Path) -> Result<Self, SweepError> {
         let shown = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| SweepError::Io { path: shown.clone(), source })?;
-        let value: toml::Table = text.parse().map_err(|e: toml::de::Error| SweepError::Field {
+        let text = std::fs::read_to_string(path).map_err(|source| SweepError::Io {
             path: shown.clone(),
-            field: "(file)".into(),
-            message: e.to_string().trim().replace('\n', " "),
+            source,
         })?;
-        let mut sweep: SweepFile = serde_path_to_error::deserialize(toml::Value::Table(value)).map_err(|e| SweepError::Field {
-            path: shown.clone(),
-            field: e.path().to_string(),
-            message: e.into_inner().to_string().lines().next().unwrap_or_default().to_owned(),
-        })?;
+        let value: toml::Table = text
+            .parse()
+            .map_err(|e: toml::de::Error| SweepError::Field {
+                path: shown.clone(),
+                field: "(file)".into(),
+                message: e.to_string().trim().replace('\n', " "),
+            })?;
+        let mut sweep: SweepFile = serde_path_to_error::deserialize(toml::Value::Table(value))
+            .map_err(|e| SweepError::Field {
+                path: shown.clone(),
+                field: e.path().to_string(),
+                message: e
+                    .into_inner()
+                    .to_string()
+                    .lines()
+                    .next()
+                    .unwrap_or_default()
+                    .to_owned(),
+            })?;
         if let Some((key, _)) = sweep.grid.iter().find(|(_, values)| values.is_empty()) {
-            return Err(SweepError::Invalid { path: shown, message: format!("grid.{key} is empty: give at least one value") });
+            return Err(SweepError::Invalid {
+                path: shown,
+                message: format!("grid.{key} is empty: give at least one value"),
+            });
         }
         if sweep.grid.is_empty() && sweep.variants.is_empty() {
-            return Err(SweepError::Invalid { path: shown, message: "the sweep has no [grid] and no [[variants]]: nothing to run".into() });
+            return Err(SweepError::Invalid {
+                path: shown,
+                message: "the sweep has no [grid] and no [[variants]]: nothing to run".into(),
+            });
         }
         if let Some(scene) = &sweep.scene {
             if scene.is_relative() {
@@ -154,13 +172,25 @@ impl SweepFile {
 
     /// Every point: the variants (or one unnamed) crossed with the cartesian grid.
     pub fn points(&self) -> Vec<SweepPoint> {
-        let fixed: Vec<String> = self.set.iter().map(|(k, v)| format!("{k}={}", override_text(v))).collect();
+        let fixed: Vec<String> = self
+            .set
+            .iter()
+            .map(|(k, v)| format!("{k}={}", override_text(v)))
+            .collect();
         let variants: Vec<(String, Vec<String>)> = if self.variants.is_empty() {
             vec![(String::new(), Vec::new())]
         } else {
             self.variants
                 .iter()
-                .map(|v| (v.label.clone(), v.set.iter().map(|(k, val)| format!("{k}={}", override_text(val))).collect()))
+                .map(|v| {
+                    (
+                        v.label.clone(),
+                        v.set
+                            .iter()
+                            .map(|(k, val)| format!("{k}={}", override_text(val)))
+                            .collect(),
+                    )
+                })
                 .collect()
         };
         let mut combos: Vec<BTreeMap<String, String>> = vec![BTreeMap::new()];
@@ -182,7 +212,11 @@ impl SweepFile {
                 let mut overrides = fixed.clone();
                 overrides.extend(variant_overrides.iter().cloned());
                 overrides.extend(combo.iter().map(|(k, v)| format!("{k}={v}")));
-                points.push(SweepPoint { variant: label.clone(), grid_values: combo.clone(), overrides });
+                points.push(SweepPoint {
+                    variant: label.clone(),
+                    grid_values: combo.clone(),
+                    overrides,
+                });
             }
         }
         points
@@ -210,14 +244,23 @@ mod tests {
         .unwrap();
         let points = s.points();
         assert_eq!(points.len(), 8, "2 variants × 2 preloads × 2 frictions");
-        assert_eq!(points[0].overrides[0], "model.dynamics=periodic-average", "fixed overrides first");
-        assert!(points[7].overrides.contains(&"posts.count=40x40".to_string()));
+        assert_eq!(
+            points[0].overrides[0], "model.dynamics=periodic-average",
+            "fixed overrides first"
+        );
+        assert!(
+            points[7]
+                .overrides
+                .contains(&"posts.count=40x40".to_string())
+        );
         assert!(points[7].overrides.contains(&"friction=0.3".to_string()));
     }
 
     #[test]
     fn empty_grids_and_unknown_keys_are_refused() {
-        let err = sweep("name = \"s\"\n[grid]\npreload = []\n").unwrap_err().to_string();
+        let err = sweep("name = \"s\"\n[grid]\npreload = []\n")
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("grid.preload is empty"), "{err}");
         let err = sweep("name = \"s\"\n").unwrap_err().to_string();
         assert!(err.contains("nothing to run"), "{err}");

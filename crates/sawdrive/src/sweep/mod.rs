@@ -5,4 +5,4 @@ mod file;
 mod run;
 
 pub use file::{ChartSpec, SweepError, SweepFile, SweepPoint, Variant};
-pub use run::{results_csv, run_sweep, PointRow, SweepOutcome, SweepRunError, NUMERIC_COLUMNS};
+pub use run::{NUMERIC_COLUMNS, PointRow, SweepOutcome, SweepRunError, results_csv, run_sweep};

@@ -11,7 +11,7 @@ use sha2::{Digest, Sha256};
 
 use super::{SweepFile, SweepPoint};
 use crate::output::write_atomically;
-use crate::pipeline::{fill_static_cache, run_pipeline, RunOptions};
+use crate::pipeline::{RunOptions, fill_static_cache, run_pipeline};
 use crate::scene::load_scene;
 
 /// Numeric result columns a chart may use.
@@ -104,10 +104,21 @@ fn point_hash(scene_text: &str, point: &SweepPoint) -> String {
         hasher.update(b"\n");
         hasher.update(o.as_bytes());
     }
-    hasher.finalize().iter().take(12).map(|b| format!("{b:02x}")).collect()
+    hasher
+        .finalize()
+        .iter()
+        .take(12)
+        .map(|b| format!("{b:02x}"))
+        .collect()
 }
 
-fn run_point(sweep: &SweepFile, point: &SweepPoint, hash: &str, folder: &Path, cache: &Path) -> Result<PointRow, String> {
+fn run_point(
+    sweep: &SweepFile,
+    point: &SweepPoint,
+    hash: &str,
+    folder: &Path,
+    cache: &Path,
+) -> Result<PointRow, String> {
     let scene = load_scene(sweep.scene.as_deref(), &point.overrides).map_err(|e| e.to_string())?;
     let options = RunOptions {
         out_dir: folder.join("runs").join(hash),
@@ -121,11 +132,23 @@ fn run_point(sweep: &SweepFile, point: &SweepPoint, hash: &str, folder: &Path, c
         ("post_count".to_owned(), scene.posts.count as f64),
         ("post_diameter_m".to_owned(), scene.posts.diameter_m),
         ("mu_kinetic".to_owned(), scene.friction.mu_kinetic),
-        ("normal_amplitude_m".to_owned(), scene.wave.normal_amplitude_m),
-        ("effective_contact_ratio".to_owned(), summary.effective_contact_ratio),
-        ("effective_post_count".to_owned(), summary.effective_post_count),
+        (
+            "normal_amplitude_m".to_owned(),
+            scene.wave.normal_amplitude_m,
+        ),
+        (
+            "effective_contact_ratio".to_owned(),
+            summary.effective_contact_ratio,
+        ),
+        (
+            "effective_post_count".to_owned(),
+            summary.effective_post_count,
+        ),
         ("stall_thrust_n".to_owned(), summary.stall_thrust_n),
-        ("no_load_speed_m_per_s".to_owned(), summary.no_load_speed_m_per_s),
+        (
+            "no_load_speed_m_per_s".to_owned(),
+            summary.no_load_speed_m_per_s,
+        ),
         ("efficiency".to_owned(), summary.efficiency),
         ("stick_fraction".to_owned(), summary.stick_fraction),
     ]);
@@ -139,18 +162,29 @@ fn run_point(sweep: &SweepFile, point: &SweepPoint, hash: &str, folder: &Path, c
 }
 
 /// Run `sweep` into `out_dir/<sweep name>/` with `jobs` threads (None: all cores).
-pub fn run_sweep(sweep: &SweepFile, out_dir: &Path, jobs: Option<usize>) -> Result<SweepOutcome, SweepRunError> {
+pub fn run_sweep(
+    sweep: &SweepFile,
+    out_dir: &Path,
+    jobs: Option<usize>,
+) -> Result<SweepOutcome, SweepRunError> {
     for (i, chart) in sweep.charts.iter().enumerate() {
         for column in [&chart.x, &chart.y] {
             if !NUMERIC_COLUMNS.contains(&column.as_str()) {
-                return Err(SweepRunError::UnknownColumn { which: i + 1, column: column.clone() });
+                return Err(SweepRunError::UnknownColumn {
+                    which: i + 1,
+                    column: column.clone(),
+                });
             }
         }
     }
     let points = sweep.points();
     if let Some(first) = points.first() {
-        load_scene(sweep.scene.as_deref(), &first.overrides)
-            .map_err(|source| SweepRunError::Scene { overrides: first.overrides.join(" "), source })?;
+        load_scene(sweep.scene.as_deref(), &first.overrides).map_err(|source| {
+            SweepRunError::Scene {
+                overrides: first.overrides.join(" "),
+                source,
+            }
+        })?;
     }
     let scene_text = match &sweep.scene {
         Some(path) => std::fs::read_to_string(path).unwrap_or_default(),
@@ -158,8 +192,11 @@ pub fn run_sweep(sweep: &SweepFile, out_dir: &Path, jobs: Option<usize>) -> Resu
     };
     let folder = out_dir.join(&sweep.name);
     let points_dir = folder.join("points");
-    std::fs::create_dir_all(&points_dir)
-        .map_err(|source| crate::output::OutputError::Io { action: "create", path: points_dir.clone(), source })?;
+    std::fs::create_dir_all(&points_dir).map_err(|source| crate::output::OutputError::Io {
+        action: "create",
+        path: points_dir.clone(),
+        source,
+    })?;
     let cache = out_dir.join(".cache");
 
     let hashes: Vec<String> = points.iter().map(|p| point_hash(&scene_text, p)).collect();
@@ -180,7 +217,10 @@ pub fn run_sweep(sweep: &SweepFile, out_dir: &Path, jobs: Option<usize>) -> Resu
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(jobs.unwrap_or(0))
         .build()
-        .map_err(|e| SweepRunError::Pool { jobs: jobs.unwrap_or(0), message: e.to_string() })?;
+        .map_err(|e| SweepRunError::Pool {
+            jobs: jobs.unwrap_or(0),
+            message: e.to_string(),
+        })?;
     let results: Vec<Result<PointRow, (String, String)>> = pool.install(|| {
         points
             .par_iter()
@@ -189,9 +229,12 @@ pub fn run_sweep(sweep: &SweepFile, out_dir: &Path, jobs: Option<usize>) -> Resu
                 if let Some(row) = done(hash) {
                     return Ok(row);
                 }
-                let row = run_point(sweep, point, hash, &folder, &cache).map_err(|e| (point.overrides.join(" "), e))?;
-                let bytes = serde_json::to_vec_pretty(&row).map_err(|e| (point.overrides.join(" "), e.to_string()))?;
-                write_atomically(&points_dir.join(format!("{hash}.json")), bytes).map_err(|e| (point.overrides.join(" "), e.to_string()))?;
+                let row = run_point(sweep, point, hash, &folder, &cache)
+                    .map_err(|e| (point.overrides.join(" "), e))?;
+                let bytes = serde_json::to_vec_pretty(&row)
+                    .map_err(|e| (point.overrides.join(" "), e.to_string()))?;
+                write_atomically(&points_dir.join(format!("{hash}.json")), bytes)
+                    .map_err(|e| (point.overrides.join(" "), e.to_string()))?;
                 Ok(row)
             })
             .collect()
@@ -207,7 +250,13 @@ pub fn run_sweep(sweep: &SweepFile, out_dir: &Path, jobs: Option<usize>) -> Resu
     let mut files = vec![folder.join("results.csv")];
     write_atomically(&files[0], results_csv(sweep, &rows))?;
     files.extend(write_charts(sweep, &rows, &folder)?);
-    Ok(SweepOutcome { folder, rows, resumed, failures, files })
+    Ok(SweepOutcome {
+        folder,
+        rows,
+        resumed,
+        failures,
+        files,
+    })
 }
 
 /// All rows as CSV: variant, grid keys, numeric columns, wall time.
@@ -227,17 +276,30 @@ pub fn results_csv(sweep: &SweepFile, rows: &[PointRow]) -> String {
         text.push_str(&row.variant.replace(',', ";"));
         for k in &grid_keys {
             text.push(',');
-            text.push_str(&row.grid.get(*k).cloned().unwrap_or_default().replace(',', ";"));
+            text.push_str(
+                &row.grid
+                    .get(*k)
+                    .cloned()
+                    .unwrap_or_default()
+                    .replace(',', ";"),
+            );
         }
         for c in NUMERIC_COLUMNS {
-            text.push_str(&format!(",{}", row.values.get(c).copied().unwrap_or(f64::NAN)));
+            text.push_str(&format!(
+                ",{}",
+                row.values.get(c).copied().unwrap_or(f64::NAN)
+            ));
         }
         text.push_str(&format!(",{}\n", row.wall_time_s));
     }
     text
 }
 
-fn write_charts(sweep: &SweepFile, rows: &[PointRow], folder: &Path) -> Result<Vec<PathBuf>, SweepRunError> {
+fn write_charts(
+    sweep: &SweepFile,
+    rows: &[PointRow],
+    folder: &Path,
+) -> Result<Vec<PathBuf>, SweepRunError> {
     let mut files = Vec::new();
     for spec in &sweep.charts {
         let mut series: BTreeMap<String, Vec<(f64, f64)>> = BTreeMap::new();
@@ -250,17 +312,27 @@ fn write_charts(sweep: &SweepFile, rows: &[PointRow], folder: &Path) -> Result<V
                 series.entry(key).or_default().push((*x, *y));
             }
         }
-        let title = spec.title.clone().unwrap_or_else(|| format!("{} vs {}", spec.y, spec.x));
+        let title = spec
+            .title
+            .clone()
+            .unwrap_or_else(|| format!("{} vs {}", spec.y, spec.x));
         let mut chart = charts::Chart::new(title, spec.x.as_str(), spec.y.as_str());
         // Keep the sweep's point order within a series (sorted by x for lines).
         for (name, mut points) in series {
             points.sort_by(|a, b| a.0.total_cmp(&b.0));
-            chart.series.push(charts::Series::new(name, points, charts::Style::LineMarkers));
+            chart.series.push(charts::Series::new(
+                name,
+                points,
+                charts::Style::LineMarkers,
+            ));
         }
         if chart.series.iter().all(|s| s.points.is_empty()) {
             continue;
         }
-        let stem = spec.file.clone().unwrap_or_else(|| format!("{}_vs_{}", spec.y, spec.x));
+        let stem = spec
+            .file
+            .clone()
+            .unwrap_or_else(|| format!("{}_vs_{}", spec.y, spec.x));
         files.extend(charts::write_chart(&chart, &folder.join(stem))?);
     }
     Ok(files)
