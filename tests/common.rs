@@ -6,7 +6,10 @@ use std::process::{Command, Output};
 
 /// Run `sawdrive` with `args`; returns the process output.
 pub fn sawdrive(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sawdrive")).args(args).output().expect("sawdrive binary runs")
+    Command::new(env!("CARGO_BIN_EXE_sawdrive"))
+        .args(args)
+        .output()
+        .expect("sawdrive binary runs")
 }
 
 /// Run `sawdrive` expecting success; returns stdout.
@@ -24,9 +27,17 @@ pub fn sawdrive_ok(args: &[&str]) -> String {
 /// Run `sawdrive` expecting failure; returns stderr, checked to be one line naming `needle`.
 pub fn sawdrive_err(args: &[&str], needle: &str) -> String {
     let out = sawdrive(args);
-    assert!(!out.status.success(), "sawdrive {} should fail", args.join(" "));
+    assert!(
+        !out.status.success(),
+        "sawdrive {} should fail",
+        args.join(" ")
+    );
     let stderr = String::from_utf8(out.stderr).expect("utf-8 stderr");
-    assert!(stderr.contains(needle), "sawdrive {}: error should name {needle}: {stderr}", args.join(" "));
+    assert!(
+        stderr.contains(needle),
+        "sawdrive {}: error should name {needle}: {stderr}",
+        args.join(" ")
+    );
     assert!(!stderr.contains("panicked"), "no panic: {stderr}");
     stderr
 }

@@ -7,56 +7,119 @@ use std::path::{Path, PathBuf};
 use common::{sawdrive_err, sawdrive_ok};
 
 fn small_scene() -> String {
-    concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/scenes/small-strip.toml").to_owned()
+    concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/scenes/small-strip.toml"
+    )
+    .to_owned()
 }
 
 fn read_json(path: &Path) -> serde_json::Value {
-    serde_json::from_slice(&std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))).unwrap()
+    serde_json::from_slice(
+        &std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display())),
+    )
+    .unwrap()
 }
 
 #[test]
 fn run_writes_a_summary_within_the_physical_bounds() {
     let out = tempfile::tempdir().unwrap();
-    let stdout = sawdrive_ok(&["run", &small_scene(), "--out", out.path().to_str().unwrap(), "--json"]);
+    let stdout = sawdrive_ok(&[
+        "run",
+        &small_scene(),
+        "--out",
+        out.path().to_str().unwrap(),
+        "--json",
+    ]);
     let summary: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     let folder = out.path().join("small-strip");
-    assert_eq!(read_json(&folder.join("summary.json")), summary, "summary.json holds what --json printed");
+    assert_eq!(
+        read_json(&folder.join("summary.json")),
+        summary,
+        "summary.json holds what --json printed"
+    );
 
     let eta = summary["effective_contact_ratio"].as_f64().unwrap();
-    assert!(eta > 0.0 && eta <= 1.2, "η from the FEM is a ratio near or below 1, got {eta}");
+    assert!(
+        eta > 0.0 && eta <= 1.2,
+        "η from the FEM is a ratio near or below 1, got {eta}"
+    );
     assert_eq!(summary["effective_contact_ratio_source"], "fem");
     let preload = summary["scene"]["load"]["preload_n"].as_f64().unwrap();
     let mu = summary["scene"]["friction"]["mu_kinetic"].as_f64().unwrap();
     let stall = summary["stall_thrust_n"].as_f64().unwrap();
-    assert!(stall > 0.0 && stall <= mu * preload * (1.0 + 1e-9), "0 < stall thrust {stall} ≤ μP = {}", mu * preload);
-    let crest = summary["scene"]["wave"]["tangential_velocity_m_per_s"].as_f64().unwrap();
+    assert!(
+        stall > 0.0 && stall <= mu * preload * (1.0 + 1e-9),
+        "0 < stall thrust {stall} ≤ μP = {}",
+        mu * preload
+    );
+    let crest = summary["scene"]["wave"]["tangential_velocity_m_per_s"]
+        .as_f64()
+        .unwrap();
     let speed = summary["no_load_speed_m_per_s"].as_f64().unwrap();
-    assert!(speed > 0.0 && speed <= crest, "0 < no-load speed {speed} ≤ A_t ω = {crest}");
+    assert!(
+        speed > 0.0 && speed <= crest,
+        "0 < no-load speed {speed} ≤ A_t ω = {crest}"
+    );
     let efficiency = summary["efficiency"].as_f64().unwrap();
-    assert!(efficiency > 0.0 && efficiency < 1.0, "efficiency in (0, 1): {efficiency}");
+    assert!(
+        efficiency > 0.0 && efficiency < 1.0,
+        "efficiency in (0, 1): {efficiency}"
+    );
     for stage in ["springs_s", "static_s", "dynamic_s", "total_s"] {
-        assert!(summary["timings"][stage].as_f64().is_some(), "timing {stage}");
+        assert!(
+            summary["timings"][stage].as_f64().is_some(),
+            "timing {stage}"
+        );
     }
-    for file in ["curve.csv", "speed_thrust.svg", "post_history.svg", "post_forces.svg", "static_snapshot0.vtu", "static.json"] {
+    for file in [
+        "curve.csv",
+        "speed_thrust.svg",
+        "post_history.svg",
+        "post_forces.svg",
+        "static_snapshot0.vtu",
+        "static.json",
+    ] {
         assert!(folder.join(file).is_file(), "{file} written");
     }
     let csv = std::fs::read_to_string(folder.join("curve.csv")).unwrap();
-    assert!(csv.starts_with("speed_m_per_s,thrust_n"), "curve CSV header");
+    assert!(
+        csv.starts_with("speed_m_per_s,thrust_n"),
+        "curve CSV header"
+    );
 }
 
 #[test]
 fn a_failed_run_leaves_the_previous_results_untouched() {
     let out = tempfile::tempdir().unwrap();
     let out_arg = out.path().to_str().unwrap();
-    sawdrive_ok(&["run", &small_scene(), "--out", out_arg, "--set", "effective_ratio=0.5"]);
+    sawdrive_ok(&[
+        "run",
+        &small_scene(),
+        "--out",
+        out_arg,
+        "--set",
+        "effective_ratio=0.5",
+    ]);
     let summary_path = out.path().join("small-strip/summary.json");
     let before = std::fs::read(&summary_path).unwrap();
     // The static stage fails on a mesh that does not exist: nothing may be overwritten.
     sawdrive_err(
-        &["run", &small_scene(), "--out", out_arg, "--set", "static.mesh=/nonexistent/strip.msh"],
+        &[
+            "run",
+            &small_scene(),
+            "--out",
+            out_arg,
+            "--set",
+            "static.mesh=/nonexistent/strip.msh",
+        ],
         "/nonexistent/strip.msh",
     );
-    assert_eq!(std::fs::read(&summary_path).unwrap(), before, "previous summary kept");
+    assert_eq!(
+        std::fs::read(&summary_path).unwrap(),
+        before,
+        "previous summary kept"
+    );
     let stray: Vec<_> = std::fs::read_dir(out.path())
         .unwrap()
         .map(|e| e.unwrap().file_name().into_string().unwrap())
@@ -69,34 +132,109 @@ fn a_failed_run_leaves_the_previous_results_untouched() {
 fn static_and_dynamic_stages_run_on_their_own() {
     let out = tempfile::tempdir().unwrap();
     let out_arg = out.path().to_str().unwrap();
-    let report: serde_json::Value = serde_json::from_str(&sawdrive_ok(&["static", &small_scene(), "--out", out_arg, "--json"])).unwrap();
-    for key in ["effective_contact_ratio", "load_sharing", "contact_fraction", "complementarity_residual", "post_forces_n"] {
+    let report: serde_json::Value = serde_json::from_str(&sawdrive_ok(&[
+        "static",
+        &small_scene(),
+        "--out",
+        out_arg,
+        "--json",
+    ]))
+    .unwrap();
+    for key in [
+        "effective_contact_ratio",
+        "load_sharing",
+        "contact_fraction",
+        "complementarity_residual",
+        "post_forces_n",
+    ] {
         assert!(!report[key].is_null(), "static JSON key {key}");
     }
     let residual = report["complementarity_residual"].as_f64().unwrap();
     assert!(residual < 1e-8, "complementarity residual {residual}");
-    let forces: Vec<f64> = report["post_forces_n"].as_array().unwrap().iter().map(|f| f.as_f64().unwrap()).collect();
+    let forces: Vec<f64> = report["post_forces_n"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f.as_f64().unwrap())
+        .collect();
     assert!(forces.iter().all(|&f| f >= 0.0), "no tension: {forces:?}");
 
     let result: serde_json::Value = serde_json::from_str(&sawdrive_ok(&[
-        "dynamic", &small_scene(), "--out", out_arg, "--set", "effective_ratio=0.36", "--set", "model.dynamics=periodic-average", "--json",
+        "dynamic",
+        &small_scene(),
+        "--out",
+        out_arg,
+        "--set",
+        "effective_ratio=0.36",
+        "--set",
+        "model.dynamics=periodic-average",
+        "--json",
     ]))
     .unwrap();
-    for key in ["stall_thrust_n", "no_load_speed_m_per_s", "curve", "stick_fraction", "efficiency", "model", "wall_time_s"] {
+    for key in [
+        "stall_thrust_n",
+        "no_load_speed_m_per_s",
+        "curve",
+        "stick_fraction",
+        "efficiency",
+        "model",
+        "wall_time_s",
+    ] {
         assert!(!result[key].is_null(), "dynamic JSON key {key}");
     }
     assert_eq!(result["model"], "periodic-average");
-    assert_eq!(result["curve"].as_array().unwrap().len(), 50, "default 50 curve points");
+    assert_eq!(
+        result["curve"].as_array().unwrap().len(),
+        50,
+        "default 50 curve points"
+    );
     assert!(out.path().join("small-strip/dynamic/curve.csv").is_file());
 }
 
 #[test]
 fn dynamic_refuses_unphysical_input_with_the_limit() {
-    sawdrive_err(&["dynamic", "--set", "effective_ratio=0.36", "--set", "friction=-0.3"], "friction.static");
-    sawdrive_err(&["dynamic", "--set", "effective_ratio=0.36", "--set", "preload=0N"], "load.preload");
-    sawdrive_err(&["dynamic", "--set", "effective_ratio=0.36", "--set", "mass=-1mg"], "slider.mass");
     sawdrive_err(
-        &["dynamic", "--set", "effective_ratio=0.36", "--set", "model.integrator=post-mass", "--set", "model.time_step=5ns", "--set", "model.dynamics=transient"],
+        &[
+            "dynamic",
+            "--set",
+            "effective_ratio=0.36",
+            "--set",
+            "friction=-0.3",
+        ],
+        "friction.static",
+    );
+    sawdrive_err(
+        &[
+            "dynamic",
+            "--set",
+            "effective_ratio=0.36",
+            "--set",
+            "preload=0N",
+        ],
+        "load.preload",
+    );
+    sawdrive_err(
+        &[
+            "dynamic",
+            "--set",
+            "effective_ratio=0.36",
+            "--set",
+            "mass=-1mg",
+        ],
+        "slider.mass",
+    );
+    sawdrive_err(
+        &[
+            "dynamic",
+            "--set",
+            "effective_ratio=0.36",
+            "--set",
+            "model.integrator=post-mass",
+            "--set",
+            "model.time_step=5ns",
+            "--set",
+            "model.dynamics=transient",
+        ],
         "stability",
     );
 }
@@ -105,13 +243,19 @@ fn dynamic_refuses_unphysical_input_with_the_limit() {
 fn sweep_writes_one_table_and_resumes() {
     let out = tempfile::tempdir().unwrap();
     let out_arg = out.path().to_str().unwrap();
-    let sweep = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/sweeps/small-preload.toml");
+    let sweep = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/sweeps/small-preload.toml"
+    );
     let first = sawdrive_ok(&["sweep", sweep, "--out", out_arg]);
     assert!(first.contains("2 points (0 resumed)"), "{first}");
     let folder: PathBuf = out.path().join("small-preload");
     let csv = std::fs::read_to_string(folder.join("results.csv")).unwrap();
     assert_eq!(csv.lines().count(), 3, "header + 2 points:\n{csv}");
-    assert!(folder.join("stall_thrust_n_vs_preload_n.svg").is_file(), "chart written");
+    assert!(
+        folder.join("stall_thrust_n_vs_preload_n.svg").is_file(),
+        "chart written"
+    );
     let second = sawdrive_ok(&["sweep", sweep, "--out", out_arg]);
     assert!(second.contains("2 points (2 resumed)"), "{second}");
 }
@@ -124,48 +268,118 @@ fn sweep_refuses_empty_grids_and_unwritable_folders() {
     sawdrive_err(&["sweep", bad.to_str().unwrap()], "grid.preload is empty");
     let blocker = dir.path().join("file");
     std::fs::write(&blocker, "not a folder").unwrap();
-    let sweep = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/sweeps/small-preload.toml");
-    sawdrive_err(&["sweep", sweep, "--out", blocker.join("out").to_str().unwrap()], "file/out");
+    let sweep = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/sweeps/small-preload.toml"
+    );
+    sawdrive_err(
+        &[
+            "sweep",
+            sweep,
+            "--out",
+            blocker.join("out").to_str().unwrap(),
+        ],
+        "file/out",
+    );
 }
 
 #[test]
 fn readme_dynamic_example_runs() {
     let out = tempfile::tempdir().unwrap();
     let json: serde_json::Value = serde_json::from_str(&sawdrive_ok(&[
-        "dynamic", "--set", "preload=20N", "--set", "posts.count=50x50", "--set", "effective_ratio=0.36", "--json",
-        "--out", out.path().to_str().unwrap(),
+        "dynamic",
+        "--set",
+        "preload=20N",
+        "--set",
+        "posts.count=50x50",
+        "--set",
+        "effective_ratio=0.36",
+        "--json",
+        "--out",
+        out.path().to_str().unwrap(),
     ]))
     .unwrap();
     let stall = json["stall_thrust_n"].as_f64().unwrap();
-    assert!(stall > 0.0 && stall <= 0.3 * 20.0 + 1e-9, "stall thrust {stall} ≤ μP = 6 N");
+    assert!(
+        stall > 0.0 && stall <= 0.3 * 20.0 + 1e-9,
+        "stall thrust {stall} ≤ μP = 6 N"
+    );
 }
 
 #[test]
 fn validate_stick_slip_smoke_writes_its_figures() {
     let out = tempfile::tempdir().unwrap();
-    sawdrive_ok(&["validate", "stick-slip", "--level", "smoke", "--out", out.path().to_str().unwrap()]);
+    sawdrive_ok(&[
+        "validate",
+        "stick-slip",
+        "--level",
+        "smoke",
+        "--out",
+        out.path().to_str().unwrap(),
+    ]);
     assert!(out.path().join("report.json").is_file(), "report.json");
-    let svgs = std::fs::read_dir(out.path()).unwrap().filter(|e| e.as_ref().unwrap().path().extension().is_some_and(|x| x == "svg")).count();
-    assert!(svgs >= 3, "work-precision and stability charts written, found {svgs} svg files");
+    let svgs = std::fs::read_dir(out.path())
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .path()
+                .extension()
+                .is_some_and(|x| x == "svg")
+        })
+        .count();
+    assert!(
+        svgs >= 3,
+        "work-precision and stability charts written, found {svgs} svg files"
+    );
 }
 
 #[test]
 fn validate_springs_smoke_reports_every_spring_as_json() {
-    if std::process::Command::new("gmsh").arg("--version").output().is_err() {
-        eprintln!("gmsh is not installed (scripts/install-deps.sh): the punch meshes cannot be made; skipped");
+    if std::process::Command::new("gmsh")
+        .arg("--version")
+        .output()
+        .is_err()
+    {
+        eprintln!(
+            "gmsh is not installed (scripts/install-deps.sh): the punch meshes cannot be made; skipped"
+        );
         return;
     }
     let out = tempfile::tempdir().unwrap();
-    let json: serde_json::Value =
-        serde_json::from_str(&sawdrive_ok(&["validate", "springs", "--smoke", "--json", "--out", out.path().to_str().unwrap()])).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&sawdrive_ok(&[
+        "validate",
+        "springs",
+        "--smoke",
+        "--json",
+        "--out",
+        out.path().to_str().unwrap(),
+    ]))
+    .unwrap();
     let cases = json.as_array().expect("an array of cases");
     for spring in ["k_pn", "k_pt", "k_sn", "k_st"] {
-        let case = cases.iter().find(|c| c["spring"] == spring).unwrap_or_else(|| panic!("case {spring}"));
-        for key in ["material", "radius_m", "fem_n_per_m", "fem_error_estimate", "analytic_n_per_m", "relative_difference"] {
+        let case = cases
+            .iter()
+            .find(|c| c["spring"] == spring)
+            .unwrap_or_else(|| panic!("case {spring}"));
+        for key in [
+            "material",
+            "radius_m",
+            "fem_n_per_m",
+            "fem_error_estimate",
+            "analytic_n_per_m",
+            "relative_difference",
+        ] {
             assert!(!case[key].is_null(), "{spring}: key {key}");
         }
         let difference = case["relative_difference"].as_f64().unwrap();
-        assert!(difference.abs() < 0.05, "{spring}: even the smoke mesh is within 5 % of Johnson, got {difference}");
+        assert!(
+            difference.abs() < 0.05,
+            "{spring}: even the smoke mesh is within 5 % of Johnson, got {difference}"
+        );
     }
-    assert!(out.path().join("cases.json").is_file(), "cases.json written");
+    assert!(
+        out.path().join("cases.json").is_file(),
+        "cases.json written"
+    );
 }
