@@ -20,13 +20,67 @@ use static_contact::halfspace::disk_mutual_compliance;
 use static_contact::mesh_source::{cache_dir, generate_mesh, resolve_mesh, workspace_root};
 use static_contact::output::write_force_chart;
 use static_contact::params::{MeshSizes, StaticParams};
-use static_contact::scene::{StatorModel, StripModel};
-use static_contact::{StaticReport, run};
+use static_contact::scene::{PostSite, StatorModel, StripModel};
+use static_contact::{FitSample, PreloadResult, StaticAnalysis, StaticReport, fit_eta, run};
 
 /// Preloads of the η-against-preload sweeps (N).
 const SWEEP_N: [f64; 7] = [5.0, 10.0, 20.0, 40.0, 60.0, 80.0, 100.0];
 
 type AnyResult<T> = Result<T, Box<dyn std::error::Error>>;
+
+/// Fraction of the strip's length, centred, whose posts enter the "central" η fit that leaves
+/// out the ends (where the rigid-punch edge effect loads the posts most). Default 0.6.
+const CENTRAL_FRACTION: f64 = 0.6;
+
+/// η fitted (physics.md §6) on the posts of the central [`CENTRAL_FRACTION`] of the strip only,
+/// each snapshot's load being what those posts carry in the FEM.
+fn central_eta(report: &StaticReport, preload: &PreloadResult) -> Option<f64> {
+    let xs = preload.snapshots[0].posts.iter().map(|q| q.x_m);
+    let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
+        (l.min(x), h.max(x))
+    });
+    let half_width = 0.5 * CENTRAL_FRACTION * (hi - lo);
+    let centre = 0.5 * (lo + hi);
+    let samples: Vec<FitSample> = preload
+        .snapshots
+        .iter()
+        .map(|s| {
+            let posts: Vec<_> = s
+                .posts
+                .iter()
+                .filter(|q| (q.x_m - centre).abs() <= half_width)
+                .collect();
+            let force_n: Vec<f64> = posts.iter().map(|q| q.force_n).collect();
+            FitSample {
+                height_m: posts.iter().map(|q| q.surface_height_m).collect(),
+                preload_n: force_n.iter().sum(),
+                force_n,
+            }
+        })
+        .collect();
+    fit_eta(&samples, report.k_n_n_per_m).eta
+}
+
+/// 1 / (k_n (C_ii − C_ij)) for the strip's central post i and its neighbour j along x: the
+/// stiffness ratio at which two neighbours in one contact patch split their load (their
+/// equations (Cf)_i = δ − g_i, (Cf)_j = δ − g_j subtracted, the other loads acting alike).
+fn two_post_patch_eta(model: &StripModel, k_n: f64) -> Option<f64> {
+    let row: Vec<usize> = (0..model.posts.len())
+        .filter(|&i| model.posts[i].row == 0)
+        .collect();
+    let (i, j) = (row[row.len() / 2], *row.get(row.len() / 2 + 1)?);
+    let c = &model.compliance_m_per_n;
+    // The wave is uniform in y: all strip rows at one x carry the same force, so sum over them.
+    let column = |k: usize| -> f64 {
+        let x = model.posts[k].x_m;
+        let same_x = |q: &PostSite| (q.x_m - x).abs() < 1e-3 * model.config.pitch_m;
+        (0..model.posts.len())
+            .filter(|&m| same_x(&model.posts[m]))
+            .map(|m| c[(i, m)])
+            .sum()
+    };
+    Some(1.0 / (k_n * (column(i) - column(j))))
+}
 
 fn eta_table(report: &StaticReport) -> Vec<Value> {
     let mut rows: Vec<Value> = report
@@ -36,6 +90,7 @@ fn eta_table(report: &StaticReport) -> Vec<Value> {
             json!({
                 "preload_n": p.preload_n,
                 "eta": p.effective_contact_ratio,
+                "eta_central": central_eta(report, p),
                 "fit_relative_rms": p.eta_fit.relative_rms_residual,
                 "load_sharing": p.load_sharing,
                 "contact_fraction": p.contact_fraction,
@@ -61,16 +116,20 @@ fn print_etas(label: &str, report: &StaticReport) {
         .iter()
         .map(|p| {
             format!(
-                "{}N:{}",
+                "{}N:{} (central {})",
                 p.preload_n,
                 p.effective_contact_ratio
-                    .map_or("-".into(), |e| format!("{e:.3}"))
+                    .map_or("-".into(), |e| format!("{e:.3}")),
+                central_eta(report, p).map_or("-".into(), |e| format!("{e:.3}"))
             )
         })
         .collect();
     println!(
-        "{label}: η {}  | flat load sharing {:.3} | slider {} nodes, condensation {:.1} s, total {:.1} s",
+        "{label}: η {}  | full contact {} | flat load sharing {:.3} | slider {} nodes, condensation {:.1} s, total {:.1} s",
         etas.join(" "),
+        report
+            .eta_full_contact
+            .map_or("-".into(), |e| format!("{e:.3}")),
         report.preloads[0].flat_stator.load_sharing,
         report.fem.slider.nodes,
         report.timings.condensation_s,
@@ -86,13 +145,17 @@ fn sweep(params: StaticParams) -> StaticParams {
     }
 }
 
-fn scene_json(name: &str, params: &StaticParams, report: &StaticReport) -> Value {
+fn scene_json(name: &str, params: &StaticParams, analysis: &StaticAnalysis) -> Value {
+    let report = &analysis.report;
     json!({
         "scene": name,
         "post_diameter_um": params.post_diameter_m * 1e6,
         "posts": params.posts_x * params.posts_y,
         "pitch_um": params.post_pitch_m * 1e6,
         "strip_posts": report.posts_in_strip,
+        "strip_rows": params.strip_rows,
+        "eta_full_contact": report.eta_full_contact,
+        "eta_two_post_patch": two_post_patch_eta(&analysis.model, report.k_n_n_per_m),
         "element_order": params.element_order,
         "h_post_over_radius": params.mesh_sizes.h_post_over_radius,
         "stator": params.stator,
@@ -132,7 +195,7 @@ fn array_section(cases: &[(f64, usize)], figures: Option<&Path>) -> AnyResult<Va
                 &dir.join(format!("post_forces_{name}_40N_flat")),
             )?;
         }
-        out.push(scene_json(&name, &params, &analysis.report));
+        out.push(scene_json(&name, &params, &analysis));
     }
     Ok(Value::Array(out))
 }
@@ -290,26 +353,21 @@ fn stator_section() -> AnyResult<Value> {
     Ok(Value::Array(out))
 }
 
-/// Strip length: the whole row (100 posts, 9.7 λ, with the slider's margins) against shorter
-/// strips without margins.
+/// Strip width and length: the whole row (100 posts, 9.7 λ, with the slider's margins) one and
+/// two pitches wide, and shorter strips without margins.
 fn strip_section() -> AnyResult<Value> {
     let mut out = Vec::new();
-    for strip in [None, Some(50), Some(25)] {
+    for (strip, rows) in [(None, 1), (None, 2), (Some(50), 1), (Some(25), 1)] {
         let params = StaticParams {
             strip_posts: strip,
+            strip_rows: rows,
             preload_sweep_n: vec![10.0, 100.0],
             ..StaticParams::default()
         };
         let analysis = run(&params)?;
-        print_etas(
-            &format!("strip of {:?} posts", strip.unwrap_or(100)),
-            &analysis.report,
-        );
-        out.push(scene_json(
-            &format!("strip_{}", strip.unwrap_or(100)),
-            &params,
-            &analysis.report,
-        ));
+        let name = format!("strip_{}x{rows}", strip.unwrap_or(100));
+        print_etas(&name, &analysis.report);
+        out.push(scene_json(&name, &params, &analysis));
     }
     Ok(Value::Array(out))
 }
@@ -323,11 +381,7 @@ fn high_preload_section() -> AnyResult<Value> {
     };
     let analysis = run(&params)?;
     print_etas("default scene, high preloads", &analysis.report);
-    Ok(scene_json(
-        "d20um_100x100_high_preload",
-        &params,
-        &analysis.report,
-    ))
+    Ok(scene_json("d20um_100x100_high_preload", &params, &analysis))
 }
 
 /// The single-post springs under refinement of the quarter punch (R = 100 a, Tet10).
@@ -409,6 +463,7 @@ fn main() -> AnyResult<()> {
         "stator",
         "refinement",
         "strip",
+        "high_preload",
         "diameters",
         "counts",
     ];
