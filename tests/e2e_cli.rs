@@ -43,6 +43,18 @@ fn springs_refuses_bad_diameters_and_materials() {
 }
 
 #[test]
+fn a_strip_wider_than_the_slider_is_refused_naming_the_key() {
+    sawdrive_err(
+        &["scene", "--resolve", "--set", "static.strip_rows=101"],
+        "static.strip_rows",
+    );
+    sawdrive_err(
+        &["scene", "--resolve", "--set", "static.strip_rows=0"],
+        "static.strip_rows",
+    );
+}
+
+#[test]
 fn scene_prints_the_default_which_resolves_with_overrides() {
     let text = sawdrive_ok(&["scene"]);
     assert!(

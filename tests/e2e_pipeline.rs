@@ -146,9 +146,18 @@ fn static_and_dynamic_stages_run_on_their_own() {
         "contact_fraction",
         "complementarity_residual",
         "post_forces_n",
+        "eta_full_contact",
     ] {
         assert!(!report[key].is_null(), "static JSON key {key}");
     }
+    let (eta, eta_full) = (
+        report["effective_contact_ratio"].as_f64().unwrap(),
+        report["eta_full_contact"].as_f64().unwrap(),
+    );
+    assert!(
+        eta_full < eta,
+        "η at full contact ({eta_full}) below η at the scene's preload ({eta})"
+    );
     let residual = report["complementarity_residual"].as_f64().unwrap();
     assert!(residual < 1e-8, "complementarity residual {residual}");
     let forces: Vec<f64> = report["post_forces_n"]

@@ -34,6 +34,10 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
     if let Some(note) = r["effective_contact_ratio_note"].as_str() {
         println!("  note: {note}");
     }
+    println!(
+        "η at full contact          {}  (the high-preload limit)",
+        number("eta_full_contact")
+    );
     println!("load sharing               {}", number("load_sharing"));
     println!("contact fraction           {}", number("contact_fraction"));
     println!(
