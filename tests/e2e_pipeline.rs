@@ -392,3 +392,53 @@ fn validate_springs_smoke_reports_every_spring_as_json() {
         "cases.json written"
     );
 }
+
+#[test]
+fn a_static_run_served_from_the_cache_still_writes_its_chart_and_fields() {
+    let out = tempfile::tempdir().unwrap();
+    let out_arg = out.path().to_str().unwrap();
+    let folder = out.path().join("small-strip").join("static");
+    let expected = [
+        "post_forces.png",
+        "post_forces.svg",
+        "static.json",
+        "static_snapshot0.vtu",
+    ];
+    for attempt in ["fresh", "cached"] {
+        let text = sawdrive_ok(&["static", &small_scene(), "--out", out_arg]);
+        assert_eq!(
+            text.contains("(cached)"),
+            attempt == "cached",
+            "{attempt} run reports its cache state: {text}"
+        );
+        for name in expected {
+            assert!(
+                folder.join(name).is_file(),
+                "{attempt} static run wrote {name}"
+            );
+        }
+    }
+    // A cache entry with the report only (as a sweep leaves it) is completed, not trusted.
+    let cache = out.path().join(".cache");
+    for entry in std::fs::read_dir(&cache).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir()
+            && path
+                .file_name()
+                .unwrap()
+                .to_str()
+                .unwrap()
+                .starts_with("static-")
+        {
+            std::fs::remove_dir_all(&path).unwrap();
+        }
+    }
+    let text = sawdrive_ok(&["static", &small_scene(), "--out", out_arg]);
+    assert!(
+        !text.contains("(cached)"),
+        "a report-only cache entry reruns the FEM: {text}"
+    );
+    for name in expected {
+        assert!(folder.join(name).is_file(), "rerun wrote {name}");
+    }
+}

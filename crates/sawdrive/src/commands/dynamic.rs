@@ -13,7 +13,7 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
         Some(eta) => eta,
         None => {
             let cache = (!args.no_cache).then(|| args.out.join(".cache"));
-            let outcome = run_static(&scene, cache.as_deref())?;
+            let outcome = run_static(&scene, cache.as_deref(), false)?;
             outcome.effective_ratio.ok_or_else(|| {
                 anyhow!("the static stage could not identify η: give --set effective_ratio=0.36")
             })?

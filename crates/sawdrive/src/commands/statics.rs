@@ -9,7 +9,7 @@ use crate::cli::StageArgs;
 pub fn run(args: &StageArgs) -> anyhow::Result<()> {
     let scene = load_scene(args.input.scene.as_deref(), &args.input.overrides)?;
     let cache = (!args.no_cache).then(|| args.out.join(".cache"));
-    let outcome = run_static(&scene, cache.as_deref())?;
+    let outcome = run_static(&scene, cache.as_deref(), true)?;
     let staged = StagedDir::create(&args.out.join(&scene.name).join("static"))?;
     write_static_files(&outcome, staged.path())?;
     let folder = staged.commit()?;

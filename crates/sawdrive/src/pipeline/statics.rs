@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use static_contact::{MeshChoice, StaticAnalysis, StaticParams, StatorModel};
 
 use super::PipelineError;
+use crate::output::StagedDir;
 use crate::scene::{Scene, StatorChoice};
 
 /// Relative tolerance on equal x and y pitch (the strip model needs a square post lattice).
@@ -70,15 +71,27 @@ pub struct StaticOutcome {
     pub cached: bool,
     /// The analysis, for field and chart output (fresh runs only).
     pub analysis: Option<StaticAnalysis>,
+    /// Cached field files (force chart, VTU) of these inputs, if they were asked for and exist.
+    pub cached_fields: Option<PathBuf>,
 }
 
 /// Run the static stage, or take its report from `cache_dir/static-<hash>.json` when the same
-/// inputs ran before.
-pub fn run_static(scene: &Scene, cache_dir: Option<&Path>) -> Result<StaticOutcome, PipelineError> {
+/// inputs ran before. With `with_fields`, the cache also keeps the force chart and the VTU in
+/// `cache_dir/static-<hash>/`, and a cached report without them (e.g. one a sweep filled in)
+/// counts as a miss, so that a results folder never lacks them.
+pub fn run_static(
+    scene: &Scene,
+    cache_dir: Option<&Path>,
+    with_fields: bool,
+) -> Result<StaticOutcome, PipelineError> {
     let params = static_params(scene, cache_dir.map(|d| d.join("meshes")).as_deref())?;
     let content_hash = params.content_hash()?;
     let cache_file = cache_dir.map(|d| d.join(format!("static-{content_hash}.json")));
-    if let Some(file) = &cache_file {
+    let fields_dir = cache_dir
+        .filter(|_| with_fields)
+        .map(|d| d.join(format!("static-{content_hash}")));
+    let fields_cached = fields_dir.as_ref().is_none_or(|d| d.is_dir());
+    if let (Some(file), true) = (&cache_file, fields_cached) {
         if let Some(report_json) = std::fs::read(file)
             .ok()
             .and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok())
@@ -90,11 +103,17 @@ pub fn run_static(scene: &Scene, cache_dir: Option<&Path>) -> Result<StaticOutco
                 content_hash,
                 cached: true,
                 analysis: None,
+                cached_fields: fields_dir,
             });
         }
     }
     let analysis = static_contact::run(&params)?;
     let report_json = serde_json::to_value(&analysis.report)?;
+    if let Some(dir) = &fields_dir {
+        let staged = StagedDir::create(dir)?;
+        write_field_files(&analysis, staged.path())?;
+        staged.commit()?;
+    }
     if let Some(file) = &cache_file {
         crate::output::write_atomically(file, serde_json::to_vec(&report_json)?)?;
     }
@@ -104,10 +123,56 @@ pub fn run_static(scene: &Scene, cache_dir: Option<&Path>) -> Result<StaticOutco
         content_hash,
         cached: false,
         analysis: Some(analysis),
+        cached_fields: fields_dir,
     })
 }
 
-/// Write `static.json`, the post-force chart and the VTU of the first snapshot into `dir`.
+/// Write the post-force chart and the VTU of the first snapshot of `analysis` into `dir`.
+fn write_field_files(analysis: &StaticAnalysis, dir: &Path) -> Result<Vec<PathBuf>, PipelineError> {
+    let mut files =
+        static_contact::output::write_force_chart(analysis, 0, 0, &dir.join("post_forces"))?;
+    if let Some(snapshot) = analysis
+        .report
+        .preloads
+        .first()
+        .and_then(|p| p.snapshots.first())
+    {
+        let vtu = dir.join("static_snapshot0.vtu");
+        static_contact::output::write_snapshot_vtu(analysis, snapshot, &vtu)?;
+        files.push(vtu);
+    }
+    Ok(files)
+}
+
+/// Put every file of `from` into `dir`: a hard link where the file system allows (the VTU of
+/// the default scene is ≈ 33 MB), a copy otherwise.
+fn link_or_copy_files(from: &Path, dir: &Path) -> Result<Vec<PathBuf>, PipelineError> {
+    let io = |action: &'static str, path: &Path| {
+        let path = path.to_owned();
+        move |source| crate::output::OutputError::Io {
+            action,
+            path,
+            source,
+        }
+    };
+    let mut files = Vec::new();
+    for entry in std::fs::read_dir(from).map_err(io("read the cached fields", from))? {
+        let source = entry.map_err(io("read the cached fields", from))?.path();
+        let Some(name) = source.file_name() else {
+            continue;
+        };
+        let target = dir.join(name);
+        if std::fs::hard_link(&source, &target).is_err() {
+            std::fs::copy(&source, &target).map_err(io("copy a cached field file", &source))?;
+        }
+        files.push(target);
+    }
+    files.sort();
+    Ok(files)
+}
+
+/// Write `static.json`, the post-force chart and the VTU of the first snapshot into `dir` (the
+/// last two from the analysis, or from the cache).
 pub fn write_static_files(
     outcome: &StaticOutcome,
     dir: &Path,
@@ -120,23 +185,10 @@ pub fn write_static_files(
             source,
         },
     )?;
-    if let Some(analysis) = &outcome.analysis {
-        files.extend(static_contact::output::write_force_chart(
-            analysis,
-            0,
-            0,
-            &dir.join("post_forces"),
-        )?);
-        if let Some(snapshot) = analysis
-            .report
-            .preloads
-            .first()
-            .and_then(|p| p.snapshots.first())
-        {
-            let vtu = dir.join("static_snapshot0.vtu");
-            static_contact::output::write_snapshot_vtu(analysis, snapshot, &vtu)?;
-            files.push(vtu);
-        }
+    match (&outcome.cached_fields, &outcome.analysis) {
+        (Some(cached), _) if cached.is_dir() => files.extend(link_or_copy_files(cached, dir)?),
+        (_, Some(analysis)) => files.extend(write_field_files(analysis, dir)?),
+        _ => {}
     }
     Ok(files)
 }
