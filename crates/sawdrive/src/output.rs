@@ -20,7 +20,11 @@ pub enum OutputError {
     },
 }
 
-fn io<'a>(action: &'static str, path: &'a Path) -> impl FnOnce(std::io::Error) -> OutputError + 'a {
+/// `map_err` adapter: an `io::Error` while doing `action` on `path` becomes [`OutputError::Io`].
+pub(crate) fn io<'a>(
+    action: &'static str,
+    path: &'a Path,
+) -> impl FnOnce(std::io::Error) -> OutputError + 'a {
     move |source| OutputError::Io {
         action,
         path: path.to_owned(),

@@ -8,6 +8,7 @@ use stick_slip::{
 };
 
 use super::{PipelineError, scene_springs};
+use crate::output::io;
 use crate::scene::{DynamicsChoice, IntegratorChoice, Scene, VerticalChoice};
 
 /// Steps per wave period of a fixed-step integrator when the scene says `time_step = "auto"`.
@@ -162,16 +163,10 @@ pub fn write_dynamic_files(
     dir: &Path,
 ) -> Result<Vec<PathBuf>, PipelineError> {
     let mut files = vec![dir.join("dynamic.json"), dir.join("curve.csv")];
-    let io = |path: &Path| {
-        let path = path.to_owned();
-        move |source| crate::output::OutputError::Io {
-            action: "write",
-            path,
-            source,
-        }
-    };
-    std::fs::write(&files[0], serde_json::to_vec_pretty(result)?).map_err(io(&files[0]))?;
-    std::fs::write(&files[1], stick_slip::curve_csv(&result.curve)).map_err(io(&files[1]))?;
+    std::fs::write(&files[0], serde_json::to_vec_pretty(result)?)
+        .map_err(io("write", &files[0]))?;
+    std::fs::write(&files[1], stick_slip::curve_csv(&result.curve))
+        .map_err(io("write", &files[1]))?;
     files.extend(stick_slip::plots::write_speed_thrust_chart(
         result,
         &dir.join("speed_thrust"),

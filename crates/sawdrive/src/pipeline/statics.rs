@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use static_contact::{MeshChoice, StaticAnalysis, StaticParams, StatorModel};
 
 use super::PipelineError;
-use crate::output::StagedDir;
+use crate::output::{StagedDir, io};
 use crate::scene::{Scene, StatorChoice};
 
 /// Relative tolerance on equal x and y pitch (the strip model needs a square post lattice).
@@ -147,14 +147,6 @@ fn write_field_files(analysis: &StaticAnalysis, dir: &Path) -> Result<Vec<PathBu
 /// Put every file of `from` into `dir`: a hard link where the file system allows (the VTU of
 /// the default scene is ≈ 33 MB), a copy otherwise.
 fn link_or_copy_files(from: &Path, dir: &Path) -> Result<Vec<PathBuf>, PipelineError> {
-    let io = |action: &'static str, path: &Path| {
-        let path = path.to_owned();
-        move |source| crate::output::OutputError::Io {
-            action,
-            path,
-            source,
-        }
-    };
     let mut files = Vec::new();
     for entry in std::fs::read_dir(from).map_err(io("read the cached fields", from))? {
         let source = entry.map_err(io("read the cached fields", from))?.path();
@@ -178,13 +170,8 @@ pub fn write_static_files(
     dir: &Path,
 ) -> Result<Vec<PathBuf>, PipelineError> {
     let mut files = vec![dir.join("static.json")];
-    std::fs::write(&files[0], serde_json::to_vec_pretty(&outcome.report_json)?).map_err(
-        |source| crate::output::OutputError::Io {
-            action: "write",
-            path: files[0].clone(),
-            source,
-        },
-    )?;
+    std::fs::write(&files[0], serde_json::to_vec_pretty(&outcome.report_json)?)
+        .map_err(io("write", &files[0]))?;
     match (&outcome.cached_fields, &outcome.analysis) {
         (Some(cached), _) if cached.is_dir() => files.extend(link_or_copy_files(cached, dir)?),
         (_, Some(analysis)) => files.extend(write_field_files(analysis, dir)?),

@@ -192,11 +192,7 @@ pub fn run_sweep(
     };
     let folder = out_dir.join(&sweep.name);
     let points_dir = folder.join("points");
-    std::fs::create_dir_all(&points_dir).map_err(|source| crate::output::OutputError::Io {
-        action: "create",
-        path: points_dir.clone(),
-        source,
-    })?;
+    std::fs::create_dir_all(&points_dir).map_err(crate::output::io("create", &points_dir))?;
     let cache = out_dir.join(".cache");
 
     let hashes: Vec<String> = points.iter().map(|p| point_hash(&scene_text, p)).collect();
