@@ -40,7 +40,9 @@ pub(crate) fn format_number(value: f64) -> String {
 
 /// Padded `[min, max]` of axis-space values; a degenerate span is widened to a unit span.
 pub(crate) fn padded_range(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
-    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+        (lo.min(v), hi.max(v))
+    });
     if !lo.is_finite() || !hi.is_finite() {
         return None;
     }
@@ -67,7 +69,10 @@ mod tests {
     #[test]
     fn degenerate_range_is_widened() {
         let (lo, hi) = padded_range([3.0, 3.0].into_iter()).unwrap();
-        assert!(lo < 3.0 && hi > 3.0, "range around a single value: {lo}..{hi}");
+        assert!(
+            lo < 3.0 && hi > 3.0,
+            "range around a single value: {lo}..{hi}"
+        );
     }
 
     #[test]

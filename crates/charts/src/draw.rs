@@ -45,7 +45,9 @@ pub(crate) fn axis_points(chart: &Chart) -> Vec<Vec<(f64, f64)>> {
         .map(|s| {
             s.points
                 .iter()
-                .filter_map(|&(x, y)| Some((to_axis(chart.x_scale, x)?, to_axis(chart.y_scale, y)?)))
+                .filter_map(|&(x, y)| {
+                    Some((to_axis(chart.x_scale, x)?, to_axis(chart.y_scale, y)?))
+                })
                 .collect()
         })
         .collect()
@@ -82,7 +84,10 @@ pub(crate) fn draw_chart<DB: DrawingBackend>(
 
     let shades = chart.shaded_x.iter().filter_map(|&(a, b)| {
         let (a, b) = (to_axis(x_scale, a)?, to_axis(x_scale, b)?);
-        Some(Rectangle::new([(a, y_range.0), (b, y_range.1)], SHADE.mix(0.6).filled()))
+        Some(Rectangle::new(
+            [(a, y_range.0), (b, y_range.1)],
+            SHADE.mix(0.6).filled(),
+        ))
     });
     ctx.draw_series(shades).map_err(err)?;
 
@@ -167,10 +172,19 @@ pub(crate) fn draw_category_map<DB: DrawingBackend>(
     for (category, name) in map.categories.iter().enumerate() {
         let color = CATEGORY_PALETTE[category % CATEGORY_PALETTE.len()];
         let cells = map.cells.iter().enumerate().flat_map(|(iy, row)| {
-            row.iter().enumerate().filter(move |(_, c)| **c == category).map(move |(ix, _)| (ix, iy))
+            row.iter()
+                .enumerate()
+                .filter(move |(_, c)| **c == category)
+                .map(move |(ix, _)| (ix, iy))
         });
         let rects = cells.map(|(ix, iy)| {
-            Rectangle::new([(x_edges[ix], y_edges[iy]), (x_edges[ix + 1], y_edges[iy + 1])], color.filled())
+            Rectangle::new(
+                [
+                    (x_edges[ix], y_edges[iy]),
+                    (x_edges[ix + 1], y_edges[iy + 1]),
+                ],
+                color.filled(),
+            )
         });
         ctx.draw_series(rects)
             .map_err(err)?

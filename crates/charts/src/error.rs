@@ -17,14 +17,17 @@ pub enum ChartError {
         /// What does not fit.
         what: String,
     },
-    /// Writing or renaming a file failed.
-    #[error("cannot write chart file {path}: {source}")]
+    /// Creating the folder of a chart failed.
+    #[error("cannot create the chart folder {path}: {source}")]
     Io {
-        /// File at fault.
+        /// Folder at fault.
         path: PathBuf,
         /// Underlying error.
         source: std::io::Error,
     },
+    /// Writing a chart file (atomically) failed; names the verb and the file.
+    #[error("chart file: {0}")]
+    File(#[from] atomic_files::FileError),
     /// plotters failed while drawing.
     #[error("drawing chart '{title}' failed: {message}")]
     Draw {

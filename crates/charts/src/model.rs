@@ -38,7 +38,11 @@ pub struct Series {
 impl Series {
     /// A series from its name, points and style.
     pub fn new(name: impl Into<String>, points: Vec<(f64, f64)>, style: Style) -> Self {
-        Self { name: name.into(), points, style }
+        Self {
+            name: name.into(),
+            points,
+            style,
+        }
     }
 }
 
@@ -63,8 +67,17 @@ pub struct Chart {
 
 impl Chart {
     /// An empty linear chart with a title and axis labels.
-    pub fn new(title: impl Into<String>, x_label: impl Into<String>, y_label: impl Into<String>) -> Self {
-        Self { title: title.into(), x_label: x_label.into(), y_label: y_label.into(), ..Self::default() }
+    pub fn new(
+        title: impl Into<String>,
+        x_label: impl Into<String>,
+        y_label: impl Into<String>,
+    ) -> Self {
+        Self {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            ..Self::default()
+        }
     }
 
     /// The same chart with log–log axes.

@@ -33,34 +33,59 @@ pub fn write_stacked(charts: &[Chart], stem: &Path) -> Result<Vec<PathBuf>, Char
     }
     let shared_x = padded_range(charts.iter().flat_map(axis_points).flatten().map(|p| p.0));
     let height = STACKED_PANEL_HEIGHT * charts.len() as u32;
-    write_both(stem, &title, (PANEL_SIZE.0, height), &Figure::Stacked(charts, shared_x))
+    write_both(
+        stem,
+        &title,
+        (PANEL_SIZE.0, height),
+        &Figure::Stacked(charts, shared_x),
+    )
 }
 
 /// Write a category map (e.g. a stability map) to `stem.svg` and `stem.png`.
 pub fn write_category_map(map: &CategoryMap, stem: &Path) -> Result<Vec<PathBuf>, ChartError> {
-    let bad = |what: String| ChartError::BadGrid { title: map.title.clone(), what };
+    let bad = |what: String| ChartError::BadGrid {
+        title: map.title.clone(),
+        what,
+    };
     let to_axes = |values: &[f64], scale, name: &str| -> Result<Vec<f64>, ChartError> {
         let mapped: Option<Vec<f64>> = values.iter().map(|&v| to_axis(scale, v)).collect();
-        let mapped = mapped.ok_or_else(|| bad(format!("{name} holds a value its scale cannot show")))?;
+        let mapped =
+            mapped.ok_or_else(|| bad(format!("{name} holds a value its scale cannot show")))?;
         if mapped.is_empty() || mapped.windows(2).any(|w| w[1] <= w[0]) {
-            return Err(bad(format!("{name} must be non-empty and strictly increasing")));
+            return Err(bad(format!(
+                "{name} must be non-empty and strictly increasing"
+            )));
         }
         Ok(mapped)
     };
     let xs = to_axes(&map.xs, map.x_scale, "xs")?;
     let ys = to_axes(&map.ys, map.y_scale, "ys")?;
     if map.cells.len() != ys.len() || map.cells.iter().any(|row| row.len() != xs.len()) {
-        return Err(bad(format!("cells must be {} rows of {} entries", ys.len(), xs.len())));
+        return Err(bad(format!(
+            "cells must be {} rows of {} entries",
+            ys.len(),
+            xs.len()
+        )));
     }
-    if let Some(c) = map.cells.iter().flatten().find(|c| **c >= map.categories.len()) {
-        return Err(bad(format!("cell category {c} has no name ({} categories)", map.categories.len())));
+    if let Some(c) = map
+        .cells
+        .iter()
+        .flatten()
+        .find(|c| **c >= map.categories.len())
+    {
+        return Err(bad(format!(
+            "cell category {c} has no name ({} categories)",
+            map.categories.len()
+        )));
     }
     write_both(stem, &map.title, PANEL_SIZE, &Figure::Map(map, &xs, &ys))
 }
 
 fn check_has_data(chart: &Chart) -> Result<(), ChartError> {
     if axis_points(chart).iter().all(Vec::is_empty) {
-        return Err(ChartError::NoData { title: chart.title.clone() });
+        return Err(ChartError::NoData {
+            title: chart.title.clone(),
+        });
     }
     Ok(())
 }
@@ -80,7 +105,10 @@ impl Figure<'_> {
             Figure::Single(chart) => draw_chart(area, chart, None),
             Figure::Stacked(charts, shared_x) => {
                 let panels = area.split_evenly((charts.len(), 1));
-                charts.iter().zip(&panels).try_for_each(|(chart, panel)| draw_chart(panel, chart, shared_x))
+                charts
+                    .iter()
+                    .zip(&panels)
+                    .try_for_each(|(chart, panel)| draw_chart(panel, chart, shared_x))
             }
             Figure::Map(map, xs, ys) => draw_category_map(area, map, xs, ys),
         }
@@ -88,11 +116,22 @@ impl Figure<'_> {
 }
 
 /// Render `figure` into an SVG and a PNG next to each other.
-fn write_both(stem: &Path, title: &str, size: (u32, u32), figure: &Figure<'_>) -> Result<Vec<PathBuf>, ChartError> {
+fn write_both(
+    stem: &Path,
+    title: &str,
+    size: (u32, u32),
+    figure: &Figure<'_>,
+) -> Result<Vec<PathBuf>, ChartError> {
     if let Some(dir) = stem.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|source| ChartError::Io { path: dir.to_owned(), source })?;
+        std::fs::create_dir_all(dir).map_err(|source| ChartError::Io {
+            path: dir.to_owned(),
+            source,
+        })?;
     }
-    let draw_error = |message: String| ChartError::Draw { title: title.to_owned(), message };
+    let draw_error = |message: String| ChartError::Draw {
+        title: title.to_owned(),
+        message,
+    };
 
     let mut svg = String::new();
     {
@@ -102,40 +141,21 @@ fn write_both(stem: &Path, title: &str, size: (u32, u32), figure: &Figure<'_>) -
         area.present().map_err(|e| draw_error(e.to_string()))?;
     }
     let svg_path = stem.with_extension("svg");
-    write_atomically(&svg_path, svg.as_bytes())?;
+    atomic_files::write_atomically(&svg_path, svg.as_bytes())?;
     let mut written = vec![svg_path];
 
     let png_path = stem.with_extension("png");
-    let tmp = temp_sibling(&png_path, "png");
-    let png = (|| -> Result<(), String> {
-        let area = BitMapBackend::new(&tmp, size).into_drawing_area();
-        area.fill(&WHITE).map_err(|e| e.to_string())?;
-        figure.draw(&area)?;
-        area.present().map_err(|e| e.to_string())
-    })();
+    let png = atomic_files::write_atomically_via(&png_path, |tmp| {
+        let area = BitMapBackend::new(tmp, size).into_drawing_area();
+        area.fill(&WHITE).map_err(|e| draw_error(e.to_string()))?;
+        figure.draw(&area).map_err(draw_error)?;
+        area.present().map_err(|e| draw_error(e.to_string()))
+    });
     match png {
-        Ok(()) => {
-            std::fs::rename(&tmp, &png_path).map_err(|source| ChartError::Io { path: png_path.clone(), source })?;
-            written.push(png_path);
-        }
+        Ok(()) => written.push(png_path),
         // Text rendering needs a system font; without one, the SVG alone is the chart.
-        Err(_) => {
-            let _ = std::fs::remove_file(&tmp);
-        }
+        Err(ChartError::Draw { .. }) => {}
+        Err(other) => return Err(other),
     }
     Ok(written)
-}
-
-/// A temporary path next to `path` (same directory, so the final rename is atomic), keeping
-/// `extension` so encoders recognise the format.
-fn temp_sibling(path: &Path, extension: &str) -> PathBuf {
-    let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("chart");
-    path.with_file_name(format!(".{name}.{}.tmp.{extension}", std::process::id()))
-}
-
-fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), ChartError> {
-    let tmp = temp_sibling(path, "tmp");
-    let io = |source| ChartError::Io { path: path.to_owned(), source };
-    std::fs::write(&tmp, bytes).map_err(io)?;
-    std::fs::rename(&tmp, path).map_err(io)
 }

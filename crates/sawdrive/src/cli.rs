@@ -62,7 +62,7 @@ pub struct SweepArgs {
     /// Results folder; the sweep writes OUT/<sweep name>/.
     #[arg(long = "out", default_value = "out", value_name = "DIR")]
     pub out: PathBuf,
-    /// Parallel jobs (default: all cores).
+    /// Parallel jobs, 1 to 256 (default: all cores).
     #[arg(long)]
     pub jobs: Option<usize>,
     /// Print the results table as JSON on stdout.
@@ -83,8 +83,13 @@ pub enum ValidateCommand {
 
 #[derive(Debug, Args)]
 pub struct ValidateSpringsArgs {
-    /// Output folder for the charts, results.json and cases.json.
-    #[arg(long = "out", default_value = "validation/springs", value_name = "DIR")]
+    /// Output folder for the charts and cases.json (relative to the current folder, like the
+    /// other commands' OUT; the committed study lives in validation/springs/).
+    #[arg(
+        long = "out",
+        default_value = "out/validation/springs",
+        value_name = "DIR"
+    )]
     pub out: PathBuf,
     /// A seconds-long smoke study (one radius, coarse meshes) instead of the full one.
     #[arg(long)]

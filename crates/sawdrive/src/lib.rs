@@ -4,6 +4,15 @@
 //! `elastic-fem`, `static-contact` (η) and `stick-slip` (dynamics). This crate reads scenes
 //! ([`scene`]), converts human units ([`units`]) and drives the stages.
 
+/// Version of the dynamic (stick/slip) numbers a run produces. Bump when the dynamic numbers
+/// change (integrators, model selection, period average, defaults they depend on): resumed sweeps
+/// then recompute their saved points instead of reusing stale ones. The static stage has its own
+/// (`static_contact::params::MODEL_VERSION`, also part of the sweep point hash).
+pub const DYNAMIC_MODEL_VERSION: u32 = 1;
+
+/// The command line's arguments (clap), here so that tests and docs can parse command lines
+/// (the README's examples are checked by `tests/readme_commands.rs`).
+pub mod cli;
 pub mod output;
 pub mod pipeline;
 pub mod scene;

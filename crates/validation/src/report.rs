@@ -453,14 +453,9 @@ pub fn write_json(
         ("cases.json", validation.cases_json()?),
     ] {
         let path = dir.join(name);
-        let tmp = dir.join(format!(".{name}.tmp"));
-        std::fs::write(&tmp, text + "\n").map_err(|source| ValidationError::Io {
-            path: tmp.clone(),
-            source,
-        })?;
-        std::fs::rename(&tmp, &path).map_err(|source| ValidationError::Io {
-            path: path.clone(),
-            source,
+        atomic_files::write_atomically(&path, text + "\n").map_err(|error| {
+            let (path, source) = error.into_parts();
+            ValidationError::Io { path, source }
         })?;
         written.push(path);
     }

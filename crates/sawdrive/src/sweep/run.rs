@@ -29,6 +29,27 @@ pub const NUMERIC_COLUMNS: [&str; 11] = [
     "stick_fraction",
 ];
 
+/// Most worker threads a sweep starts (`--jobs`). Every point is CPU-bound, so threads beyond the
+/// cores only cost memory (a stack and a solver workspace each); the bound turns a typo such as
+/// `--jobs 100000` into an error instead of a hundred thousand threads. Unit: threads.
+pub const MAX_JOBS: usize = 256;
+
+/// Versions of the models whose numbers a saved sweep point holds. They are part of the point
+/// hash, so a resumed sweep recomputes points saved before a physics change.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct ModelVersions {
+    /// [`static_contact::params::MODEL_VERSION`] (η, post forces).
+    static_contact: u32,
+    /// [`crate::DYNAMIC_MODEL_VERSION`] (speed–thrust curve, stall thrust, efficiency).
+    dynamic: u32,
+}
+
+/// The models this build computes with.
+const CURRENT_MODELS: ModelVersions = ModelVersions {
+    static_contact: static_contact::params::MODEL_VERSION,
+    dynamic: crate::DYNAMIC_MODEL_VERSION,
+};
+
 /// One row of the results table.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PointRow {
@@ -87,6 +108,16 @@ pub enum SweepRunError {
     /// Charts.
     #[error(transparent)]
     Chart(#[from] charts::ChartError),
+    /// More worker threads asked for than [`MAX_JOBS`], or none.
+    #[error(
+        "--jobs {jobs}: must be between 1 and {MAX_JOBS} worker threads (this machine has {cores} cores)"
+    )]
+    Jobs {
+        /// Jobs asked for.
+        jobs: usize,
+        /// Cores available.
+        cores: usize,
+    },
     /// Thread pool.
     #[error("cannot start {jobs} worker threads: {message}")]
     Pool {
@@ -97,8 +128,13 @@ pub enum SweepRunError {
     },
 }
 
-fn point_hash(scene_text: &str, point: &SweepPoint) -> String {
+/// Content hash of a point: model versions, scene file text and overrides.
+fn point_hash(scene_text: &str, point: &SweepPoint, models: ModelVersions) -> String {
     let mut hasher = Sha256::new();
+    hasher.update(format!(
+        "static-contact model {}, dynamic model {}\n",
+        models.static_contact, models.dynamic
+    ));
     hasher.update(scene_text.as_bytes());
     for o in &point.overrides {
         hasher.update(b"\n");
@@ -177,6 +213,10 @@ pub fn run_sweep(
             }
         }
     }
+    if let Some(jobs) = jobs.filter(|&j| j == 0 || j > MAX_JOBS) {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        return Err(SweepRunError::Jobs { jobs, cores });
+    }
     let points = sweep.points();
     if let Some(first) = points.first() {
         load_scene(sweep.scene.as_deref(), &first.overrides).map_err(|source| {
@@ -195,10 +235,14 @@ pub fn run_sweep(
     std::fs::create_dir_all(&points_dir).map_err(crate::output::io("create", &points_dir))?;
     let cache = out_dir.join(".cache");
 
-    let hashes: Vec<String> = points.iter().map(|p| point_hash(&scene_text, p)).collect();
+    let hashes: Vec<String> = points
+        .iter()
+        .map(|p| point_hash(&scene_text, p, CURRENT_MODELS))
+        .collect();
     let done = |hash: &str| -> Option<PointRow> {
         let bytes = std::fs::read(points_dir.join(format!("{hash}.json"))).ok()?;
-        serde_json::from_slice(&bytes).ok()
+        let row: PointRow = serde_json::from_slice(&bytes).ok()?;
+        (row.hash == hash).then_some(row)
     };
     let resumed = hashes.iter().filter(|h| done(h).is_some()).count();
     // One FEM condensation per distinct slider geometry, before the parallel points (which then
@@ -332,4 +376,111 @@ fn write_charts(
         files.extend(charts::write_chart(&chart, &folder.join(stem))?);
     }
     Ok(files)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A one-point sweep of the small scene with η given (dynamic stage only: fast).
+    fn one_point_sweep(dir: &Path) -> SweepFile {
+        let scene = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../tests/scenes/small-strip.toml"
+        );
+        let path = dir.join("sweep.toml");
+        let text = format!(
+            "name = \"versions\"\nscene = \"{scene}\"\n[set]\neffective_ratio = 0.36\n[grid]\npreload = [\"0.4 N\"]\n"
+        );
+        std::fs::write(&path, text).unwrap();
+        SweepFile::load(&path).unwrap()
+    }
+
+    /// Save `row` as the point of `sweep` under the hash computed with `models`.
+    fn save_point(sweep: &SweepFile, out: &Path, models: ModelVersions, mut row: PointRow) {
+        let scene_text = std::fs::read_to_string(sweep.scene.as_ref().unwrap()).unwrap();
+        row.hash = point_hash(&scene_text, &sweep.points()[0], models);
+        let dir = out.join(&sweep.name).join("points");
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(
+            dir.join(format!("{}.json", row.hash)),
+            serde_json::to_vec(&row).unwrap(),
+        )
+        .unwrap();
+    }
+
+    fn stale_row(computed: &PointRow) -> PointRow {
+        let mut row = computed.clone();
+        row.values.insert("stall_thrust_n".into(), 123.0);
+        row
+    }
+
+    #[test]
+    fn point_hash_changes_with_either_model_version() {
+        let point = SweepPoint {
+            variant: String::new(),
+            grid_values: BTreeMap::new(),
+            overrides: vec!["preload=1N".into()],
+        };
+        let hash = |static_contact, dynamic| {
+            point_hash(
+                "scene",
+                &point,
+                ModelVersions {
+                    static_contact,
+                    dynamic,
+                },
+            )
+        };
+        assert_ne!(hash(1, 1), hash(2, 1), "static model version in the hash");
+        assert_ne!(hash(1, 1), hash(1, 2), "dynamic model version in the hash");
+    }
+
+    #[test]
+    fn point_saved_with_another_model_version_is_recomputed() {
+        let root = tempfile::tempdir().unwrap();
+        let sweep = one_point_sweep(root.path());
+        let out = root.path().join("out");
+        let computed = run_sweep(&sweep, &out, Some(1)).unwrap().rows[0].clone();
+        std::fs::remove_dir_all(out.join(&sweep.name)).unwrap();
+
+        // A stale result (stall thrust 123 N) saved by a build with an older dynamic model.
+        let older = ModelVersions {
+            dynamic: CURRENT_MODELS.dynamic + 1,
+            ..CURRENT_MODELS
+        };
+        save_point(&sweep, &out, older, stale_row(&computed));
+        let outcome = run_sweep(&sweep, &out, Some(1)).unwrap();
+        assert_eq!(outcome.resumed, 0, "stale point not resumed");
+        assert_eq!(
+            outcome.rows[0].values["stall_thrust_n"], computed.values["stall_thrust_n"],
+            "stall thrust recomputed"
+        );
+
+        // The same file saved with the current versions is resumed (the check above can fail).
+        std::fs::remove_dir_all(out.join(&sweep.name)).unwrap();
+        save_point(&sweep, &out, CURRENT_MODELS, stale_row(&computed));
+        let outcome = run_sweep(&sweep, &out, Some(1)).unwrap();
+        assert_eq!(outcome.resumed, 1);
+        assert_eq!(
+            outcome.rows[0].values["stall_thrust_n"], 123.0,
+            "saved stall thrust reused"
+        );
+    }
+
+    #[test]
+    fn jobs_beyond_the_bound_are_a_named_error_before_any_thread_starts() {
+        let root = tempfile::tempdir().unwrap();
+        let sweep = one_point_sweep(root.path());
+        let out = root.path().join("out");
+        for jobs in [0, MAX_JOBS + 1, 100_000] {
+            let error = run_sweep(&sweep, &out, Some(jobs)).unwrap_err();
+            assert!(
+                matches!(error, SweepRunError::Jobs { jobs: j, .. } if j == jobs),
+                "--jobs {jobs} refused: {error}"
+            );
+            assert!(error.to_string().contains(&format!("--jobs {jobs}")));
+        }
+        assert!(!out.exists(), "nothing written for refused --jobs");
+    }
 }
