@@ -10,7 +10,7 @@
 //! scatter) every post carries P/N whatever η is: η is then not identifiable and is reported as
 //! `None` with the reason.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::lumped::independent_posts;
 
@@ -38,7 +38,7 @@ pub struct FitSample {
 }
 
 /// Result of the η fit.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct EtaFit {
     /// Effective contact ratio η, or `None` if not identifiable.
     pub eta: Option<f64>,
