@@ -169,6 +169,25 @@ fn an_edited_cached_report_is_recomputed_and_results_are_not_links_into_the_cach
         Some(eta),
         "the recomputed η is the FEM's, not the edited one"
     );
+
+    // A damaged cached field file is detected too.
+    let fields = entries[0].with_extension("");
+    std::fs::write(fields.join("static_snapshot0.vtu"), "truncated").expect("damage the VTU");
+    let rerun = sawdrive(&args);
+    let stderr = String::from_utf8_lossy(&rerun.stderr);
+    assert!(
+        rerun.status.success() && !String::from_utf8_lossy(&rerun.stdout).contains("(cached)"),
+        "a damaged cached field file is rebuilt: {stderr}"
+    );
+    assert!(
+        stderr.contains("field files") && stderr.contains(&fields.display().to_string()),
+        "stderr names the damaged field folder: {stderr}"
+    );
+    assert_ne!(
+        std::fs::read(results.join("static_snapshot0.vtu")).expect("vtu"),
+        b"truncated",
+        "the results get the rebuilt VTU"
+    );
 }
 
 #[test]
