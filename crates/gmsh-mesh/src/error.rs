@@ -42,6 +42,55 @@ pub enum MeshError {
         source: std::io::Error,
     },
 
+    /// The path is not a regular file (a directory, device such as /dev/zero, pipe or socket):
+    /// refused before reading.
+    #[error("{path}: not a regular file ({kind}); give the path of a .msh file")]
+    NotAFile {
+        /// Path at fault.
+        path: PathBuf,
+        /// What it is instead.
+        kind: &'static str,
+    },
+
+    /// The file is larger than the reader accepts ([`crate::MAX_MSH_FILE_BYTES`]).
+    #[error("{path}: {size} is larger than the mesh reader's limit of {limit} bytes")]
+    TooLarge {
+        /// Path at fault.
+        path: PathBuf,
+        /// Its size as far as known, e.g. "5000000000 bytes" or "the stream".
+        size: String,
+        /// The limit (bytes).
+        limit: u64,
+    },
+
+    /// gmsh could not be started (not installed, not on PATH, or `$GMSH` wrong).
+    #[error(
+        "meshing {geometry}: cannot run gmsh `{program}` ({source}); install it \
+         (apt-get install gmsh) or set GMSH to the gmsh binary"
+    )]
+    GmshMissing {
+        /// The .geo file to mesh.
+        geometry: PathBuf,
+        /// The program looked for.
+        program: String,
+        /// The operating system's error.
+        #[source]
+        source: std::io::Error,
+    },
+
+    /// gmsh ran and failed (non-zero exit, `Error` lines in its log, or no mesh written).
+    #[error("meshing {geometry} into {out}: gmsh failed ({status}): {log_tail}")]
+    GmshFailed {
+        /// The .geo file.
+        geometry: PathBuf,
+        /// The mesh that was to be written.
+        out: PathBuf,
+        /// Exit status, or why the run counts as failed.
+        status: String,
+        /// gmsh's `Error` lines, or the last lines of its output, joined by " | ".
+        log_tail: String,
+    },
+
     /// The `$MeshFormat` header names a version this reader does not read.
     #[error(
         "{file}: unsupported MSH format version {found} ({at}); this reader supports MSH 4.1 \
@@ -154,6 +203,105 @@ pub enum MeshError {
         /// What does not fit (length, non-finite value, ...).
         detail: String,
     },
+}
+
+impl MeshError {
+    /// The same error with every control byte of its texts escaped ([`escape_control`]): the
+    /// reader's messages quote names and tokens from the file, which must not reach a terminal
+    /// as escape sequences.
+    pub fn escaped(self) -> Self {
+        let e = |s: String| escape_control(&s);
+        match self {
+            MeshError::UnsupportedVersion { file, found, at } => MeshError::UnsupportedVersion {
+                file: e(file),
+                found: e(found),
+                at: at.escaped(),
+            },
+            MeshError::Truncated { file, at, expected } => MeshError::Truncated {
+                file: e(file),
+                at: at.escaped(),
+                expected: e(expected),
+            },
+            MeshError::Syntax {
+                file,
+                at,
+                expected,
+                found,
+            } => MeshError::Syntax {
+                file: e(file),
+                at: at.escaped(),
+                expected: e(expected),
+                found: e(found),
+            },
+            MeshError::SectionOrder { file, detail } => MeshError::SectionOrder {
+                file: e(file),
+                detail: e(detail),
+            },
+            MeshError::Parse { file, at, detail } => MeshError::Parse {
+                file: e(file),
+                at: at.escaped(),
+                detail: e(detail),
+            },
+            MeshError::Invalid { file, detail } => MeshError::Invalid {
+                file: e(file),
+                detail: e(detail),
+            },
+            MeshError::MissingGroup {
+                file,
+                kind,
+                name,
+                available,
+            } => MeshError::MissingGroup {
+                file: e(file),
+                kind,
+                name: e(name),
+                available: e(available),
+            },
+            MeshError::BadElements {
+                file,
+                inverted_count,
+                degenerate_count,
+                shown,
+                inverted_tags,
+                degenerate_tags,
+            } => MeshError::BadElements {
+                file: e(file),
+                inverted_count,
+                degenerate_count,
+                shown,
+                inverted_tags,
+                degenerate_tags,
+            },
+            other => other,
+        }
+    }
+}
+
+impl Location {
+    fn escaped(self) -> Self {
+        Location {
+            section: escape_control(&self.section),
+            ..self
+        }
+    }
+}
+
+/// `text` with every control character written as an escape: `\x1b` for ESC, `\x00`..`\x1f`
+/// and `\x7f` likewise, `\u{85}` for the C1 controls; tab and other text unchanged. Messages
+/// that quote bytes of a file go through this so that they cannot drive the terminal.
+pub fn escape_control(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '\t' => out.push(c),
+            c if (c as u32) < 0x80 && c.is_control() => {
+                out.push_str(&format!("\\x{:02x}", c as u32))
+            }
+            c if c.is_control() => out.push_str(&format!("\\u{{{:x}}}", c as u32)),
+            c => out.push(c),
+        }
+    }
+    out
 }
 
 /// Shorthand for results of this crate.

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use crate::error::Result;
+use crate::error::{Result, escape_control};
 use crate::mesh::{PhysicalGroup, TetMesh};
 use crate::quality::QualityReport;
 use crate::read::{ReadOptions, read_msh_with};
@@ -101,7 +101,7 @@ pub fn mesh_info(path: impl AsRef<Path>) -> Result<MeshInfo> {
 
 impl std::fmt::Display for MeshInfo {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        writeln!(f, "file      {}", self.file)?;
+        writeln!(f, "file      {}", escape_control(&self.file))?;
         writeln!(f, "format    {}", self.format)?;
         writeln!(
             f,
@@ -135,9 +135,9 @@ impl std::fmt::Display for MeshInfo {
                 g.group.dim,
                 g.group.tag,
                 if g.group.named {
-                    format!("\"{}\"", g.group.name)
+                    format!("\"{}\"", escape_control(&g.group.name))
                 } else {
-                    format!("({})", g.group.name)
+                    format!("({})", escape_control(&g.group.name))
                 },
                 g.group.entity_count,
                 g.group.element_count,
@@ -145,7 +145,7 @@ impl std::fmt::Display for MeshInfo {
             )?;
         }
         for note in &self.notes {
-            writeln!(f, "note: {note}")?;
+            writeln!(f, "note: {}", escape_control(note))?;
         }
         Ok(())
     }

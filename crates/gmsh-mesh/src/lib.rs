@@ -20,6 +20,7 @@ mod assemble;
 mod atomic;
 mod error;
 pub mod geometry;
+pub mod gmsh;
 mod info;
 mod mesh;
 mod msh;
@@ -27,11 +28,14 @@ mod quality;
 mod read;
 mod vtu;
 
-pub use error::{Location, MeshError, Result};
+pub use error::{Location, MeshError, Result, escape_control};
 pub use info::{GroupInfo, MeshInfo, mesh_info};
 pub use mesh::{Faces, PhysicalGroup, TetMesh, Tets};
 pub use quality::{
     DEGENERATE_NORMALIZED_VOLUME, MAX_LISTED_TAGS, POOR_RADIUS_RATIO, QualityReport,
 };
-pub use read::{BadElementPolicy, ReadOptions, parse_msh, read_msh, read_msh_with};
+pub use read::{
+    BadElementPolicy, MAX_MSH_FILE_BYTES, ReadOptions, parse_msh, read_file_bounded, read_msh,
+    read_msh_with,
+};
 pub use vtu::{Field, FieldValues, GMSH_TO_VTK_TET10, VTK_QUADRATIC_TETRA, VTK_TETRA, write_vtu};

@@ -187,6 +187,7 @@ impl TetMesh {
                 names.join(", ")
             },
         }
+        .escaped()
     }
 
     /// Boundary triangles of the physical surface group `name`.

@@ -1,5 +1,6 @@
 //! Reading MSH 4.1 files into a [`TetMesh`].
 
+use std::io::Read;
 use std::path::Path;
 
 use crate::assemble::assemble;
@@ -30,19 +31,67 @@ pub fn read_msh(path: impl AsRef<Path>) -> Result<TetMesh> {
     read_msh_with(path, &ReadOptions::default())
 }
 
+/// Largest mesh file the reader loads (bytes): 2 GiB. The finest committed-parameter strip
+/// (100 posts, Tet10) is ≈ 40 MB binary, so this only stops inputs that are not meshes
+/// (`/dev/zero`, a disk image) before they exhaust the memory.
+pub const MAX_MSH_FILE_BYTES: u64 = 2 << 30;
+
 /// Read the MSH 4.1 file at `path` (ASCII or binary).
 pub fn read_msh_with(path: impl AsRef<Path>, options: &ReadOptions) -> Result<TetMesh> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|source| MeshError::Io {
-        path: path.to_path_buf(),
-        action: "reading".to_string(),
-        source,
-    })?;
+    let bytes = read_file_bounded(path, MAX_MSH_FILE_BYTES)?;
     parse_msh(&bytes, &path.display().to_string(), options)
 }
 
-/// Parse the bytes of an MSH 4.1 file; `name` labels the source in error messages.
+/// The bytes of the regular file at `path`, refusing anything that is not a regular file
+/// ([`MeshError::NotAFile`]: directories, devices such as `/dev/zero`, pipes) and files larger
+/// than `limit` bytes ([`MeshError::TooLarge`]); the read itself stops after `limit` + 1 bytes,
+/// so a file that grows while it is read cannot exceed the limit either.
+pub fn read_file_bounded(path: &Path, limit: u64) -> Result<Vec<u8>> {
+    let io = |source| MeshError::Io {
+        path: path.to_path_buf(),
+        action: "reading".to_string(),
+        source,
+    };
+    let too_large = |size: String| MeshError::TooLarge {
+        path: path.to_path_buf(),
+        size,
+        limit,
+    };
+    // stat before open: opening a FIFO would block until someone writes to it.
+    let meta = std::fs::metadata(path).map_err(io)?;
+    if !meta.is_file() {
+        let kind = if meta.is_dir() {
+            "a directory"
+        } else {
+            "a device, pipe or socket"
+        };
+        return Err(MeshError::NotAFile {
+            path: path.to_path_buf(),
+            kind,
+        });
+    }
+    if meta.len() > limit {
+        return Err(too_large(format!("{} bytes", meta.len())));
+    }
+    let file = std::fs::File::open(path).map_err(io)?;
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    file.take(limit.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(io)?;
+    if bytes.len() as u64 > limit {
+        return Err(too_large("the file (it grew while read)".into()));
+    }
+    Ok(bytes)
+}
+
+/// Parse the bytes of an MSH 4.1 file; `name` labels the source in error messages. Texts
+/// quoted from the file are escaped in errors ([`MeshError::escaped`]).
 pub fn parse_msh(bytes: &[u8], name: &str, options: &ReadOptions) -> Result<TetMesh> {
+    parse_unescaped(bytes, name, options).map_err(MeshError::escaped)
+}
+
+fn parse_unescaped(bytes: &[u8], name: &str, options: &ReadOptions) -> Result<TetMesh> {
     let raw = msh::parse(Source { name, bytes })?;
     let mut mesh = assemble(name, raw)?;
     let quality = mesh.quality();

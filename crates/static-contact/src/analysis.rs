@@ -4,7 +4,7 @@ use std::f64::consts::PI;
 use std::time::Instant;
 
 use contact_springs::post_springs;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::FemStats;
 use crate::error::{ContactError, Result};
@@ -15,7 +15,7 @@ use crate::params::{MODEL_VERSION, StaticParams};
 use crate::scene::{StatorModel, StripConfig, StripModel};
 
 /// One post of one snapshot.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PostResult {
     /// Post index in the strip (x order).
     pub index: usize,
@@ -32,7 +32,7 @@ pub struct PostResult {
 }
 
 /// One snapshot (one phase θ₀ of the frozen wave, or the flat stator).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SnapshotResult {
     /// Phase θ₀ (rad) of w(x) = A_n sin(θ₀ − kx); `None` for the flat stator.
     pub phase_rad: Option<f64>,
@@ -53,7 +53,7 @@ pub struct SnapshotResult {
 }
 
 /// Results for one preload.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PreloadResult {
     /// Preload on the whole slider (N).
     pub preload_n: f64,
@@ -79,7 +79,7 @@ pub struct PreloadResult {
 }
 
 /// Which stator model and FEM sizes produced the numbers.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FemSummary {
     /// Stator model.
     pub stator_model: StatorModel,
@@ -90,7 +90,7 @@ pub struct FemSummary {
 }
 
 /// Wall times (s).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Timings {
     /// Mesh choice / generation and reading.
     pub mesh_s: f64,
@@ -103,7 +103,7 @@ pub struct Timings {
 }
 
 /// The static stage's result (serialisable; the top-level keys refer to the main preload).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct StaticReport {
     /// Content hash of the inputs ([`StaticParams::content_hash`]).
     pub content_hash: String,
@@ -157,6 +157,8 @@ pub struct StaticAnalysis {
     pub model: StripModel,
     /// Results.
     pub report: StaticReport,
+    /// What the mesh cache check found (e.g. a damaged cached mesh regenerated), for the user.
+    pub notes: Vec<String>,
 }
 
 /// Stator surface height under each post: w(x) = A_n sin(θ₀ − k x) (m).
@@ -293,6 +295,7 @@ pub fn strip_config(params: &StaticParams) -> StripConfig {
         slider_material: params.slider_material.clone(),
         stator_material: params.stator_material.clone(),
         post_radius_m: 0.5 * params.post_diameter_m,
+        post_height_m: params.post_height_m,
         pitch_m: params.post_pitch_m,
         slider_rows: params.posts_y,
         expected_strip_posts: Some(params.strip_post_count()),
@@ -301,9 +304,10 @@ pub fn strip_config(params: &StaticParams) -> StripConfig {
 }
 
 /// Runs the static stage: resolves and reads the mesh, condenses the strip, solves every
-/// preload × phase and the flat stator, fits η.
+/// preload × phase and the flat stator with the parameters' solver settings
+/// ([`StaticParams::solver_options`]), fits η.
 pub fn run(params: &StaticParams) -> Result<StaticAnalysis> {
-    run_with(params, ActiveSetOptions::default())
+    run_with(params, params.solver_options())
 }
 
 /// A condensed strip model and where it came from: everything of a static run that does not
@@ -314,6 +318,8 @@ pub struct PreparedStrip {
     pub model: StripModel,
     /// Mesh file used.
     pub mesh_file: String,
+    /// What the mesh cache check found (e.g. a damaged cached mesh regenerated), for the user.
+    pub notes: Vec<String>,
     /// Wall time of mesh choice, generation and reading (s).
     pub mesh_s: f64,
     /// Wall time of FEM assembly, factorisation and condensation (s).
@@ -324,10 +330,18 @@ pub struct PreparedStrip {
 pub fn prepare_strip(params: &StaticParams) -> Result<PreparedStrip> {
     let start = Instant::now();
     params.validate()?;
-    let path = crate::mesh_source::resolve_mesh(params)?;
-    let mesh = gmsh_mesh::read_msh(&path).map_err(|source| ContactError::Mesh {
-        file: path.display().to_string(),
-        source: Box::new(source),
+    let resolved = crate::mesh_source::resolve_mesh_verified(params)?;
+    let path = resolved.path;
+    let mesh = gmsh_mesh::read_msh(&path).map_err(|source| match &resolved.cache_dir {
+        Some(cache_dir) => ContactError::CachedMesh {
+            file: path.clone(),
+            cache_dir: cache_dir.clone(),
+            source: Box::new(source),
+        },
+        None => ContactError::Mesh {
+            file: path.display().to_string(),
+            source: Box::new(source),
+        },
     })?;
     if mesh.tets.order() != params.element_order {
         return Err(ContactError::MeshMismatch {
@@ -344,6 +358,7 @@ pub fn prepare_strip(params: &StaticParams) -> Result<PreparedStrip> {
     let model = StripModel::build(mesh, strip_config(params))?;
     Ok(PreparedStrip {
         model,
+        notes: resolved.notes,
         mesh_file: path.display().to_string(),
         mesh_s,
         condensation_s: t.elapsed().as_secs_f64(),
@@ -370,6 +385,7 @@ pub fn run_with(params: &StaticParams, options: ActiveSetOptions) -> Result<Stat
         params: params.clone(),
         model: prepared.model,
         report,
+        notes: prepared.notes,
     })
 }
 

@@ -17,7 +17,7 @@ use elastic_fem::{
 };
 use gmsh_mesh::{TetMesh, Tets};
 use nalgebra::DMatrix;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::error::{ContactError, Result};
 
@@ -73,7 +73,7 @@ pub struct BodySpec<'a> {
 }
 
 /// Size and timings of one condensed body.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct FemStats {
     /// Nodes of the body.
     pub nodes: usize,

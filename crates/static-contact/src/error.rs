@@ -76,14 +76,36 @@ pub enum ContactError {
         /// Which matrix.
         what: String,
     },
-    /// gmsh is needed to mesh a scene that no committed mesh covers, and it failed.
-    #[error("meshing {geometry} into {out}: {detail}")]
+    /// gmsh is needed to mesh a scene that no committed mesh covers, and it failed (or is
+    /// missing); the source names the geometry, the output and gmsh's message.
+    #[error("{source}")]
     Meshing {
         /// Geometry name.
         geometry: String,
-        /// Output path.
-        out: PathBuf,
-        /// gmsh's message, or how to install it.
+        /// The runner's error ([`gmsh_mesh::gmsh::run_geo`]).
+        #[source]
+        source: Box<gmsh_mesh::MeshError>,
+    },
+    /// A mesh of the automatic mesh cache exists but cannot be read.
+    #[error(
+        "cached mesh {file} cannot be read ({source}); delete it or clear the mesh cache \
+         {cache_dir} and run again (it is regenerated)"
+    )]
+    CachedMesh {
+        /// The cached mesh file.
+        file: PathBuf,
+        /// The cache folder.
+        cache_dir: PathBuf,
+        /// The reader's error.
+        #[source]
+        source: Box<gmsh_mesh::MeshError>,
+    },
+    /// A cache file could not be written (the run's results are still valid).
+    #[error("writing the cache file {path}: {detail}")]
+    CacheWrite {
+        /// The cache file.
+        path: PathBuf,
+        /// What failed.
         detail: String,
     },
     /// Writing an output file failed.

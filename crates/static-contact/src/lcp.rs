@@ -20,7 +20,7 @@
 use std::collections::HashSet;
 
 use nalgebra::{DMatrix, DVector};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::error::{ContactError, Result};
 
@@ -72,7 +72,7 @@ impl Default for ActiveSetOptions {
 }
 
 /// Which method produced an iterate.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Phase {
     /// Primal–dual active set (semi-smooth Newton).
@@ -82,7 +82,7 @@ pub enum Phase {
 }
 
 /// One logged iteration.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct IterationLog {
     /// Iteration number (1-based).
     pub iteration: usize,

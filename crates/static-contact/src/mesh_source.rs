@@ -1,9 +1,10 @@
 //! Choosing the `slider-strip` mesh of a run: a committed mesh of `meshes/` when its parameters
-//! match, otherwise `scripts/mesh.sh` (gmsh) into a cache directory, named by a hash of the
-//! geometry parameters so that a second run reuses it.
+//! match, otherwise gmsh ([`gmsh_mesh::gmsh::run_geo`]) into a cache directory, named by a hash
+//! of the geometry parameters so that a second run reuses it. Each cached mesh has its SHA-256
+//! recorded beside it (`NAME.msh.sha256`) and is verified before reuse: a swapped, edited or
+//! truncated cached mesh is regenerated, never used.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use sha2::{Digest, Sha256};
 
@@ -106,13 +107,74 @@ pub fn cache_dir(params: &StaticParams) -> PathBuf {
         .unwrap_or_else(|| std::env::temp_dir().join("sawdrive-meshes"))
 }
 
+/// The mesh of a run and where it came from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ResolvedMesh {
+    /// The mesh file.
+    pub path: PathBuf,
+    /// The cache folder if the mesh is one of the automatic mesh cache (else `None`).
+    pub cache_dir: Option<PathBuf>,
+    /// What the cache check found and did, one line each (e.g. a damaged cached mesh that
+    /// was regenerated), for the user.
+    pub notes: Vec<String>,
+}
+
+/// Suffix of the file beside a cached mesh that records its SHA-256 (hex) when it was made.
+pub const MESH_HASH_SUFFIX: &str = "sha256";
+
+/// SHA-256 (hex) of a file's bytes, read through the bounded mesh reader.
+pub fn file_sha256(path: &Path) -> Result<String> {
+    let bytes =
+        gmsh_mesh::read_file_bounded(path, gmsh_mesh::MAX_MSH_FILE_BYTES).map_err(|source| {
+            ContactError::Mesh {
+                file: path.display().to_string(),
+                source: Box::new(source),
+            }
+        })?;
+    Ok(hex(&Sha256::digest(&bytes)))
+}
+
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// `mesh.msh.sha256` beside `mesh.msh`.
+fn hash_file(mesh: &Path) -> PathBuf {
+    let mut name = mesh.file_name().unwrap_or_default().to_os_string();
+    name.push(format!(".{MESH_HASH_SUFFIX}"));
+    mesh.with_file_name(name)
+}
+
+/// Why the cached mesh `path` cannot be trusted (`None`: its bytes hash to the recorded value).
+fn cached_mesh_problem(path: &Path) -> Option<String> {
+    let Ok(recorded) = std::fs::read_to_string(hash_file(path)) else {
+        return Some("no content hash recorded beside it".into());
+    };
+    match file_sha256(path) {
+        Ok(actual) if actual == recorded.trim() => None,
+        Ok(_) => Some("its content hash differs from the one recorded when it was made".into()),
+        Err(e) => Some(format!("it cannot be read ({e})")),
+    }
+}
+
 /// The mesh file of the run: the given file, a committed mesh, or a cached/generated one.
 pub fn resolve_mesh(params: &StaticParams) -> Result<PathBuf> {
+    resolve_mesh_verified(params).map(|r| r.path)
+}
+
+/// [`resolve_mesh`], verifying a cached mesh against the SHA-256 recorded when it was made: a
+/// swapped, edited or truncated cached mesh is regenerated (and said so in the notes).
+pub fn resolve_mesh_verified(params: &StaticParams) -> Result<ResolvedMesh> {
+    let plain = |path: PathBuf| ResolvedMesh {
+        path,
+        cache_dir: None,
+        notes: Vec::new(),
+    };
     if let MeshChoice::File(path) = &params.mesh {
-        return Ok(path.clone());
+        return Ok(plain(path.clone()));
     }
     if let Some(path) = committed_mesh(params) {
-        return Ok(path);
+        return Ok(plain(path));
     }
     let setnumbers = strip_mesh_parameters(params);
     let mut hasher = Sha256::new();
@@ -120,12 +182,7 @@ pub fn resolve_mesh(params: &StaticParams) -> Result<PathBuf> {
     for (name, value) in &setnumbers {
         hasher.update(format!("{name}={value:e}\n"));
     }
-    let digest: String = hasher
-        .finalize()
-        .iter()
-        .take(8)
-        .map(|b| format!("{b:02x}"))
-        .collect();
+    let digest = hex(&hasher.finalize()[..8]);
     let dir = cache_dir(params);
     let out = dir.join(format!(
         "slider-strip_n{}x{}_o{}_{digest}.msh",
@@ -133,53 +190,60 @@ pub fn resolve_mesh(params: &StaticParams) -> Result<PathBuf> {
         params.strip_rows,
         params.element_order
     ));
+    let mut notes = Vec::new();
     if out.is_file() {
-        return Ok(out);
+        match cached_mesh_problem(&out) {
+            None => {
+                return Ok(ResolvedMesh {
+                    path: out,
+                    cache_dir: Some(dir),
+                    notes,
+                });
+            }
+            Some(why) => notes.push(format!(
+                "cached mesh {} not used: {why}; regenerating it",
+                out.display()
+            )),
+        }
     }
     generate_mesh("slider-strip", &out, &setnumbers)?;
-    Ok(out)
+    record_mesh_hash(&out)?;
+    Ok(ResolvedMesh {
+        path: out,
+        cache_dir: Some(dir),
+        notes,
+    })
 }
 
-/// Runs `scripts/mesh.sh --binary GEOMETRY OUT NAME=VALUE...` (gmsh), creating OUT's directory.
-/// Errors carry gmsh's message, or how to install gmsh if it is missing.
-pub fn generate_mesh(geometry: &str, out: &Path, setnumbers: &[(&str, f64)]) -> Result<()> {
-    let meshing_error = |detail: String| ContactError::Meshing {
-        geometry: geometry.into(),
-        out: out.to_path_buf(),
-        detail,
+/// Write `mesh.msh.sha256` (temporary name, then rename) with the mesh's SHA-256.
+fn record_mesh_hash(mesh: &Path) -> Result<()> {
+    let target = hash_file(mesh);
+    let temporary = target.with_extension(format!("tmp-{}", std::process::id()));
+    let write_error = |e: std::io::Error| ContactError::CacheWrite {
+        path: target.clone(),
+        detail: e.to_string(),
     };
-    if let Some(dir) = out.parent() {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| meshing_error(format!("cannot create the directory: {e}")))?;
-    }
-    let script = workspace_root().join("scripts/mesh.sh");
-    if !script.is_file() {
-        return Err(meshing_error(format!(
-            "{} not found (set SAWDRIVE_ROOT to the sawdrive checkout)",
-            script.display()
-        )));
-    }
-    let mut command = Command::new("bash");
-    command.arg(&script).arg("--binary").arg(geometry).arg(out);
-    for (name, value) in setnumbers {
-        command.arg(format!("{name}={value:e}"));
-    }
-    let output = command
-        .output()
-        .map_err(|e| meshing_error(format!("cannot run {}: {e}", script.display())))?;
-    if !output.status.success() {
-        let stderr = String::from_utf8_lossy(&output.stderr);
-        let hint = if output.status.code() == Some(127) {
-            " (gmsh is missing: install it with `apt-get install gmsh` or scripts/install-deps.sh)"
-        } else {
-            ""
-        };
-        return Err(meshing_error(format!(
-            "scripts/mesh.sh failed{hint}: {}",
-            stderr.trim()
-        )));
-    }
-    Ok(())
+    std::fs::write(&temporary, file_sha256(mesh)?).map_err(write_error)?;
+    std::fs::rename(&temporary, &target).map_err(write_error)
+}
+
+/// Meshes `meshes/GEOMETRY.geo` into OUT with gmsh (`-setnumber NAME VALUE` for each pair),
+/// through the workspace's one runner [`gmsh_mesh::gmsh::run_geo`] (binary MSH 4.1, one
+/// thread, written atomically). Errors carry gmsh's message, or how to install gmsh.
+pub fn generate_mesh(geometry: &str, out: &Path, setnumbers: &[(&str, f64)]) -> Result<()> {
+    let geo = workspace_root()
+        .join("meshes")
+        .join(format!("{geometry}.geo"));
+    gmsh_mesh::gmsh::run_geo(
+        &geo,
+        out,
+        setnumbers,
+        &gmsh_mesh::gmsh::GmshOptions::default(),
+    )
+    .map_err(|source| ContactError::Meshing {
+        geometry: geometry.into(),
+        source: Box::new(source),
+    })
 }
 
 #[cfg(test)]

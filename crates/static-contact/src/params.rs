@@ -7,11 +7,13 @@ use serde::Serialize;
 use sha2::{Digest, Sha256};
 
 use crate::error::{ContactError, Result};
+use crate::lcp::{ActiveSetOptions, DEFAULT_COMPLEMENTARITY_TOLERANCE, DEFAULT_MAX_ITERATIONS};
 use crate::scene::StatorModel;
 
 /// Bumped whenever a change of this crate changes its numbers or its report's fields (part of the
-/// content hash). 2: `eta_full_contact`, `strip_rows`.
-pub const MODEL_VERSION: u32 = 2;
+/// content hash). 2: `eta_full_contact`, `strip_rows`. 3: the contact solver's tolerance and
+/// iteration limit are parameters (they change the numbers within the tolerance).
+pub const MODEL_VERSION: u32 = 3;
 
 /// Where the mesh comes from.
 #[derive(Debug, Clone, PartialEq, Serialize, Default)]
@@ -98,6 +100,13 @@ pub struct StaticParams {
     pub mesh: MeshChoice,
     /// Sizes of an automatic mesh.
     pub mesh_sizes: MeshSizes,
+    /// Largest accepted scaled complementarity residual of each contact solve (dimensionless;
+    /// see [`crate::ContactSolution::complementarity_residual`]). Default
+    /// [`DEFAULT_COMPLEMENTARITY_TOLERANCE`].
+    pub contact_tolerance: f64,
+    /// Active-set iteration limit of each contact solve (both phases). Default
+    /// [`DEFAULT_MAX_ITERATIONS`].
+    pub max_iterations: usize,
     /// Directory for automatic meshes (`None`: `$SAWDRIVE_MESH_CACHE` or the system temp dir).
     /// Not part of the content hash.
     #[serde(skip)]
@@ -131,6 +140,8 @@ impl Default for StaticParams {
             stator_depth_m: 1e-3,
             mesh: MeshChoice::Auto,
             mesh_sizes: MeshSizes::default(),
+            contact_tolerance: DEFAULT_COMPLEMENTARITY_TOLERANCE,
+            max_iterations: DEFAULT_MAX_ITERATIONS,
             mesh_cache_dir: None,
         }
     }
@@ -262,6 +273,14 @@ impl StaticParams {
             self.mesh_sizes.h_post_over_radius,
         )?;
         positive("mesh_sizes.growth", self.mesh_sizes.growth)?;
+        positive("contact_tolerance", self.contact_tolerance)?;
+        if self.max_iterations == 0 {
+            return Err(invalid(
+                "max_iterations",
+                0.0,
+                "the contact solver needs at least one iteration",
+            ));
+        }
         if self.mesh_sizes.h_body_m < self.mesh_h_post_m() {
             return Err(invalid(
                 "mesh_sizes.h_body_m",
@@ -270,6 +289,16 @@ impl StaticParams {
             ));
         }
         Ok(())
+    }
+
+    /// The contact solver's options: [`Self::contact_tolerance`] and [`Self::max_iterations`],
+    /// the rest at their defaults.
+    pub fn solver_options(&self) -> ActiveSetOptions {
+        ActiveSetOptions {
+            tolerance: self.contact_tolerance,
+            max_iterations: self.max_iterations,
+            ..ActiveSetOptions::default()
+        }
     }
 
     /// Element size on the post tips (m).
@@ -322,10 +351,12 @@ impl StaticParams {
             .map_err(|e| invalid("params", 0.0, format!("cannot serialise: {e}")))?;
         hasher.update(json.as_bytes());
         if let MeshChoice::File(path) = &self.mesh {
-            let bytes = std::fs::read(path).map_err(|e| ContactError::Output {
-                path: path.clone(),
-                detail: format!("cannot read the mesh to hash it: {e}"),
-            })?;
+            let bytes = gmsh_mesh::read_file_bounded(path, gmsh_mesh::MAX_MSH_FILE_BYTES).map_err(
+                |source| ContactError::Mesh {
+                    file: path.display().to_string(),
+                    source: Box::new(source),
+                },
+            )?;
             hasher.update(&bytes);
         } else {
             hasher.update(crate::mesh_source::geometry_source("slider-strip"));
@@ -357,6 +388,51 @@ mod tests {
             a.content_hash().unwrap(),
             b.content_hash().unwrap(),
             "preload must change the hash"
+        );
+    }
+
+    #[test]
+    fn the_solver_settings_change_the_content_hash() {
+        let a = StaticParams::default();
+        let tighter = StaticParams {
+            contact_tolerance: 1e-12,
+            ..a.clone()
+        };
+        let shorter = StaticParams {
+            max_iterations: 1,
+            ..a.clone()
+        };
+        let hash = a.content_hash().unwrap();
+        assert_ne!(
+            hash,
+            tighter.content_hash().unwrap(),
+            "contact tolerance must change the hash"
+        );
+        assert_ne!(
+            hash,
+            shorter.content_hash().unwrap(),
+            "iteration limit must change the hash"
+        );
+        assert_eq!(
+            shorter.solver_options().max_iterations,
+            1,
+            "iteration limit reaches the solver"
+        );
+        assert_eq!(
+            tighter.solver_options().tolerance,
+            1e-12,
+            "tolerance reaches the solver"
+        );
+        let none = StaticParams {
+            max_iterations: 0,
+            ..a
+        };
+        assert!(
+            none.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("max_iterations"),
+            "zero iterations are refused by name"
         );
     }
 

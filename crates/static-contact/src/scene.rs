@@ -11,7 +11,7 @@
 use contact_springs::Material;
 use gmsh_mesh::TetMesh;
 use nalgebra::DMatrix;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::body::{BodyCompliance, BodySpec, Disk, TipLateral};
 use crate::error::{ContactError, Result};
@@ -22,7 +22,7 @@ use crate::lcp::{ActiveSetOptions, ActiveSetSolver, ContactProblem, ContactSolut
 pub const GEOMETRY_MATCH_TOLERANCE: f64 = 0.02;
 
 /// How the stator's compliance enters.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum StatorModel {
     /// Elastic half-space, rigid-disk compliances (Johnson §3.8), rows of the real slider summed.
@@ -42,6 +42,8 @@ pub struct StripConfig {
     pub stator_material: Material,
     /// Post radius a (m).
     pub post_radius_m: f64,
+    /// Post height h (m), checked against the mesh's posts.
+    pub post_height_m: f64,
     /// Post pitch in y (m): the strip's width per row.
     pub pitch_m: f64,
     /// Rows of posts of the real slider (for the half-space row sum).
@@ -111,6 +113,39 @@ pub(crate) fn fem_material(m: &Material) -> Result<elastic_fem::Material> {
     })
 }
 
+/// Post height of a `slider-strip` mesh (m): from the tip plane (the disks' mean z) to the
+/// lowest node of the `slider` volume outside every post's cylinder (the body's underside,
+/// z = h in slider-strip.geo). A node counts as outside when it lies farther than
+/// (1 + [`GEOMETRY_MATCH_TOLERANCE`]) a from every post axis.
+pub fn measured_post_height(mesh: &TetMesh, disks: &[Disk]) -> Result<f64> {
+    let file = mesh.source.clone();
+    let nodes = mesh
+        .group_nodes("slider")
+        .map_err(|source| ContactError::Mesh {
+            file: file.clone(),
+            source: Box::new(source),
+        })?;
+    let tip_z = disks.iter().map(|d| d.centre_m[2]).sum::<f64>() / disks.len().max(1) as f64;
+    let outside = |p: &[f64; 3]| {
+        disks.iter().all(|d| {
+            let r = d.radius_m * (1.0 + GEOMETRY_MATCH_TOLERANCE);
+            (p[0] - d.centre_m[0]).powi(2) + (p[1] - d.centre_m[1]).powi(2) > r * r
+        })
+    };
+    nodes
+        .iter()
+        .map(|&n| mesh.nodes[n])
+        .filter(|p| outside(p))
+        .map(|p| p[2] - tip_z)
+        .min_by(f64::total_cmp)
+        .ok_or_else(|| ContactError::MeshMismatch {
+            file,
+            detail: "the `slider` volume has no node between the posts: cannot measure the \
+                     post height"
+                .into(),
+        })
+}
+
 impl StripModel {
     /// Builds the condensed scene from a `slider-strip` mesh (groups of meshes/README.md).
     pub fn build(mesh: TetMesh, config: StripConfig) -> Result<Self> {
@@ -131,10 +166,22 @@ impl StripModel {
         for (i, d) in disks.iter().enumerate() {
             if (d.radius_m / config.post_radius_m - 1.0).abs() > GEOMETRY_MATCH_TOLERANCE {
                 return Err(mismatch(format!(
-                    "post {i} has radius {:.4e} m, the scene asks for {:.4e} m",
-                    d.radius_m, config.post_radius_m
+                    "post {i} has radius {:.4e} m, the scene asks for post_radius_m = {:.4e} m \
+                     (tolerance {} %)",
+                    d.radius_m,
+                    config.post_radius_m,
+                    GEOMETRY_MATCH_TOLERANCE * 100.0
                 )));
             }
+        }
+        let height_m = measured_post_height(&mesh, &disks)?;
+        if (height_m / config.post_height_m - 1.0).abs() > GEOMETRY_MATCH_TOLERANCE {
+            return Err(mismatch(format!(
+                "the posts are {height_m:.4e} m high, the scene asks for post_height_m = {:.4e} m \
+                 (tolerance {} %)",
+                config.post_height_m,
+                GEOMETRY_MATCH_TOLERANCE * 100.0
+            )));
         }
         let y0 = mesh.bounding_box().map_or(0.0, |b| b[0][1]);
         let posts: Vec<PostSite> = disks

@@ -1,12 +1,13 @@
 //! Punch meshes generated on demand with gmsh from `meshes/punch.geo` and kept in a cache folder
 //! (never in `meshes/`): `$SAWDRIVE_MESH_CACHE`, or `target/sawdrive-meshes/` in the workspace.
 //!
-//! The gmsh command is the one of `scripts/mesh.sh` (MSH 4.1 binary, one thread, so that a
-//! parameter set always gives the same mesh); files are written under a temporary name and
-//! renamed only when gmsh succeeded, so an interrupted run never leaves a partial mesh.
+//! gmsh runs through the workspace's one runner, [`gmsh_mesh::gmsh::run_geo`] (MSH 4.1 binary,
+//! one thread, so that a parameter set always gives the same mesh; written under a temporary
+//! name and renamed only when gmsh succeeded, so an interrupted run never leaves a partial mesh).
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
+
+use gmsh_mesh::gmsh::{GmshOptions, run_geo};
 
 use serde::{Deserialize, Serialize};
 
@@ -16,7 +17,7 @@ use crate::punch_mesh::MeshSymmetry;
 /// Environment variable naming the mesh cache folder.
 pub const MESH_CACHE_ENV: &str = "SAWDRIVE_MESH_CACHE";
 /// Environment variable naming the gmsh binary (as in `scripts/mesh.sh`).
-pub const GMSH_ENV: &str = "GMSH";
+pub const GMSH_ENV: &str = gmsh_mesh::gmsh::GMSH_ENV;
 
 /// The workspace root (two levels above this crate).
 pub fn workspace_root() -> PathBuf {
@@ -69,20 +70,20 @@ impl PunchMeshParameters {
         )
     }
 
-    fn setnumbers(&self) -> Vec<(&'static str, String)> {
+    fn setnumbers(&self) -> Vec<(&'static str, f64)> {
         let sym = match self.symmetry {
-            MeshSymmetry::Full => 0,
-            MeshSymmetry::Half => 1,
-            MeshSymmetry::Quarter => 2,
+            MeshSymmetry::Full => 0.0,
+            MeshSymmetry::Half => 1.0,
+            MeshSymmetry::Quarter => 2.0,
         };
         vec![
-            ("a", format!("{:e}", self.radius_m)),
-            ("R_over_a", self.truncation_ratio.to_string()),
-            ("h_edge_over_a", self.h_edge_over_a.to_string()),
-            ("growth", self.growth.to_string()),
-            ("h_max_over_a", self.h_max_over_a.to_string()),
-            ("sym", sym.to_string()),
-            ("order", self.order.to_string()),
+            ("a", self.radius_m),
+            ("R_over_a", self.truncation_ratio),
+            ("h_edge_over_a", self.h_edge_over_a),
+            ("growth", self.growth),
+            ("h_max_over_a", self.h_max_over_a),
+            ("sym", sym),
+            ("order", f64::from(self.order)),
         ]
     }
 }
@@ -109,56 +110,32 @@ impl Default for MeshCache {
 }
 
 impl MeshCache {
-    /// The path of the mesh for `parameters`, generating it with gmsh if it is not cached.
+    /// The path of the mesh for `parameters`, generating it with gmsh (the workspace's one
+    /// runner, [`gmsh_mesh::gmsh::run_geo`]) if it is not cached.
     pub fn punch_mesh(&self, parameters: &PunchMeshParameters) -> Result<PathBuf, ValidationError> {
         let path = self.dir.join(parameters.file_name());
         if path.is_file() {
             return Ok(path);
         }
-        std::fs::create_dir_all(&self.dir).map_err(|source| ValidationError::Io {
-            path: self.dir.clone(),
-            source,
-        })?;
-        let tmp = self.dir.join(format!(
-            ".{}.{}.tmp.msh",
-            parameters.file_name(),
-            std::process::id()
-        ));
-        let mut command = Command::new(&self.gmsh);
-        command
-            .arg(&self.geometry)
-            .args(["-3", "-format", "msh41", "-bin", "-nt", "1"]);
-        for (name, value) in parameters.setnumbers() {
-            command.args(["-setnumber", name, &value]);
-        }
-        command.arg("-o").arg(&tmp);
-        let shown = format!("{command:?}");
-        let output = command
-            .output()
-            .map_err(|e| ValidationError::MeshGeneration {
-                command: shown.clone(),
-                detail: format!(
-                    "cannot run gmsh ({e}); install it (apt-get install gmsh) or set {GMSH_ENV}"
+        let setnumbers = parameters.setnumbers();
+        let options = GmshOptions {
+            program: PathBuf::from(&self.gmsh),
+            ..GmshOptions::default()
+        };
+        run_geo(&self.geometry, &path, &setnumbers, &options).map_err(|e| {
+            ValidationError::MeshGeneration {
+                command: format!(
+                    "{} {} {}",
+                    self.gmsh,
+                    self.geometry.display(),
+                    setnumbers
+                        .iter()
+                        .map(|(n, v)| format!("-setnumber {n} {v:e}"))
+                        .collect::<Vec<_>>()
+                        .join(" ")
                 ),
-            })?;
-        let log = String::from_utf8_lossy(&output.stdout).to_string()
-            + &String::from_utf8_lossy(&output.stderr);
-        let errors: Vec<&str> = log.lines().filter(|l| l.starts_with("Error")).collect();
-        if !output.status.success() || !errors.is_empty() || !tmp.is_file() {
-            let _ = std::fs::remove_file(&tmp);
-            let detail = if errors.is_empty() {
-                log.lines().rev().take(10).collect::<Vec<_>>().join(" | ")
-            } else {
-                errors.join(" | ")
-            };
-            return Err(ValidationError::MeshGeneration {
-                command: shown,
-                detail,
-            });
-        }
-        std::fs::rename(&tmp, &path).map_err(|source| ValidationError::Io {
-            path: path.clone(),
-            source,
+                detail: e.to_string(),
+            }
         })?;
         Ok(path)
     }

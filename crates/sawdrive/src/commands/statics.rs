@@ -1,10 +1,17 @@
 //! `sawdrive static`: post forces and η.
 
+use std::io::Write;
+
 use sawdrive::output::StagedDir;
 use sawdrive::pipeline::{run_static, write_static_files};
 use sawdrive::scene::load_scene;
 
 use crate::cli::StageArgs;
+
+/// A number with four decimals, or `n/a`.
+fn number(value: Option<f64>) -> String {
+    value.map_or("n/a".to_owned(), |v| format!("{v:.4}"))
+}
 
 pub fn run(args: &StageArgs) -> anyhow::Result<()> {
     let scene = load_scene(args.input.scene.as_deref(), &args.input.overrides)?;
@@ -13,43 +20,52 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
     let staged = StagedDir::create(&args.out.join(&scene.name).join("static"))?;
     write_static_files(&outcome, staged.path())?;
     let folder = staged.commit()?;
+    let mut out = std::io::stdout().lock();
+    let r = &outcome.report;
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&outcome.report_json)?);
+        writeln!(out, "{}", serde_json::to_string_pretty(r)?)?;
         return Ok(());
     }
-    let r = &outcome.report_json;
-    let number = |key: &str| {
-        r[key]
-            .as_f64()
-            .map_or("n/a".to_owned(), |v| format!("{v:.4}"))
-    };
-    println!(
+    writeln!(
+        out,
         "static contact of {} ({} posts in the strip of {})",
-        scene.name, r["posts_in_strip"], r["posts_total"]
-    );
-    println!(
+        scene.name, r.posts_in_strip, r.posts_total
+    )?;
+    writeln!(
+        out,
         "effective contact ratio η   {}",
-        number("effective_contact_ratio")
-    );
-    if let Some(note) = r["effective_contact_ratio_note"].as_str() {
-        println!("  note: {note}");
+        number(r.effective_contact_ratio)
+    )?;
+    if let Some(note) = &r.effective_contact_ratio_note {
+        writeln!(out, "  note: {note}")?;
     }
-    println!(
+    writeln!(
+        out,
         "η at full contact          {}  (the high-preload limit)",
-        number("eta_full_contact")
-    );
-    println!("load sharing               {}", number("load_sharing"));
-    println!("contact fraction           {}", number("contact_fraction"));
-    println!(
+        number(r.eta_full_contact)
+    )?;
+    writeln!(
+        out,
+        "load sharing               {}",
+        number(Some(r.load_sharing))
+    )?;
+    writeln!(
+        out,
+        "contact fraction           {}",
+        number(Some(r.contact_fraction))
+    )?;
+    writeln!(
+        out,
         "complementarity residual   {:.2e}",
-        r["complementarity_residual"].as_f64().unwrap_or(f64::NAN)
-    );
-    println!("active-set iterations      {}", r["iterations"]);
-    println!(
+        r.complementarity_residual
+    )?;
+    writeln!(out, "active-set iterations      {}", r.iterations)?;
+    writeln!(
+        out,
         "wall time                  {:.2} s{}",
-        r["timings"]["wall_time_s"].as_f64().unwrap_or(0.0),
+        r.timings.wall_time_s,
         if outcome.cached { " (cached)" } else { "" }
-    );
-    println!("results in {}", folder.display());
+    )?;
+    writeln!(out, "results in {}", folder.display())?;
     Ok(())
 }

@@ -15,6 +15,20 @@ pub enum PipelineError {
     /// Static FEM contact.
     #[error("static stage: {0}")]
     Static(#[from] static_contact::ContactError),
+    /// The contact solver stopped within the scene's limits.
+    #[error(
+        "static stage: {source}; the limits are static.max_iterations = {max_iterations} and \
+         static.tolerance = {tolerance:e} (raise the one or loosen the other)"
+    )]
+    StaticNotConverged {
+        /// The solver's error.
+        #[source]
+        source: static_contact::ContactError,
+        /// `static.max_iterations`.
+        max_iterations: usize,
+        /// `static.tolerance`.
+        tolerance: f64,
+    },
     /// Dynamic model.
     #[error("dynamic stage: {0}")]
     Dynamic(#[from] stick_slip::StickSlipError),

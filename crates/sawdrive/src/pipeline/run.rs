@@ -110,33 +110,35 @@ pub fn run_pipeline(
     timings.springs_s = t.elapsed().as_secs_f64();
 
     let t = Instant::now();
-    let (effective_ratio, source, static_figures, static_outcome) = match scene
-        .contact
-        .effective_ratio
-    {
-        Some(eta) => (eta, "given", None, None),
-        None => {
-            bar.set_message("static FEM contact (η)");
-            let outcome = run_static(scene, options.cache_dir.as_deref(), options.write_files)?;
-            let eta = outcome.effective_ratio.ok_or_else(|| PipelineError::Unsupported {
+    let (effective_ratio, source, static_figures, static_outcome) =
+        match scene.contact.effective_ratio {
+            Some(eta) => (eta, "given", None, None),
+            None => {
+                bar.set_message("static FEM contact (η)");
+                let outcome = run_static(scene, options.cache_dir.as_deref(), options.write_files)?;
+                let eta = outcome.effective_ratio.ok_or_else(|| PipelineError::Unsupported {
                 stage: "static",
                 message: format!(
                     "η is not identifiable for this scene ({}); give effective_ratio as a number",
-                    outcome.report_json["effective_contact_ratio_note"].as_str().unwrap_or("no reason given")
+                    outcome
+                        .report
+                        .effective_contact_ratio_note
+                        .as_deref()
+                        .unwrap_or("no reason given")
                 ),
             })?;
-            let r = &outcome.report_json;
-            let figures = StaticFigures {
-                cached: outcome.cached,
-                content_hash: outcome.content_hash.clone(),
-                load_sharing: r["load_sharing"].as_f64(),
-                contact_fraction: r["contact_fraction"].as_f64(),
-                complementarity_residual: r["complementarity_residual"].as_f64(),
-                iterations: r["iterations"].as_u64(),
-            };
-            (eta, "fem", Some(figures), Some(outcome))
-        }
-    };
+                let r = &outcome.report;
+                let figures = StaticFigures {
+                    cached: outcome.cached,
+                    content_hash: outcome.content_hash.clone(),
+                    load_sharing: Some(r.load_sharing),
+                    contact_fraction: Some(r.contact_fraction),
+                    complementarity_residual: Some(r.complementarity_residual),
+                    iterations: Some(r.iterations as u64),
+                };
+                (eta, "fem", Some(figures), Some(outcome))
+            }
+        };
     timings.static_s = t.elapsed().as_secs_f64();
 
     bar.set_message("stick/slip dynamics");

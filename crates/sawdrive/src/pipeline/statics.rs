@@ -1,8 +1,17 @@
-//! Static stage: the slider strip pressed on the frozen wave → post forces and η.
+//! Static stage: the slider strip pressed on the frozen wave → post forces and η, and its
+//! verified cache: `static-<content hash>.json` holds the typed report with the SHA-256 of its
+//! JSON and of the cached field files; an entry that fails the check is rebuilt and reported on
+//! stderr, and results folders get copies of cached files (never hard links).
 
+use std::collections::BTreeMap;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use static_contact::{MeshChoice, StaticAnalysis, StaticParams, StatorModel};
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+use static_contact::{
+    ContactError, MeshChoice, StaticAnalysis, StaticParams, StaticReport, StatorModel,
+};
 
 use super::PipelineError;
 use crate::output::{StagedDir, io};
@@ -53,6 +62,8 @@ pub fn static_params(
             StatorChoice::MeshedBlock => StatorModel::MeshedBlock,
         },
         mesh,
+        contact_tolerance: scene.static_fem.tolerance,
+        max_iterations: scene.static_fem.max_iterations as usize,
         mesh_cache_dir: mesh_cache_dir.map(Path::to_owned),
         ..StaticParams::default()
     })
@@ -61,8 +72,8 @@ pub fn static_params(
 /// Result of the static stage: the analysis (fresh runs) or the cached report.
 #[derive(Debug)]
 pub struct StaticOutcome {
-    /// The report as JSON (fresh or from the cache).
-    pub report_json: serde_json::Value,
+    /// The typed report (fresh or from the verified cache).
+    pub report: StaticReport,
     /// η at the scene's preload (`None`: not identifiable, e.g. flat stator).
     pub effective_ratio: Option<f64>,
     /// Content hash of the inputs.
@@ -73,10 +84,136 @@ pub struct StaticOutcome {
     pub analysis: Option<StaticAnalysis>,
     /// Cached field files (force chart, VTU) of these inputs, if they were asked for and exist.
     pub cached_fields: Option<PathBuf>,
+    /// What the cache checks found and did (a damaged entry or mesh rebuilt), one line each;
+    /// also printed on stderr.
+    pub notes: Vec<String>,
+}
+
+/// Layout version of a static cache entry (the physics is in the content hash, not here).
+const CACHE_FORMAT: u32 = 1;
+
+/// A static cache entry, `static-<content hash>.json`: the typed report and what verifies it.
+#[derive(Debug, Serialize, Deserialize)]
+struct CacheEntry {
+    /// [`CACHE_FORMAT`].
+    format: u32,
+    /// SHA-256 of the report's JSON (`serde_json::to_vec(&report)`).
+    report_sha256: String,
+    /// SHA-256 of each file in `static-<hash>/` (force chart, VTU) by name; `None`: the entry
+    /// has the report only (a sweep's).
+    field_files: Option<BTreeMap<String, String>>,
+    /// The report.
+    report: StaticReport,
+}
+
+/// What a cache lookup found.
+#[derive(Debug)]
+enum Lookup {
+    /// A verified report (and verified field files, if they were asked for).
+    Hit(Box<StaticReport>),
+    /// No entry, or one without the field files that were asked for.
+    Miss,
+    /// An entry that fails verification, and why.
+    Damaged(String),
+}
+
+fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+/// SHA-256 of every file of `dir` by name.
+fn hash_folder(dir: &Path) -> Result<BTreeMap<String, String>, PipelineError> {
+    let mut hashes = BTreeMap::new();
+    for entry in std::fs::read_dir(dir).map_err(io("read the cached fields", dir))? {
+        let path = entry.map_err(io("read the cached fields", dir))?.path();
+        let bytes = std::fs::read(&path).map_err(io("read a cached field file", &path))?;
+        let name = path.file_name().unwrap_or_default().to_string_lossy();
+        hashes.insert(name.into_owned(), sha256_hex(&bytes));
+    }
+    Ok(hashes)
+}
+
+/// Read and verify the entry `file` for the inputs `content_hash`; with `fields`, also the
+/// field files in that folder against the hashes the entry recorded.
+fn lookup(file: &Path, content_hash: &str, fields: Option<&Path>) -> Lookup {
+    let Ok(bytes) = std::fs::read(file) else {
+        return Lookup::Miss;
+    };
+    let entry: CacheEntry = match serde_json::from_slice(&bytes) {
+        Ok(entry) => entry,
+        Err(e) => return Lookup::Damaged(format!("not a static cache entry ({e})")),
+    };
+    if entry.format != CACHE_FORMAT {
+        return Lookup::Damaged(format!(
+            "cache format {} (now {CACHE_FORMAT})",
+            entry.format
+        ));
+    }
+    let report_bytes = serde_json::to_vec(&entry.report).unwrap_or_default();
+    if sha256_hex(&report_bytes) != entry.report_sha256 {
+        return Lookup::Damaged(
+            "the report does not match the content hash stored with it (edited?)".into(),
+        );
+    }
+    if entry.report.content_hash != content_hash {
+        return Lookup::Damaged("it holds the report of other inputs".into());
+    }
+    if let Some(dir) = fields {
+        let Some(recorded) = &entry.field_files else {
+            return Lookup::Miss;
+        };
+        match hash_folder(dir) {
+            Ok(found) if found == *recorded => {}
+            Ok(_) => {
+                return Lookup::Damaged(format!(
+                    "the field files in {} differ from those recorded with it",
+                    dir.display()
+                ));
+            }
+            Err(_) => return Lookup::Miss,
+        }
+    }
+    Lookup::Hit(Box::new(entry.report))
+}
+
+/// Write the entry for `report` (with the hashes of the field files in `fields`, if any).
+fn store(file: &Path, report: &StaticReport, fields: Option<&Path>) -> Result<(), PipelineError> {
+    let entry = CacheEntry {
+        format: CACHE_FORMAT,
+        report_sha256: sha256_hex(&serde_json::to_vec(report)?),
+        field_files: fields.map(hash_folder).transpose()?,
+        report: report.clone(),
+    };
+    crate::output::write_atomically(file, serde_json::to_vec(&entry)?)?;
+    Ok(())
+}
+
+/// Tell the user on stderr (one line each).
+fn announce(notes: &[String]) {
+    let mut stderr = std::io::stderr().lock();
+    for note in notes {
+        let _ = writeln!(stderr, "note: {note}");
+    }
+}
+
+/// A solver that stopped names the scene keys that limit it; other errors pass through.
+fn static_error(error: ContactError, params: &StaticParams) -> PipelineError {
+    match error {
+        e @ ContactError::NotConverged { .. } => PipelineError::StaticNotConverged {
+            source: e,
+            max_iterations: params.max_iterations,
+            tolerance: params.contact_tolerance,
+        },
+        e => e.into(),
+    }
 }
 
 /// Run the static stage, or take its report from `cache_dir/static-<hash>.json` when the same
-/// inputs ran before. With `with_fields`, the cache also keeps the force chart and the VTU in
+/// inputs ran before and the entry verifies (a damaged entry is rebuilt, and said so on stderr).
+/// With `with_fields`, the cache also keeps the force chart and the VTU in
 /// `cache_dir/static-<hash>/`, and a cached report without them (e.g. one a sweep filled in)
 /// counts as a miss, so that a results folder never lacks them.
 pub fn run_static(
@@ -90,40 +227,47 @@ pub fn run_static(
     let fields_dir = cache_dir
         .filter(|_| with_fields)
         .map(|d| d.join(format!("static-{content_hash}")));
-    let fields_cached = fields_dir.as_ref().is_none_or(|d| d.is_dir());
-    if let (Some(file), true) = (&cache_file, fields_cached) {
-        if let Some(report_json) = std::fs::read(file)
-            .ok()
-            .and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok())
-        {
-            let effective_ratio = report_json["effective_contact_ratio"].as_f64();
-            return Ok(StaticOutcome {
-                report_json,
-                effective_ratio,
-                content_hash,
-                cached: true,
-                analysis: None,
-                cached_fields: fields_dir,
-            });
+    let mut notes = Vec::new();
+    if let Some(file) = &cache_file {
+        match lookup(file, &content_hash, fields_dir.as_deref()) {
+            Lookup::Hit(report) => {
+                return Ok(StaticOutcome {
+                    effective_ratio: report.effective_contact_ratio,
+                    report: *report,
+                    content_hash,
+                    cached: true,
+                    analysis: None,
+                    cached_fields: fields_dir,
+                    notes,
+                });
+            }
+            Lookup::Damaged(why) => notes.push(format!(
+                "static cache entry {} not used: {why}; recomputing it",
+                file.display()
+            )),
+            Lookup::Miss => {}
         }
     }
-    let analysis = static_contact::run(&params)?;
-    let report_json = serde_json::to_value(&analysis.report)?;
+    announce(&notes);
+    let analysis = static_contact::run(&params).map_err(|e| static_error(e, &params))?;
+    announce(&analysis.notes);
+    notes.extend(analysis.notes.iter().cloned());
     if let Some(dir) = &fields_dir {
         let staged = StagedDir::create(dir)?;
         write_field_files(&analysis, staged.path())?;
         staged.commit()?;
     }
     if let Some(file) = &cache_file {
-        crate::output::write_atomically(file, serde_json::to_vec(&report_json)?)?;
+        store(file, &analysis.report, fields_dir.as_deref())?;
     }
     Ok(StaticOutcome {
         effective_ratio: analysis.report.effective_contact_ratio,
-        report_json,
+        report: analysis.report.clone(),
         content_hash,
         cached: false,
         analysis: Some(analysis),
         cached_fields: fields_dir,
+        notes,
     })
 }
 
@@ -144,9 +288,9 @@ fn write_field_files(analysis: &StaticAnalysis, dir: &Path) -> Result<Vec<PathBu
     Ok(files)
 }
 
-/// Put every file of `from` into `dir`: a hard link where the file system allows (the VTU of
-/// the default scene is ≈ 33 MB), a copy otherwise.
-fn link_or_copy_files(from: &Path, dir: &Path) -> Result<Vec<PathBuf>, PipelineError> {
+/// Copy every file of `from` into `dir`: copies, never hard links, so that editing a result
+/// cannot change the cache (and the reverse).
+fn copy_files(from: &Path, dir: &Path) -> Result<Vec<PathBuf>, PipelineError> {
     let mut files = Vec::new();
     for entry in std::fs::read_dir(from).map_err(io("read the cached fields", from))? {
         let source = entry.map_err(io("read the cached fields", from))?.path();
@@ -154,9 +298,7 @@ fn link_or_copy_files(from: &Path, dir: &Path) -> Result<Vec<PathBuf>, PipelineE
             continue;
         };
         let target = dir.join(name);
-        if std::fs::hard_link(&source, &target).is_err() {
-            std::fs::copy(&source, &target).map_err(io("copy a cached field file", &source))?;
-        }
+        std::fs::copy(&source, &target).map_err(io("copy a cached field file", &source))?;
         files.push(target);
     }
     files.sort();
@@ -164,16 +306,16 @@ fn link_or_copy_files(from: &Path, dir: &Path) -> Result<Vec<PathBuf>, PipelineE
 }
 
 /// Write `static.json`, the post-force chart and the VTU of the first snapshot into `dir` (the
-/// last two from the analysis, or from the cache).
+/// last two from the analysis, or copied from the cache).
 pub fn write_static_files(
     outcome: &StaticOutcome,
     dir: &Path,
 ) -> Result<Vec<PathBuf>, PipelineError> {
     let mut files = vec![dir.join("static.json")];
-    std::fs::write(&files[0], serde_json::to_vec_pretty(&outcome.report_json)?)
+    std::fs::write(&files[0], serde_json::to_vec_pretty(&outcome.report)?)
         .map_err(io("write", &files[0]))?;
     match (&outcome.cached_fields, &outcome.analysis) {
-        (Some(cached), _) if cached.is_dir() => files.extend(link_or_copy_files(cached, dir)?),
+        (Some(cached), _) if cached.is_dir() => files.extend(copy_files(cached, dir)?),
         (_, Some(analysis)) => files.extend(write_field_files(analysis, dir)?),
         _ => {}
     }
@@ -206,8 +348,14 @@ pub fn fill_static_cache(scenes: &[Scene], cache_dir: &Path) -> (usize, Vec<(Str
         let (Ok(key), Ok(hash)) = (geometry_key(&params), params.content_hash()) else {
             continue;
         };
-        if cache_dir.join(format!("static-{hash}.json")).exists() {
-            continue;
+        let file = cache_dir.join(format!("static-{hash}.json"));
+        match lookup(&file, &hash, None) {
+            Lookup::Hit(_) => continue,
+            Lookup::Damaged(why) => announce(&[format!(
+                "static cache entry {} not used: {why}; recomputing it",
+                file.display()
+            )]),
+            Lookup::Miss => {}
         }
         match groups.iter_mut().find(|(k, _)| *k == key) {
             Some((_, members)) if !members.iter().any(|(_, h)| *h == hash) => {
@@ -235,19 +383,24 @@ fn condense_and_cache(
     cache_dir: &Path,
 ) -> Result<(), PipelineError> {
     let prepared = static_contact::prepare_strip(&members[0].0)?;
+    announce(&prepared.notes);
     for (params, hash) in members {
         let report = static_contact::analysis::report_for_model(
             &prepared.model,
             params,
             hash.clone(),
             prepared.mesh_file.clone(),
-            static_contact::ActiveSetOptions::default(),
+            params.solver_options(),
             prepared.mesh_s,
             prepared.condensation_s,
             std::time::Instant::now(),
+        )
+        .map_err(|e| static_error(e, params))?;
+        store(
+            &cache_dir.join(format!("static-{hash}.json")),
+            &report,
+            None,
         )?;
-        let file = cache_dir.join(format!("static-{hash}.json"));
-        crate::output::write_atomically(&file, serde_json::to_vec(&report)?)?;
     }
     Ok(())
 }
