@@ -12,7 +12,11 @@ pub(crate) fn write_atomically(
     target: &Path,
     fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
 ) -> Result<()> {
-    atomic_files::write_atomically_with(target, fill).map_err(|error| {
+    Ok(atomic_files::write_atomically_with(target, fill)?)
+}
+
+impl From<atomic_files::FileError> for MeshError {
+    fn from(error: atomic_files::FileError) -> Self {
         let action = match error.verb() {
             "write" => "writing".to_owned(),
             verb => format!("writing ({verb})"),
@@ -23,5 +27,5 @@ pub(crate) fn write_atomically(
             action,
             source,
         }
-    })
+    }
 }

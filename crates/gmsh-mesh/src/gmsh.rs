@@ -35,14 +35,6 @@ impl Default for GmshOptions {
     }
 }
 
-/// Temporary name beside `out`: `.<name>.tmp-<pid>.msh`.
-fn temporary_path(out: &Path) -> PathBuf {
-    let name = out
-        .file_name()
-        .map_or_else(|| "mesh".into(), |n| n.to_string_lossy().into_owned());
-    out.with_file_name(format!(".{name}.tmp-{}.msh", std::process::id()))
-}
-
 /// gmsh's `Error` lines, or the last [`LOG_TAIL_LINES`] lines of its output, joined by " | ".
 fn log_summary(log: &str) -> String {
     let errors: Vec<&str> = log.lines().filter(|l| l.starts_with("Error")).collect();
@@ -78,7 +70,18 @@ pub fn run_geo(
     if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(io(dir, "creating the mesh folder"))?;
     }
-    let tmp = temporary_path(out);
+    // gmsh writes the temporary sibling itself; the one atomic writer renames it into place.
+    atomic_files::write_atomically_via(out, |tmp| run_gmsh(geo, tmp, out, setnumbers, options))
+}
+
+/// Run gmsh on `geo` writing `tmp`; a failure names `out`, the file the caller asked for.
+fn run_gmsh(
+    geo: &Path,
+    tmp: &Path,
+    out: &Path,
+    setnumbers: &[(&str, f64)],
+    options: &GmshOptions,
+) -> Result<()> {
     let mut command = Command::new(&options.program);
     command.arg(geo).args(["-3", "-format", "msh41"]);
     if options.binary {
@@ -91,7 +94,7 @@ pub fn run_geo(
             .arg(name)
             .arg(format!("{value:e}"));
     }
-    command.arg("-o").arg(&tmp);
+    command.arg("-o").arg(tmp);
     let output = command.output().map_err(|source| MeshError::GmshMissing {
         geometry: geo.to_path_buf(),
         program: options.program.display().to_string(),
@@ -99,7 +102,7 @@ pub fn run_geo(
     })?;
     let log = String::from_utf8_lossy(&output.stdout).into_owned()
         + &String::from_utf8_lossy(&output.stderr);
-    let wrote = std::fs::metadata(&tmp).is_ok_and(|m| m.len() > 0);
+    let wrote = std::fs::metadata(tmp).is_ok_and(|m| m.len() > 0);
     let status = if !output.status.success() {
         Some(output.status.to_string())
     } else if log.lines().any(|l| l.starts_with("Error")) {
@@ -109,21 +112,13 @@ pub fn run_geo(
     } else {
         None
     };
-    if let Some(status) = status {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(MeshError::GmshFailed {
+    match status {
+        None => Ok(()),
+        Some(status) => Err(MeshError::GmshFailed {
             geometry: geo.to_path_buf(),
             out: out.to_path_buf(),
             status,
             log_tail: log_summary(&log),
-        });
+        }),
     }
-    std::fs::rename(&tmp, out).map_err(|source| {
-        let _ = std::fs::remove_file(&tmp);
-        MeshError::Io {
-            path: out.to_path_buf(),
-            action: format!("renaming {} into place", tmp.display()),
-            source,
-        }
-    })
 }

@@ -1,6 +1,6 @@
 //! The `sawdrive` command line.
 
-mod cli;
+use sawdrive::cli;
 mod commands;
 
 use std::any::Any;
