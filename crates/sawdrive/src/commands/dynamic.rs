@@ -2,7 +2,7 @@
 
 use anyhow::anyhow;
 use sawdrive::output::StagedDir;
-use sawdrive::pipeline::{run_dynamic, run_static, write_dynamic_files};
+use sawdrive::pipeline::{run_dynamic, run_static, scene_springs, write_dynamic_files};
 use sawdrive::scene::load_scene;
 
 use crate::cli::StageArgs;
@@ -19,12 +19,14 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
             })?
         }
     };
-    let result = run_dynamic(&scene, eta)?;
+    let springs = scene_springs(&scene)?;
+    let run = run_dynamic(&scene, &springs, eta)?;
+    let result = &run.result;
     let staged = StagedDir::create(&args.out.join(&scene.name).join("dynamic"))?;
-    write_dynamic_files(&scene, eta, &result, staged.path())?;
+    write_dynamic_files(&scene.name, &run, staged.path())?;
     let folder = staged.commit()?;
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&result)?);
+        println!("{}", serde_json::to_string_pretty(result)?);
         return Ok(());
     }
     for w in &result.warnings {

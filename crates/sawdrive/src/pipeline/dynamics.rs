@@ -2,12 +2,13 @@
 
 use std::path::{Path, PathBuf};
 
+use contact_springs::PostSprings;
 use stick_slip::{
-    DynamicResult, DynamicScene, Integrator, ModelChoice, PeriodicAverageModel, PostContact,
-    PostLayout, Slider, SolveOptions, StabilityPolicy, TransientOptions, VerticalModel, Wave,
+    DynamicResult, DynamicScene, HistoryOptions, Integrator, ModelChoice, PostContact, PostLayout,
+    RunHistories, Slider, SolveOptions, StabilityPolicy, TransientOptions, VerticalModel, Wave,
 };
 
-use super::{PipelineError, scene_springs};
+use super::PipelineError;
 use crate::output::io;
 use crate::scene::{DynamicsChoice, IntegratorChoice, Scene, VerticalChoice};
 
@@ -40,9 +41,14 @@ fn layout(scene: &Scene) -> PostLayout {
     PostLayout::Positions { x_m, gap_m: None }
 }
 
-/// The dynamic model's input for `scene` with effective contact ratio `effective_ratio`.
-pub fn dynamic_scene(scene: &Scene, effective_ratio: f64) -> Result<DynamicScene, PipelineError> {
-    let springs = scene_springs(scene)?;
+/// The dynamic model's input for `scene` with the post springs `springs` (from
+/// [`scene_springs`](super::scene_springs), computed once per run) and effective contact ratio
+/// `effective_ratio`.
+pub fn dynamic_scene(
+    scene: &Scene,
+    springs: &PostSprings,
+    effective_ratio: f64,
+) -> Result<DynamicScene, PipelineError> {
     let wave = Wave {
         frequency_hz: scene.wave.frequency_hz,
         normal_amplitude_m: scene.wave.normal_amplitude_m,
@@ -93,6 +99,10 @@ pub fn dynamic_scene(scene: &Scene, effective_ratio: f64) -> Result<DynamicScene
             periods: f64::from(m.periods),
             average_periods: (0.25 * f64::from(m.periods)).max(1.0),
             ..TransientOptions::default()
+        },
+        history: HistoryOptions {
+            periods: HISTORY_PERIODS,
+            samples_per_period: HISTORY_SAMPLES_PER_PERIOD,
         },
         ..SolveOptions::default()
     };
@@ -149,19 +159,44 @@ fn integrator(scene: &Scene, dynamic: &DynamicScene) -> Result<Integrator, Pipel
     })
 }
 
-/// Run the dynamic stage.
-pub fn run_dynamic(scene: &Scene, effective_ratio: f64) -> Result<DynamicResult, PipelineError> {
-    Ok(stick_slip::solve(&dynamic_scene(scene, effective_ratio)?)?)
+/// What the dynamic stage produced: the model input that ran, its result and the histories of
+/// the run itself (taken from the model that ran, so bursts, decaying waves and gapped posts,
+/// which only the transient represents, chart like any other scene).
+#[derive(Debug, Clone)]
+pub struct DynamicRun {
+    /// The dynamic model's input (built once from the scene).
+    pub scene: DynamicScene,
+    /// Speed–thrust curve, stall thrust, no-load speed, …
+    pub result: DynamicResult,
+    /// One post at the operating point, and the slider (transient only).
+    pub histories: RunHistories,
 }
 
-/// Write `dynamic.json`, `curve.csv`, the speed–thrust chart and a Fig. 6-style time history of
-/// one post (at the operating speed, or mid-curve when the load stalls the slider) into `dir`.
-pub fn write_dynamic_files(
+/// Run the dynamic stage with the post springs `springs` and effective contact ratio
+/// `effective_ratio`.
+pub fn run_dynamic(
     scene: &Scene,
+    springs: &PostSprings,
     effective_ratio: f64,
-    result: &DynamicResult,
+) -> Result<DynamicRun, PipelineError> {
+    let dynamic = dynamic_scene(scene, springs, effective_ratio)?;
+    let (result, histories) = stick_slip::solve_with_histories(&dynamic)?;
+    Ok(DynamicRun {
+        scene: dynamic,
+        result,
+        histories,
+    })
+}
+
+/// Write `dynamic.json`, `curve.csv`, the speed–thrust chart, a Fig. 6-style time history of
+/// one post (at the operating point, or at half the no-load speed when the load stalls the
+/// slider) and, for the transient, the slider's history into `dir`. `title` heads the charts.
+pub fn write_dynamic_files(
+    title: &str,
+    run: &DynamicRun,
     dir: &Path,
 ) -> Result<Vec<PathBuf>, PipelineError> {
+    let result = &run.result;
     let mut files = vec![dir.join("dynamic.json"), dir.join("curve.csv")];
     std::fs::write(&files[0], serde_json::to_vec_pretty(result)?)
         .map_err(io("write", &files[0]))?;
@@ -171,19 +206,17 @@ pub fn write_dynamic_files(
         result,
         &dir.join("speed_thrust"),
     )?);
-    let speed = result
-        .operating_point
-        .as_ref()
-        .map(|op| op.speed_m_per_s)
-        .filter(|v| *v > 0.0)
-        .unwrap_or(0.5 * result.no_load_speed_m_per_s);
-    let periodic = PeriodicAverageModel::new(&dynamic_scene(scene, effective_ratio)?)?;
-    let history = periodic.post_history(speed, HISTORY_PERIODS, HISTORY_SAMPLES_PER_PERIOD)?;
-    let title = scene.name.clone();
     files.extend(stick_slip::plots::write_post_history_chart(
-        &title,
-        &history,
+        title,
+        &run.histories.post,
         &dir.join("post_history"),
     )?);
+    if let Some(slider) = &run.histories.slider {
+        files.extend(stick_slip::plots::write_slider_history_chart(
+            title,
+            slider,
+            &dir.join("slider_history"),
+        )?);
+    }
     Ok(files)
 }
