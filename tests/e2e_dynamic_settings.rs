@@ -36,7 +36,6 @@ fn dynamic_json(out: &Path, sets: &[&str]) -> serde_json::Value {
 }
 
 /// `sawdrive dynamic` on the small scene with η = 0.36 and `sets`, expected to fail naming `needle`.
-#[allow(dead_code)]
 fn dynamic_err(sets: &[&str], needle: &str) -> String {
     let out = tempfile::tempdir().unwrap();
     let scene = small_scene();
@@ -84,4 +83,25 @@ fn bursts_and_decaying_waves_run_through_dynamic_and_write_their_files() {
             assert!(folder.join(file).is_file(), "{set}: {file} written");
         }
     }
+}
+
+#[test]
+fn four_billion_periods_are_refused_with_the_memory_estimate_naming_the_key() {
+    let stderr = dynamic_err(
+        &["model.dynamics=transient", "model.periods=4294967295"],
+        "model.periods",
+    );
+    assert!(
+        stderr.contains("bytes") && stderr.contains("limit"),
+        "the refusal states the memory estimate and the limit: {stderr}"
+    );
+}
+
+#[test]
+fn the_regularized_integrator_is_refused_with_its_estimated_cost() {
+    let stderr = dynamic_err(&["model.integrator=regularized"], "post-steps");
+    assert!(
+        stderr.contains("exceeds the limit") && stderr.contains("model.time_step"),
+        "the refusal states the estimated cost, the limit and the keys to change: {stderr}"
+    );
 }

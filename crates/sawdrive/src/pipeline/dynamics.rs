@@ -5,7 +5,8 @@ use std::path::{Path, PathBuf};
 use contact_springs::PostSprings;
 use stick_slip::{
     DynamicResult, DynamicScene, HistoryOptions, Integrator, ModelChoice, PostContact, PostLayout,
-    RunHistories, Slider, SolveOptions, StabilityPolicy, TransientOptions, VerticalModel, Wave,
+    RunHistories, Slider, SolveOptions, StabilityPolicy, StickSlipError, TransientOptions,
+    VerticalModel, Wave,
 };
 
 use super::PipelineError;
@@ -23,14 +24,26 @@ const HISTORY_PERIODS: f64 = 3.0;
 /// Samples per wave period of the time history.
 const HISTORY_SAMPLES_PER_PERIOD: usize = 256;
 
-/// Post layout along x: a centred square array, or explicit positions for rectangular arrays.
-fn layout(scene: &Scene) -> PostLayout {
+/// Post layout along x: a centred square array, or explicit positions for rectangular arrays
+/// (one x per post: refused before allocating when above the run's memory limit).
+fn layout(scene: &Scene) -> Result<PostLayout, PipelineError> {
     let p = &scene.posts;
     if p.count_x == p.count_y && (p.pitch_x_m - p.pitch_y_m).abs() <= 1e-12 * p.pitch_x_m {
-        return PostLayout::SquareArray {
+        return Ok(PostLayout::SquareArray {
             posts_per_side: p.count_x as usize,
             pitch_m: p.pitch_x_m,
-        };
+        });
+    }
+    let bytes = p.count as f64 * 4.0 * std::mem::size_of::<f64>() as f64;
+    if bytes > stick_slip::MAX_RUN_MEMORY_BYTES {
+        return Err(PipelineError::Unsupported {
+            stage: "dynamic",
+            message: format!(
+                "posts.count: a rectangular array of {} posts needs ≈ {bytes:.3e} bytes of post positions, above the limit of {:.3e} bytes",
+                p.count,
+                stick_slip::MAX_RUN_MEMORY_BYTES
+            ),
+        });
     }
     let centre = 0.5 * (f64::from(p.count_x) - 1.0);
     let x_m = (0..p.count_x)
@@ -38,7 +51,7 @@ fn layout(scene: &Scene) -> PostLayout {
             std::iter::repeat_n((f64::from(j) - centre) * p.pitch_x_m, p.count_y as usize)
         })
         .collect();
-    PostLayout::Positions { x_m, gap_m: None }
+    Ok(PostLayout::Positions { x_m, gap_m: None })
 }
 
 /// The dynamic model's input for `scene` with the post springs `springs` (from
@@ -78,7 +91,7 @@ pub fn dynamic_scene(
         mass_kg: scene.slider.mass_kg,
         preload_n: scene.load.preload_n,
         external_load_n: scene.load.external_load_n,
-        layout: layout(scene),
+        layout: layout(scene)?,
         effective_ratio,
         vertical: match m.vertical {
             VerticalChoice::QuasiStatic => VerticalModel::PeriodMean,
@@ -180,12 +193,34 @@ pub fn run_dynamic(
     effective_ratio: f64,
 ) -> Result<DynamicRun, PipelineError> {
     let dynamic = dynamic_scene(scene, springs, effective_ratio)?;
-    let (result, histories) = stick_slip::solve_with_histories(&dynamic)?;
+    let (result, histories) =
+        stick_slip::solve_with_histories(&dynamic).map_err(name_scene_keys)?;
     Ok(DynamicRun {
         scene: dynamic,
         result,
         histories,
     })
+}
+
+/// Name the scene keys behind a size or cost refusal of the dynamic model (whose errors name its
+/// own options).
+fn name_scene_keys(error: StickSlipError) -> PipelineError {
+    let keys = match &error {
+        StickSlipError::MemoryLimit { parameter, .. } => match *parameter {
+            "options.transient.periods" => "model.periods",
+            "options.curve_points" => "model.curve_points",
+            "slider.layout" => "posts.count",
+            _ => return error.into(),
+        },
+        StickSlipError::CostLimit { .. } => {
+            "model.time_step, model.periods, model.integrator, posts.count"
+        }
+        _ => return error.into(),
+    };
+    PipelineError::Unsupported {
+        stage: "dynamic",
+        message: format!("{error} [scene: {keys}]"),
+    }
 }
 
 /// Write `dynamic.json`, `curve.csv`, the speed–thrust chart, a Fig. 6-style time history of
