@@ -105,3 +105,72 @@ fn the_regularized_integrator_is_refused_with_its_estimated_cost() {
         "the refusal states the estimated cost, the limit and the keys to change: {stderr}"
     );
 }
+
+#[test]
+fn a_time_step_with_the_auto_integrator_is_honoured_or_refused_never_ignored() {
+    let out = tempfile::tempdir().unwrap();
+    let auto = dynamic_json(out.path(), &[]);
+    let coarse = dynamic_json(out.path(), &["model.time_step=1s"]);
+    assert_eq!(
+        auto["model"], "transient",
+        "the small scene runs the transient"
+    );
+    assert_ne!(
+        auto["stall_thrust_n"], coarse["stall_thrust_n"],
+        "a 1 s step changes the stall thrust (it is passed to the transient's return mapping)"
+    );
+    let warnings = coarse["warnings"].to_string();
+    assert!(
+        warnings.contains("does not resolve the wave period"),
+        "the coarse step is warned about: {warnings}"
+    );
+    dynamic_err(&["model.time_step=1e-30 s"], "post-steps");
+    // The paper motor runs the closed-form period average: no scheme takes a time step.
+    let stderr = sawdrive_err(
+        &[
+            "dynamic",
+            "--set",
+            "effective_ratio=0.36",
+            "--set",
+            "model.time_step=1ns",
+        ],
+        "model.time_step",
+    );
+    assert!(stderr.contains("no time step"), "{stderr}");
+}
+
+#[test]
+fn model_settings_the_running_model_does_not_use_are_refused_naming_the_key() {
+    for (set, key) in [
+        ("model.periods=10", "model.periods"),
+        (
+            "model.regularization_velocity=1mm/s",
+            "model.regularization_velocity",
+        ),
+        (
+            "model.vertical_damping_ratio=0.1",
+            "model.vertical_damping_ratio",
+        ),
+    ] {
+        sawdrive_err(
+            &["dynamic", "--set", "effective_ratio=0.36", "--set", set],
+            key,
+        );
+    }
+}
+
+#[test]
+fn periods_and_curve_points_change_the_transient() {
+    let out = tempfile::tempdir().unwrap();
+    let short = dynamic_json(out.path(), &["model.periods=40", "model.curve_points=3"]);
+    let long = dynamic_json(out.path(), &["model.periods=400", "model.curve_points=3"]);
+    assert_ne!(
+        short["curve"], long["curve"],
+        "model.periods changes the transient's curve"
+    );
+    let more = dynamic_json(out.path(), &["model.periods=40", "model.curve_points=5"]);
+    assert!(
+        more["curve"].as_array().unwrap().len() > short["curve"].as_array().unwrap().len(),
+        "model.curve_points sets the transient's loads"
+    );
+}

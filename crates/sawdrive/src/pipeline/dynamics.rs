@@ -4,14 +4,17 @@ use std::path::{Path, PathBuf};
 
 use contact_springs::PostSprings;
 use stick_slip::{
-    DynamicResult, DynamicScene, HistoryOptions, Integrator, ModelChoice, PostContact, PostLayout,
-    RunHistories, Slider, SolveOptions, StabilityPolicy, StickSlipError, TransientOptions,
-    VerticalModel, Wave,
+    DynamicResult, DynamicScene, HistoryOptions, Integrator, ModelChoice, ModelKind, PostContact,
+    PostLayout, RunHistories, Slider, SolveOptions, StabilityPolicy, StickSlipError,
+    TransientOptions, VerticalModel, Wave,
 };
 
 use super::PipelineError;
 use crate::output::io;
-use crate::scene::{DynamicsChoice, IntegratorChoice, Scene, VerticalChoice};
+use crate::scene::{
+    DEFAULT_CURVE_POINTS, DEFAULT_TRANSIENT_PERIODS, DEFAULT_VERTICAL_DAMPING_RATIO,
+    DynamicsChoice, IntegratorChoice, Model, Scene, VerticalChoice,
+};
 
 /// Steps per wave period of a fixed-step integrator when the scene says `time_step = "auto"`.
 const AUTO_STEPS_PER_PERIOD: f64 = stick_slip::TRANSIENT_DEFAULT_STEPS_PER_PERIOD;
@@ -96,7 +99,9 @@ pub fn dynamic_scene(
         vertical: match m.vertical {
             VerticalChoice::QuasiStatic => VerticalModel::PeriodMean,
             VerticalChoice::Dynamic => VerticalModel::Dynamic {
-                damping_ratio: m.vertical_damping_ratio,
+                damping_ratio: m
+                    .vertical_damping_ratio
+                    .unwrap_or(DEFAULT_VERTICAL_DAMPING_RATIO),
             },
         },
     };
@@ -105,36 +110,91 @@ pub fn dynamic_scene(
         DynamicsChoice::PeriodicAverage => ModelChoice::PeriodicAverage,
         DynamicsChoice::Transient => ModelChoice::Transient,
     };
-    let options = SolveOptions {
-        curve_points: m.curve_points as usize,
-        stability: StabilityPolicy::Refuse,
-        transient: TransientOptions {
-            periods: f64::from(m.periods),
-            average_periods: (0.25 * f64::from(m.periods)).max(1.0),
-            ..TransientOptions::default()
-        },
-        history: HistoryOptions {
-            periods: HISTORY_PERIODS,
-            samples_per_period: HISTORY_SAMPLES_PER_PERIOD,
-        },
-        ..SolveOptions::default()
-    };
     let mut dynamic = DynamicScene {
         wave,
         contact,
         slider,
         model,
         integrator: Integrator::Auto,
-        options,
+        options: SolveOptions::default(),
     };
-    dynamic.integrator = integrator(scene, &dynamic)?;
+    let kind = dynamic.resolve_model()?.0;
+    dynamic.options = options(&scene.model, kind)?;
+    dynamic.integrator = integrator(scene, &dynamic, kind)?;
     Ok(dynamic)
 }
 
-/// The scene's integrator, with automatic steps chosen inside the stability limit.
-fn integrator(scene: &Scene, dynamic: &DynamicScene) -> Result<Integrator, PipelineError> {
+/// A setting given for a model that does not use it: refused, naming the key.
+fn unused(key: &str, value: impl std::fmt::Display, why: &str) -> PipelineError {
+    PipelineError::Unsupported {
+        stage: "dynamic",
+        message: format!(
+            "{key} = {value} is not used: {why}; remove it (\"auto\") or choose a model that uses it"
+        ),
+    }
+}
+
+/// Solver options of the model `kind` that runs. The rule: a model setting the running model
+/// does not use is refused (`periods` with the period average); `"auto"` takes the model's
+/// default; `curve_points` sets the period average's speeds or the transient's loads.
+fn options(m: &Model, kind: ModelKind) -> Result<SolveOptions, PipelineError> {
+    let mut options = SolveOptions {
+        stability: StabilityPolicy::Refuse,
+        history: HistoryOptions {
+            periods: HISTORY_PERIODS,
+            samples_per_period: HISTORY_SAMPLES_PER_PERIOD,
+        },
+        ..SolveOptions::default()
+    };
+    match kind {
+        ModelKind::PeriodicAverage => {
+            if let Some(periods) = m.periods {
+                return Err(unused(
+                    "model.periods",
+                    periods,
+                    "this scene runs the period average, which simulates no wave periods (periodic by construction)",
+                ));
+            }
+            options.curve_points = m.curve_points.unwrap_or(DEFAULT_CURVE_POINTS) as usize;
+        }
+        ModelKind::Transient => {
+            let periods = f64::from(m.periods.unwrap_or(DEFAULT_TRANSIENT_PERIODS));
+            options.transient = TransientOptions {
+                periods,
+                average_periods: (0.25 * periods).max(1.0),
+                ..TransientOptions::default()
+            };
+            if let Some(loads) = m.curve_points {
+                options.transient.curve_loads = loads as usize;
+            }
+        }
+    }
+    Ok(options)
+}
+
+/// The scene's integrator for the model `kind` that runs, with automatic steps chosen inside the
+/// stability limit. A `time_step` is honoured by every fixed-step scheme and by `auto` on the
+/// transient (its return mapping); it is refused where no scheme takes it (`auto` or
+/// `event-driven` on the closed-form period average).
+fn integrator(
+    scene: &Scene,
+    dynamic: &DynamicScene,
+    kind: ModelKind,
+) -> Result<Integrator, PipelineError> {
     let m = &scene.model;
     let period = dynamic.wave.period_s();
+    let closed_form = kind == ModelKind::PeriodicAverage
+        && matches!(
+            m.integrator,
+            IntegratorChoice::Auto | IntegratorChoice::EventDriven
+        );
+    if let (Some(dt), true) = (m.time_step_s, closed_form) {
+        return Err(unused(
+            "model.time_step",
+            format!("{dt:e} s"),
+            "the period average runs the closed-form event-driven post, which has no time step; set model.integrator to return-mapping, post-mass or regularized, or model.dynamics = \"transient\"",
+        ));
+    }
     let explicit_step = |candidate: Integrator| -> Result<f64, PipelineError> {
         if let Some(dt) = m.time_step_s {
             return Ok(dt);
@@ -146,7 +206,10 @@ fn integrator(scene: &Scene, dynamic: &DynamicScene) -> Result<Integrator, Pipel
         Ok((AUTO_STEP_FRACTION_OF_LIMIT * limit).min(period / AUTO_STEPS_PER_PERIOD))
     };
     Ok(match m.integrator {
-        IntegratorChoice::Auto => Integrator::Auto,
+        IntegratorChoice::Auto => match m.time_step_s {
+            Some(dt_s) => Integrator::ReturnMapping { dt_s },
+            None => Integrator::Auto,
+        },
         IntegratorChoice::EventDriven => Integrator::EventDriven {
             max_step_s: m.time_step_s,
         },

@@ -13,8 +13,9 @@ mod resolved;
 use std::path::Path;
 
 pub use resolved::{
-    Contact, DynamicsChoice, Friction, IntegratorChoice, Load, Model, Posts, Scene, Slider,
-    StaticSettings, StatorChoice, VerticalChoice, Wave,
+    Contact, DEFAULT_CURVE_POINTS, DEFAULT_TRANSIENT_PERIODS, DEFAULT_VERTICAL_DAMPING_RATIO,
+    DynamicsChoice, Friction, IntegratorChoice, Load, Model, Posts, Scene, Slider, StaticSettings,
+    StatorChoice, VerticalChoice, Wave,
 };
 
 /// The embedded default scene: the source paper's motor.

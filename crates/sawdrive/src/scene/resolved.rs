@@ -148,12 +148,25 @@ pub struct Model {
     pub integrator: IntegratorChoice,
     /// `None`: chosen inside the stability limit.
     pub time_step_s: Option<f64>,
+    /// `None`: 1e-3 of the crest speed (regularized integrator only).
     pub regularization_velocity_m_per_s: Option<f64>,
-    pub curve_points: u32,
-    pub periods: u32,
+    /// `None`: the model's default (50 speeds, or 6 transient loads).
+    pub curve_points: Option<u32>,
+    /// `None`: [`DEFAULT_TRANSIENT_PERIODS`] (transient only).
+    pub periods: Option<u32>,
     pub vertical: VerticalChoice,
-    pub vertical_damping_ratio: f64,
+    /// `None`: [`DEFAULT_VERTICAL_DAMPING_RATIO`] (dynamic vertical only).
+    pub vertical_damping_ratio: Option<f64>,
 }
+
+/// Wave periods of the transient when `model.periods = "auto"`. Default 1000.
+pub const DEFAULT_TRANSIENT_PERIODS: u32 = 1000;
+/// Points on the period average's speed–thrust curve when `model.curve_points = "auto"`.
+/// Default 50.
+pub const DEFAULT_CURVE_POINTS: u32 = 50;
+/// Damping ratio of the slider's vertical mode when `model.vertical_damping_ratio = "auto"`.
+/// Default 0.05.
+pub const DEFAULT_VERTICAL_DAMPING_RATIO: f64 = 0.05;
 
 /// Static FEM contact settings.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -416,32 +429,58 @@ impl Scene {
         };
         let regularization_velocity_m_per_s = match m.regularization_velocity {
             AutoOr::Auto => None,
-            AutoOr::Value(v) => Some(positive("model.regularization_velocity", v.0)?),
+            AutoOr::Value(v) => {
+                if integrator != IntegratorChoice::Regularized {
+                    return Err(invalid(
+                        "model.regularization_velocity",
+                        "applies only to integrator = \"regularized\" (tanh friction); remove it or set it to \"auto\"",
+                    ));
+                }
+                Some(positive("model.regularization_velocity", v.0)?)
+            }
         };
-        if m.curve_points < 2 {
-            return Err(invalid(
-                "model.curve_points",
-                "need at least 2 points on the speed–thrust curve",
-            ));
-        }
-        if m.periods == 0 {
-            return Err(invalid("model.periods", "need at least one wave period"));
-        }
-        if !(m.vertical_damping_ratio.is_finite() && m.vertical_damping_ratio >= 0.0) {
-            return Err(invalid(
-                "model.vertical_damping_ratio",
-                format!("must be ≥ 0, got {}", m.vertical_damping_ratio),
-            ));
-        }
+        let curve_points = match m.curve_points {
+            AutoOr::Auto => None,
+            AutoOr::Value(n) if n < 2 => {
+                return Err(invalid(
+                    "model.curve_points",
+                    "need at least 2 points on the speed–thrust curve",
+                ));
+            }
+            AutoOr::Value(n) => Some(n),
+        };
+        let periods = match m.periods {
+            AutoOr::Auto => None,
+            AutoOr::Value(0) => {
+                return Err(invalid("model.periods", "need at least one wave period"));
+            }
+            AutoOr::Value(n) => Some(n),
+        };
+        let vertical_damping_ratio = match m.vertical_damping_ratio {
+            AutoOr::Auto => None,
+            AutoOr::Value(_) if vertical == VerticalChoice::QuasiStatic => {
+                return Err(invalid(
+                    "model.vertical_damping_ratio",
+                    "applies only to vertical = \"dynamic\" (the quasi-static slider has no vertical mode); remove it or set it to \"auto\"",
+                ));
+            }
+            AutoOr::Value(zeta) if !(zeta.is_finite() && zeta >= 0.0) => {
+                return Err(invalid(
+                    "model.vertical_damping_ratio",
+                    format!("must be ≥ 0, got {zeta}"),
+                ));
+            }
+            AutoOr::Value(zeta) => Some(zeta),
+        };
         let model = Model {
             dynamics,
             integrator,
             time_step_s,
             regularization_velocity_m_per_s,
-            curve_points: m.curve_points,
-            periods: m.periods,
+            curve_points,
+            periods,
             vertical,
-            vertical_damping_ratio: m.vertical_damping_ratio,
+            vertical_damping_ratio,
         };
 
         let st = &file.static_fem;
