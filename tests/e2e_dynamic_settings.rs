@@ -6,8 +6,7 @@ mod common;
 
 use std::path::Path;
 
-#[allow(unused_imports)]
-use common::{sawdrive, sawdrive_err, sawdrive_ok};
+use common::{sawdrive_err, sawdrive_ok};
 
 fn small_scene() -> String {
     concat!(
@@ -172,5 +171,27 @@ fn periods_and_curve_points_change_the_transient() {
     assert!(
         more["curve"].as_array().unwrap().len() > short["curve"].as_array().unwrap().len(),
         "model.curve_points sets the transient's loads"
+    );
+}
+
+#[test]
+fn dynamic_prints_the_estimated_work_with_its_limit() {
+    let out = tempfile::tempdir().unwrap();
+    let scene = small_scene();
+    let stdout = sawdrive_ok(&[
+        "dynamic",
+        scene.as_str(),
+        "--out",
+        out.path().to_str().unwrap(),
+        "--set",
+        "effective_ratio=0.36",
+    ]);
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("estimated work"))
+        .unwrap_or_else(|| panic!("an estimated-work line: {stdout}"));
+    assert!(
+        line.contains("post-steps") && line.contains("return-mapping") && line.contains("limit"),
+        "estimated work names the integrator and the limit: {line}"
     );
 }

@@ -52,6 +52,17 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
     );
     println!("max efficiency             {:.4}", result.efficiency);
     println!("stick fraction             {:.4}", result.stick_fraction);
+    let integrator = run
+        .scene
+        .integrator
+        .resolve(result.model, run.scene.wave.period_s());
+    let work = run.scene.work_estimate(result.model, &integrator);
+    println!(
+        "estimated work             {:.2e} post-steps, {} (limit {:.0e})",
+        work.post_steps(),
+        integrator.name(),
+        run.scene.options.max_post_steps
+    );
     println!("wall time                  {:.3} s", result.wall_time_s);
     println!("results in {}", folder.display());
     Ok(())
