@@ -18,7 +18,11 @@ pub(crate) fn positive(parameter: &'static str, value: f64) -> Result<f64, Sprin
     if value.is_finite() && value > 0.0 {
         Ok(value)
     } else {
-        Err(SpringError::OutOfRange { parameter, value, accepted: "must be finite and > 0" })
+        Err(SpringError::OutOfRange {
+            parameter,
+            value,
+            accepted: "must be finite and > 0",
+        })
     }
 }
 

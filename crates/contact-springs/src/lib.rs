@@ -18,10 +18,11 @@
 //! assert!((springs.k_n_n_per_m / 1.8e6 - 1.0).abs() < 0.05); // ≈ 1.8·10⁶ N/m for d = 20 µm
 //! ```
 
+pub mod effective_ratio;
 mod error;
 mod material;
 mod springs;
 
 pub use error::SpringError;
 pub use material::Material;
-pub use springs::{k_pn, k_pt, k_sn, k_st, post_springs, series, PostSprings};
+pub use springs::{PostSprings, k_pn, k_pt, k_sn, k_st, post_springs, series};

@@ -7,8 +7,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{positive, SpringError};
 use crate::Material;
+use crate::error::{SpringError, positive};
 
 /// Below this |x| = |2(1−2ν)|, r(x) = ln(1+x)/x is evaluated by its Taylor series
 /// (dimensionless; truncation error < x⁴/5 ≈ 2·10⁻²⁹ relative at the switch).
@@ -87,7 +87,11 @@ pub struct PostSprings {
 }
 
 /// The four springs of a post of radius `radius_m` bonded to `slider`, touching `stator`.
-pub fn post_springs(slider: &Material, stator: &Material, radius_m: f64) -> Result<PostSprings, SpringError> {
+pub fn post_springs(
+    slider: &Material,
+    stator: &Material,
+    radius_m: f64,
+) -> Result<PostSprings, SpringError> {
     let k_pn_n_per_m = k_pn(slider, radius_m)?;
     let k_pt_n_per_m = k_pt(slider, radius_m)?;
     let k_sn_n_per_m = k_sn(stator, radius_m)?;

@@ -25,7 +25,7 @@ fn speed_thrust_curve(scene_file: &str) -> anyhow::Result<Vec<CurvePoint>> {
         .effective_ratio
         .ok_or_else(|| anyhow::anyhow!("η is not identifiable for scene {}", scene.name))?;
     println!("η = {eta:.4}");
-    Ok(run_dynamic(&scene, eta)?.curve)
+    Ok(run_dynamic(&scene, &springs, eta)?.result.curve)
 }
 
 fn main() -> anyhow::Result<()> {

@@ -175,11 +175,25 @@ pub fn parse_quantity(text: &str, dimension: Dimension) -> Result<f64, UnitError
     let factor = unit_factor(dimension, unit)
         .ok_or_else(|| fail(format!("'{unit}' is not a unit of {dimension}")))?;
     // Dividing by the exact power of ten keeps "20 um" at exactly 2e-5 (20 · 1e-6 is not).
-    Ok(if factor < 1.0 {
+    let si = if factor < 1.0 {
         value / (1.0 / factor).round()
     } else {
         value * factor
-    })
+    };
+    if !si.is_finite() {
+        return Err(fail(format!(
+            "it overflows to {si} in {}",
+            dimension.base_unit()
+        )));
+    }
+    if si != 0.0 && !si.is_normal() {
+        return Err(fail(format!(
+            "it underflows to the subnormal {si:e} {} (below {:e})",
+            dimension.base_unit(),
+            f64::MIN_POSITIVE
+        )));
+    }
+    Ok(si)
 }
 
 /// Format an SI value with a sensible prefix for human output, e.g. 2e-5 m → "20 um".
@@ -253,6 +267,10 @@ mod tests {
             parse_quantity("inf N", Dimension::Force).is_err(),
             "not finite"
         );
+        let err = parse_quantity("1e308 GHz", Dimension::Frequency).unwrap_err();
+        assert!(err.to_string().contains("overflows"), "{err}");
+        let err = parse_quantity("4.9e-324 MHz", Dimension::Frequency).unwrap_err();
+        assert!(err.to_string().contains("subnormal"), "{err}");
     }
 
     #[test]

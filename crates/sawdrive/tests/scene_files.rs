@@ -159,3 +159,49 @@ fn malformed_set_is_refused() {
         .to_string();
     assert!(message.starts_with("--set preload"), "{message}");
 }
+
+#[test]
+fn overflowing_underflowing_and_non_decimal_values_are_refused_naming_the_key() {
+    let cases: [(&str, &[&str], &str); 8] = [
+        ("", &["wave.frequency=1e308 GHz"], "wave.frequency"),
+        ("", &["wave.frequency=4.9e-324 MHz"], "wave.frequency"),
+        ("", &["posts.diameter=1e-200 m"], "posts.diameter"),
+        ("", &["posts.count=0x5"], "posts.count"),
+        ("", &["posts.count=+5x5"], "posts.count"),
+        ("", &["model.periods=0x10"], "model.periods"),
+        ("[model]\nperiods = 0x10\n", &[], "model.periods"),
+        ("[posts]\ncount = \"0x5x5\"\n", &[], "posts.count"),
+    ];
+    for (text, overrides, field) in cases {
+        let message = error_of(text, overrides);
+        assert!(
+            message.contains(field),
+            "error for {field} ({text}{overrides:?}) must name it: {message}"
+        );
+        assert!(!message.contains('\n'), "one-line error: {message}");
+    }
+}
+
+#[test]
+fn an_effective_ratio_the_fem_reports_above_one_reads_back_and_the_bound_is_shared() {
+    let file = scene_file("name = \"sparse\"\n[contact]\neffective_ratio = 1.03\n");
+    let scene = load_scene(Some(file.path()), &[]).expect("η = 1.03 (FEM, sparse array at 5 N)");
+    assert_eq!(scene.contact.effective_ratio, Some(1.03), "η read back");
+    let limit = contact_springs::effective_ratio::MAX_EFFECTIVE_RATIO;
+    let message = error_of("", &[&format!("effective_ratio={}", limit * 1.01)]);
+    assert!(
+        message.contains("contact.effective_ratio") && message.contains("1.5"),
+        "η above the shared bound refused naming the key and the bound: {message}"
+    );
+    let mut dynamic = stick_slip::DynamicScene::paper_default(1.8e6, 1.5e6);
+    dynamic.slider.effective_ratio = 1.03;
+    assert!(
+        dynamic.validate().is_ok(),
+        "stick-slip accepts the same η = 1.03"
+    );
+    dynamic.slider.effective_ratio = limit * 1.01;
+    assert!(
+        dynamic.validate().is_err(),
+        "stick-slip refuses η above the same bound"
+    );
+}

@@ -96,6 +96,32 @@ pub enum StickSlipError {
         /// The scene feature it cannot represent.
         reason: String,
     },
+    /// A run whose estimated memory exceeds the limit (checked before allocating).
+    #[error(
+        "the run would hold ≈ {estimate_bytes:.3e} bytes, above the limit of {limit_bytes:.3e} bytes (`options.max_memory_bytes`); the largest part is set by `{parameter}`: reduce it"
+    )]
+    MemoryLimit {
+        /// The option that sets the largest part of the estimate.
+        parameter: &'static str,
+        /// Estimated memory (bytes).
+        estimate_bytes: f64,
+        /// The limit (bytes).
+        limit_bytes: f64,
+    },
+    /// A run whose estimated work exceeds the limit (checked before integrating).
+    #[error(
+        "integrator `{integrator}`: estimated cost {estimate_post_steps:.3e} post-steps ({detail}) exceeds the limit {limit_post_steps:.1e} post-steps (`options.max_post_steps`, minutes of run time): use a larger time step, fewer periods, or the return-mapping / event-driven integrator"
+    )]
+    CostLimit {
+        /// Integrator name.
+        integrator: &'static str,
+        /// Estimated post-steps.
+        estimate_post_steps: f64,
+        /// The limit.
+        limit_post_steps: f64,
+        /// The factors of the estimate.
+        detail: String,
+    },
     /// Writing an output file failed.
     #[error("cannot write {path}: {source}")]
     Io {

@@ -27,6 +27,7 @@
 //! ```
 
 mod contact;
+mod cost;
 mod error;
 mod history;
 mod integrator;
@@ -44,6 +45,7 @@ pub mod validation;
 mod wave;
 
 pub use contact::{PAPER_FRICTION_COEFFICIENT, PostContact, SILICON_DENSITY_KG_PER_M3};
+pub use cost::{MAX_POST_STEPS, MAX_RUN_MEMORY_BYTES, MemoryEstimate, WorkEstimate};
 pub use error::{Result, StickSlipError, Warning};
 pub use history::{ContactState, PostHistory, SliderHistory};
 pub use integrator::{

@@ -126,6 +126,10 @@ pub struct SolveOptions {
     pub transient: TransientOptions,
     /// Time-history options.
     pub history: HistoryOptions,
+    /// Largest estimated memory of a run (bytes), checked before allocating.
+    pub max_memory_bytes: f64,
+    /// Largest estimated work of a run (post-steps), checked before integrating.
+    pub max_post_steps: f64,
 }
 
 impl Default for SolveOptions {
@@ -136,6 +140,8 @@ impl Default for SolveOptions {
             wave_limits: WaveLimits::default(),
             transient: TransientOptions::default(),
             history: HistoryOptions::default(),
+            max_memory_bytes: crate::cost::MAX_RUN_MEMORY_BYTES,
+            max_post_steps: crate::cost::MAX_POST_STEPS,
         }
     }
 }
@@ -213,6 +219,7 @@ impl DynamicScene {
         let model = self.resolve_model()?.0;
         let setting = self.stability_setting(model);
         let integrator = self.integrator.resolve(model, self.wave.period_s());
+        self.check_size(model, &integrator)?;
         warnings.extend(integrator.check(
             &setting,
             self.wave.period_s(),

@@ -237,7 +237,13 @@ impl Slider {
         require_positive("slider.mass_kg", self.mass_kg)?;
         require_positive("slider.preload_n", self.preload_n)?;
         require_finite("slider.external_load_n", self.external_load_n)?;
-        require_positive("slider.effective_ratio", self.effective_ratio)?;
+        contact_springs::effective_ratio::check(self.effective_ratio).map_err(|e| {
+            StickSlipError::InvalidParameter {
+                parameter: "slider.effective_ratio",
+                value: self.effective_ratio,
+                requirement: e.to_string(),
+            }
+        })?;
         if self.effective_ratio > 1.0 {
             warnings.push(Warning::new(
                 "slider.effective_ratio",

@@ -392,3 +392,72 @@ fn histories_for_the_charts_cover_the_requested_periods() {
     stick_slip::write_curve_csv(&result.curve, &dir.path().join("curve.csv")).unwrap();
     assert!(dir.path().join("curve.csv").exists(), "curve CSV written");
 }
+
+#[test]
+fn four_billion_transient_periods_are_refused_with_the_memory_estimate_before_allocating() {
+    let mut scene = paper_scene();
+    scene.model = ModelChoice::Transient;
+    scene.options.transient.periods = 4_294_967_295.0;
+    match scene.validate() {
+        Err(StickSlipError::MemoryLimit {
+            parameter,
+            estimate_bytes,
+            limit_bytes,
+        }) => {
+            assert_eq!(parameter, "options.transient.periods", "the size at fault");
+            assert!(
+                estimate_bytes > 1e11 && limit_bytes == stick_slip::MAX_RUN_MEMORY_BYTES,
+                "memory estimate {estimate_bytes} B against the limit {limit_bytes} B"
+            );
+        }
+        other => panic!("expected a memory-limit error, got {other:?}"),
+    }
+    let mut scene = paper_scene();
+    scene.options.curve_points = 4_000_000_000;
+    assert!(
+        matches!(
+            scene.validate(),
+            Err(StickSlipError::MemoryLimit {
+                parameter: "options.curve_points",
+                ..
+            })
+        ),
+        "4·10⁹ curve points refused naming options.curve_points"
+    );
+}
+
+#[test]
+fn a_regularized_run_above_the_cost_limit_is_refused_with_its_estimate() {
+    let mut scene = paper_scene();
+    scene.model = ModelChoice::Transient;
+    scene.contact.post_mass_kg = Some(1.46e-12);
+    let period = scene.wave.period_s();
+    scene.integrator = Integrator::RegularizedExplicit {
+        dt_s: period / 7e5,
+        regularization_speed_m_per_s: 1.1e-3,
+    };
+    scene.options.stability = StabilityPolicy::Warn;
+    match scene.validate() {
+        Err(StickSlipError::CostLimit {
+            estimate_post_steps,
+            limit_post_steps,
+            ..
+        }) => assert!(
+            estimate_post_steps > limit_post_steps
+                && limit_post_steps == stick_slip::MAX_POST_STEPS,
+            "cost estimate {estimate_post_steps} post-steps above the limit {limit_post_steps}"
+        ),
+        other => panic!("expected a cost-limit error, got {other:?}"),
+    }
+    let work = scene.work_estimate(ModelKind::Transient, &scene.integrator);
+    assert!(
+        (work.steps_per_period / 7e5 - 1.0).abs() < 1e-6,
+        "steps per period {} from T/dt",
+        work.steps_per_period
+    );
+    scene.options.max_post_steps = 1.1 * work.post_steps();
+    assert!(
+        !matches!(scene.validate(), Err(StickSlipError::CostLimit { .. })),
+        "a raised max_post_steps admits the same run"
+    );
+}

@@ -2,7 +2,7 @@
 
 use anyhow::anyhow;
 use sawdrive::output::StagedDir;
-use sawdrive::pipeline::{run_dynamic, run_static, write_dynamic_files};
+use sawdrive::pipeline::{run_dynamic, run_static, scene_springs, write_dynamic_files};
 use sawdrive::scene::load_scene;
 
 use crate::cli::StageArgs;
@@ -19,12 +19,14 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
             })?
         }
     };
-    let result = run_dynamic(&scene, eta)?;
+    let springs = scene_springs(&scene)?;
+    let run = run_dynamic(&scene, &springs, eta)?;
+    let result = &run.result;
     let staged = StagedDir::create(&args.out.join(&scene.name).join("dynamic"))?;
-    write_dynamic_files(&scene, eta, &result, staged.path())?;
+    write_dynamic_files(&scene.name, &run, staged.path())?;
     let folder = staged.commit()?;
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&result)?);
+        println!("{}", serde_json::to_string_pretty(result)?);
         return Ok(());
     }
     for w in &result.warnings {
@@ -50,6 +52,17 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
     );
     println!("max efficiency             {:.4}", result.efficiency);
     println!("stick fraction             {:.4}", result.stick_fraction);
+    let integrator = run
+        .scene
+        .integrator
+        .resolve(result.model, run.scene.wave.period_s());
+    let work = run.scene.work_estimate(result.model, &integrator);
+    println!(
+        "estimated work             {:.2e} post-steps, {} (limit {:.0e})",
+        work.post_steps(),
+        integrator.name(),
+        run.scene.options.max_post_steps
+    );
     println!("wall time                  {:.3} s", result.wall_time_s);
     println!("results in {}", folder.display());
     Ok(())

@@ -10,7 +10,7 @@ mod run;
 mod springs;
 mod statics;
 
-pub use dynamics::{dynamic_scene, run_dynamic, write_dynamic_files};
+pub use dynamics::{DynamicRun, dynamic_scene, run_dynamic, write_dynamic_files};
 pub use error::PipelineError;
 pub use run::{RunOptions, RunSummary, StageTimings, run_pipeline};
 pub use springs::scene_springs;

@@ -143,7 +143,8 @@ pub fn run_pipeline(
 
     bar.set_message("stick/slip dynamics");
     let t = Instant::now();
-    let dynamic: DynamicResult = run_dynamic(scene, effective_ratio)?;
+    let run = run_dynamic(scene, &springs, effective_ratio)?;
+    let dynamic: &DynamicResult = &run.result;
     timings.dynamic_s = t.elapsed().as_secs_f64();
 
     bar.set_message("writing results");
@@ -153,12 +154,7 @@ pub fn run_pipeline(
         if let Some(outcome) = &static_outcome {
             files.extend(write_static_files(outcome, staged.path())?);
         }
-        files.extend(write_dynamic_files(
-            scene,
-            effective_ratio,
-            &dynamic,
-            staged.path(),
-        )?);
+        files.extend(write_dynamic_files(&scene.name, &run, staged.path())?);
     }
     timings.output_s = t.elapsed().as_secs_f64();
     timings.total_s = start.elapsed().as_secs_f64();

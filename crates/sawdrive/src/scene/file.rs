@@ -119,14 +119,16 @@ pub struct ModelFile {
     pub time_step: AutoOr<Time>,
     /// Regularisation velocity of the tanh friction law (regularized integrator only).
     pub regularization_velocity: AutoOr<Velocity>,
-    /// Points on the speed–thrust curve.
-    pub curve_points: u32,
-    /// Wave periods simulated by the transient model.
-    pub periods: u32,
+    /// Points on the speed–thrust curve (period average: speeds; transient: loads); `"auto"`: 50
+    /// speeds for the period average, 6 loads for the transient.
+    pub curve_points: AutoOr<u32>,
+    /// Wave periods simulated by the transient model; `"auto"`: 1000. Refused for the period
+    /// average, which simulates none.
+    pub periods: AutoOr<u32>,
     /// `quasi-static` (⟨ΣN⟩ = P over a period) or `dynamic` (M z̈ = ΣN − P).
     pub vertical: String,
-    /// Damping ratio ζ of the slider's vertical mode (`vertical = "dynamic"`).
-    pub vertical_damping_ratio: f64,
+    /// Damping ratio ζ of the slider's vertical mode (`vertical = "dynamic"` only); `"auto"`: 0.05.
+    pub vertical_damping_ratio: AutoOr<f64>,
 }
 
 /// Static FEM contact settings.

@@ -91,6 +91,11 @@ pub(crate) fn override_table(text: &str) -> Result<Table, SceneError> {
     {
         return Err(bad("keys are dotted names like posts.count"));
     }
+    if is_non_decimal_integer(raw) {
+        return Err(bad(
+            "decimal integers only: hexadecimal, octal and binary literals are not read as numbers",
+        ));
+    }
     let value = format!("v = {raw}")
         .parse::<Table>()
         .ok()
@@ -106,6 +111,13 @@ pub(crate) fn override_table(text: &str) -> Result<Table, SceneError> {
         insert_path(&mut table, path, value.clone());
     }
     Ok(table)
+}
+
+/// Whether `text` is a TOML integer literal in base 16, 8 or 2 (`0x5`, `-0o7`, `0b1`).
+pub(crate) fn is_non_decimal_integer(text: &str) -> bool {
+    let digits = text.trim().trim_start_matches(['+', '-']);
+    let lower = digits.get(..2).map(str::to_ascii_lowercase);
+    matches!(lower.as_deref(), Some("0x" | "0o" | "0b"))
 }
 
 fn insert_path(table: &mut Table, path: &str, value: Value) {
@@ -141,7 +153,15 @@ mod tests {
 
     #[test]
     fn malformed_overrides_are_refused() {
-        for text in ["preload", "=3", "a..b=1", "posts.count="] {
+        for text in [
+            "preload",
+            "=3",
+            "a..b=1",
+            "posts.count=",
+            "posts.count=0x5",
+            "model.periods=0o17",
+            "model.periods=-0b1",
+        ] {
             assert!(override_table(text).is_err(), "{text} must be refused");
         }
     }

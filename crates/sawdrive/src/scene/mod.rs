@@ -13,8 +13,9 @@ mod resolved;
 use std::path::Path;
 
 pub use resolved::{
-    Contact, DynamicsChoice, Friction, IntegratorChoice, Load, Model, Posts, Scene, Slider,
-    StaticSettings, StatorChoice, VerticalChoice, Wave,
+    Contact, DEFAULT_CURVE_POINTS, DEFAULT_TRANSIENT_PERIODS, DEFAULT_VERTICAL_DAMPING_RATIO,
+    DynamicsChoice, Friction, IntegratorChoice, Load, Model, Posts, Scene, Slider, StaticSettings,
+    StatorChoice, VerticalChoice, Wave,
 };
 
 /// The embedded default scene: the source paper's motor.
@@ -85,6 +86,7 @@ pub fn load_scene(path: Option<&Path>, overrides: &[String]) -> Result<Scene, Sc
                 source,
             })?;
             let origin = path.display().to_string();
+            check_decimal_integers(&text, &origin)?;
             let mut user = parse_table(&text, &origin)?;
             resolve_relative_mesh(&mut user, path);
             merge::deep_merge(&mut table, user);
@@ -114,6 +116,43 @@ pub fn load_scene(path: Option<&Path>, overrides: &[String]) -> Result<Scene, Sc
         })?;
     check_name(&file.name)?;
     Scene::resolve(file)
+}
+
+/// Refuse TOML integers written in base 16, 8 or 2 (`count = 0x5`): scene numbers are decimal.
+/// Reads `key = value` lines under their `[table]` header (the TOML parser keeps no spelling).
+fn check_decimal_integers(text: &str, origin: &str) -> Result<(), SceneError> {
+    let mut table = String::new();
+    for line in text.lines().map(str::trim) {
+        if let Some(header) = line.strip_prefix('[') {
+            table = header
+                .split(']')
+                .next()
+                .unwrap_or_default()
+                .trim()
+                .to_owned();
+            continue;
+        }
+        let Some((key, value)) = line.split_once('=') else {
+            continue;
+        };
+        let value = value.split('#').next().unwrap_or_default();
+        if merge::is_non_decimal_integer(value) {
+            let key = key.trim().trim_matches('"');
+            return Err(SceneError::Field {
+                origin: origin.to_owned(),
+                field: if table.is_empty() {
+                    key.to_owned()
+                } else {
+                    format!("{table}.{key}")
+                },
+                message: format!(
+                    "{}: decimal integers only (hexadecimal, octal and binary literals are refused)",
+                    value.trim()
+                ),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// A relative `static.mesh` in a scene file is relative to that file's folder.

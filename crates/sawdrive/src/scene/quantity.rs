@@ -110,8 +110,16 @@ impl<'de> Deserialize<'de> for PostCount {
             ))
         };
         let (x, y) = text.split_once(['x', 'X', '×']).ok_or_else(fail)?;
-        let along_x: u32 = x.trim().parse().map_err(|_| fail())?;
-        let along_y: u32 = y.trim().parse().map_err(|_| fail())?;
+        let decimal = |part: &str| -> Result<u32, D::Error> {
+            let part = part.trim();
+            if part.is_empty() || !part.bytes().all(|b| b.is_ascii_digit()) {
+                return Err(de::Error::custom(format!(
+                    "post array \"{text}\": counts are decimal integers like \"100x100\" (no signs, hexadecimal or other bases)"
+                )));
+            }
+            part.parse().map_err(|_| fail())
+        };
+        let (along_x, along_y) = (decimal(x)?, decimal(y)?);
         if along_x == 0 || along_y == 0 {
             return Err(de::Error::custom(format!(
                 "post array \"{text}\" must have at least one post each way"
@@ -121,7 +129,9 @@ impl<'de> Deserialize<'de> for PostCount {
     }
 }
 
-/// The effective contact ratio η: a number in (0, 1] or `"fem"` (computed by the static stage).
+/// The effective contact ratio η: a number (the contract of
+/// [`contact_springs::effective_ratio::check`]: finite, 0 < η ≤ 1.5, so a η the static stage
+/// reports, even above 1, reads back) or `"fem"` (computed by the static stage).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum EffectiveRatio {
     /// Computed by the static FEM contact stage.
@@ -133,16 +143,18 @@ pub enum EffectiveRatio {
 impl<'de> Deserialize<'de> for EffectiveRatio {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
         let value = toml::Value::deserialize(deserializer)?;
-        let fail = || {
-            de::Error::custom(format!(
-                "expected a number in (0, 1] or \"fem\", got {value}"
-            ))
+        let number = match &value {
+            toml::Value::String(s) if s == "fem" => return Ok(Self::Fem),
+            toml::Value::Float(v) => *v,
+            toml::Value::Integer(v) => *v as f64,
+            _ => {
+                return Err(de::Error::custom(format!(
+                    "expected a number or \"fem\", got {value}"
+                )));
+            }
         };
-        match &value {
-            toml::Value::String(s) if s == "fem" => Ok(Self::Fem),
-            toml::Value::Float(v) if *v > 0.0 && *v <= 1.0 => Ok(Self::Given(*v)),
-            toml::Value::Integer(1) => Ok(Self::Given(1.0)),
-            _ => Err(fail()),
-        }
+        contact_springs::effective_ratio::check(number)
+            .map(Self::Given)
+            .map_err(de::Error::custom)
     }
 }

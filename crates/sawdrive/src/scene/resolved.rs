@@ -148,12 +148,25 @@ pub struct Model {
     pub integrator: IntegratorChoice,
     /// `None`: chosen inside the stability limit.
     pub time_step_s: Option<f64>,
+    /// `None`: 1e-3 of the crest speed (regularized integrator only).
     pub regularization_velocity_m_per_s: Option<f64>,
-    pub curve_points: u32,
-    pub periods: u32,
+    /// `None`: the model's default (50 speeds, or 6 transient loads).
+    pub curve_points: Option<u32>,
+    /// `None`: [`DEFAULT_TRANSIENT_PERIODS`] (transient only).
+    pub periods: Option<u32>,
     pub vertical: VerticalChoice,
-    pub vertical_damping_ratio: f64,
+    /// `None`: [`DEFAULT_VERTICAL_DAMPING_RATIO`] (dynamic vertical only).
+    pub vertical_damping_ratio: Option<f64>,
 }
+
+/// Wave periods of the transient when `model.periods = "auto"`. Default 1000.
+pub const DEFAULT_TRANSIENT_PERIODS: u32 = 1000;
+/// Points on the period average's speed–thrust curve when `model.curve_points = "auto"`.
+/// Default 50.
+pub const DEFAULT_CURVE_POINTS: u32 = 50;
+/// Damping ratio of the slider's vertical mode when `model.vertical_damping_ratio = "auto"`.
+/// Default 0.05.
+pub const DEFAULT_VERTICAL_DAMPING_RATIO: f64 = 0.05;
 
 /// Static FEM contact settings.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -174,11 +187,31 @@ fn invalid(field: &str, message: impl Into<String>) -> SceneError {
     }
 }
 
+/// A value that must be finite, > 0 and normal (a subnormal value loses precision and turns
+/// its reciprocals, like the wave period, into infinity).
 fn positive(field: &str, value: f64) -> Result<f64, SceneError> {
-    if value.is_finite() && value > 0.0 {
+    if value.is_finite() && value > 0.0 && value.is_normal() {
         Ok(value)
     } else {
-        Err(invalid(field, format!("must be > 0, got {value}")))
+        Err(invalid(
+            field,
+            format!("must be finite and > 0, got {value:e}"),
+        ))
+    }
+}
+
+/// A quantity derived from `field` (ω, λ, pitch, mass, …): refused naming `field` when the
+/// product or quotient overflows, underflows or is not positive.
+fn derived(field: &str, name: &str, value: f64) -> Result<f64, SceneError> {
+    if value.is_finite() && value > 0.0 && value.is_normal() {
+        Ok(value)
+    } else {
+        Err(invalid(
+            field,
+            format!(
+                "the derived {name} = {value:e} is not a finite positive number: the value is out of range"
+            ),
+        ))
     }
 }
 
@@ -233,10 +266,19 @@ impl Scene {
     pub(crate) fn resolve(file: SceneFile) -> Result<Self, SceneError> {
         let w = &file.wave;
         let frequency_hz = positive("wave.frequency", w.frequency.0)?;
-        let omega = 2.0 * std::f64::consts::PI * frequency_hz;
+        let omega = derived(
+            "wave.frequency",
+            "angular frequency ω = 2πf (rad/s)",
+            2.0 * std::f64::consts::PI * frequency_hz,
+        )?;
+        derived("wave.frequency", "wave period 1/f (s)", 1.0 / frequency_hz)?;
         let normal_amplitude_m = positive("wave.normal_amplitude", w.normal_amplitude.0)?;
         let tangential_amplitude_m = match (w.tangential_velocity, w.tangential_amplitude) {
-            (Some(v), None) => positive("wave.tangential_velocity", v.0)? / omega,
+            (Some(v), None) => derived(
+                "wave.tangential_velocity",
+                "tangential amplitude V_t/ω (m)",
+                positive("wave.tangential_velocity", v.0)? / omega,
+            )?,
             (None, Some(a)) => positive("wave.tangential_amplitude", a.0)?,
             _ => {
                 return Err(invalid(
@@ -254,13 +296,23 @@ impl Scene {
             .burst_periods
             .map(|b| positive("wave.burst_periods", b))
             .transpose()?;
+        let tangential_velocity_m_per_s = derived(
+            "wave.tangential_amplitude",
+            "tangential velocity A_t ω (m/s)",
+            tangential_amplitude_m * omega,
+        )?;
+        let wavelength_m = derived(
+            "wave.phase_velocity",
+            "wavelength λ = c/f (m)",
+            phase_velocity_m_per_s / frequency_hz,
+        )?;
         let wave = Wave {
             frequency_hz,
             normal_amplitude_m,
             tangential_amplitude_m,
-            tangential_velocity_m_per_s: tangential_amplitude_m * omega,
+            tangential_velocity_m_per_s,
             phase_velocity_m_per_s,
-            wavelength_m: phase_velocity_m_per_s / frequency_hz,
+            wavelength_m,
             decay_length_m,
             burst_periods,
         };
@@ -295,8 +347,16 @@ impl Scene {
         }
         let (count_x, count_y) = (p.count.along_x, p.count.along_y);
         let (pitch_x_m, pitch_y_m) = (
-            array_x_m / f64::from(count_x),
-            array_y_m / f64::from(count_y),
+            derived(
+                "posts.count",
+                "pitch along x (m)",
+                array_x_m / f64::from(count_x),
+            )?,
+            derived(
+                "posts.count",
+                "pitch along y (m)",
+                array_y_m / f64::from(count_y),
+            )?,
         );
         if diameter_m >= pitch_x_m.min(pitch_y_m) {
             return Err(invalid(
@@ -319,16 +379,31 @@ impl Scene {
             array_y_m,
             pitch_x_m,
             pitch_y_m,
-            contact_area_m2: count as f64 * std::f64::consts::PI * diameter_m * diameter_m / 4.0,
+            contact_area_m2: derived(
+                "posts.diameter",
+                "contact area N·πd²/4 (m²)",
+                count as f64 * std::f64::consts::PI * diameter_m * diameter_m / 4.0,
+            )?,
         };
 
         let (mass_kg, mass_source) = match s.mass {
             AutoOr::Auto => (
-                slider_material.density_kg_per_m3 * length_m * width_m * thickness_m,
+                derived(
+                    "slider.mass",
+                    "mass ρ·length·width·thickness (kg)",
+                    slider_material.density_kg_per_m3 * length_m * width_m * thickness_m,
+                )?,
                 "geometry",
             ),
             AutoOr::Value(m) => (positive("slider.mass", m.0)?, "given"),
         };
+        derived(
+            "posts.height",
+            "post mass ρπd²h/4 (kg)",
+            slider_material.density_kg_per_m3 * std::f64::consts::PI * diameter_m * diameter_m
+                / 4.0
+                * height_m,
+        )?;
         let slider = Slider {
             material: slider_material,
             length_m,
@@ -416,32 +491,58 @@ impl Scene {
         };
         let regularization_velocity_m_per_s = match m.regularization_velocity {
             AutoOr::Auto => None,
-            AutoOr::Value(v) => Some(positive("model.regularization_velocity", v.0)?),
+            AutoOr::Value(v) => {
+                if integrator != IntegratorChoice::Regularized {
+                    return Err(invalid(
+                        "model.regularization_velocity",
+                        "applies only to integrator = \"regularized\" (tanh friction); remove it or set it to \"auto\"",
+                    ));
+                }
+                Some(positive("model.regularization_velocity", v.0)?)
+            }
         };
-        if m.curve_points < 2 {
-            return Err(invalid(
-                "model.curve_points",
-                "need at least 2 points on the speed–thrust curve",
-            ));
-        }
-        if m.periods == 0 {
-            return Err(invalid("model.periods", "need at least one wave period"));
-        }
-        if !(m.vertical_damping_ratio.is_finite() && m.vertical_damping_ratio >= 0.0) {
-            return Err(invalid(
-                "model.vertical_damping_ratio",
-                format!("must be ≥ 0, got {}", m.vertical_damping_ratio),
-            ));
-        }
+        let curve_points = match m.curve_points {
+            AutoOr::Auto => None,
+            AutoOr::Value(n) if n < 2 => {
+                return Err(invalid(
+                    "model.curve_points",
+                    "need at least 2 points on the speed–thrust curve",
+                ));
+            }
+            AutoOr::Value(n) => Some(n),
+        };
+        let periods = match m.periods {
+            AutoOr::Auto => None,
+            AutoOr::Value(0) => {
+                return Err(invalid("model.periods", "need at least one wave period"));
+            }
+            AutoOr::Value(n) => Some(n),
+        };
+        let vertical_damping_ratio = match m.vertical_damping_ratio {
+            AutoOr::Auto => None,
+            AutoOr::Value(_) if vertical == VerticalChoice::QuasiStatic => {
+                return Err(invalid(
+                    "model.vertical_damping_ratio",
+                    "applies only to vertical = \"dynamic\" (the quasi-static slider has no vertical mode); remove it or set it to \"auto\"",
+                ));
+            }
+            AutoOr::Value(zeta) if !(zeta.is_finite() && zeta >= 0.0) => {
+                return Err(invalid(
+                    "model.vertical_damping_ratio",
+                    format!("must be ≥ 0, got {zeta}"),
+                ));
+            }
+            AutoOr::Value(zeta) => Some(zeta),
+        };
         let model = Model {
             dynamics,
             integrator,
             time_step_s,
             regularization_velocity_m_per_s,
-            curve_points: m.curve_points,
-            periods: m.periods,
+            curve_points,
+            periods,
             vertical,
-            vertical_damping_ratio: m.vertical_damping_ratio,
+            vertical_damping_ratio,
         };
 
         let st = &file.static_fem;
