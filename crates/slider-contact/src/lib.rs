@@ -27,6 +27,7 @@
 //! ```
 
 pub mod bessel;
+pub mod calibration;
 mod error;
 pub mod heights;
 pub mod lattice;
@@ -35,6 +36,7 @@ pub mod rng;
 pub mod slider;
 pub mod solver;
 
+pub use calibration::{NearFieldCalibration, calibrate_near_field};
 pub use error::{Result, SliderError};
 pub use heights::{HeightMap, Imperfections};
 pub use lattice::{
