@@ -7,11 +7,11 @@ use slider_contact::{ComplianceOperator, SliderModel, SliderParams};
 
 fn main() -> anyhow::Result<()> {
     let side: usize = std::env::args().nth(1).map_or(Ok(100), |s| s.parse())?;
-    let pitch = 4e-3 / side as f64 * (100.0 / 100.0);
+    // A square array of side² posts of 20 µm in the default 4 × 4 mm area (side < 200).
     let params = SliderParams {
         posts_x: side,
         posts_y: side,
-        post_pitch_m: if side == 100 { 40e-6 } else { pitch.min(40e-6) },
+        post_pitch_m: 4e-3 / side as f64,
         ..SliderParams::default()
     };
     let model = SliderModel::build(&params)?;

@@ -26,7 +26,7 @@ pub fn j0(x: f64) -> f64 {
         let q = -0.1562499995e-1
             + y * (0.1430488765e-3
                 + y * (-0.6911147651e-5 + y * (0.7621095161e-6 - y * 0.934935152e-7)));
-        (0.636619772 / ax).sqrt() * (xx.cos() * p - z * xx.sin() * q)
+        (std::f64::consts::FRAC_2_PI / ax).sqrt() * (xx.cos() * p - z * xx.sin() * q)
     }
 }
 

@@ -166,6 +166,62 @@ impl Imperfections {
         Ok(())
     }
 
+    /// The tilt-and-bow part of δ at a point (x, y) from the slider's centre (m).
+    fn shape_m(&self, g: &LatticeGeometry, x: f64, y: f64) -> f64 {
+        let (l, w) = (g.slider_length_m, g.slider_width_m);
+        -self.tilt_x_m * x / l
+            - self.tilt_y_m * y / w
+            - self.bow_m * (x * x + y * y) / (0.25 * (l * l + w * w))
+    }
+
+    /// Refuses a tilt or bow that brings a corner of the slider body (its underside, `post_height_m`
+    /// above the post tips) onto the stator before the posts: then the body, not the posts,
+    /// carries the preload and every post is lifted off. Compares the body's lowest corner with
+    /// the most protruding post (offsets δ from [`Imperfections::post_offsets_m`]).
+    pub fn check_body_clearance(
+        &self,
+        g: &LatticeGeometry,
+        post_height_m: f64,
+        offsets_m: &[f64],
+    ) -> Result<()> {
+        let highest_post = offsets_m.iter().copied().fold(f64::MIN, f64::max);
+        let (hl, hw) = (0.5 * g.slider_length_m, 0.5 * g.slider_width_m);
+        for (x, y) in [(-hl, -hw), (-hl, hw), (hl, -hw), (hl, hw)] {
+            let body = self.shape_m(g, x, y);
+            if body - post_height_m > highest_post {
+                let parts = [
+                    (
+                        "tilt_x_m",
+                        self.tilt_x_m,
+                        (self.tilt_x_m * x / g.slider_length_m).abs(),
+                    ),
+                    (
+                        "tilt_y_m",
+                        self.tilt_y_m,
+                        (self.tilt_y_m * y / g.slider_width_m).abs(),
+                    ),
+                    ("bow_m", self.bow_m, self.bow_m.abs()),
+                ];
+                let (field, value, _) = parts
+                    .into_iter()
+                    .max_by(|a, b| a.2.total_cmp(&b.2))
+                    .expect("three parts");
+                return Err(invalid(
+                    field,
+                    value,
+                    format!(
+                        "lifts every post off: the slider body's corner at ({:.3e}, {:.3e}) m from its \
+                         centre would reach the stator {:.3e} m before the posts (post height {post_height_m:.3e} m)",
+                        x,
+                        y,
+                        body - post_height_m - highest_post
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// δ_i (m) of every post in lattice order.
     pub fn post_offsets_m(&self, g: &LatticeGeometry) -> Result<Vec<f64>> {
         self.validate(g)?;
@@ -175,7 +231,6 @@ impl Imperfections {
             vec![0.0; g.len()]
         };
         let (l, w) = (g.slider_length_m, g.slider_width_m);
-        let corner2 = 0.25 * (l * l + w * w);
         let mut out = Vec::with_capacity(g.len());
         for i in 0..g.posts_x {
             let x = g.x_m(i) - 0.5 * l;
@@ -183,12 +238,7 @@ impl Imperfections {
                 let y = g.y_m(j) - 0.5 * w;
                 let idx = g.index(i, j);
                 let map = self.height_map.as_ref().map_or(0.0, |m| m.height_m[idx]);
-                out.push(
-                    self.height_scatter_m * scatter[idx] + map
-                        - self.tilt_x_m * x / l
-                        - self.tilt_y_m * y / w
-                        - self.bow_m * (x * x + y * y) / corner2,
-                );
+                out.push(self.height_scatter_m * scatter[idx] + map + self.shape_m(g, x, y));
             }
         }
         Ok(out)
@@ -286,6 +336,37 @@ mod tests {
             (bow[0] - expected).abs() < 1e-21,
             "bow δ of a corner post: {}",
             bow[0]
+        );
+    }
+
+    #[test]
+    fn a_tilt_that_lands_the_body_corner_first_is_refused_naming_the_tilt() {
+        let g = LatticeGeometry {
+            posts_x: 10,
+            posts_y: 10,
+            pitch_m: 40e-6,
+            post_radius_m: 10e-6,
+            slider_length_m: 5e-3,
+            slider_width_m: 5e-3,
+        };
+        let ok = Imperfections {
+            tilt_x_m: 100e-9,
+            ..Default::default()
+        };
+        ok.check_body_clearance(&g, 2e-6, &ok.post_offsets_m(&g).unwrap())
+            .expect("100 nm tilt is fine");
+        // The body corner, 0.5 mm beyond the last post, drops 30 µm × 0.5/5 = 3 µm > h = 2 µm below it.
+        let steep = Imperfections {
+            tilt_x_m: -30e-6,
+            ..Default::default()
+        };
+        let e = steep
+            .check_body_clearance(&g, 2e-6, &steep.post_offsets_m(&g).unwrap())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("tilt_x_m") && e.contains("lifts every post off"),
+            "{e}"
         );
     }
 

@@ -134,14 +134,14 @@ impl LatticeGeometry {
             self.posts_x as f64 * self.pitch_m,
             self.posts_y as f64 * self.pitch_m,
         );
-        if !(self.slider_length_m >= lx * (1.0 - 1e-9)) {
+        if self.slider_length_m.is_nan() || self.slider_length_m < lx * (1.0 - 1e-9) {
             return Err(invalid(
                 "slider_length_m",
                 self.slider_length_m,
                 format!("shorter than the post array ({lx} m)"),
             ));
         }
-        if !(self.slider_width_m >= ly * (1.0 - 1e-9)) {
+        if self.slider_width_m.is_nan() || self.slider_width_m < ly * (1.0 - 1e-9) {
             return Err(invalid(
                 "slider_width_m",
                 self.slider_width_m,

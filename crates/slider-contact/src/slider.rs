@@ -62,6 +62,8 @@ pub struct SliderParams {
     pub stator_material: Material,
     /// Post diameter d (m).
     pub post_diameter_m: f64,
+    /// Post height h (m): the clearance of the body above the post tips.
+    pub post_height_m: f64,
     /// Posts along x.
     pub posts_x: usize,
     /// Posts along y.
@@ -101,6 +103,7 @@ impl Default for SliderParams {
             slider_material: Material::silicon(),
             stator_material: Material::lithium_niobate(),
             post_diameter_m: 20e-6,
+            post_height_m: 2e-6,
             posts_x: 100,
             posts_y: 100,
             post_pitch_m: 40e-6,
@@ -154,6 +157,7 @@ impl SliderParams {
             }
         };
         positive("preload_n", self.preload_n)?;
+        positive("post_height_m", self.post_height_m)?;
         positive("wavelength_m", self.wavelength_m)?;
         if !(self.wave_amplitude_m >= 0.0 && self.wave_amplitude_m.is_finite()) {
             return Err(invalid(
@@ -252,6 +256,11 @@ impl SliderModel {
         let start = Instant::now();
         params.validate()?;
         let post_offset_m = params.imperfections.post_offsets_m(&params.geometry())?;
+        params.imperfections.check_body_clearance(
+            &params.geometry(),
+            params.post_height_m,
+            &post_offset_m,
+        )?;
         let operator = LatticeOperator::new(&params.operator_spec())?;
         Ok(Self {
             params: params.clone(),

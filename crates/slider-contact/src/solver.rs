@@ -236,12 +236,10 @@ mod tests {
         let c = DMatrix::identity(n, n) / k;
         let sol = ConstrainedCg::default().solve(&c, &h, 0.8, 20e-9).unwrap();
         let (expected, _) = independent_posts(&h, k, 0.8);
-        for i in 0..n {
+        for (i, (f, e)) in sol.force_n.iter().zip(&expected).enumerate() {
             assert!(
-                (sol.force_n[i] - expected[i]).abs() < 1e-8 * 0.8 / n as f64,
-                "force on post {i}: CG {} vs closed form {}",
-                sol.force_n[i],
-                expected[i]
+                (f - e).abs() < 1e-8 * 0.8 / n as f64,
+                "force on post {i}: CG {f} vs closed form {e}"
             );
         }
         assert!(

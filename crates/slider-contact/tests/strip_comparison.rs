@@ -132,3 +132,65 @@ fn identical_rows_rigid_back_no_scatter_reproduce_the_strip_eta_within_2_percent
         );
     }
 }
+
+/// The default slider (100 × 100 posts, 0.5 mm margins) against the default strip FEM (the whole
+/// row with margins, Tet10, tips at a/2; gmsh meshing and ≈ 1 min of condensation):
+/// `cargo test -p slider-contact --profile test --test strip_comparison -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn the_default_slider_reproduces_the_default_strip_eta() {
+    let params = StaticParams::default();
+    let prepared = static_contact::prepare_strip(&params).expect("default strip FEM");
+    let k_n = post_springs(
+        &params.slider_material,
+        &params.stator_material,
+        0.5 * params.post_diameter_m,
+    )
+    .unwrap()
+    .k_n_n_per_m;
+    let cal = calibrate_near_field(&prepared.model, params.slider_thickness_m).unwrap();
+    println!(
+        "default strip: s_post {:.4e} m/N (Johnson {:.4e}), worst differential mismatch {:.4}",
+        cal.slider_self_compliance_m_per_n,
+        cal.johnson_m_per_n,
+        cal.worst_differential_mismatch()
+    );
+    let calibrated = SliderModel::build(&SliderParams {
+        near_field: cal.near_field(),
+        ..SliderParams::default()
+    })
+    .unwrap();
+    let johnson = SliderModel::build(&SliderParams::default()).unwrap();
+    for preload in [10.0, 40.0, 100.0] {
+        let strip_eta = analyse_preload(
+            &prepared.model,
+            &params,
+            preload,
+            k_n,
+            ActiveSetOptions::default(),
+        )
+        .unwrap()
+        .effective_contact_ratio
+        .unwrap();
+        let eta = calibrated
+            .analyse(preload)
+            .unwrap()
+            .effective_contact_ratio
+            .unwrap();
+        let eta_johnson = johnson
+            .analyse(preload)
+            .unwrap()
+            .effective_contact_ratio
+            .unwrap();
+        println!(
+            "P = {preload} N: η strip {strip_eta:.4}, slider (calibrated) {eta:.4} ({:+.2} %), \
+             slider (Johnson near field) {eta_johnson:.4} ({:+.2} %)",
+            100.0 * (eta / strip_eta - 1.0),
+            100.0 * (eta_johnson / strip_eta - 1.0)
+        );
+        assert!(
+            (eta / strip_eta - 1.0).abs() < 0.02,
+            "η of the default slider at {preload} N: {eta:.4} vs strip {strip_eta:.4}"
+        );
+    }
+}
