@@ -88,7 +88,10 @@ fn write_map(dir: &Path, name: &str, r: &SliderReport) -> anyhow::Result<()> {
         categories: FORCE_CLASSES.iter().map(|(_, n)| n.to_string()).collect(),
         ..CategoryMap::default()
     };
-    write_category_map(&map, &dir.join(format!("post_force_map_{name}")))?;
+    let stem = dir.join(format!("post_force_map_{name}"));
+    write_category_map(&map, &stem)?;
+    // The 10 000-cell SVG is ≈ 0.9 MB; the PNG carries the map.
+    std::fs::remove_file(stem.with_extension("svg"))?;
     let mut f = std::fs::File::create(dir.join(format!("post_forces_{name}.csv")))?;
     writeln!(f, "row,column,force_n")?;
     for i in 0..r.posts_x {
