@@ -130,6 +130,7 @@ fn main() -> anyhow::Result<()> {
             let (eta, eta_sd) = mean_sd(&col(&|r| r.effective_contact_ratio.unwrap_or(f64::NAN)));
             let (cf, cf_sd) = mean_sd(&col(&|r| r.contact_fraction));
             let (ls, ls_sd) = mean_sd(&col(&|r| r.load_sharing));
+            let (misfit, _) = mean_sd(&col(&|r| r.eta_fit.relative_rms_residual));
             println!(
                 "| {sigma_nm} | {p} | {eta:.4} ± {eta_sd:.4} | {cf:.3} ± {cf_sd:.3} | {ls:.3} ± {ls_sd:.3} |"
             );
@@ -137,6 +138,7 @@ fn main() -> anyhow::Result<()> {
                 "height_scatter_m": sigma_nm * 1e-9, "seeds": seeds, "preload_n": p,
                 "eta_mean": eta, "eta_sd": eta_sd, "contact_fraction_mean": cf,
                 "contact_fraction_sd": cf_sd, "load_sharing_mean": ls, "load_sharing_sd": ls_sd,
+                "eta_relative_rms_residual_mean": misfit,
             }));
         }
     }
@@ -229,11 +231,12 @@ fn main() -> anyhow::Result<()> {
         let reports = analyse(imp)?;
         for r in &reports {
             println!(
-                "| {name} | {} | {:.4} | {:.3} | {:.3} |",
+                "| {name} | {} | {:.4} | {:.3} | {:.3} | {:.3} |",
                 r.preload_n,
                 r.effective_contact_ratio.unwrap_or(f64::NAN),
                 r.contact_fraction,
-                r.load_sharing
+                r.load_sharing,
+                r.eta_fit.relative_rms_residual
             );
         }
         if name == "tilt_y 100 nm" {
