@@ -12,6 +12,7 @@ use std::f64::consts::PI;
 use std::time::Instant;
 
 use contact_springs::{Material, post_springs};
+use rayon::prelude::*;
 use serde::Serialize;
 use static_contact::{EtaFit, FitSample, fit_eta};
 
@@ -321,7 +322,9 @@ impl SliderModel {
         )
         .map_err(|e| invalid("post_diameter_m", p.post_diameter_m, e.to_string()))?
         .k_n_n_per_m;
+        // Phases are independent solves on the shared operator: in parallel (deterministic).
         let snapshots = (0..p.phases)
+            .into_par_iter()
             .map(|k| self.solve_phase(preload_n, Some(2.0 * PI * k as f64 / p.phases as f64)))
             .collect::<Result<Vec<_>>>()?;
         let samples: Vec<FitSample> = snapshots
