@@ -34,6 +34,19 @@ fn main() -> anyhow::Result<()> {
         model.operator.apply(&f, &mut u);
     }
     println!("one C·f: {:.2} ms", t.elapsed().as_secs_f64() / 20.0 * 1e3);
+    let flat = model.solve_phase(40.0, None)?;
+    let f = &flat.force_n;
+    let (lo, hi) = f
+        .iter()
+        .fold((f64::MAX, 0.0f64), |(a, b), &x| (a.min(x), b.max(x)));
+    println!(
+        "flat stator, 40 N: load sharing {:.4}, post force min/mean/max {:.3e} / {:.3e} / {:.3e} N ({} iterations)",
+        flat.load_sharing,
+        lo,
+        40.0 / f.len() as f64,
+        hi,
+        flat.iterations
+    );
     for preload in [10.0, 40.0, 100.0] {
         let r = model.analyse(preload)?;
         let its: Vec<usize> = r.snapshots.iter().map(|s| s.iterations).collect();
