@@ -1,0 +1,53 @@
+//! The default slider (100 × 100 posts, 4 phases, one preload of 40 N, rigid back): operator
+//! build, one phase, the whole stage; and one phase against the lattice size (1 000 → 40 000
+//! posts at the default pitch and per-post load).
+//!
+//! `cargo bench -p slider-contact --bench default_slider`
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use slider_contact::{SliderModel, SliderParams, run};
+
+fn lattice(side_x: usize, side_y: usize) -> SliderParams {
+    SliderParams {
+        posts_x: side_x,
+        posts_y: side_y,
+        slider_length_m: side_x as f64 * 40e-6 + 1e-3,
+        slider_width_m: side_y as f64 * 40e-6 + 1e-3,
+        preload_n: 4e-3 * (side_x * side_y) as f64,
+        ..SliderParams::default()
+    }
+}
+
+fn default_slider(c: &mut Criterion) {
+    let params = SliderParams::default();
+    let mut group = c.benchmark_group("default_slider");
+    group.sample_size(10);
+    group.bench_function("operator_build", |b| {
+        b.iter(|| SliderModel::build(&params).unwrap())
+    });
+    let model = SliderModel::build(&params).unwrap();
+    group.bench_function("one_phase_40n", |b| {
+        b.iter(|| model.solve_phase(40.0, Some(0.0)).unwrap())
+    });
+    group.bench_function("four_phases_and_eta_40n", |b| {
+        b.iter(|| model.analyse(40.0).unwrap())
+    });
+    group.bench_function("whole_stage_40n", |b| b.iter(|| run(&params).unwrap()));
+    group.finish();
+}
+
+fn growth(c: &mut Criterion) {
+    let mut group = c.benchmark_group("one_phase_vs_posts");
+    group.sample_size(10);
+    for (nx, ny) in [(32, 32), (71, 71), (100, 100), (141, 141), (200, 200)] {
+        let params = lattice(nx, ny);
+        let model = SliderModel::build(&params).unwrap();
+        group.bench_function(format!("{}_posts", nx * ny), |b| {
+            b.iter(|| model.solve_phase(params.preload_n, Some(0.0)).unwrap())
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, default_slider, growth);
+criterion_main!(benches);

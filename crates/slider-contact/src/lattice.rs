@@ -1,0 +1,584 @@
+//! The compliance operator C of all N posts of the slider on their square lattice, applied as a
+//! zero-padded FFT convolution in O(N log N) (DC-FFT: S. Liu, Q. Wang & G. Liu, Wear 243 (2000)
+//! 101): C_ij depends only on the lattice offset of posts i and j, so C·f is a linear (not
+//! circular) 2D convolution, computed exactly on a grid padded to 2n_x × 2n_y.
+//!
+//! **Two scales.** With r the centre distance of posts i ≠ j and a the post radius:
+//!
+//! C_ij = c_stator(r) + c_body(r),  C_ii = 1/k_sn + s_post + ΔK(0),
+//!
+//! - near field, the post's own cell (scale a … pitch): the stator's rigid-disk sink
+//!   1/k_sn = (1−ν)/(4Ga) (exact, Johnson §3.8) and the slider side s_post: by default the
+//!   Johnson bonded punch 1/k_pn (physics.md §3, post column not counted), or a value taken from
+//!   the strip FEM's condensed compliance ([`crate::calibration`]) that contains the 2 µm post,
+//!   its fillet-free base and the mesh of the one-off cell FEM;
+//! - far field, between posts (scale pitch … slider): the stator is an elastic half-space, a
+//!   rigid disk displacing the surface at distance r by c_stator(r) = (1−ν)/(2πGa)·arcsin(a/r)
+//!   (Johnson eq. 3.36, [`static_contact::halfspace`]); the slider body is a layer of thickness t
+//!   bonded to a rigid back: the same disk term with the slider's G, ν plus the smooth rigid-back
+//!   correction ΔK(r) of [`crate::layer`] (scale t).
+//!
+//! The mutual terms treat the post bases as frictionless rigid disks (the bonded base adds a
+//! radial traction whose net effect at distance r is a dipole, O(a/r)² relative) and the far field
+//! as unbounded laterally (the 0.5 mm margins and free edges of the real slider are not resolved).
+
+use std::sync::Arc;
+
+use contact_springs::Material;
+use rustfft::num_complex::Complex;
+use rustfft::{Fft, FftPlanner};
+use static_contact::halfspace::{disk_mutual_compliance, disk_self_compliance};
+
+use crate::error::{Result, invalid};
+use crate::layer::LayerCorrection;
+
+/// What a contact solver needs of a compliance: its size, C·f and its diagonal.
+pub trait ComplianceOperator {
+    /// Number of posts.
+    fn len(&self) -> usize;
+    /// Whether there are no posts.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// out = C·f (m, for f in N).
+    fn apply(&self, force_n: &[f64], out_m: &mut [f64]);
+    /// The diagonal C_ii (m/N).
+    fn diagonal(&self) -> Vec<f64>;
+}
+
+/// A dense compliance matrix (m/N) as an operator (tests, small problems).
+impl ComplianceOperator for nalgebra::DMatrix<f64> {
+    fn len(&self) -> usize {
+        self.nrows()
+    }
+    fn apply(&self, force_n: &[f64], out_m: &mut [f64]) {
+        let f = nalgebra::DVectorView::from_slice(force_n, force_n.len());
+        let u = self * f;
+        out_m.copy_from_slice(u.as_slice());
+    }
+    fn diagonal(&self) -> Vec<f64> {
+        (0..self.nrows()).map(|i| self[(i, i)]).collect()
+    }
+}
+
+/// The post lattice of the slider: n_x × n_y posts at pitch p, centred on the slider.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct LatticeGeometry {
+    /// Posts along x (the wave's direction).
+    pub posts_x: usize,
+    /// Posts along y.
+    pub posts_y: usize,
+    /// Post pitch in x and y (m).
+    pub pitch_m: f64,
+    /// Post radius a (m).
+    pub post_radius_m: f64,
+    /// Slider length along x (m), ≥ n_x·p (the rest is the margin).
+    pub slider_length_m: f64,
+    /// Slider width along y (m), ≥ n_y·p.
+    pub slider_width_m: f64,
+}
+
+impl LatticeGeometry {
+    /// Number of posts.
+    pub fn len(&self) -> usize {
+        self.posts_x * self.posts_y
+    }
+
+    /// Whether there are no posts.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Index of post (i along x, j along y): i·n_y + j.
+    pub fn index(&self, i: usize, j: usize) -> usize {
+        i * self.posts_y + j
+    }
+
+    /// Post centre x (m) from the slider's −x edge: margin + (i + ½)p (as the strip mesh).
+    pub fn x_m(&self, i: usize) -> f64 {
+        0.5 * (self.slider_length_m - self.posts_x as f64 * self.pitch_m)
+            + (i as f64 + 0.5) * self.pitch_m
+    }
+
+    /// Post centre y (m) from the slider's −y edge.
+    pub fn y_m(&self, j: usize) -> f64 {
+        0.5 * (self.slider_width_m - self.posts_y as f64 * self.pitch_m)
+            + (j as f64 + 0.5) * self.pitch_m
+    }
+
+    /// Checks counts and sizes; errors name the field.
+    pub fn validate(&self) -> Result<()> {
+        if self.posts_x == 0 || self.posts_y == 0 {
+            return Err(invalid(
+                "posts_x",
+                (self.posts_x * self.posts_y) as f64,
+                "the lattice needs at least one post in x and in y",
+            ));
+        }
+        for (field, v) in [
+            ("post_pitch_m", self.pitch_m),
+            ("post_diameter_m", self.post_radius_m),
+        ] {
+            if !(v > 0.0 && v.is_finite()) {
+                return Err(invalid(field, v, "must be positive and finite"));
+            }
+        }
+        if 2.0 * self.post_radius_m >= self.pitch_m {
+            return Err(invalid(
+                "post_diameter_m",
+                2.0 * self.post_radius_m,
+                format!("must be smaller than the pitch {} m", self.pitch_m),
+            ));
+        }
+        let (lx, ly) = (
+            self.posts_x as f64 * self.pitch_m,
+            self.posts_y as f64 * self.pitch_m,
+        );
+        if self.slider_length_m.is_nan() || self.slider_length_m < lx * (1.0 - 1e-9) {
+            return Err(invalid(
+                "slider_length_m",
+                self.slider_length_m,
+                format!("shorter than the post array ({lx} m)"),
+            ));
+        }
+        if self.slider_width_m.is_nan() || self.slider_width_m < ly * (1.0 - 1e-9) {
+            return Err(invalid(
+                "slider_width_m",
+                self.slider_width_m,
+                format!("narrower than the post array ({ly} m)"),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The slider side's near field s_post (m/N): the post's own compliance on the slider body.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum NearField {
+    /// Johnson's bonded rigid punch on a half-space, 1/k_pn (physics.md §3).
+    #[default]
+    Johnson,
+    /// A given value (m/N), e.g. from the strip FEM ([`crate::calibration`]).
+    Value {
+        /// s_post (m/N).
+        slider_self_compliance_m_per_n: f64,
+    },
+}
+
+/// Everything the operator depends on.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OperatorSpec {
+    /// Lattice.
+    pub geometry: LatticeGeometry,
+    /// Slider material.
+    pub slider_material: Material,
+    /// Stator material.
+    pub stator_material: Material,
+    /// Slider body thickness t above the posts (m), bonded to a rigid back.
+    pub slider_thickness_m: f64,
+    /// The slider side's own post compliance.
+    pub near_field: NearField,
+}
+
+/// The parts of the diagonal (m/N), for reports.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct DiagonalParts {
+    /// Stator rigid-disk sink 1/k_sn.
+    pub stator_self_m_per_n: f64,
+    /// Slider post near field s_post.
+    pub slider_self_m_per_n: f64,
+    /// Rigid-back correction at r = 0, ΔK(0) (< 0).
+    pub layer_at_zero_m_per_n: f64,
+}
+
+impl DiagonalParts {
+    /// C_ii (m/N).
+    pub fn total_m_per_n(&self) -> f64 {
+        self.stator_self_m_per_n + self.slider_self_m_per_n + self.layer_at_zero_m_per_n
+    }
+}
+
+/// The lattice kernel c(r) for all post offsets, before the FFT.
+#[derive(Debug, Clone)]
+pub struct LatticeKernel {
+    spec: OperatorSpec,
+    layer: LayerCorrection,
+    parts: DiagonalParts,
+}
+
+impl LatticeKernel {
+    /// Tabulates the rigid-back correction and the diagonal parts.
+    pub fn new(spec: &OperatorSpec) -> Result<Self> {
+        spec.geometry.validate()?;
+        for (field, m) in [
+            ("slider_material", &spec.slider_material),
+            ("stator_material", &spec.stator_material),
+        ] {
+            m.validate()
+                .map_err(|e| invalid(field, m.shear_modulus_pa, e.to_string()))?;
+        }
+        let t = spec.slider_thickness_m;
+        if !(t > 0.0 && t.is_finite()) {
+            return Err(invalid(
+                "slider_thickness_m",
+                t,
+                "must be positive and finite",
+            ));
+        }
+        let g = &spec.geometry;
+        let a = g.post_radius_m;
+        let diagonal_m = g.pitch_m * (g.posts_x as f64).hypot(g.posts_y as f64);
+        let layer = LayerCorrection::new(
+            spec.slider_material.shear_modulus_pa,
+            spec.slider_material.poisson_ratio,
+            t,
+            diagonal_m,
+        );
+        let slider_self_m_per_n = match spec.near_field {
+            NearField::Johnson => {
+                let k = contact_springs::k_pn(&spec.slider_material, a)
+                    .map_err(|e| invalid("post_diameter_m", 2.0 * a, e.to_string()))?;
+                1.0 / k
+            }
+            NearField::Value {
+                slider_self_compliance_m_per_n: s,
+            } => {
+                if !(s >= 0.0 && s.is_finite()) {
+                    return Err(invalid(
+                        "slider_self_compliance_m_per_n",
+                        s,
+                        "must be non-negative and finite",
+                    ));
+                }
+                s
+            }
+        };
+        let parts = DiagonalParts {
+            stator_self_m_per_n: disk_self_compliance(
+                spec.stator_material.shear_modulus_pa,
+                spec.stator_material.poisson_ratio,
+                a,
+            ),
+            slider_self_m_per_n,
+            layer_at_zero_m_per_n: layer.at(0.0),
+        };
+        Ok(Self {
+            spec: spec.clone(),
+            layer,
+            parts,
+        })
+    }
+
+    /// The diagonal's parts.
+    pub fn parts(&self) -> DiagonalParts {
+        self.parts
+    }
+
+    /// The slider body's mutual compliance at distance r > 0 (m/N): disk term + ΔK(r).
+    pub fn body_mutual(&self, r_m: f64) -> f64 {
+        let m = &self.spec.slider_material;
+        disk_mutual_compliance(
+            m.shear_modulus_pa,
+            m.poisson_ratio,
+            self.spec.geometry.post_radius_m,
+            r_m,
+        ) + self.layer.at(r_m)
+    }
+
+    /// The stator's mutual compliance at distance r > 0 (m/N).
+    pub fn stator_mutual(&self, r_m: f64) -> f64 {
+        let m = &self.spec.stator_material;
+        disk_mutual_compliance(
+            m.shear_modulus_pa,
+            m.poisson_ratio,
+            self.spec.geometry.post_radius_m,
+            r_m,
+        )
+    }
+
+    /// C between two posts at lattice offset (di, dj) (m/N).
+    pub fn at_offset(&self, di: i64, dj: i64) -> f64 {
+        if di == 0 && dj == 0 {
+            return self.parts.total_m_per_n();
+        }
+        let r = self.spec.geometry.pitch_m * (di as f64).hypot(dj as f64);
+        self.body_mutual(r) + self.stator_mutual(r)
+    }
+
+    /// The dense matrix C (m/N), n × n (small lattices: tests and the dense reference solve).
+    pub fn to_dense(&self) -> nalgebra::DMatrix<f64> {
+        let g = &self.spec.geometry;
+        let n = g.len();
+        nalgebra::DMatrix::from_fn(n, n, |p, q| {
+            let (ip, jp) = ((p / g.posts_y) as i64, (p % g.posts_y) as i64);
+            let (iq, jq) = ((q / g.posts_y) as i64, (q % g.posts_y) as i64);
+            self.at_offset(ip - iq, jp - jq)
+        })
+    }
+}
+
+/// The padded FFT length for n posts: the smallest 2^a 3^b 5^c ≥ 2n − 1 (a linear convolution of
+/// offsets −(n−1)…n−1 needs ≥ 2n − 1 points; a length with a large prime factor, e.g. 142 = 2·71,
+/// makes rustfft fall back to a slower algorithm: measured 5× slower for 71 × 71 posts).
+pub fn padded_length(n: usize) -> usize {
+    let smooth = |mut m: usize| {
+        for p in [2, 3, 5] {
+            while m % p == 0 {
+                m /= p;
+            }
+        }
+        m == 1
+    };
+    (2 * n - 1..)
+        .find(|&m| smooth(m))
+        .expect("a smooth number exists")
+}
+
+/// C as a zero-padded FFT convolution on the P_x × P_y grid, P ≥ 2n − 1 (module doc).
+#[derive(Clone)]
+pub struct LatticeOperator {
+    nx: usize,
+    ny: usize,
+    px: usize,
+    py: usize,
+    /// Real spectrum of the (even) kernel, column-major on the padded grid (index c·2n_x + r).
+    spectrum: Vec<f64>,
+    diagonal_m_per_n: f64,
+    fft_x: Arc<dyn Fft<f64>>,
+    fft_y: Arc<dyn Fft<f64>>,
+    ifft_x: Arc<dyn Fft<f64>>,
+    ifft_y: Arc<dyn Fft<f64>>,
+    parts: DiagonalParts,
+}
+
+impl std::fmt::Debug for LatticeOperator {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LatticeOperator")
+            .field("posts_x", &self.nx)
+            .field("posts_y", &self.ny)
+            .field("diagonal_m_per_n", &self.diagonal_m_per_n)
+            .finish()
+    }
+}
+
+impl LatticeOperator {
+    /// Builds the kernel and its spectrum (once).
+    pub fn new(spec: &OperatorSpec) -> Result<Self> {
+        let kernel = LatticeKernel::new(spec)?;
+        Ok(Self::from_kernel(&kernel))
+    }
+
+    /// The operator of a tabulated kernel.
+    pub fn from_kernel(kernel: &LatticeKernel) -> Self {
+        let g = &kernel.spec.geometry;
+        let (nx, ny) = (g.posts_x, g.posts_y);
+        let (px, py) = (padded_length(nx), padded_length(ny));
+        let mut planner = FftPlanner::new();
+        let mut op = Self {
+            nx,
+            ny,
+            px,
+            py,
+            spectrum: Vec::new(),
+            diagonal_m_per_n: kernel.parts.total_m_per_n(),
+            fft_x: planner.plan_fft_forward(px),
+            fft_y: planner.plan_fft_forward(py),
+            ifft_x: planner.plan_fft_inverse(px),
+            ifft_y: planner.plan_fft_inverse(py),
+            parts: kernel.parts,
+        };
+        // Kernel on the padded grid at wrapped offsets; offsets of |d| ≥ n (never used by the
+        // linear convolution) also get c(d), so that the grid kernel stays even and its spectrum
+        // real.
+        let wrap = |k: usize, p: usize| -> i64 {
+            if 2 * k <= p {
+                k as i64
+            } else {
+                k as i64 - p as i64
+            }
+        };
+        let mut a: Vec<Complex<f64>> = (0..px * py)
+            .map(|idx| {
+                let (r, c) = (idx / py, idx % py);
+                Complex::new(kernel.at_offset(wrap(r, px), wrap(c, py)), 0.0)
+            })
+            .collect();
+        op.fft_y.process(&mut a);
+        let mut b = transpose(&a, px, py);
+        op.fft_x.process(&mut b);
+        op.spectrum = b.iter().map(|z| z.re).collect();
+        op
+    }
+
+    /// The diagonal's parts.
+    pub fn parts(&self) -> DiagonalParts {
+        self.parts
+    }
+}
+
+/// b[c·rows + r] = a[r·cols + c].
+fn transpose(a: &[Complex<f64>], rows: usize, cols: usize) -> Vec<Complex<f64>> {
+    let mut b = vec![Complex::new(0.0, 0.0); rows * cols];
+    for r in 0..rows {
+        for c in 0..cols {
+            b[c * rows + r] = a[r * cols + c];
+        }
+    }
+    b
+}
+
+impl ComplianceOperator for LatticeOperator {
+    fn len(&self) -> usize {
+        self.nx * self.ny
+    }
+
+    fn apply(&self, force_n: &[f64], out_m: &mut [f64]) {
+        let (nx, ny, px, py) = (self.nx, self.ny, self.px, self.py);
+        let zero = Complex::new(0.0, 0.0);
+        // Rows (x index) of length P_y; only the first n_x rows carry forces.
+        let mut a = vec![zero; nx * py];
+        for i in 0..nx {
+            for j in 0..ny {
+                a[i * py + j] = Complex::new(force_n[i * ny + j], 0.0);
+            }
+        }
+        self.fft_y.process(&mut a);
+        // Columns of length P_x (rows n_x.. are zero).
+        let mut b = vec![zero; px * py];
+        for i in 0..nx {
+            for c in 0..py {
+                b[c * px + i] = a[i * py + c];
+            }
+        }
+        self.fft_x.process(&mut b);
+        for (z, s) in b.iter_mut().zip(&self.spectrum) {
+            *z *= *s;
+        }
+        self.ifft_x.process(&mut b);
+        for i in 0..nx {
+            for c in 0..py {
+                a[i * py + c] = b[c * px + i];
+            }
+        }
+        self.ifft_y.process(&mut a);
+        let scale = 1.0 / (px * py) as f64;
+        for i in 0..nx {
+            for j in 0..ny {
+                out_m[i * ny + j] = a[i * py + j].re * scale;
+            }
+        }
+    }
+
+    fn diagonal(&self) -> Vec<f64> {
+        vec![self.diagonal_m_per_n; self.len()]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    pub(crate) fn small_spec(nx: usize, ny: usize) -> OperatorSpec {
+        OperatorSpec {
+            geometry: LatticeGeometry {
+                posts_x: nx,
+                posts_y: ny,
+                pitch_m: 40e-6,
+                post_radius_m: 10e-6,
+                slider_length_m: nx as f64 * 40e-6,
+                slider_width_m: ny as f64 * 40e-6,
+            },
+            slider_material: Material::silicon(),
+            stator_material: Material::lithium_niobate(),
+            slider_thickness_m: 0.1e-3,
+            near_field: NearField::Johnson,
+        }
+    }
+
+    #[test]
+    fn the_fft_convolution_equals_the_dense_product() {
+        let kernel = LatticeKernel::new(&small_spec(7, 5)).unwrap();
+        let op = LatticeOperator::from_kernel(&kernel);
+        let dense = kernel.to_dense();
+        let f: Vec<f64> = (0..35)
+            .map(|i| ((i * 37 % 11) as f64 - 3.0) * 1e-3)
+            .collect();
+        let mut u_fft = vec![0.0; 35];
+        op.apply(&f, &mut u_fft);
+        let mut u_dense = vec![0.0; 35];
+        dense.apply(&f, &mut u_dense);
+        let scale = u_dense.iter().map(|u| u.abs()).fold(0.0, f64::max);
+        for i in 0..35 {
+            assert!(
+                (u_fft[i] - u_dense[i]).abs() < 1e-12 * scale,
+                "displacement of post {i}: FFT {} vs dense {}",
+                u_fft[i],
+                u_dense[i]
+            );
+        }
+    }
+
+    #[test]
+    fn padded_lengths_are_smooth_and_long_enough() {
+        assert_eq!(padded_length(100), 200, "100 posts");
+        assert_eq!(padded_length(71), 144, "71 posts: 141 → 144 = 2⁴·3²");
+        assert_eq!(padded_length(1), 1, "one post");
+    }
+
+    #[test]
+    fn the_fft_convolution_is_exact_with_odd_padded_lengths() {
+        // 7 × 5 posts pad to 15 × 9 (odd lengths, Nyquist-free).
+        let kernel = LatticeKernel::new(&small_spec(8, 5)).unwrap();
+        let op = LatticeOperator::from_kernel(&kernel);
+        let dense = kernel.to_dense();
+        let f: Vec<f64> = (0..40)
+            .map(|i| ((i * 13 % 7) as f64 - 2.5) * 1e-3)
+            .collect();
+        let (mut a, mut b) = (vec![0.0; 40], vec![0.0; 40]);
+        op.apply(&f, &mut a);
+        dense.apply(&f, &mut b);
+        let scale = b.iter().map(|u| u.abs()).fold(0.0, f64::max);
+        for i in 0..40 {
+            assert!(
+                (a[i] - b[i]).abs() < 1e-12 * scale,
+                "displacement of post {i}: FFT {} vs dense {}",
+                a[i],
+                b[i]
+            );
+        }
+    }
+
+    #[test]
+    fn the_lattice_compliance_is_symmetric_positive_definite() {
+        let dense = LatticeKernel::new(&small_spec(6, 6)).unwrap().to_dense();
+        assert!(
+            (&dense - dense.transpose()).abs().max() < 1e-15 * dense.abs().max(),
+            "compliance symmetry"
+        );
+        let eig = dense.symmetric_eigenvalues();
+        assert!(
+            eig.min() > 0.0,
+            "smallest compliance eigenvalue {}",
+            eig.min()
+        );
+    }
+
+    #[test]
+    fn the_rigid_back_stiffens_the_body_and_its_far_field_vanishes() {
+        let kernel = LatticeKernel::new(&small_spec(40, 1)).unwrap();
+        assert!(
+            kernel.parts().layer_at_zero_m_per_n < 0.0,
+            "rigid-back correction at r = 0 must reduce the compliance"
+        );
+        // Beyond several thicknesses (t = 0.1 mm) the bonded layer hardly moves.
+        let r = 1.5e-3;
+        let half_space = kernel.body_mutual(r) - kernel.layer.at(r);
+        assert!(
+            kernel.body_mutual(r).abs() < 1e-3 * half_space,
+            "body mutual compliance at 15 t: {} vs half-space {}",
+            kernel.body_mutual(r),
+            half_space
+        );
+    }
+}

@@ -1,0 +1,47 @@
+//! Whole-slider static contact on the post lattice (issue 13).
+//!
+//! All N posts of the slider, frictionless and unilateral, under load control by the preload P:
+//! a two-scale compliance operator ([`lattice`]: each post's near field + the lattice far field
+//! through the stator half-space and the slider body bonded to a rigid back, applied by FFT,
+//! [`layer`] for the body's Fourier-space influence function) and a constrained
+//! conjugate-gradient solver ([`solver`], Polonsky & Keer 1999) → post forces and gaps per phase
+//! of the frozen wave → η (physics.md §6), load sharing, contact fraction ([`slider`]).
+//! Imperfections of a real slider (height scatter, height map, tilt, bow): [`heights`].
+//!
+//! ```
+//! use slider_contact::{SliderParams, run};
+//! // A 12 × 12 post corner of the default slider, 2 phases, 0.5 N.
+//! let params = SliderParams {
+//!     posts_x: 12,
+//!     posts_y: 12,
+//!     slider_length_m: 12.0 * 40e-6,
+//!     slider_width_m: 12.0 * 40e-6,
+//!     preload_n: 0.5,
+//!     phases: 2,
+//!     ..SliderParams::default()
+//! };
+//! let report = run(&params).unwrap();
+//! assert_eq!(report.model, "slider");
+//! assert!((report.post_forces_n.iter().sum::<f64>() - 0.5).abs() < 1e-9);
+//! assert!(report.complementarity_residual < 1e-8);
+//! ```
+
+pub mod bessel;
+pub mod calibration;
+mod error;
+pub mod heights;
+pub mod lattice;
+pub mod layer;
+pub mod rng;
+pub mod slider;
+pub mod solver;
+
+pub use calibration::{NearFieldCalibration, calibrate_near_field};
+pub use error::{Result, SliderError};
+pub use heights::{HeightMap, Imperfections};
+pub use lattice::{
+    ComplianceOperator, DiagonalParts, LatticeGeometry, LatticeKernel, LatticeOperator, NearField,
+    OperatorSpec,
+};
+pub use slider::{Mechanism, SliderModel, SliderParams, SliderReport, SliderSnapshot, run};
+pub use solver::{CgOptions, CgSolution, ConstrainedCg};

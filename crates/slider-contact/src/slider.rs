@@ -1,0 +1,420 @@
+//! The whole-slider static stage: parameters → lattice operator (once) → per preload, the frozen
+//! wave at each phase θ₀ (w(x) = A_n sin(θ₀ − kx), physics.md §6) plus each post's extra height
+//! ([`crate::heights`]) → constrained CG contact of all posts → post forces and gaps per phase →
+//! η fitted as physics.md §6 ([`static_contact::fit_eta`], pooled over the phases), load sharing
+//! (Σf)²/(N Σf²), contact fraction, complementarity residual, iterations, wall time.
+//!
+//! Preload mechanism: `rigid` only (the body bonded to a rigid flat back, today's clamp of the
+//! strip FEM). A uniform pressure on a free back and a ball at a point need the body's bending
+//! (a plate model of the 5 mm outline) and are refused until implemented.
+
+use std::f64::consts::PI;
+use std::time::Instant;
+
+use contact_springs::{Material, post_springs};
+use rayon::prelude::*;
+use serde::Serialize;
+use static_contact::{EtaFit, FitSample, fit_eta};
+
+use crate::error::{Result, SliderError, invalid};
+use crate::heights::Imperfections;
+use crate::lattice::{
+    ComplianceOperator, DiagonalParts, LatticeGeometry, LatticeOperator, NearField, OperatorSpec,
+};
+use crate::solver::{CgOptions, CgSolution, ConstrainedCg};
+
+/// How the preload reaches the slider body.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Mechanism {
+    /// The body's back is held flat by a rigid plate (bonded layer on a rigid back).
+    #[default]
+    Rigid,
+}
+
+impl Mechanism {
+    /// Parses a scene name; `pressure` and `point` are refused (not implemented), naming the key.
+    pub fn parse(name: &str) -> Result<Self> {
+        match name {
+            "rigid" => Ok(Self::Rigid),
+            "pressure" | "point" => Err(invalid(
+                "load.mechanism",
+                f64::NAN,
+                format!(
+                    "`{name}` needs the slider body's bending (a plate model), not implemented in \
+                     the whole-slider model yet; use `rigid`"
+                ),
+            )),
+            other => Err(invalid(
+                "load.mechanism",
+                f64::NAN,
+                format!("unknown mechanism `{other}` (rigid | pressure | point)"),
+            )),
+        }
+    }
+}
+
+/// Everything a whole-slider run depends on, in SI units.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SliderParams {
+    /// Slider material.
+    pub slider_material: Material,
+    /// Stator material.
+    pub stator_material: Material,
+    /// Post diameter d (m).
+    pub post_diameter_m: f64,
+    /// Post height h (m): the clearance of the body above the post tips.
+    pub post_height_m: f64,
+    /// Posts along x.
+    pub posts_x: usize,
+    /// Posts along y.
+    pub posts_y: usize,
+    /// Pitch (m).
+    pub post_pitch_m: f64,
+    /// Slider length along x (m), margins included.
+    pub slider_length_m: f64,
+    /// Slider width along y (m).
+    pub slider_width_m: f64,
+    /// Body thickness above the posts (m).
+    pub slider_thickness_m: f64,
+    /// Normal wave amplitude A_n (m); 0 for a flat stator.
+    pub wave_amplitude_m: f64,
+    /// Wavelength λ (m).
+    pub wavelength_m: f64,
+    /// Preload P (N).
+    pub preload_n: f64,
+    /// Phases θ₀ = 2πk/phases (≥ 1).
+    pub phases: usize,
+    /// Post-height scatter, tilt, bow, height map.
+    pub imperfections: Imperfections,
+    /// Preload mechanism.
+    pub mechanism: Mechanism,
+    /// Slider-side near field of each post.
+    pub near_field: NearField,
+    /// Solver options.
+    pub solver: CgOptions,
+}
+
+impl Default for SliderParams {
+    /// The paper's default slider (physics.md §1) as in `static_contact::StaticParams::default`:
+    /// 100 × 100 posts of 20 µm at 40 µm in a 5 × 5 × 0.5 mm Si body, LiNbO3 stator,
+    /// A_n = 20 nm, λ = 3979/9.61e6 m, P = 40 N, 4 phases, ideal posts, rigid back.
+    fn default() -> Self {
+        Self {
+            slider_material: Material::silicon(),
+            stator_material: Material::lithium_niobate(),
+            post_diameter_m: 20e-6,
+            post_height_m: 2e-6,
+            posts_x: 100,
+            posts_y: 100,
+            post_pitch_m: 40e-6,
+            slider_length_m: 5e-3,
+            slider_width_m: 5e-3,
+            slider_thickness_m: 0.5e-3,
+            wave_amplitude_m: 20e-9,
+            wavelength_m: 3979.0 / 9.61e6,
+            preload_n: 40.0,
+            phases: 4,
+            imperfections: Imperfections::default(),
+            mechanism: Mechanism::Rigid,
+            near_field: NearField::Johnson,
+            solver: CgOptions::default(),
+        }
+    }
+}
+
+impl SliderParams {
+    /// The lattice.
+    pub fn geometry(&self) -> LatticeGeometry {
+        LatticeGeometry {
+            posts_x: self.posts_x,
+            posts_y: self.posts_y,
+            pitch_m: self.post_pitch_m,
+            post_radius_m: 0.5 * self.post_diameter_m,
+            slider_length_m: self.slider_length_m,
+            slider_width_m: self.slider_width_m,
+        }
+    }
+
+    /// The operator's inputs.
+    pub fn operator_spec(&self) -> OperatorSpec {
+        OperatorSpec {
+            geometry: self.geometry(),
+            slider_material: self.slider_material.clone(),
+            stator_material: self.stator_material.clone(),
+            slider_thickness_m: self.slider_thickness_m,
+            near_field: self.near_field,
+        }
+    }
+
+    /// Checks what the operator does not; errors name the field.
+    pub fn validate(&self) -> Result<()> {
+        self.geometry().validate()?;
+        let positive = |field: &'static str, v: f64| {
+            if v > 0.0 && v.is_finite() {
+                Ok(())
+            } else {
+                Err(invalid(field, v, "must be positive and finite"))
+            }
+        };
+        positive("preload_n", self.preload_n)?;
+        positive("post_height_m", self.post_height_m)?;
+        positive("wavelength_m", self.wavelength_m)?;
+        if !(self.wave_amplitude_m >= 0.0 && self.wave_amplitude_m.is_finite()) {
+            return Err(invalid(
+                "wave_amplitude_m",
+                self.wave_amplitude_m,
+                "must be ≥ 0 and finite",
+            ));
+        }
+        if self.phases == 0 {
+            return Err(invalid("phases", 0.0, "at least one phase"));
+        }
+        self.imperfections.validate(&self.geometry())
+    }
+}
+
+/// One phase of one preload.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SliderSnapshot {
+    /// θ₀ (rad); `None` for the flat stator.
+    pub phase_rad: Option<f64>,
+    /// Obstacle height h_i = w(x_i) + δ_i (m), lattice order.
+    pub obstacle_height_m: Vec<f64>,
+    /// Post forces (N), lattice order (index i·n_y + j).
+    pub force_n: Vec<f64>,
+    /// Gaps (m).
+    pub gap_m: Vec<f64>,
+    /// Fraction of posts in contact.
+    pub contact_fraction: f64,
+    /// (Σf)²/(N Σf²).
+    pub load_sharing: f64,
+    /// Scaled complementarity residual.
+    pub complementarity_residual: f64,
+    /// CG iterations.
+    pub iterations: usize,
+    /// Slider approach z_s (m).
+    pub reference_height_m: f64,
+    /// Scaled residual per iteration.
+    pub residual_history: Vec<f64>,
+}
+
+/// The report of a whole-slider run; top-level keys follow the issue's contract.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SliderReport {
+    /// Always `"slider"`.
+    pub model: &'static str,
+    /// Preload (N).
+    pub preload_n: f64,
+    /// η fitted over the wave phases (`None`: not identifiable, see `eta_fit.reason`).
+    pub effective_contact_ratio: Option<f64>,
+    /// The fit.
+    pub eta_fit: EtaFit,
+    /// Mean contact fraction over the phases.
+    pub contact_fraction: f64,
+    /// Mean load sharing over the phases.
+    pub load_sharing: f64,
+    /// Largest scaled complementarity residual.
+    pub complementarity_residual: f64,
+    /// CG iterations of all phases.
+    pub iterations: usize,
+    /// Post forces (N) of the first phase (θ₀ = 0), lattice order i·n_y + j.
+    pub post_forces_n: Vec<f64>,
+    /// Posts along x and y.
+    pub posts_x: usize,
+    /// Posts along y.
+    pub posts_y: usize,
+    /// Johnson series stiffness k_n (N/m) η refers to.
+    pub k_n_n_per_m: f64,
+    /// The diagonal of C.
+    pub diagonal: DiagonalParts,
+    /// Every phase.
+    pub snapshots: Vec<SliderSnapshot>,
+    /// Operator build time (s).
+    pub operator_s: f64,
+    /// Contact solves and η fit (s).
+    pub contact_s: f64,
+    /// The whole stage (s).
+    pub wall_time_s: f64,
+}
+
+/// The operator and the post offsets of a slider: everything that does not depend on P.
+#[derive(Debug)]
+pub struct SliderModel {
+    /// Parameters.
+    pub params: SliderParams,
+    /// C.
+    pub operator: LatticeOperator,
+    /// δ_i (m).
+    pub post_offset_m: Vec<f64>,
+    /// Build time (s).
+    pub build_s: f64,
+}
+
+impl SliderModel {
+    /// Validates and builds the operator (once).
+    pub fn build(params: &SliderParams) -> Result<Self> {
+        let start = Instant::now();
+        params.validate()?;
+        let post_offset_m = params.imperfections.post_offsets_m(&params.geometry())?;
+        params.imperfections.check_body_clearance(
+            &params.geometry(),
+            params.post_height_m,
+            &post_offset_m,
+        )?;
+        let operator = LatticeOperator::new(&params.operator_spec())?;
+        Ok(Self {
+            params: params.clone(),
+            operator,
+            post_offset_m,
+            build_s: start.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// Obstacle heights at phase θ₀ (`None`: flat stator).
+    pub fn obstacle_heights(&self, phase_rad: Option<f64>) -> Vec<f64> {
+        let p = &self.params;
+        let g = p.geometry();
+        let k = 2.0 * PI / p.wavelength_m;
+        let mut h = self.post_offset_m.clone();
+        if let Some(theta) = phase_rad {
+            for i in 0..g.posts_x {
+                let w = p.wave_amplitude_m * (theta - k * g.x_m(i)).sin();
+                for j in 0..g.posts_y {
+                    h[g.index(i, j)] += w;
+                }
+            }
+        }
+        h
+    }
+
+    /// Gap scale L (m): the wave amplitude, else the spread of the post heights, else P/N·C_ii.
+    fn length_scale(&self, preload_n: f64, height_m: &[f64]) -> f64 {
+        let spread = height_m.iter().copied().fold(f64::MIN, f64::max)
+            - height_m.iter().copied().fold(f64::MAX, f64::min);
+        if self.params.wave_amplitude_m > 0.0 {
+            self.params.wave_amplitude_m
+        } else if spread > 0.0 {
+            spread
+        } else {
+            preload_n / self.operator.len() as f64 * self.operator.parts().total_m_per_n()
+        }
+    }
+
+    /// Solves one phase.
+    pub fn solve_phase(&self, preload_n: f64, phase_rad: Option<f64>) -> Result<SliderSnapshot> {
+        let h = self.obstacle_heights(phase_rad);
+        let scale = self.length_scale(preload_n, &h);
+        let sol = ConstrainedCg::new(self.params.solver)
+            .solve(&self.operator, &h, preload_n, scale)
+            .map_err(|e| with_context(e, preload_n, phase_rad))?;
+        Ok(snapshot(phase_rad, h, sol))
+    }
+
+    /// All phases of one preload, and η.
+    pub fn analyse(&self, preload_n: f64) -> Result<SliderReport> {
+        let start = Instant::now();
+        let p = &self.params;
+        let k_n = post_springs(
+            &p.slider_material,
+            &p.stator_material,
+            0.5 * p.post_diameter_m,
+        )
+        .map_err(|e| invalid("post_diameter_m", p.post_diameter_m, e.to_string()))?
+        .k_n_n_per_m;
+        // Phases are independent solves on the shared operator: in parallel (deterministic).
+        let snapshots = (0..p.phases)
+            .into_par_iter()
+            .map(|k| self.solve_phase(preload_n, Some(2.0 * PI * k as f64 / p.phases as f64)))
+            .collect::<Result<Vec<_>>>()?;
+        let samples: Vec<FitSample> = snapshots
+            .iter()
+            .map(|s| FitSample {
+                height_m: s.obstacle_height_m.clone(),
+                force_n: s.force_n.clone(),
+                preload_n,
+            })
+            .collect();
+        let eta_fit = fit_eta(&samples, k_n);
+        let m = snapshots.len() as f64;
+        let contact_s = start.elapsed().as_secs_f64();
+        Ok(SliderReport {
+            model: "slider",
+            preload_n,
+            effective_contact_ratio: eta_fit.eta,
+            eta_fit,
+            contact_fraction: snapshots.iter().map(|s| s.contact_fraction).sum::<f64>() / m,
+            load_sharing: snapshots.iter().map(|s| s.load_sharing).sum::<f64>() / m,
+            complementarity_residual: snapshots
+                .iter()
+                .map(|s| s.complementarity_residual)
+                .fold(0.0, f64::max),
+            iterations: snapshots.iter().map(|s| s.iterations).sum(),
+            post_forces_n: snapshots[0].force_n.clone(),
+            posts_x: p.posts_x,
+            posts_y: p.posts_y,
+            k_n_n_per_m: k_n,
+            diagonal: self.operator.parts(),
+            snapshots,
+            operator_s: self.build_s,
+            contact_s,
+            wall_time_s: self.build_s + contact_s,
+        })
+    }
+}
+
+fn with_context(e: SliderError, preload_n: f64, phase: Option<f64>) -> SliderError {
+    match e {
+        SliderError::NotConverged {
+            iterations,
+            residual,
+            tolerance,
+            active,
+            posts,
+            ..
+        } => SliderError::NotConverged {
+            iterations,
+            residual,
+            tolerance,
+            active,
+            posts,
+            context: format!(
+                " at preload {preload_n} N, phase {}",
+                phase.map_or("flat".to_string(), |p| format!("{p:.4} rad"))
+            ),
+        },
+        other => other,
+    }
+}
+
+fn snapshot(phase_rad: Option<f64>, h: Vec<f64>, sol: CgSolution) -> SliderSnapshot {
+    let f = &sol.force_n;
+    let n = f.len() as f64;
+    let sum: f64 = f.iter().sum();
+    let sum_sq: f64 = f.iter().map(|x| x * x).sum();
+    SliderSnapshot {
+        phase_rad,
+        obstacle_height_m: h,
+        contact_fraction: f.iter().filter(|&&x| x > 0.0).count() as f64 / n,
+        load_sharing: if sum_sq > 0.0 {
+            sum * sum / (n * sum_sq)
+        } else {
+            0.0
+        },
+        complementarity_residual: sol.complementarity_residual,
+        iterations: sol.iterations,
+        reference_height_m: sol.reference_height_m,
+        force_n: sol.force_n,
+        gap_m: sol.gap_m,
+        residual_history: sol.residual_history,
+    }
+}
+
+/// Builds the model and analyses the main preload: the static stage of `static.model = "slider"`.
+pub fn run(params: &SliderParams) -> Result<SliderReport> {
+    let start = Instant::now();
+    let model = SliderModel::build(params)?;
+    let mut report = model.analyse(params.preload_n)?;
+    report.wall_time_s = start.elapsed().as_secs_f64();
+    Ok(report)
+}

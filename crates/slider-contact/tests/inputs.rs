@@ -1,0 +1,114 @@
+//! Inputs of a real slider through the whole stage: a measured height map read from CSV, and
+//! the refusals of bad input (each naming its field).
+
+use std::io::Write;
+
+use slider_contact::{HeightMap, Imperfections, Mechanism, SliderModel, SliderParams};
+
+fn small(imperfections: Imperfections) -> SliderParams {
+    SliderParams {
+        posts_x: 12,
+        posts_y: 8,
+        slider_length_m: 12.0 * 40e-6 + 0.2e-3,
+        slider_width_m: 8.0 * 40e-6 + 0.2e-3,
+        preload_n: 4e-3 * 96.0,
+        phases: 2,
+        imperfections,
+        ..SliderParams::default()
+    }
+}
+
+#[test]
+fn a_height_map_written_from_the_scatter_gives_the_same_post_forces() {
+    let scattered = small(Imperfections {
+        height_scatter_m: 5e-9,
+        scatter_seed: 11,
+        ..Imperfections::default()
+    });
+    let g = scattered.geometry();
+    let offsets = scattered.imperfections.post_offsets_m(&g).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("heights.csv");
+    let mut f = std::fs::File::create(&path).unwrap();
+    writeln!(f, "row,column,height_m").unwrap();
+    for i in 0..g.posts_x {
+        for j in 0..g.posts_y {
+            writeln!(f, "{j},{i},{:e}", offsets[g.index(i, j)]).unwrap();
+        }
+    }
+    drop(f);
+    let map = HeightMap::read_csv(&path, g.posts_x, g.posts_y).unwrap();
+    let mapped = small(Imperfections {
+        height_map: Some(map),
+        ..Imperfections::default()
+    });
+    let a = SliderModel::build(&scattered)
+        .unwrap()
+        .analyse(0.384)
+        .unwrap();
+    let b = SliderModel::build(&mapped).unwrap().analyse(0.384).unwrap();
+    for (k, (fa, fb)) in a.post_forces_n.iter().zip(&b.post_forces_n).enumerate() {
+        assert!(
+            (fa - fb).abs() < 1e-9 * 4e-3,
+            "post {k}: force with the scatter {fa} vs with its height map {fb}"
+        );
+    }
+    let ideal = SliderModel::build(&small(Imperfections::default()))
+        .unwrap()
+        .analyse(0.384)
+        .unwrap();
+    assert!(
+        ideal.contact_fraction != a.contact_fraction || ideal.post_forces_n != a.post_forces_n,
+        "5 nm of scatter must change the post forces"
+    );
+}
+
+#[test]
+fn bad_inputs_are_refused_naming_the_field() {
+    let cases: Vec<(SliderParams, &str)> = vec![
+        (
+            small(Imperfections {
+                height_scatter_m: -1e-9,
+                ..Imperfections::default()
+            }),
+            "height_scatter_m",
+        ),
+        (
+            small(Imperfections {
+                tilt_y_m: 1e-3,
+                ..Imperfections::default()
+            }),
+            "tilt_y_m",
+        ),
+        (
+            SliderParams {
+                preload_n: 0.0,
+                ..small(Imperfections::default())
+            },
+            "preload_n",
+        ),
+        (
+            SliderParams {
+                slider_length_m: 1e-4,
+                ..small(Imperfections::default())
+            },
+            "slider_length_m",
+        ),
+    ];
+    for (params, field) in cases {
+        let e = SliderModel::build(&params).unwrap_err().to_string();
+        assert!(e.contains(field), "error must name `{field}`: {e}");
+    }
+    for mechanism in ["pressure", "point", "glue"] {
+        let e = Mechanism::parse(mechanism).unwrap_err().to_string();
+        assert!(
+            e.contains("load.mechanism"),
+            "error must name load.mechanism: {e}"
+        );
+    }
+    assert_eq!(
+        Mechanism::parse("rigid").unwrap(),
+        Mechanism::Rigid,
+        "rigid back"
+    );
+}
