@@ -36,4 +36,4 @@ pub mod scene;
 pub use error::{CoupledError, Result};
 pub use model::{CoupledModel, CoupledPoint, PostMode};
 pub use result::{CoupledResult, fit_eta_dyn, lumped_misfit, solve};
-pub use scene::{CoupledScene, PreloadBalance};
+pub use scene::{CoupledScene, PreloadBalance, WaveDirection};

@@ -110,8 +110,10 @@ pub struct CoupledModel {
     scene: CoupledScene,
     /// Ĉ_t.
     ct: DMatrix<f64>,
-    /// k x_i (rad).
+    /// σ k x_i (rad), σ = ±1 the wave direction: θ_i = θ_r − σ k x_i.
     kx: Vec<f64>,
+    /// σ.
+    sigma: f64,
     /// â.
     a_t: f64,
     /// κ.
@@ -142,6 +144,8 @@ impl CoupledModel {
         let kx: Vec<f64> = scene.post_x_m.iter().map(|x| k * x).collect();
         let m = scene.steps_per_period;
         let preload = scene.preload_n * scene.strip_share / force_n;
+        let sigma = scene.wave_direction.sign();
+        let kx: Vec<f64> = kx.iter().map(|v| sigma * v).collect();
         let heights = |j: usize| -> DVector<f64> {
             let theta = scene.start_phase_rad + 2.0 * PI * j as f64 / m as f64;
             DVector::from_fn(n, |i, _| (theta - kx[i]).sin())
@@ -199,6 +203,7 @@ impl CoupledModel {
             scene: scene.clone(),
             ct,
             kx,
+            sigma,
             a_t: scene.wave.tangential_amplitude_m / length_m,
             doppler: k * length_m,
             normals,
@@ -356,8 +361,14 @@ struct SolverStats {
 }
 
 impl CoupledModel {
+    /// Scaled x-velocity of the slider moving at `speed_m_per_s` along the drive direction −σx.
     fn scaled_velocity(&self, speed_m_per_s: f64) -> f64 {
-        -speed_m_per_s / (self.length_m * self.omega)
+        -self.sigma * speed_m_per_s / (self.length_m * self.omega)
+    }
+
+    /// Drive direction along x: −σ (−1 for the +x wave).
+    pub fn drive_direction_x(&self) -> f64 {
+        -self.sigma
     }
 
     /// One step from grid phase j to j+1.
@@ -377,7 +388,7 @@ impl CoupledModel {
         let theta1 = self.scene.start_phase_rad + 2.0 * PI * (j + 1) as f64 / m as f64;
         let normal = &self.normals[(j + 1) % m];
         let du = DVector::from_fn(n, |i, _| {
-            self.a_t * ((theta1 - self.kx[i]).cos() - (theta0 - self.kx[i]).cos()) / s
+            self.sigma * self.a_t * ((theta1 - self.kx[i]).cos() - (theta0 - self.kx[i]).cos()) / s
         });
         let b = &self.ct * &state.force + &du - DVector::from_element(n, v * h);
         let mut mu: Vec<f64> = state
@@ -467,7 +478,7 @@ impl CoupledModel {
         let n = self.kx.len();
         let m = self.normals.len();
         let v = self.scaled_velocity(speed_m_per_s);
-        let s = 1.0 - self.doppler * v;
+        let s = 1.0 - self.doppler * self.sigma * v;
         let h = 2.0 * PI / (m as f64 * s);
         let mut state = TipState {
             force: DVector::zeros(n),
@@ -528,7 +539,7 @@ impl CoupledModel {
         let _ = v;
         CoupledPoint {
             speed_m_per_s,
-            thrust_n: -i.force_time / i.time * self.force_n / share,
+            thrust_n: -self.sigma * i.force_time / i.time * self.force_n / share,
             output_power_w: output,
             stator_power_w: stator,
             friction_dissipation_w: i.friction * power,

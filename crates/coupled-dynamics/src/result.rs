@@ -21,6 +21,8 @@ const ETA_RANGE: (f64, f64) = (1e-3, 4.0);
 pub struct CoupledResult {
     /// Always "coupled".
     pub model: &'static str,
+    /// Drive direction along x (−1 for the wave along +x, +1 for the reversed wave).
+    pub drive_direction_x: f64,
     /// Stall thrust F(0⁺) (N).
     pub stall_thrust_n: f64,
     /// No-load speed (m/s).
@@ -86,6 +88,7 @@ pub fn solve(model: &CoupledModel, lumped: Option<&DynamicScene>) -> Result<Coup
     };
     Ok(CoupledResult {
         model: "coupled",
+        drive_direction_x: model.drive_direction_x(),
         stall_thrust_n: stall.max(0.0),
         no_load_speed_m_per_s: no_load,
         energy_balance_residual: curve

@@ -26,6 +26,27 @@ pub enum PreloadBalance {
     PeriodMean,
 }
 
+/// Direction in which the wave travels; the slider is driven the opposite way.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum WaveDirection {
+    /// θ = ωt − kx (physics.md's convention): the slider moves along −x.
+    #[default]
+    PlusX,
+    /// θ = ωt + kx, the mirrored wave: the slider moves along +x.
+    MinusX,
+}
+
+impl WaveDirection {
+    /// σ = +1 (along +x) or −1.
+    pub fn sign(self) -> f64 {
+        match self {
+            Self::PlusX => 1.0,
+            Self::MinusX => -1.0,
+        }
+    }
+}
+
 /// The coupled scene: the posts of the strip, their compliances, friction, wave, preload.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CoupledScene {
@@ -44,6 +65,8 @@ pub struct CoupledScene {
     pub mu_kinetic: f64,
     /// Preload of the whole slider (N).
     pub preload_n: f64,
+    /// Direction of the wave.
+    pub wave_direction: WaveDirection,
     /// Posts of the strip over posts of the slider (1: the strip is the slider). Forces of the
     /// slider = strip forces / share.
     pub strip_share: f64,
@@ -208,6 +231,7 @@ impl CoupledScene {
             mu_static,
             mu_kinetic,
             preload_n,
+            wave_direction: WaveDirection::PlusX,
             strip_share: 1.0,
             preload_balance: PreloadBalance::Instant,
             steps_per_period: DEFAULT_STEPS_PER_PERIOD,
