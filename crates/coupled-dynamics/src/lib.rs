@@ -13,10 +13,10 @@
 //! tangential forces. Between the two elastic bodies the normal–tangential coupling is the
 //! Dundurs mismatch β = 0.021 for Si (G = 66.5 GPa, ν = 0.22) on LiNbO3 (67 GPa, 0.25)
 //! ([`static_contact::halfspace::dundurs_beta`]); the half-space cross terms between posts are
-//! 2 % of the direct ones on the default strip. The slider FEM's own cross term is larger
-//! (0.33 of the direct terms at its largest entry on the 10-post strip: the strip body tilting
-//! under one post's tangential force against the clamped backing 0.5 mm above the tips); it is
-//! dropped here, which is the main modelling limitation of this crate.
+//! 2 % of the direct ones on the default strip. The slider FEM's own cross term is 0.035 of the direct
+//! terms at its largest entry on the default 100-post Tet10 strip (0.33 on the short 10-post
+//! test strip, whose body tilts under one post's tangential force against the clamped backing
+//! 0.5 mm above the tips); it is dropped here, the main modelling limitation of this crate.
 //!
 //! **Quasi-static elasticity.** The posts' own resonances (20 µm post, 2 µm high: normal
 //! ≈ 176 MHz, tangential ≈ 163 MHz, stick-slip README) are 17–18× the 9.61 MHz drive, so their
