@@ -235,6 +235,14 @@ impl CoupledModel {
         self.approach[j % self.approach.len()] * self.length_m
     }
 
+    /// Posts in contact at every grid phase (they never separate: at v = 0 their stuck state
+    /// is not unique and the result depends on the start, T = 0).
+    pub fn never_separating_posts(&self) -> usize {
+        (0..self.kx.len())
+            .filter(|&i| self.normals.iter().all(|nj| nj[i] > 0.0))
+            .count()
+    }
+
     /// Crest speed A_t ω (m/s).
     pub fn crest_speed_m_per_s(&self) -> f64 {
         self.scene.wave.crest_speed_m_per_s()

@@ -73,6 +73,12 @@ pub fn solve(model: &CoupledModel, lumped: Option<&DynamicScene>) -> Result<Coup
             "the slider is locked: F(0⁺) = {stall:.4} N ≤ 0; stall thrust and no-load speed reported as 0"
         ));
     }
+    let bound = model.never_separating_posts();
+    if bound > 0 {
+        warnings.push(format!(
+            "{bound} posts never separate: at v = 0 their stuck state is not unique; the stall thrust is the steady state reached from zero tangential forces, not the v → 0⁺ limit"
+        ));
+    }
     if curve.iter().any(|p| !p.converged) {
         warnings.push(format!(
             "some speeds reached no periodic cycle within {} periods; averaged over the last half",
