@@ -34,6 +34,6 @@ pub mod result;
 pub mod scene;
 
 pub use error::{CoupledError, Result};
-pub use model::{CoupledModel, CoupledPoint, PostMode};
+pub use model::{CoupledModel, CoupledPoint, PostHistories, PostMode};
 pub use result::{CoupledResult, fit_eta_dyn, lumped_misfit, solve};
 pub use scene::{CoupledScene, PreloadBalance, WaveDirection};

@@ -104,6 +104,21 @@ pub struct CoupledPoint {
     pub fallback_steps: usize,
 }
 
+/// Forces of every post over one steady period (strip posts; forces per post, N).
+#[derive(Debug, Clone, PartialEq, Default, Serialize)]
+pub struct PostHistories {
+    /// Imposed speed along the drive direction (m/s).
+    pub speed_m_per_s: f64,
+    /// Sample times from the period start (s).
+    pub time_s: Vec<f64>,
+    /// Normal force of each post at each sample (N), `[sample][post]`.
+    pub normal_force_n: Vec<Vec<f64>>,
+    /// Tangential force on the slider along the drive direction (N), `[sample][post]`.
+    pub tangential_force_n: Vec<Vec<f64>>,
+    /// Contact mode, `[sample][post]`.
+    pub mode: Vec<Vec<PostMode>>,
+}
+
 /// The coupled model of a scene, with the normal forces on the phase grid solved.
 #[derive(Debug, Clone)]
 pub struct CoupledModel {
@@ -476,6 +491,45 @@ impl CoupledModel {
     /// Steady state at an imposed speed along the drive direction (m/s); 0 is the v → 0⁺ limit
     /// for separating posts.
     pub fn at_speed(&self, speed_m_per_s: f64) -> Result<CoupledPoint> {
+        Ok(self.steady(speed_m_per_s)?.0)
+    }
+
+    /// Every post's normal and tangential force and contact mode over one steady period at
+    /// `speed_m_per_s` (one sample per step, at the step's end).
+    pub fn post_histories(&self, speed_m_per_s: f64) -> Result<PostHistories> {
+        let (_, mut state, v, s, h) = self.steady(speed_m_per_s)?;
+        let m = self.normals.len();
+        let mut ints = Integrals::default();
+        let mut stats = SolverStats::default();
+        let time_unit = 1.0 / self.omega;
+        let mut out = PostHistories {
+            speed_m_per_s,
+            ..PostHistories::default()
+        };
+        for j in 0..m {
+            self.step(j, v, s, h, &mut state, &mut ints, &mut stats)?;
+            out.time_s.push((j + 1) as f64 * h * time_unit);
+            out.normal_force_n.push(
+                self.normals[(j + 1) % m]
+                    .iter()
+                    .map(|x| x * self.force_n)
+                    .collect(),
+            );
+            out.tangential_force_n.push(
+                state
+                    .force
+                    .iter()
+                    .map(|x| -self.sigma * x * self.force_n)
+                    .collect(),
+            );
+            out.mode.push(state.mode.clone());
+        }
+        Ok(out)
+    }
+
+    /// The steady state at a speed: the period average, the state at a period start, the
+    /// scaled velocity, phase rate and step.
+    fn steady(&self, speed_m_per_s: f64) -> Result<(CoupledPoint, TipState, f64, f64, f64)> {
         if !speed_m_per_s.is_finite() {
             return Err(CoupledError::InvalidParameter {
                 parameter: "speed_m_per_s",
@@ -522,7 +576,8 @@ impl CoupledModel {
         } else {
             marks[periods] - marks[periods / 2]
         };
-        Ok(self.point(speed_m_per_s, v, &window, converged, periods, stats))
+        let point = self.point(speed_m_per_s, v, &window, converged, periods, stats);
+        Ok((point, state, v, s, h))
     }
 
     fn point(

@@ -195,3 +195,44 @@ fn bad_input_is_refused_naming_the_field() {
         "size mismatch named: {err}"
     );
 }
+
+#[test]
+fn post_histories_respect_contact_and_the_friction_cone() {
+    let n = 9;
+    let preload = preload_for(n);
+    let model = CoupledModel::new(&interacting_scene(n, preload)).unwrap();
+    let v0 = solve(&model, None).unwrap().no_load_speed_m_per_s;
+    let h = model.post_histories(0.5 * v0).unwrap();
+    assert_eq!(h.time_s.len(), 64, "one sample per step of the period");
+    let mut mean_thrust = 0.0;
+    for k in 0..h.time_s.len() {
+        let total: f64 = h.normal_force_n[k].iter().sum();
+        assert!(
+            (total / preload - 1.0).abs() < 1e-9,
+            "Σ N = P at sample {k}"
+        );
+        for i in 0..n {
+            let (normal, tangential) = (h.normal_force_n[k][i], h.tangential_force_n[k][i]);
+            assert!(normal >= 0.0, "unilateral normal force of post {i}");
+            assert!(
+                tangential.abs() <= 0.35 * normal * (1.0 + 1e-9) + 1e-15,
+                "friction cone of post {i} at sample {k}: |T| = {tangential}, μ_s N = {}",
+                0.35 * normal
+            );
+            if normal == 0.0 {
+                assert_eq!(
+                    h.mode[k][i],
+                    coupled_dynamics::PostMode::Separated,
+                    "separated post {i}"
+                );
+            }
+        }
+        mean_thrust += h.tangential_force_n[k].iter().sum::<f64>() / h.time_s.len() as f64;
+    }
+    let point = model.at_speed(0.5 * v0).unwrap();
+    assert!(
+        (mean_thrust / point.thrust_n - 1.0).abs() < 1e-9,
+        "the histories' mean tangential force {mean_thrust} N is the thrust {} N",
+        point.thrust_n
+    );
+}
