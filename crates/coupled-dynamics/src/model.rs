@@ -250,6 +250,15 @@ impl CoupledModel {
         self.approach[j % self.approach.len()] * self.length_m
     }
 
+    /// Fewest grid steps in contact over the posts that touch at all (the resolution of the
+    /// shortest contact arc), or `None` if no post touches.
+    pub fn min_contact_steps(&self) -> Option<usize> {
+        (0..self.kx.len())
+            .map(|i| self.normals.iter().filter(|nj| nj[i] > 0.0).count())
+            .filter(|&k| k > 0)
+            .min()
+    }
+
     /// Posts in contact at every grid phase (they never separate: at v = 0 their stuck state
     /// is not unique and the result depends on the start, T = 0).
     pub fn never_separating_posts(&self) -> usize {

@@ -11,6 +11,10 @@ use crate::error::Result;
 use crate::model::{CoupledModel, CoupledPoint};
 use crate::scene::PreloadBalance;
 
+/// Fewest steps per contact arc below which a warning is given: the stick/slip events inside
+/// the arc are then located to worse than ≈ 1/8 of it. Default 8.
+pub const MIN_CONTACT_STEPS: usize = 8;
+
 /// Golden-section steps of the η_dyn search on ln η. Default 80.
 const ETA_SEARCH_STEPS: usize = 80;
 /// Search interval of η_dyn. Default [1e-3, 4].
@@ -71,6 +75,13 @@ pub fn solve(model: &CoupledModel, lumped: Option<&DynamicScene>) -> Result<Coup
     if stall <= 0.0 {
         warnings.push(format!(
             "the slider is locked: F(0⁺) = {stall:.4} N ≤ 0; stall thrust and no-load speed reported as 0"
+        ));
+    }
+    if let Some(k) = model.min_contact_steps().filter(|&k| k < MIN_CONTACT_STEPS) {
+        let needed = scene.steps_per_period * MIN_CONTACT_STEPS.div_ceil(k);
+        warnings.push(format!(
+            "steps_per_period = {}: the shortest contact arc is resolved by {k} steps (< {MIN_CONTACT_STEPS}); the stick/slip events are coarsely located; use steps_per_period ≥ {needed}",
+            scene.steps_per_period
         ));
     }
     let bound = model.never_separating_posts();

@@ -236,3 +236,30 @@ fn post_histories_respect_contact_and_the_friction_cone() {
         point.thrust_n
     );
 }
+
+#[test]
+fn a_step_too_coarse_for_the_contact_arcs_is_warned_with_the_limit() {
+    // Light preload: short contact arcs (≈ 10 % of the period), 16 steps resolve them by ≈ 2.
+    let n = 3;
+    let mut scene = interacting_scene(n, 0.02 * preload_for(n));
+    scene.steps_per_period = 16;
+    scene.curve_points = 3;
+    let result = solve(&CoupledModel::new(&scene).unwrap(), None).unwrap();
+    assert!(
+        result
+            .warnings
+            .iter()
+            .any(|w| w.contains("steps_per_period = 16") && w.contains("use steps_per_period ≥")),
+        "coarse-step warning with the limit: {:?}",
+        result.warnings
+    );
+    scene.steps_per_period = 512;
+    let fine = solve(&CoupledModel::new(&scene).unwrap(), None).unwrap();
+    assert!(
+        fine.warnings
+            .iter()
+            .all(|w| !w.contains("steps_per_period")),
+        "no warning once the arcs are resolved: {:?}",
+        fine.warnings
+    );
+}
