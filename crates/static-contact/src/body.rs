@@ -93,6 +93,17 @@ pub struct FemStats {
     pub solve_s: f64,
 }
 
+/// Tangential condensed compliance of a body's tips (see
+/// [`BodyCompliance::tangential_compliance`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TangentialCompliance {
+    /// C_xx (m/N): x displacement of tip i per unit x force on tip j.
+    pub tangential_m_per_n: DMatrix<f64>,
+    /// C_zx (m/N): normal displacement of tip i (along the contact force's direction on this
+    /// body) per unit x force on tip j.
+    pub normal_from_tangential_m_per_n: DMatrix<f64>,
+}
+
 /// A body condensed onto its disks.
 #[derive(Debug)]
 pub struct BodyCompliance {
@@ -368,6 +379,83 @@ impl BodyCompliance {
                 file: String::new(),
                 source: Box::new(source),
             }
+        })
+    }
+
+    /// Tangential (x) condensed compliance of the tips from the **same factor** (no second FEM):
+    /// a unit x force on disk j spread equally over its nodes; column j holds the x displacement
+    /// of every disk (the same equal-weight average over its nodes: a symmetric generalised
+    /// compliance, C_xx = Wᵀ K⁻¹ W) and the z displacement of every disk's rigid tie (the
+    /// slider-side normal–tangential cross term C_zx, normal tip displacement per unit
+    /// tangential force). Equal nodal forces approximate a uniform shear traction; a rigid x tie
+    /// would be slightly stiffer (the tip face of a post is nearly rigid in shear).
+    ///
+    /// Needs in-plane-free disks ([`TipLateral::Free`]: the x displacements are unknowns) and
+    /// whole disks (`disk_fraction` = 1: a symmetry cut through a disk has no x symmetry).
+    pub fn tangential_compliance(&self) -> Result<TangentialCompliance> {
+        if self.disk_fraction != 1.0 {
+            return Err(ContactError::InvalidParameter {
+                parameter: "disk_fraction",
+                value: self.disk_fraction,
+                reason: "the tangential compliance needs whole contact disks (1)".into(),
+            });
+        }
+        let dim = self.reduced.dim();
+        let map = self.reduced.dof_map();
+        let wrap = |source| ContactError::Fem {
+            body: self.name,
+            file: String::new(),
+            source: Box::new(source),
+        };
+        // Reduced x unknowns of each disk, with weight 1/(nodes of the disk).
+        let mut x_dofs: Vec<Vec<usize>> = Vec::with_capacity(self.disk_nodes.len());
+        for (d, nodes) in self.disk_nodes.iter().enumerate() {
+            let mut dofs = Vec::with_capacity(nodes.len());
+            for &n in nodes {
+                match map.target(3 * n) {
+                    DofTarget::Reduced(j) => dofs.push(j),
+                    DofTarget::Prescribed(_) => {
+                        return Err(ContactError::InvalidParameter {
+                            parameter: "lateral",
+                            value: d as f64,
+                            reason: format!(
+                                "contact disk {d} of the {} has a prescribed x displacement: the tangential compliance needs TipLateral::Free",
+                                self.name
+                            ),
+                        });
+                    }
+                }
+            }
+            x_dofs.push(dofs);
+        }
+        let n = x_dofs.len();
+        let mut tangential = DMatrix::zeros(n, n);
+        let mut cross = DMatrix::zeros(n, n);
+        for first in (0..n).step_by(SOLVE_BATCH_COLUMNS) {
+            let cols = SOLVE_BATCH_COLUMNS.min(n - first);
+            let mut rhs = vec![0.0; dim * cols];
+            for c in 0..cols {
+                let dofs = &x_dofs[first + c];
+                for &j in dofs {
+                    rhs[c * dim + j] += 1.0 / dofs.len() as f64;
+                }
+            }
+            self.factor
+                .solve_columns_in_place(&mut rhs, cols)
+                .map_err(wrap)?;
+            for c in 0..cols {
+                let column = &rhs[c * dim..(c + 1) * dim];
+                for i in 0..n {
+                    let dofs = &x_dofs[i];
+                    tangential[(i, first + c)] =
+                        dofs.iter().map(|&j| column[j]).sum::<f64>() / dofs.len() as f64;
+                    cross[(i, first + c)] = self.force_sign * column[self.masters[i]];
+                }
+            }
+        }
+        Ok(TangentialCompliance {
+            tangential_m_per_n: (&tangential + tangential.transpose()) * 0.5,
+            normal_from_tangential_m_per_n: cross,
         })
     }
 

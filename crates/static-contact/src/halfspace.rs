@@ -115,6 +115,106 @@ pub fn strip_compliance(
     c
 }
 
+/// Tangential self compliance of a rigid disk bonded to a half-space under a tangential force,
+/// (2−ν)/(8Ga) (m/N): Mindlin's rigid circular punch (Johnson §3.8, the tangential counterpart of
+/// eq. (3.35); the full-stick limit of §7.1).
+pub fn disk_tangential_self_compliance(
+    shear_modulus_pa: f64,
+    poisson_ratio: f64,
+    radius_m: f64,
+) -> f64 {
+    (2.0 - poisson_ratio) / (8.0 * shear_modulus_pa * radius_m)
+}
+
+/// Surface x displacement per unit x force at offset (dx, dy) (m) from a tangential point force
+/// on a half-space (Cerruti; Johnson §3.2 eq. (3.86a)): (1/(2πG r))·[(1−ν) + ν dx²/r²] (m/N).
+/// Inside a disk radius `radius_m` the rigid-disk self compliance is returned (as for the
+/// normal terms, the point-force form is used from the disk edge outwards: relative error
+/// ≈ a²/(6r²) at centre distance r).
+pub fn tangential_mutual_compliance(
+    shear_modulus_pa: f64,
+    poisson_ratio: f64,
+    radius_m: f64,
+    dx_m: f64,
+    dy_m: f64,
+) -> f64 {
+    let r = (dx_m * dx_m + dy_m * dy_m).sqrt();
+    if r <= radius_m {
+        return disk_tangential_self_compliance(shear_modulus_pa, poisson_ratio, radius_m);
+    }
+    ((1.0 - poisson_ratio) + poisson_ratio * dx_m * dx_m / (r * r))
+        / (2.0 * std::f64::consts::PI * shear_modulus_pa * r)
+}
+
+/// Normal surface displacement per unit tangential x force at offset dx, and (by reciprocity,
+/// with the opposite sign) tangential displacement per unit normal force: −(1−2ν) dx/(4πG r²)
+/// (Johnson eqs. (3.19a), (3.86c)) (m/N). This is the normal–tangential coupling of one body;
+/// between two bodies only the mismatch survives, measured by the Dundurs parameter
+/// [`dundurs_beta`].
+pub fn normal_tangential_cross_compliance(
+    shear_modulus_pa: f64,
+    poisson_ratio: f64,
+    dx_m: f64,
+    dy_m: f64,
+) -> f64 {
+    let r2 = dx_m * dx_m + dy_m * dy_m;
+    if r2 == 0.0 {
+        return 0.0;
+    }
+    -(1.0 - 2.0 * poisson_ratio) * dx_m / (4.0 * std::f64::consts::PI * shear_modulus_pa * r2)
+}
+
+/// Dundurs' second parameter β = ½[(1−2ν₁)/G₁ − (1−2ν₂)/G₂] / [(1−ν₁)/G₁ + (1−ν₂)/G₂]
+/// (Johnson §5.7, eq. (5.53)): the ratio of the normal–tangential coupling of two bodies in
+/// contact to their normal compliance. β = 0: normal pressure causes no relative tangential
+/// displacement and vice versa (Goodman's approximation exact). Si on LiNbO3: β ≈ 0.021.
+pub fn dundurs_beta(g1_pa: f64, nu1: f64, g2_pa: f64, nu2: f64) -> f64 {
+    0.5 * ((1.0 - 2.0 * nu1) / g1_pa - (1.0 - 2.0 * nu2) / g2_pa)
+        / ((1.0 - nu1) / g1_pa + (1.0 - nu2) / g2_pa)
+}
+
+/// Dense half-space tangential compliance (m/N) between the strip's posts: x displacement of
+/// disk i per unit x force on disk j and on all its images in the other slider rows (as
+/// [`strip_compliance`] for the normal direction; tangential forces are mirrored with the rows,
+/// x forces are even under a y mirror).
+pub fn strip_tangential_compliance(
+    shear_modulus_pa: f64,
+    poisson_ratio: f64,
+    radius_m: f64,
+    posts: &[StripPost],
+    layout: &RowLayout,
+) -> DMatrix<f64> {
+    let n = posts.len();
+    let first = layout.first_strip_row();
+    let mut images: Vec<Vec<f64>> = vec![Vec::new(); layout.strip_rows];
+    for k in 0..layout.slider_rows {
+        let y = (k as f64 - first as f64) * layout.pitch_m;
+        images[layout.strip_row_of(k)].push(y);
+    }
+    let mut c = DMatrix::zeros(n, n);
+    for i in 0..n {
+        let yi = posts[i].row as f64 * layout.pitch_m;
+        for j in i..n {
+            let dx = posts[i].x_m - posts[j].x_m;
+            let sum: f64 = images[posts[j].row]
+                .iter()
+                .map(|yk| {
+                    tangential_mutual_compliance(
+                        shear_modulus_pa,
+                        poisson_ratio,
+                        radius_m,
+                        dx,
+                        yi - yk,
+                    )
+                })
+                .sum();
+            c[(i, j)] = sum;
+            c[(j, i)] = sum;
+        }
+    }
+    c
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -185,6 +285,63 @@ mod tests {
             (c[(1, 1)] / expected_self - 1.0).abs() < 1e-12,
             "self term with the two neighbouring rows: {} vs {expected_self}",
             c[(1, 1)]
+        );
+    }
+    #[test]
+    fn tangential_far_field_along_the_force_exceeds_the_normal_one_by_one_over_one_minus_nu() {
+        // Along the force (dx = r): u_x = 1/(2πG r) vs u_z = (1−ν)/(2πG r).
+        let r = 1000.0 * A;
+        let ux = tangential_mutual_compliance(G, NU, A, r, 0.0);
+        let uz = disk_mutual_compliance(G, NU, A, r);
+        assert!(
+            (ux * (1.0 - NU) / uz - 1.0).abs() < 1e-6,
+            "tangential {ux} vs normal {uz} far-field compliance"
+        );
+        let across = tangential_mutual_compliance(G, NU, A, 0.0, r);
+        assert!(
+            (across / ux - (1.0 - NU)).abs() < 1e-12,
+            "across the force the tangential compliance is (1−ν) of the along value"
+        );
+    }
+
+    #[test]
+    fn si_on_linbo3_has_a_small_dundurs_beta() {
+        let beta = dundurs_beta(66.5e9, 0.22, 67.0e9, 0.25);
+        assert!(
+            beta > 0.015 && beta < 0.03,
+            "Dundurs β of Si on LiNbO3 = {beta}"
+        );
+        assert!(
+            dundurs_beta(G, NU, G, NU).abs() < 1e-15,
+            "identical bodies have β = 0"
+        );
+    }
+
+    #[test]
+    fn tangential_strip_compliance_is_symmetric_and_positive_definite() {
+        let posts: Vec<StripPost> = (0..5)
+            .map(|i| StripPost {
+                x_m: i as f64 * 40e-6,
+                row: 0,
+            })
+            .collect();
+        let layout = RowLayout {
+            pitch_m: 40e-6,
+            strip_rows: 1,
+            slider_rows: 5,
+        };
+        let c = strip_tangential_compliance(G, NU, A, &posts, &layout);
+        assert!(
+            (&c - c.transpose()).amax() <= 1e-15 * c.amax(),
+            "tangential compliance symmetry"
+        );
+        assert!(
+            c.clone().cholesky().is_some(),
+            "tangential compliance positive definite"
+        );
+        assert!(
+            c[(2, 2)] > disk_tangential_self_compliance(G, NU, A),
+            "neighbouring rows add to the self term"
         );
     }
 }

@@ -41,10 +41,10 @@ pub use analysis::{
     PostResult, PreloadResult, PreparedStrip, SnapshotResult, StaticAnalysis, StaticReport,
     prepare_strip, run, run_with,
 };
-pub use body::{BodyCompliance, BodySpec, Disk, FemStats, TipLateral};
+pub use body::{BodyCompliance, BodySpec, Disk, FemStats, TangentialCompliance, TipLateral};
 pub use error::{ContactError, Result};
 pub use eta::{EtaFit, FitSample, fit_eta};
 pub use eta_full_contact::full_contact_eta;
 pub use lcp::{ActiveSetOptions, ActiveSetSolver, ContactProblem, ContactSolution, IterationLog};
 pub use params::{MeshChoice, MeshSizes, StaticParams};
-pub use scene::{PostSite, StatorCompliance, StatorModel, StripConfig, StripModel};
+pub use scene::{PostSite, StatorCompliance, StatorModel, StripConfig, StripModel, TipCompliance};

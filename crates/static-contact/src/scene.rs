@@ -15,7 +15,10 @@ use serde::{Deserialize, Serialize};
 
 use crate::body::{BodyCompliance, BodySpec, Disk, TipLateral};
 use crate::error::{ContactError, Result};
-use crate::halfspace::{RowLayout, StripPost, strip_compliance};
+use crate::halfspace::{
+    RowLayout, StripPost, normal_tangential_cross_compliance, strip_compliance,
+    strip_tangential_compliance,
+};
 use crate::lcp::{ActiveSetOptions, ActiveSetSolver, ContactProblem, ContactSolution};
 
 /// Relative tolerance between the mesh's post radius/pitch and the requested ones. Default 2 %.
@@ -81,6 +84,29 @@ impl StatorCompliance {
             StatorCompliance::HalfSpace(c) => c,
             StatorCompliance::Meshed(b) => &b.compliance_m_per_n,
         }
+    }
+}
+
+/// Normal and tangential tip compliance of the strip (see [`StripModel::tip_compliance`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TipCompliance {
+    /// C_nn (m/N), the static stage's compliance.
+    pub normal_m_per_n: DMatrix<f64>,
+    /// C_tt (m/N): x displacement of tip i relative to the stator per unit x force on tip j.
+    pub tangential_m_per_n: DMatrix<f64>,
+    /// Slider-side cross term: normal tip displacement per unit x force (m/N).
+    pub slider_cross_m_per_n: DMatrix<f64>,
+    /// Stator-side cross term: normal surface displacement under tip i per unit x force on
+    /// tip j (m/N).
+    pub stator_cross_m_per_n: DMatrix<f64>,
+}
+
+impl TipCompliance {
+    /// Relative size of a cross-term matrix: max |C_zx,ij| / √(max C_nn,ii · max C_tt,jj).
+    pub fn cross_ratio(&self, cross: &DMatrix<f64>) -> f64 {
+        let dn = self.normal_m_per_n.diagonal().max();
+        let dt = self.tangential_m_per_n.diagonal().max();
+        cross.amax() / (dn * dt).sqrt()
     }
 }
 
@@ -274,6 +300,71 @@ impl StripModel {
             stator,
             compliance_m_per_n,
             config,
+        })
+    }
+
+    /// Normal and tangential (x) tip compliance of the strip for the coupled dynamics, from the
+    /// slider's existing factorisation ([`BodyCompliance::tangential_compliance`]) plus the
+    /// stator's tangential compliance (half-space: rigid-disk self term and Cerruti mutual terms
+    /// with the row images, [`strip_tangential_compliance`]; meshed block: its own factor).
+    ///
+    /// The normal–tangential cross terms are returned separately (slider side from the FEM,
+    /// stator side from the half-space point-force coupling, −(1−2ν)dx/(4πGr²), images summed)
+    /// so that a caller can quantify what it drops.
+    pub fn tip_compliance(&self) -> Result<TipCompliance> {
+        let slider = self.slider.tangential_compliance()?;
+        let (stator_tangential, stator_cross) = match &self.stator {
+            StatorCompliance::HalfSpace(_) => {
+                let m = &self.config.stator_material;
+                let sites: Vec<StripPost> = self
+                    .posts
+                    .iter()
+                    .map(|p| StripPost {
+                        x_m: p.x_m,
+                        row: p.row,
+                    })
+                    .collect();
+                let layout = RowLayout {
+                    pitch_m: self.config.pitch_m,
+                    strip_rows: self.strip_rows,
+                    slider_rows: self.config.slider_rows,
+                };
+                let tangential = strip_tangential_compliance(
+                    m.shear_modulus_pa,
+                    m.poisson_ratio,
+                    self.config.post_radius_m,
+                    &sites,
+                    &layout,
+                );
+                let n = self.posts.len();
+                let first = layout.first_strip_row();
+                let cross = DMatrix::from_fn(n, n, |i, j| {
+                    let yi = self.posts[i].row as f64 * layout.pitch_m;
+                    (0..layout.slider_rows)
+                        .filter(|&k| layout.strip_row_of(k) == self.posts[j].row)
+                        .map(|k| {
+                            let yk = (k as f64 - first as f64) * layout.pitch_m;
+                            normal_tangential_cross_compliance(
+                                m.shear_modulus_pa,
+                                m.poisson_ratio,
+                                self.posts[i].x_m - self.posts[j].x_m,
+                                yi - yk,
+                            )
+                        })
+                        .sum::<f64>()
+                });
+                (tangential, cross)
+            }
+            StatorCompliance::Meshed(body) => {
+                let t = body.tangential_compliance()?;
+                (t.tangential_m_per_n, t.normal_from_tangential_m_per_n)
+            }
+        };
+        Ok(TipCompliance {
+            normal_m_per_n: self.compliance_m_per_n.clone(),
+            tangential_m_per_n: &slider.tangential_m_per_n + &stator_tangential,
+            slider_cross_m_per_n: slider.normal_from_tangential_m_per_n,
+            stator_cross_m_per_n: stator_cross,
         })
     }
 

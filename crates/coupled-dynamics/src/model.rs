@@ -1,0 +1,702 @@
+//! The coupled quasi-static model: every post of the strip with unilateral contact and Coulomb
+//! friction (μ_s, μ_k) on the dense normal and tangential tip compliances, driven by the
+//! travelling wave at its own x, the rigid heavy slider at an imposed speed (periodic steady
+//! state).
+//!
+//! Solver units: length A_n, time 1/ω, force k_ref A_n with k_ref = 1/mean(C_nn,ii); Ĉ = k_ref C.
+//! The reference phase θ_r = ωt − k x_s(t) advances at s = 1 − κ v̂ (κ = kA_n, v̂ the slider's
+//! scaled x-velocity); post i sees θ_i = θ_r − k x_i, the surface w_i = sin θ_i and the material
+//! velocity u̇_i = −â sin θ_i (â = A_t/A_n).
+//!
+//! Normal problem (independent of friction, Goodman's approximation, and of the speed: it
+//! depends on θ_r only, so it is solved once per scene on the phase grid): N ≥ 0,
+//! g = z − w + Ĉ_n N ≥ 0, N·g = 0, with Σ N = P̂ at every instant ([`PreloadBalance::Instant`],
+//! static-contact's active-set solver) or one z with the period mean Σ⟨N⟩ = P̂.
+//!
+//! Tangential problem of a step t_n → t_{n+1} = t_n + h (backward Euler on the quasi-static
+//! Jenkins posts, the lumped model's return mapping generalised to a dense compliance): the
+//! tip's elastic deflection e = Ĉ_t T, the stick condition Δe = Δu − v̂h, Coulomb's law with the
+//! slip increment Δs = Δu − v̂h − Δe:  |T_i| ≤ μ_i N_i, Δs_i = λ_i sign T_i, λ_i ≥ 0,
+//! λ_i(μ_i N_i − |T_i|) = 0. These are the KKT conditions of the box QP
+//! min ½TᵀĈ_tT − bᵀT, |T_i| ≤ μ_i N_i, b = Ĉ_t Tⁿ + Δu − v̂h ([`crate::boxqp`]). μ_i = μ_k for a
+//! post slipping in the previous step, else μ_s; a post that slips with μ_s drops to μ_k and
+//! the step is re-solved (bounds only fall, so this ends).
+//!
+//! Energy per step: stator work Tⁿ⁺¹·Δu, output Tⁿ⁺¹·v̂h, friction Tⁿ⁺¹·Δs, stored
+//! ½TᵀĈ_tT; the scheme's numerical dissipation ½ΔTᵀĈ_tΔT closes the balance exactly and is
+//! first order in h (reported separately; it is the energy released across a step where T
+//! jumps — μ_s → μ_k drops and separations — plus O(h) elsewhere).
+
+use std::f64::consts::PI;
+use std::time::Instant;
+
+use nalgebra::{DMatrix, DVector};
+use serde::Serialize;
+use static_contact::{ActiveSetOptions, ActiveSetSolver, ContactProblem};
+
+use crate::boxqp::{self, Bound};
+use crate::error::{CoupledError, Result};
+use crate::scene::{CoupledScene, PreloadBalance};
+
+/// Periods stepped at most before a speed is declared quasi-periodic (averaged over the last
+/// half). Default 64.
+pub const MAX_PERIODS: usize = 64;
+/// Largest change of a tip force between two period starts (of the friction scale) that counts
+/// as periodic. Default 1e-11.
+pub const PERIODIC_TOLERANCE: f64 = 1e-11;
+/// Relative tolerance of the no-load speed root (of the crest speed). Default 1e-10.
+pub const SPEED_TOLERANCE: f64 = 1e-10;
+/// Bisection steps of the period-mean approach. Default 200 (stops at round-off).
+const APPROACH_BISECTIONS: usize = 200;
+/// The period mean Σ⟨N⟩ of [`PreloadBalance::PeriodMean`] is taken on a grid this many times
+/// finer than the step grid (trapezoidal rule on a periodic function with kinks at the contact
+/// edges: error O((2π/(rM))²), ≈ 1e-8 relative at r = 32, M = 128), so that the approach is
+/// that of the continuous period mean, as in the lumped model. Default 32.
+pub const PERIOD_MEAN_REFINEMENT: usize = 32;
+
+/// Contact state of a post during a step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PostMode {
+    /// No contact.
+    Separated,
+    /// Stuck.
+    Stick,
+    /// Slipping.
+    Slip,
+}
+
+/// Steady period-average behaviour at one imposed speed, SI, whole slider.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct CoupledPoint {
+    /// Speed along the drive direction (m/s).
+    pub speed_m_per_s: f64,
+    /// Mean thrust along the drive direction (N).
+    pub thrust_n: f64,
+    /// Output power (W).
+    pub output_power_w: f64,
+    /// Power the stator delivers through the tangential contacts (W).
+    pub stator_power_w: f64,
+    /// Coulomb friction dissipation Σ T·Δs (W).
+    pub friction_dissipation_w: f64,
+    /// Numerical dissipation of the implicit step Σ ½ΔTᵀC_tΔT (W): O(h).
+    pub numerical_dissipation_w: f64,
+    /// Output over stator power.
+    pub efficiency: f64,
+    /// Time stuck over time in contact, all posts.
+    pub stick_fraction: f64,
+    /// Time in contact over time, mean over posts.
+    pub contact_fraction: f64,
+    /// (stator − output − friction − stored change)/power flow over the steady period; equals
+    /// the numerical dissipation's share.
+    pub energy_balance_residual: f64,
+    /// Same with the numerical dissipation included: round-off (a bookkeeping check).
+    pub energy_identity_residual: f64,
+    /// Whether the steady cycle closed.
+    pub converged: bool,
+    /// Periods stepped.
+    pub periods: usize,
+    /// Largest natural residual of the step solves.
+    pub max_solver_residual: f64,
+    /// Total active-set iterations (and Gauss–Seidel sweeps).
+    pub solver_iterations: usize,
+    /// Steps that needed the Gauss–Seidel fallback.
+    pub fallback_steps: usize,
+}
+
+/// Forces of every post over one steady period (strip posts; forces per post, N).
+#[derive(Debug, Clone, PartialEq, Default, Serialize)]
+pub struct PostHistories {
+    /// Imposed speed along the drive direction (m/s).
+    pub speed_m_per_s: f64,
+    /// Sample times from the period start (s).
+    pub time_s: Vec<f64>,
+    /// Normal force of each post at each sample (N), `[sample][post]`.
+    pub normal_force_n: Vec<Vec<f64>>,
+    /// Tangential force on the slider along the drive direction (N), `[sample][post]`.
+    pub tangential_force_n: Vec<Vec<f64>>,
+    /// Contact mode, `[sample][post]`.
+    pub mode: Vec<Vec<PostMode>>,
+}
+
+/// The coupled model of a scene, with the normal forces on the phase grid solved.
+#[derive(Debug, Clone)]
+pub struct CoupledModel {
+    scene: CoupledScene,
+    /// Ĉ_t.
+    ct: DMatrix<f64>,
+    /// σ k x_i (rad), σ = ±1 the wave direction: θ_i = θ_r − σ k x_i.
+    kx: Vec<f64>,
+    /// σ.
+    sigma: f64,
+    /// â.
+    a_t: f64,
+    /// κ.
+    doppler: f64,
+    /// Normal forces N̂_i at grid phase j (j = 0..M).
+    normals: Vec<DVector<f64>>,
+    /// Rigid approach ẑ at grid phase j.
+    approach: Vec<f64>,
+    /// k_ref A_n (N).
+    force_n: f64,
+    length_m: f64,
+    omega: f64,
+    normal_wall_s: f64,
+}
+
+impl CoupledModel {
+    /// Validate the scene and solve the normal problem on the phase grid.
+    pub fn new(scene: &CoupledScene) -> Result<Self> {
+        scene.validate()?;
+        let started = Instant::now();
+        let n = scene.post_x_m.len();
+        let k_ref = n as f64 / scene.normal_compliance_m_per_n.diagonal().sum();
+        let length_m = scene.wave.normal_amplitude_m;
+        let force_n = k_ref * length_m;
+        let cn = &scene.normal_compliance_m_per_n * k_ref;
+        let ct = &scene.tangential_compliance_m_per_n * k_ref;
+        let k = scene.wave.wavenumber_rad_per_m();
+        let kx: Vec<f64> = scene.post_x_m.iter().map(|x| k * x).collect();
+        let m = scene.steps_per_period;
+        let preload = scene.preload_n * scene.strip_share / force_n;
+        let sigma = scene.wave_direction.sign();
+        let kx: Vec<f64> = kx.iter().map(|v| sigma * v).collect();
+        let heights = |j: usize| -> DVector<f64> {
+            let theta = scene.start_phase_rad + 2.0 * PI * j as f64 / m as f64;
+            DVector::from_fn(n, |i, _| (theta - kx[i]).sin())
+        };
+        let (normals, approach) = match scene.preload_balance {
+            PreloadBalance::Instant => {
+                let solver = ActiveSetSolver::new(ActiveSetOptions {
+                    tolerance: scene.tolerance.max(1e-12),
+                    ..ActiveSetOptions::default()
+                });
+                let mut normals = Vec::with_capacity(m);
+                let mut approach = Vec::with_capacity(m);
+                for j in 0..m {
+                    let solution = solver.solve(&ContactProblem {
+                        compliance_m_per_n: cn.clone(),
+                        obstacle_height_m: heights(j).as_slice().to_vec(),
+                        preload_n: preload,
+                        length_scale_m: Some(1.0),
+                    })?;
+                    normals.push(DVector::from_vec(solution.force_n));
+                    approach.push(solution.reference_height_m);
+                }
+                (normals, approach)
+            }
+            PreloadBalance::PeriodMean => {
+                let fine = |j: usize| -> DVector<f64> {
+                    let theta = scene.start_phase_rad
+                        + 2.0 * PI * j as f64 / (m * PERIOD_MEAN_REFINEMENT) as f64;
+                    DVector::from_fn(n, |i, _| (theta - kx[i]).sin())
+                };
+                let z = period_mean_approach(
+                    &cn,
+                    m * PERIOD_MEAN_REFINEMENT,
+                    &fine,
+                    preload,
+                    scene.tolerance,
+                )?;
+                let normals = (0..m)
+                    .map(|j| {
+                        normals_at_approach(
+                            &cn,
+                            &heights(j),
+                            z,
+                            preload,
+                            scene.tolerance,
+                            j,
+                            &mut vec![Bound::Free; n],
+                        )
+                    })
+                    .collect::<Result<Vec<_>>>()?;
+                (normals, vec![z; m])
+            }
+        };
+        Ok(Self {
+            scene: scene.clone(),
+            ct,
+            kx,
+            sigma,
+            a_t: scene.wave.tangential_amplitude_m / length_m,
+            doppler: k * length_m,
+            normals,
+            approach,
+            force_n,
+            length_m,
+            omega: scene.wave.angular_frequency_rad_per_s(),
+            normal_wall_s: started.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// The scene.
+    pub fn scene(&self) -> &CoupledScene {
+        &self.scene
+    }
+
+    /// Wall time of the normal solves on the phase grid (s).
+    pub fn normal_wall_time_s(&self) -> f64 {
+        self.normal_wall_s
+    }
+
+    /// Total normal force of the strip at grid phase j (N).
+    pub fn strip_normal_force_n(&self, j: usize) -> f64 {
+        self.normals[j % self.normals.len()].sum() * self.force_n
+    }
+
+    /// Rigid approach (tip reference height) at grid phase j (m).
+    pub fn approach_m(&self, j: usize) -> f64 {
+        self.approach[j % self.approach.len()] * self.length_m
+    }
+
+    /// Fewest grid steps in contact over the posts that touch at all (the resolution of the
+    /// shortest contact arc), or `None` if no post touches.
+    pub fn min_contact_steps(&self) -> Option<usize> {
+        (0..self.kx.len())
+            .map(|i| self.normals.iter().filter(|nj| nj[i] > 0.0).count())
+            .filter(|&k| k > 0)
+            .min()
+    }
+
+    /// Posts in contact at every grid phase (they never separate: at v = 0 their stuck state
+    /// is not unique and the result depends on the start, T = 0).
+    pub fn never_separating_posts(&self) -> usize {
+        (0..self.kx.len())
+            .filter(|&i| self.normals.iter().all(|nj| nj[i] > 0.0))
+            .count()
+    }
+
+    /// Crest speed A_t ω (m/s).
+    pub fn crest_speed_m_per_s(&self) -> f64 {
+        self.scene.wave.crest_speed_m_per_s()
+    }
+}
+
+/// Normal forces at a fixed approach z: N ≥ 0, z − w + Ĉ_n N ≥ 0, complementary.
+fn normals_at_approach(
+    cn: &DMatrix<f64>,
+    heights: &DVector<f64>,
+    z: f64,
+    preload: f64,
+    tolerance: f64,
+    j: usize,
+    sets: &mut [Bound],
+) -> Result<DVector<f64>> {
+    let n = cn.nrows();
+    let b = heights.add_scalar(-z);
+    boxqp::solve(
+        cn,
+        &b,
+        &vec![0.0; n],
+        &vec![f64::INFINITY; n],
+        sets,
+        b.amax().max(preload),
+        tolerance,
+    )
+    .map(|s| s.x)
+    .map_err(|(iterations, residual)| CoupledError::NotConverged {
+        what: "normal contact at fixed approach",
+        iterations,
+        residual,
+        tolerance,
+        context: format!("at grid phase {j}, approach {z:.6e} A_n"),
+    })
+}
+
+/// The constant approach z with the period mean Σ⟨N⟩ = P̂ over `m` grid phases, by bisection
+/// (ΣN falls monotonically as z rises).
+fn period_mean_approach(
+    cn: &DMatrix<f64>,
+    m: usize,
+    heights: &dyn Fn(usize) -> DVector<f64>,
+    preload: f64,
+    tolerance: f64,
+) -> Result<f64> {
+    let n = cn.nrows();
+    let all: Vec<DVector<f64>> = (0..m).map(heights).collect();
+    let mut sets: Vec<Vec<Bound>> = vec![vec![Bound::Free; n]; m];
+    let mut mean = |z: f64| -> Result<f64> {
+        let mut total = 0.0;
+        for j in 0..m {
+            total +=
+                normals_at_approach(cn, &all[j], z, preload, tolerance, j, &mut sets[j])?.sum();
+        }
+        Ok(total / m as f64)
+    };
+    let mut hi = 1.0;
+    let mut lo = -1.0 - preload * cn.row_sum().max();
+    while mean(lo)? < preload {
+        lo -= 1.0 + lo.abs();
+    }
+    for _ in 0..APPROACH_BISECTIONS {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi || hi - lo <= 1e-15 * (1.0 + mid.abs()) {
+            break;
+        }
+        if mean(mid)? > preload {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Ok(0.5 * (lo + hi))
+}
+
+/// Sums over an interval of steps, solver units.
+#[derive(Debug, Clone, Copy, Default)]
+struct Integrals {
+    time: f64,
+    force_time: f64,
+    stator_work: f64,
+    power_flow: f64,
+    output_work: f64,
+    friction: f64,
+    numerical: f64,
+    stored_change: f64,
+    stick_time: f64,
+    contact_time: f64,
+}
+
+impl std::ops::Sub for Integrals {
+    type Output = Self;
+    fn sub(self, o: Self) -> Self {
+        Self {
+            time: self.time - o.time,
+            force_time: self.force_time - o.force_time,
+            stator_work: self.stator_work - o.stator_work,
+            power_flow: self.power_flow - o.power_flow,
+            output_work: self.output_work - o.output_work,
+            friction: self.friction - o.friction,
+            numerical: self.numerical - o.numerical,
+            stored_change: self.stored_change - o.stored_change,
+            stick_time: self.stick_time - o.stick_time,
+            contact_time: self.contact_time - o.contact_time,
+        }
+    }
+}
+
+/// State of the tips between steps.
+#[derive(Debug, Clone)]
+struct TipState {
+    force: DVector<f64>,
+    mode: Vec<PostMode>,
+    sets: Vec<Bound>,
+}
+
+/// Solver statistics of a run.
+#[derive(Debug, Clone, Copy, Default)]
+struct SolverStats {
+    max_residual: f64,
+    iterations: usize,
+    fallback_steps: usize,
+}
+
+impl CoupledModel {
+    /// Scaled x-velocity of the slider moving at `speed_m_per_s` along the drive direction −σx.
+    fn scaled_velocity(&self, speed_m_per_s: f64) -> f64 {
+        -self.sigma * speed_m_per_s / (self.length_m * self.omega)
+    }
+
+    /// Drive direction along x: −σ (−1 for the +x wave).
+    pub fn drive_direction_x(&self) -> f64 {
+        -self.sigma
+    }
+
+    /// One step from grid phase j to j+1.
+    fn step(
+        &self,
+        j: usize,
+        v: f64,
+        s: f64,
+        h: f64,
+        state: &mut TipState,
+        ints: &mut Integrals,
+        stats: &mut SolverStats,
+    ) -> Result<()> {
+        let m = self.normals.len();
+        let n = self.kx.len();
+        let theta0 = self.scene.start_phase_rad + 2.0 * PI * j as f64 / m as f64;
+        let theta1 = self.scene.start_phase_rad + 2.0 * PI * (j + 1) as f64 / m as f64;
+        let normal = &self.normals[(j + 1) % m];
+        let du = DVector::from_fn(n, |i, _| {
+            self.sigma * self.a_t * ((theta1 - self.kx[i]).cos() - (theta0 - self.kx[i]).cos()) / s
+        });
+        let b = &self.ct * &state.force + &du - DVector::from_element(n, v * h);
+        let mut mu: Vec<f64> = state
+            .mode
+            .iter()
+            .map(|mode| match mode {
+                PostMode::Slip => self.scene.mu_kinetic,
+                _ => self.scene.mu_static,
+            })
+            .collect();
+        let slip_tolerance = 1e-9 * (du.amax() + v.abs() * h).max(1e-300);
+        let tolerance = self.scene.tolerance;
+        let solution = loop {
+            let hi: Vec<f64> = (0..n).map(|i| mu[i] * normal[i].max(0.0)).collect();
+            let lo: Vec<f64> = hi.iter().map(|x| -x).collect();
+            let scale = hi.iter().fold(b.amax(), |a, &x| a.max(x));
+            let solution = boxqp::solve(&self.ct, &b, &lo, &hi, &mut state.sets, scale, tolerance)
+                .map_err(|(iterations, residual)| CoupledError::NotConverged {
+                    what: "frictional contact step",
+                    iterations,
+                    residual,
+                    tolerance,
+                    context: format!(
+                        "at speed {:.6e} m/s, grid step {j}",
+                        -v * self.length_m * self.omega
+                    ),
+                })?;
+            stats.max_residual = stats.max_residual.max(solution.residual);
+            stats.iterations += solution.iterations;
+            stats.fallback_steps += usize::from(solution.fallback);
+            let mut dropped = false;
+            for i in 0..n {
+                if normal[i] > 0.0
+                    && mu[i] != self.scene.mu_kinetic
+                    && solution.lambda[i].abs() > slip_tolerance
+                {
+                    mu[i] = self.scene.mu_kinetic;
+                    dropped = true;
+                }
+            }
+            if !dropped {
+                break solution;
+            }
+        };
+        let force = solution.x;
+        let slip = solution.lambda;
+        let dforce = &force - &state.force;
+        let stored_old = 0.5 * state.force.dot(&(&self.ct * &state.force));
+        let stored_new = 0.5 * force.dot(&(&self.ct * &force));
+        ints.time += h;
+        ints.force_time += force.sum() * h;
+        ints.stator_work += force.dot(&du);
+        ints.power_flow += force.component_mul(&du).abs().sum();
+        ints.output_work += force.sum() * v * h;
+        ints.friction += force.dot(&slip);
+        ints.numerical += 0.5 * dforce.dot(&(&self.ct * &dforce));
+        ints.stored_change += stored_new - stored_old;
+        for i in 0..n {
+            state.mode[i] = if normal[i] <= 0.0 {
+                PostMode::Separated
+            } else if slip[i].abs() > slip_tolerance {
+                PostMode::Slip
+            } else {
+                PostMode::Stick
+            };
+            if normal[i] > 0.0 {
+                ints.contact_time += h;
+                if state.mode[i] == PostMode::Stick {
+                    ints.stick_time += h;
+                }
+            }
+        }
+        state.force = force;
+        Ok(())
+    }
+
+    /// Steady state at an imposed speed along the drive direction (m/s); 0 is the v → 0⁺ limit
+    /// for separating posts.
+    pub fn at_speed(&self, speed_m_per_s: f64) -> Result<CoupledPoint> {
+        Ok(self.steady(speed_m_per_s)?.0)
+    }
+
+    /// Every post's normal and tangential force and contact mode over one steady period at
+    /// `speed_m_per_s` (one sample per step, at the step's end).
+    pub fn post_histories(&self, speed_m_per_s: f64) -> Result<PostHistories> {
+        let (_, mut state, v, s, h) = self.steady(speed_m_per_s)?;
+        let m = self.normals.len();
+        let mut ints = Integrals::default();
+        let mut stats = SolverStats::default();
+        let time_unit = 1.0 / self.omega;
+        let mut out = PostHistories {
+            speed_m_per_s,
+            ..PostHistories::default()
+        };
+        for j in 0..m {
+            self.step(j, v, s, h, &mut state, &mut ints, &mut stats)?;
+            out.time_s.push((j + 1) as f64 * h * time_unit);
+            out.normal_force_n.push(
+                self.normals[(j + 1) % m]
+                    .iter()
+                    .map(|x| x * self.force_n)
+                    .collect(),
+            );
+            out.tangential_force_n.push(
+                state
+                    .force
+                    .iter()
+                    .map(|x| -self.sigma * x * self.force_n)
+                    .collect(),
+            );
+            out.mode.push(state.mode.clone());
+        }
+        Ok(out)
+    }
+
+    /// The steady state at a speed: the period average, the state at a period start, the
+    /// scaled velocity, phase rate and step.
+    fn steady(&self, speed_m_per_s: f64) -> Result<(CoupledPoint, TipState, f64, f64, f64)> {
+        if !speed_m_per_s.is_finite() {
+            return Err(CoupledError::InvalidParameter {
+                parameter: "speed_m_per_s",
+                value: speed_m_per_s,
+                requirement: "must be finite".into(),
+            });
+        }
+        let n = self.kx.len();
+        let m = self.normals.len();
+        let v = self.scaled_velocity(speed_m_per_s);
+        let s = 1.0 - self.doppler * self.sigma * v;
+        let h = 2.0 * PI / (m as f64 * s);
+        let mut state = TipState {
+            force: DVector::zeros(n),
+            mode: vec![PostMode::Separated; n],
+            sets: vec![Bound::Free; n],
+        };
+        let friction_scale =
+            self.scene.mu_static * self.normals.iter().map(|x| x.amax()).fold(0.0, f64::max);
+        let mut ints = Integrals::default();
+        let mut stats = SolverStats::default();
+        let mut marks = vec![ints];
+        let mut previous = (state.force.clone(), state.mode.clone());
+        let mut converged = false;
+        let mut periods = 0;
+        while periods < MAX_PERIODS {
+            for j in 0..m {
+                self.step(j, v, s, h, &mut state, &mut ints, &mut stats)?;
+            }
+            periods += 1;
+            marks.push(ints);
+            let change = (&state.force - &previous.0).amax();
+            if periods >= 2
+                && change <= PERIODIC_TOLERANCE * friction_scale.max(1e-300)
+                && state.mode == previous.1
+            {
+                converged = true;
+                break;
+            }
+            previous = (state.force.clone(), state.mode.clone());
+        }
+        let window = if converged {
+            marks[periods] - marks[periods - 1]
+        } else {
+            marks[periods] - marks[periods / 2]
+        };
+        let point = self.point(speed_m_per_s, v, &window, converged, periods, stats);
+        Ok((point, state, v, s, h))
+    }
+
+    fn point(
+        &self,
+        speed_m_per_s: f64,
+        v: f64,
+        i: &Integrals,
+        converged: bool,
+        periods: usize,
+        stats: SolverStats,
+    ) -> CoupledPoint {
+        let share = self.scene.strip_share;
+        let power = self.force_n * self.length_m * self.omega / i.time / share;
+        let stator = i.stator_work * power;
+        let output = i.output_work * power;
+        let flow = i
+            .power_flow
+            .max(i.stator_work.abs())
+            .max(i.friction.abs())
+            .max(1e-300);
+        let balance = i.stator_work - i.output_work - i.friction - i.stored_change;
+        let _ = v;
+        CoupledPoint {
+            speed_m_per_s,
+            thrust_n: -self.sigma * i.force_time / i.time * self.force_n / share,
+            output_power_w: output,
+            stator_power_w: stator,
+            friction_dissipation_w: i.friction * power,
+            numerical_dissipation_w: i.numerical * power,
+            efficiency: if stator > 0.0 && output > 0.0 {
+                output / stator
+            } else {
+                0.0
+            },
+            stick_fraction: if i.contact_time > 0.0 {
+                i.stick_time / i.contact_time
+            } else {
+                0.0
+            },
+            contact_fraction: i.contact_time / (i.time * self.kx.len() as f64),
+            energy_balance_residual: balance / flow,
+            energy_identity_residual: (balance - i.numerical) / flow,
+            converged,
+            periods,
+            max_solver_residual: stats.max_residual,
+            solver_iterations: stats.iterations,
+            fallback_steps: stats.fallback_steps,
+        }
+    }
+
+    /// Stall thrust F(0⁺) (N).
+    pub fn stall_thrust_n(&self) -> Result<f64> {
+        Ok(self.at_speed(0.0)?.thrust_n)
+    }
+
+    /// No-load speed F(v₀) = 0 (m/s), Illinois regula falsi on [0, crest]; 0 if F(0⁺) ≤ 0.
+    pub fn no_load_speed_m_per_s(&self, stall_n: f64) -> Result<f64> {
+        if stall_n <= 0.0 {
+            return Ok(0.0);
+        }
+        let crest = self.crest_speed_m_per_s();
+        let (mut a, mut fa) = (0.0, stall_n);
+        let mut b = crest;
+        let mut fb = self.at_speed(b)?.thrust_n;
+        let mut expansions = 0;
+        while fb > 0.0 {
+            if expansions == 6 {
+                return Err(CoupledError::NotConverged {
+                    what: "bracket of the no-load speed",
+                    iterations: expansions,
+                    residual: fb,
+                    tolerance: 0.0,
+                    context: "thrust still positive at 11× the crest speed".into(),
+                });
+            }
+            a = b;
+            fa = fb;
+            b *= 1.5;
+            fb = self.at_speed(b)?.thrust_n;
+            expansions += 1;
+        }
+        let mut side = 0;
+        for _ in 0..200 {
+            let c = (a * fb - b * fa) / (fb - fa);
+            if (b - a).abs() <= SPEED_TOLERANCE * crest {
+                return Ok(c);
+            }
+            let fc = self.at_speed(c)?.thrust_n;
+            if fc == 0.0 {
+                return Ok(c);
+            }
+            if (fc > 0.0) == (fa > 0.0) {
+                a = c;
+                fa = fc;
+                if side == -1 {
+                    fb *= 0.5;
+                }
+                side = -1;
+            } else {
+                b = c;
+                fb = fc;
+                if side == 1 {
+                    fa *= 0.5;
+                }
+                side = 1;
+            }
+            if (b - a).abs() <= SPEED_TOLERANCE * crest {
+                return Ok(0.5 * (a + b));
+            }
+        }
+        Ok(0.5 * (a + b))
+    }
+}
