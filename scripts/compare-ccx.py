@@ -26,6 +26,11 @@ import time
 import meshio
 import numpy as np
 
+# ccx rejects elements with a Jacobian below an absolute threshold (≈ 1e-20), which the
+# sub-micrometre elements near the punch edge fall under in metres: the deck is written in mm,
+# N and MPa (lengths × 1e3, moduli × 1e-6), and k converted back to N/m.
+MM_PER_M = 1e3
+
 # meshio stores tetra10 in VTK order: corners, edges (0,1), (1,2), (2,0), (0,3), (1,3), (2,3),
 # which is ccx's C3D10 order. ccx position k takes meshio node MESHIO_TO_CCX[k].
 MESHIO_TO_CCX = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9]
@@ -33,7 +38,7 @@ MESHIO_TO_CCX = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9]
 
 def write_deck(path, mesh_path, g, nu, solver):
     raw = meshio.read(mesh_path)
-    pts = raw.points
+    pts = raw.points * MM_PER_M
     tets = np.concatenate([c.data for c in raw.cells if c.type == "tetra10"])
     used = np.unique(tets)
     size = np.max(np.linalg.norm(pts[used], axis=1))
@@ -48,7 +53,7 @@ def write_deck(path, mesh_path, g, nu, solver):
     x0 = used[np.abs(p[:, 0]) < tol]
     y0 = used[np.abs(p[:, 1]) < tol]
     delta = 1e-3 * a
-    e_mod = 2 * g * (1 + nu)
+    e_mod = 2 * g * (1 + nu) / MM_PER_M ** 2
     with open(path, "w") as f:
         f.write("*NODE\n")
         for n in used:
@@ -100,7 +105,8 @@ def main():
     if not totals:
         raise SystemExit(f"no reaction totals in {work}/punch.dat")
     rf_z = float(totals[-1][2])
-    k = 4.0 * abs(rf_z) / delta
+    a /= MM_PER_M
+    k = 4.0 * abs(rf_z) / delta * MM_PER_M
     g, nu = args.shear_modulus, args.poisson
     print(json.dumps({
         "code": f"CalculiX ccx ({args.solver})",
