@@ -2,11 +2,11 @@
 //! [`SymmetricMatrix`] for a row-parallel product y = A x, a rectangular row-sparse matrix for
 //! the multigrid transfer operators, and the Galerkin product A_c = Pᵀ A P.
 //!
-//! Why assembled CSR: the Tet10 element matrix is 30 × 30 with ≈ 100 quadrature-free flops per
-//! stored entry to recompute, while a stored entry costs 12 bytes of memory traffic per product;
-//! the full-row layout lets each rayon task own a block of rows (no write conflicts), which the
-//! upper-triangle CSC storage of the direct path does not. Measured on the punch meshes (see
-//! validation/fem-peers/README.md), the product is memory-bound at ≈ 1 GB/s·core⁻¹ of matrix data.
+//! Why assembled CSR: a stored entry costs 12 bytes of memory traffic per product, while a
+//! matrix-free Tet10 product recomputes 30 × 30 element matrices (the whole assembly, 2.4 s at
+//! 350k unknowns on the punch mesh) per product, against ≈ 0.1 s per CSR product there
+//! (validation/fem-peers/README.md). The full-row layout lets each rayon task own a block of
+//! rows (no write conflicts), which the upper-triangle CSC storage of the direct path does not.
 
 use rayon::prelude::*;
 
