@@ -191,6 +191,36 @@ pub enum FemError {
         /// Index of the first non-finite unknown.
         unknown: usize,
     },
+    /// The iterative solver did not reach its energy-error tolerance.
+    #[error(
+        "elastic-fem iterative solver (PCG): not converged after {iterations} iterations: {rule} (estimated relative energy error {relative_energy_error:e}, tolerance {tolerance:e})"
+    )]
+    IterativeNotConverged {
+        /// Iterations performed.
+        iterations: usize,
+        /// Estimated relative energy-norm error reached (infinite before the first estimate).
+        relative_energy_error: f64,
+        /// The tolerance asked for.
+        tolerance: f64,
+        /// Which rule ended the iteration (iteration limit, breakdown).
+        rule: String,
+    },
+    /// The iterative path cannot handle this model (it is refused, not silently replaced).
+    #[error("elastic-fem iterative solver: {reason}")]
+    IterativeUnsupported {
+        /// Why (e.g. Tet4 mesh without a p-multigrid hierarchy).
+        reason: String,
+    },
+    /// A solver option is out of range.
+    #[error("elastic-fem solver options: `{field}` = {value} is invalid: {reason}")]
+    InvalidSolverOption {
+        /// Field name.
+        field: &'static str,
+        /// The offending value.
+        value: f64,
+        /// Why it is rejected.
+        reason: &'static str,
+    },
     /// A failure reported by the sparse backend (out of memory, index overflow).
     #[error("elastic-fem sparse backend: {0}")]
     SparseBackend(String),

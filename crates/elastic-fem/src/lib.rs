@@ -31,6 +31,7 @@ pub mod assembly;
 pub mod constraints;
 pub mod element;
 pub mod error;
+pub mod iterative;
 pub mod loads;
 pub mod material;
 pub mod mesh_gen;
@@ -47,6 +48,7 @@ pub mod static_solver;
 pub use assembly::{assemble_stiffness, assemble_stiffness_into};
 pub use constraints::{Constraints, Dirichlet, PeriodicPairs, RigidComponent, RigidFace};
 pub use error::{FemError, FemResult};
+pub use iterative::{IterativeOptions, IterativeSolver};
 pub use loads::SurfaceTriangles;
 pub use material::{CubicCrystal, LameParameters, Material};
 pub use model::{Connectivity, Model, QualityReport};
@@ -54,5 +56,6 @@ pub use pattern::StiffnessPattern;
 pub use reduction::{DofMap, DofTarget, ReducedSystem};
 pub use rigid_modes::{FreeRigidMode, check_rigid_body_modes, free_rigid_body_modes};
 pub use static_solver::{
-    RigidFaceResult, SolveReport, SolverOptions, StaticProblem, StaticSolution, solve_static,
+    RigidFaceResult, SolveReport, SolverChoice, SolverMethod, SolverOptions, StaticProblem,
+    StaticSolution, choose_method, solve_static,
 };

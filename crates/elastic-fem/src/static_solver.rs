@@ -1,16 +1,162 @@
-//! Linear static solve: pattern → assembly → reduction → ordering → Cholesky → solve →
-//! expansion → reactions. A convenience pipeline over the public building blocks; solvers that
-//! refactor many times (contact) compose those blocks themselves.
+//! Linear static solve: pattern → assembly → reduction → (direct: ordering → Cholesky → solve |
+//! iterative: p-multigrid PCG) → expansion → reactions. A convenience pipeline over the public
+//! building blocks; solvers that refactor many times (contact) compose those blocks themselves.
+//!
+//! **Choice of method** ([`choose_method`], `SolverMethod::Auto`, the default): a cost model in
+//! seconds on one core,
+//!
+//! - direct: t_d = F / [`DIRECT_FLOP_RATE`] + s · 4 nnz(L) / [`TRIANGULAR_SOLVE_RATE`], with the
+//!   factorisation flops F = Σ c_j² and nnz(L) from the symbolic analysis (METIS), s the number
+//!   of right-hand sides;
+//! - iterative: t_i = N ([`ITERATIVE_SETUP_S_PER_UNKNOWN`] + s · [`ITERATIVE_SOLVE_S_PER_UNKNOWN`]),
+//!   linear in the N unknowns (multigrid: bounded iteration counts);
+//!
+//! picks the smaller, and the iterative one whenever the factor would exceed
+//! [`DIRECT_FACTOR_MEMORY_BYTES`]. Below [`ALWAYS_DIRECT_UNKNOWNS`] (and for Tet4 meshes, which
+//! have no p-multigrid hierarchy) it picks direct without analysis; above
+//! [`ALWAYS_ITERATIVE_UNKNOWNS`] iterative without analysis. Rates measured on the punch meshes
+//! (validation/fem-peers/README.md). The choice and its reason are in [`StaticSolution::choice`].
 
 use crate::assembly::assemble_stiffness;
 use crate::constraints::Constraints;
 use crate::error::{FemError, FemResult};
+use crate::iterative::{IterativeOptions, IterativeSolver};
+use crate::model::Connectivity;
 use crate::model::Model;
 use crate::pattern::StiffnessPattern;
 use crate::post::{reaction_forces, strain_energy};
 use crate::reduction::{DofMap, DofTarget, ReducedSystem, describe_dof};
 use crate::rigid_modes::check_rigid_body_modes;
-use crate::sparse::{FactorOptions, NumericCholesky, Ordering, SymbolicCholesky};
+use crate::sparse::{FactorOptions, NumericCholesky, Ordering, SymbolicCholesky, SymmetricMatrix};
+
+/// Sustained rate of the supernodal Cholesky on one core (flop/s): the ≈ 45 GFlop/s measured
+/// for faer 0.24.4 on the punch meshes (issue 12), derated for a shared machine. Default 2.5e10.
+pub const DIRECT_FLOP_RATE: f64 = 2.5e10;
+
+/// Rate of the two triangular solves (flop/s, 4 flops per stored entry of L): memory-bound.
+/// Default 2e9.
+pub const TRIANGULAR_SOLVE_RATE: f64 = 2e9;
+
+/// Set-up time of the iterative path per unknown (s): CSR copy, Galerkin coarse operator,
+/// coarse Cholesky, smoother bounds. Measured on the punch meshes (23k–350k unknowns, one
+/// thread, shared machine: ≈ 1e-5 s at 55k); default 1e-5 s.
+pub const ITERATIVE_SETUP_S_PER_UNKNOWN: f64 = 1e-5;
+
+/// Solve time of the iterative path per unknown and right-hand side (s) at the default
+/// tolerance (13 PCG iterations on the punch meshes, 23k–350k unknowns, one thread, shared
+/// machine: 1.25e-5 s); default 1.25e-5 s.
+pub const ITERATIVE_SOLVE_S_PER_UNKNOWN: f64 = 1.25e-5;
+
+/// Largest Cholesky factor the automatic choice accepts (bytes); larger goes iterative.
+/// Default 8 GB.
+pub const DIRECT_FACTOR_MEMORY_BYTES: f64 = 8e9;
+
+/// Below this many reduced unknowns the automatic choice takes the direct solver without a
+/// cost estimate (a direct solve is then about a second; measured at 23k unknowns: direct
+/// 1.4 s, iterative 1.3 s whole process). Default 30 000.
+pub const ALWAYS_DIRECT_UNKNOWNS: usize = 30_000;
+
+/// Above this many reduced unknowns the automatic choice takes the iterative solver without
+/// the (then costly) symbolic analysis. Default 3 000 000.
+pub const ALWAYS_ITERATIVE_UNKNOWNS: usize = 3_000_000;
+
+/// Linear solver of the reduced system.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SolverMethod {
+    /// Choose by the cost model of the module docs (default).
+    #[default]
+    Auto,
+    /// Sparse Cholesky (METIS + faer).
+    Direct,
+    /// PCG with the p-multigrid preconditioner ([`crate::iterative`]).
+    Iterative,
+}
+
+impl SolverMethod {
+    /// Parses `auto`, `direct` or `iterative` (for scene files and command lines).
+    pub fn parse(text: &str) -> Option<Self> {
+        match text {
+            "auto" => Some(Self::Auto),
+            "direct" => Some(Self::Direct),
+            "iterative" => Some(Self::Iterative),
+            _ => None,
+        }
+    }
+
+    /// The lower-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Auto => "auto",
+            Self::Direct => "direct",
+            Self::Iterative => "iterative",
+        }
+    }
+}
+
+/// The method used for a solve and why.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolverChoice {
+    /// `Direct` or `Iterative` (never `Auto`).
+    pub method: SolverMethod,
+    /// Human-readable reason (requested, or the cost-model figures).
+    pub reason: String,
+}
+
+/// Chooses the method for a reduced matrix with `rhs_count` right-hand sides (module docs).
+/// `Auto` may run the symbolic analysis (returned for reuse by the direct path).
+pub fn choose_method(
+    requested: SolverMethod,
+    k_red: &SymmetricMatrix,
+    rhs_count: usize,
+    connectivity: &Connectivity,
+    ordering: Ordering,
+) -> FemResult<(SolverChoice, Option<SymbolicCholesky>)> {
+    let n = k_red.dim();
+    let choice = |method, reason: String, symbolic| (SolverChoice { method, reason }, symbolic);
+    match requested {
+        SolverMethod::Direct => return Ok(choice(SolverMethod::Direct, "requested".into(), None)),
+        SolverMethod::Iterative => {
+            return Ok(choice(SolverMethod::Iterative, "requested".into(), None));
+        }
+        SolverMethod::Auto => {}
+    }
+    if matches!(connectivity, Connectivity::Tet4(_)) {
+        let reason = "auto: Tet4 mesh (the p-multigrid path needs Tet10)".to_string();
+        return Ok(choice(SolverMethod::Direct, reason, None));
+    }
+    if n < ALWAYS_DIRECT_UNKNOWNS {
+        let reason = format!("auto: {n} unknowns < {ALWAYS_DIRECT_UNKNOWNS}");
+        return Ok(choice(SolverMethod::Direct, reason, None));
+    }
+    if n > ALWAYS_ITERATIVE_UNKNOWNS {
+        let reason = format!("auto: {n} unknowns > {ALWAYS_ITERATIVE_UNKNOWNS}");
+        return Ok(choice(SolverMethod::Iterative, reason, None));
+    }
+    let symbolic = SymbolicCholesky::analyze(k_red, ordering)?;
+    let s = rhs_count.max(1) as f64;
+    let factor_bytes = 8.0 * symbolic.factor_nnz() as f64;
+    let direct_s = symbolic.factor_flops() / DIRECT_FLOP_RATE
+        + s * 4.0 * symbolic.factor_nnz() as f64 / TRIANGULAR_SOLVE_RATE;
+    let iterative_s =
+        n as f64 * (ITERATIVE_SETUP_S_PER_UNKNOWN + s * ITERATIVE_SOLVE_S_PER_UNKNOWN);
+    let figures = format!(
+        "{n} unknowns, {rhs_count} right-hand side(s): direct ≈ {direct_s:.2} s with a {:.2} GB \
+         factor, iterative ≈ {iterative_s:.2} s",
+        factor_bytes / 1e9
+    );
+    let (method, why) = if factor_bytes > DIRECT_FACTOR_MEMORY_BYTES {
+        (SolverMethod::Iterative, "factor over the memory limit")
+    } else if iterative_s < direct_s {
+        (SolverMethod::Iterative, "iterative cheaper")
+    } else {
+        (SolverMethod::Direct, "direct cheaper")
+    };
+    Ok(choice(
+        method,
+        format!("auto: {why}: {figures}"),
+        Some(symbolic),
+    ))
+}
 
 /// Options of [`solve_static`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -19,8 +165,12 @@ pub struct SolverOptions {
     pub ordering: Ordering,
     /// Check for unconstrained rigid-body modes before factorising (default true).
     pub check_rigid_body_modes: bool,
-    /// Numeric factorisation options.
+    /// Numeric factorisation options (also the coarse factorisation of the iterative path).
     pub factor: FactorOptions,
+    /// Direct, iterative or automatic (default [`SolverMethod::Auto`]).
+    pub method: SolverMethod,
+    /// Stopping rule and smoother of the iterative path.
+    pub iterative: IterativeOptions,
 }
 
 impl Default for SolverOptions {
@@ -29,6 +179,8 @@ impl Default for SolverOptions {
             ordering: Ordering::Metis,
             check_rigid_body_modes: true,
             factor: FactorOptions::default(),
+            method: SolverMethod::Auto,
+            iterative: IterativeOptions::default(),
         }
     }
 }
@@ -70,6 +222,10 @@ pub struct SolveReport {
     pub ordering_used: Ordering,
     /// Whether faer used its supernodal factorisation.
     pub supernodal: bool,
+    /// PCG iterations (0 for the direct method).
+    pub iterations: usize,
+    /// Final estimated relative energy-norm error of PCG (0 for the direct method).
+    pub relative_energy_error: f64,
 }
 
 /// Solution of a linear static problem.
@@ -85,6 +241,8 @@ pub struct StaticSolution {
     pub strain_energy_j: f64,
     /// Sizes and choices.
     pub report: SolveReport,
+    /// The method used and why.
+    pub choice: SolverChoice,
 }
 
 impl StaticSolution {
@@ -141,20 +299,52 @@ pub fn solve_static(
     let reduced = ReducedSystem::new(&stiffness, dof_map)?;
     let k_red = reduced.reduce_matrix(&stiffness)?;
     let mut q = reduced.reduce_load(&stiffness, problem.load_n)?;
-    let (factor_nnz, ordering_used, supernodal) = if reduced.dim() > 0 {
-        let symbolic = SymbolicCholesky::analyze(&k_red, options.ordering)?;
-        let numeric: NumericCholesky = symbolic
-            .factor_with(&k_red, options.factor)
-            .map_err(|e| locate_factor_error(e, reduced.dof_map()))?;
-        numeric.solve_in_place(&mut q)?;
-        (
-            symbolic.factor_nnz(),
-            symbolic.ordering_used(),
-            symbolic.is_supernodal(),
-        )
-    } else {
-        (0, options.ordering, false)
+    let (choice, mut analysed) = choose_method(
+        options.method,
+        &k_red,
+        1,
+        model.connectivity(),
+        options.ordering,
+    )?;
+    let mut report = SolveReport {
+        full_unknowns: model.dof_count(),
+        reduced_unknowns: reduced.dim(),
+        matrix_nnz: k_red.nnz_upper(),
+        factor_nnz: 0,
+        ordering_used: options.ordering,
+        supernodal: false,
+        iterations: 0,
+        relative_energy_error: 0.0,
     };
+    if reduced.dim() > 0 {
+        match choice.method {
+            SolverMethod::Iterative => {
+                let solver = IterativeSolver::new(
+                    model,
+                    reduced.dof_map(),
+                    &k_red,
+                    &options.iterative,
+                    options.factor,
+                )?;
+                let pcg = solver.solve_in_place(&mut q, &mut solver.workspace())?;
+                report.iterations = pcg.iterations;
+                report.relative_energy_error = pcg.relative_energy_error;
+            }
+            _ => {
+                let symbolic = match analysed.take() {
+                    Some(s) => s,
+                    None => SymbolicCholesky::analyze(&k_red, options.ordering)?,
+                };
+                let numeric: NumericCholesky = symbolic
+                    .factor_with(&k_red, options.factor)
+                    .map_err(|e| locate_factor_error(e, reduced.dof_map()))?;
+                numeric.solve_in_place(&mut q)?;
+                report.factor_nnz = symbolic.factor_nnz();
+                report.ordering_used = symbolic.ordering_used();
+                report.supernodal = symbolic.is_supernodal();
+            }
+        }
+    }
     let u = reduced.expand(&q)?;
     if let Some(i) = u.iter().position(|v| !v.is_finite()) {
         return Err(FemError::NonFiniteSolution { unknown: i });
@@ -190,13 +380,7 @@ pub fn solve_static(
         reaction_n: reaction,
         rigid_faces,
         strain_energy_j: energy,
-        report: SolveReport {
-            full_unknowns: model.dof_count(),
-            reduced_unknowns: reduced.dim(),
-            matrix_nnz: k_red.nnz_upper(),
-            factor_nnz,
-            ordering_used,
-            supernodal,
-        },
+        report,
+        choice,
     })
 }

@@ -1,5 +1,6 @@
 //! Stages of the punch FEM on the springs-study meshes (quarter model, Tet10, k_sn, clamped
-//! far field): numeric assembly, ordering + symbolic Cholesky, numeric Cholesky, solve.
+//! far field): numeric assembly, ordering + symbolic Cholesky, numeric Cholesky, solve, and the
+//! iterative path (p-multigrid set-up, PCG solve at the default tolerance).
 //! Throughput is in unknowns per second (criterion "elements").
 //!
 //! `cargo bench -p validation --bench punch_solver -- --sample-size 10`
@@ -13,8 +14,11 @@ use std::hint::black_box;
 
 use contact_springs::Material;
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use elastic_fem::sparse::{Ordering, SymbolicCholesky};
-use elastic_fem::{DofMap, ReducedSystem, StiffnessPattern, assemble_stiffness_into};
+use elastic_fem::sparse::{FactorOptions, Ordering, SymbolicCholesky};
+use elastic_fem::{
+    DofMap, IterativeOptions, IterativeSolver, ReducedSystem, StiffnessPattern,
+    assemble_stiffness_into,
+};
 use validation::{AssembledPunch, MeshCache, MeshFamily, MeshSymmetry, PunchMesh, Spring};
 
 fn levels() -> Vec<usize> {
@@ -84,6 +88,33 @@ fn stages(c: &mut Criterion) {
         g.throughput(throughput.clone());
         g.bench_function(id.clone(), |b| {
             b.iter(|| black_box(numeric.solve(&load).unwrap()))
+        });
+        g.finish();
+
+        let setup = || {
+            IterativeSolver::new(
+                model,
+                reduced.dof_map(),
+                &k_red,
+                &IterativeOptions::default(),
+                FactorOptions::default(),
+            )
+            .unwrap()
+        };
+        let mut g = c.benchmark_group("punch_iterative_setup");
+        g.throughput(throughput.clone());
+        g.bench_function(id.clone(), |b| b.iter(|| black_box(setup())));
+        g.finish();
+
+        let solver = setup();
+        let mut workspace = solver.workspace();
+        let mut g = c.benchmark_group("punch_iterative_solve");
+        g.throughput(throughput.clone());
+        g.bench_function(id.clone(), |b| {
+            b.iter(|| {
+                let mut x = load.clone();
+                black_box(solver.solve_in_place(&mut x, &mut workspace).unwrap())
+            })
         });
         g.finish();
     }

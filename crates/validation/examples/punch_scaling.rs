@@ -5,12 +5,18 @@
 //! ```sh
 //! cargo run --release -p validation --example punch_scaling -- MESH.msh [MESH.msh ...]
 //! cargo run --release -p validation --example punch_scaling -- --level 3   # family level (gmsh)
+//! cargo run --release -p validation --example punch_scaling -- --method iterative MESH.msh
 //! ```
+//! `--method auto|direct|iterative` picks the linear solver (default auto, elastic-fem's cost
+//! model; the JSON carries the method, its reason and the PCG iterations);
+//! `--mesh-only` prints the mesh paths (after generating them) and stops;
+//! `--discretisation-error E` sets the iterative stopping rule (CG tolerance 0.01 E).
 //! `--level L` takes the quarter Tet10 mesh of level L of the springs study family (generated
 //! into the mesh cache if missing). Used for the ≥ 300k-unknown point of the benchmark table and
 //! by scripts/compare-skfem.sh.
 
 use contact_springs::Material;
+use elastic_fem::{IterativeOptions, SolverMethod};
 use validation::{
     AssembledPunch, MeshCache, MeshFamily, MeshSymmetry, PunchMesh, PunchSolveOptions, Spring,
 };
@@ -29,9 +35,26 @@ fn peak_rss_mb() -> f64 {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut paths = Vec::new();
+    let mut options = PunchSolveOptions::default();
+    let mut mesh_only = false;
     let mut args = std::env::args().skip(1);
     while let Some(arg) = args.next() {
-        if arg == "--level" {
+        if arg == "--mesh-only" {
+            mesh_only = true;
+        } else if arg == "--method" {
+            let text = args
+                .next()
+                .ok_or("--method needs auto, direct or iterative")?;
+            options.method = SolverMethod::parse(&text)
+                .ok_or_else(|| format!("--method: `{text}` is not auto, direct or iterative"))?;
+        } else if arg == "--discretisation-error" {
+            let e: f64 = args
+                .next()
+                .ok_or("--discretisation-error needs a number")?
+                .parse()?;
+            options.iterative = IterativeOptions::for_discretisation_error(e);
+            options.iterative.validate()?;
+        } else if arg == "--level" {
             let level: usize = args.next().ok_or("--level needs a number")?.parse()?;
             let parameters = MeshFamily::tet10().parameters(level, 10e-6, MeshSymmetry::Quarter);
             paths.push(MeshCache::default().punch_mesh(&parameters)?);
@@ -39,13 +62,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             paths.push(arg.into());
         }
     }
+    if mesh_only {
+        paths.iter().for_each(|p| println!("{}", p.display()));
+        return Ok(());
+    }
     let material = Material::lithium_niobate();
     for path in paths {
         let t = std::time::Instant::now();
         let mesh = PunchMesh::read(&path)?;
         let read_s = t.elapsed().as_secs_f64();
         let assembled = AssembledPunch::new(&mesh, &material)?;
-        let r = assembled.solve(Spring::FrictionlessNormal, &PunchSolveOptions::default())?;
+        let r = assembled.solve(Spring::FrictionlessNormal, &options)?;
         let analytic = Spring::FrictionlessNormal.analytic_n_per_m(&material, mesh.radius_m)?;
         let t = r.timings;
         let json = serde_json::json!({
@@ -68,6 +95,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "total_s": t.total_s(),
             "assembly_over_numeric": (t.pattern_s + t.assembly_s) / t.numeric_s,
             "total_us_per_unknown": 1e6 * t.total_s() / r.unknowns as f64,
+            "method": r.method,
+            "method_reason": r.method_reason,
+            "iterations": r.iterations,
+            "threads": std::env::var("RAYON_NUM_THREADS").unwrap_or_default(),
             "factor_nnz": r.factor_nnz,
             "factor_mb": r.factor_nnz as f64 * 8.0 / 1e6,
             "peak_rss_mb": peak_rss_mb(),

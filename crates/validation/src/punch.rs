@@ -27,16 +27,26 @@
 //! as the tilting moment of the bonded tangential punch, higher multipoles) decay one power of
 //! a/r faster, so the truncation error becomes O((a/R)²) (measured in the truncation study).
 //!
-//! **Force.** The force on the punch is the sum of the reactions K u at the punch nodes (the
-//! consistent nodal forces), times the symmetry multiplicity.
+//! **Force.** The force on the punch is the sum of the consistent nodal reactions K u at the
+//! punch nodes, times the symmetry multiplicity, evaluated variationally: with w = u_A / δ
+//! (which equals the punch direction on the punch and vanishes on every other constrained DOF),
+//! P = wᵀ K u for the exact u. For an approximate (iterative) solution u = u* + e with e = 0 on
+//! the constrained DOFs, wᵀ K u carries the error e_Aᵀ K e only (K u* vanishes on the free DOFs),
+//! i.e. second order in the energy-norm error, while the plain reaction sum would be first order
+//! in it and sensitive to the boundary layer. For the direct solve both agree to round-off.
+//!
+//! **Solver.** [`PunchSolveOptions::method`] selects the direct Cholesky, the p-multigrid PCG of
+//! elastic-fem, or the automatic choice by elastic-fem's cost model for the two right-hand sides
+//! (A and B share one factorisation or one multigrid set-up).
 
 use std::time::Instant;
 
 use contact_springs::Material as SpringMaterial;
 use elastic_fem::sparse::{FactorOptions, Ordering, SymbolicCholesky, SymmetricMatrix};
 use elastic_fem::{
-    Constraints, Dirichlet, DofMap, FemError, LameParameters, Material, Model, ReducedSystem,
-    StiffnessPattern, assemble_stiffness, static_solver::locate_factor_error,
+    Constraints, Dirichlet, DofMap, FemError, IterativeOptions, IterativeSolver, LameParameters,
+    Material, Model, ReducedSystem, SolverMethod, StiffnessPattern, assemble_stiffness,
+    choose_method, static_solver::locate_factor_error,
 };
 use serde::{Deserialize, Serialize};
 
@@ -58,9 +68,10 @@ pub struct StageTimings {
     pub assembly_s: f64,
     /// Constraint map, rigid-mode check and reduction K_red = Tᵀ K T.
     pub reduction_s: f64,
-    /// Ordering (METIS) and symbolic Cholesky.
+    /// Ordering (METIS) and symbolic Cholesky (direct); method choice, transfer operators and
+    /// fine CSR matrix (iterative).
     pub symbolic_s: f64,
-    /// Numeric Cholesky.
+    /// Numeric Cholesky (direct); coarse operator, coarse Cholesky and smoother (iterative).
     pub numeric_s: f64,
     /// Both triangular solves, expansion and reactions.
     pub solve_s: f64,
@@ -103,10 +114,20 @@ pub struct PunchStiffness {
     pub elements: usize,
     /// Unknowns after constraints.
     pub unknowns: usize,
-    /// Stored entries of the Cholesky factor.
+    /// Stored entries of the Cholesky factor (of the coarse Tet4 operator for the iterative
+    /// method).
     pub factor_nnz: usize,
     /// Stage wall times.
     pub timings: StageTimings,
+    /// Linear solver used (`direct` or `iterative`).
+    #[serde(default)]
+    pub method: String,
+    /// Why that solver (elastic-fem's cost model or "requested").
+    #[serde(default)]
+    pub method_reason: String,
+    /// PCG iterations of the two right-hand sides (0 for the direct method).
+    #[serde(default)]
+    pub iterations: [usize; 2],
 }
 
 /// Elastic-fem material of a contact-springs material (isotropic, G and ν).
@@ -126,6 +147,10 @@ pub struct PunchSolveOptions {
     pub ordering: Ordering,
     /// Threads for the factorisation (0 = all).
     pub threads: usize,
+    /// Direct, iterative or automatic (default automatic, elastic-fem's cost model).
+    pub method: SolverMethod,
+    /// Stopping rule of the iterative method (default: elastic-fem's default).
+    pub iterative: IterativeOptions,
 }
 
 impl Default for PunchSolveOptions {
@@ -133,8 +158,20 @@ impl Default for PunchSolveOptions {
         Self {
             ordering: Ordering::Metis,
             threads: 0,
+            method: SolverMethod::Auto,
+            iterative: IterativeOptions::default(),
         }
     }
+}
+
+/// Solutions of the two reduced systems A and B with what the solve reports.
+struct TwoSolves {
+    rhs: Vec<f64>,
+    factor_nnz: usize,
+    iterations: [usize; 2],
+    symbolic_s: f64,
+    numeric_s: f64,
+    solve_s: f64,
 }
 
 /// The assembled stiffness of one punch mesh for one material, reused by all springs.
@@ -309,40 +346,85 @@ impl<'m> AssembledPunch<'m> {
             .collect();
         let reduction_s = t.elapsed().as_secs_f64();
 
-        let t = Instant::now();
-        let symbolic = SymbolicCholesky::analyze(&k_red, options.ordering).map_err(fem)?;
-        let symbolic_s = t.elapsed().as_secs_f64();
-        let t = Instant::now();
-        let factor_options = FactorOptions {
-            threads: options.threads,
-            ..FactorOptions::default()
-        };
-        let numeric = symbolic
-            .factor_with(&k_red, factor_options)
-            .map_err(|e| fem(locate_factor_error(e, reduced.dof_map())))?;
-        let numeric_s = t.elapsed().as_secs_f64();
-
-        let t = Instant::now();
         let m = reduced.dim();
         let mut rhs = Vec::with_capacity(2 * m);
         rhs.extend_from_slice(&load_a);
         rhs.extend_from_slice(&load_b);
-        numeric.solve_columns_in_place(&mut rhs, 2).map_err(fem)?;
+        let t = Instant::now();
+        let (choice, analysed) = choose_method(
+            options.method,
+            &k_red,
+            2,
+            self.model.connectivity(),
+            options.ordering,
+        )
+        .map_err(fem)?;
+        let factor_options = FactorOptions {
+            threads: options.threads,
+            ..FactorOptions::default()
+        };
+        let solved = match choice.method {
+            SolverMethod::Iterative => {
+                let setup = Instant::now();
+                let solver = IterativeSolver::new(
+                    &self.model,
+                    reduced.dof_map(),
+                    &k_red,
+                    &options.iterative,
+                    factor_options,
+                )
+                .map_err(fem)?;
+                let numeric_s = setup.elapsed().as_secs_f64();
+                let solve = Instant::now();
+                let reports = solver
+                    .solve_columns_in_place(&mut rhs, 2, &mut solver.workspace())
+                    .map_err(fem)?;
+                TwoSolves {
+                    rhs,
+                    factor_nnz: solver.report().coarse_factor_nnz,
+                    iterations: [reports[0].iterations, reports[1].iterations],
+                    symbolic_s: t.elapsed().as_secs_f64()
+                        - solve.elapsed().as_secs_f64()
+                        - numeric_s,
+                    numeric_s,
+                    solve_s: solve.elapsed().as_secs_f64(),
+                }
+            }
+            _ => {
+                let symbolic = match analysed {
+                    Some(s) => s,
+                    None => SymbolicCholesky::analyze(&k_red, options.ordering).map_err(fem)?,
+                };
+                let symbolic_s = t.elapsed().as_secs_f64();
+                let t = Instant::now();
+                let numeric = symbolic
+                    .factor_with(&k_red, factor_options)
+                    .map_err(|e| fem(locate_factor_error(e, reduced.dof_map())))?;
+                let numeric_s = t.elapsed().as_secs_f64();
+                let t = Instant::now();
+                numeric.solve_columns_in_place(&mut rhs, 2).map_err(fem)?;
+                TwoSolves {
+                    rhs,
+                    factor_nnz: symbolic.factor_nnz(),
+                    iterations: [0, 0],
+                    symbolic_s,
+                    numeric_s,
+                    solve_s: t.elapsed().as_secs_f64(),
+                }
+            }
+        };
+        let t = Instant::now();
+        let rhs = &solved.rhs;
         let u_a = reduced.dof_map().expand(&rhs[..m]).map_err(fem)?;
         let u_b = map_b.expand(&rhs[m..]).map_err(fem)?;
-        let direction = point_force.direction();
-        let punch_force = |u: &[f64]| -> f64 {
-            let mut r = vec![0.0; u.len()];
-            self.stiffness.mul_vec(u, &mut r);
-            mesh.punch_nodes
-                .iter()
-                .map(|&p| (0..3).map(|c| r[3 * p + c] * direction[c]).sum::<f64>())
-                .sum::<f64>()
-                * mesh.symmetry.multiplicity()
-        };
-        let force_a = punch_force(&u_a);
-        let force_b = punch_force(&u_b);
-        let solve_s = t.elapsed().as_secs_f64();
+        // Variational punch forces (module docs): P = wᵀ K u with w = u_A / δ.
+        let mut k_ua = vec![0.0; 3 * n];
+        self.stiffness.mul_vec(&u_a, &mut k_ua);
+        let dot = |u: &[f64]| u.iter().zip(&k_ua).map(|(a, b)| a * b).sum::<f64>();
+        let multiplicity = mesh.symmetry.multiplicity();
+        let force_a = dot(&u_a) / delta_m * multiplicity;
+        let force_b = dot(&u_b) / delta_m * multiplicity;
+        let solve_s = solved.solve_s + t.elapsed().as_secs_f64();
         // Direction of the punch displacement along the force direction: +1 for all four springs.
         let force = force_a / (1.0 - force_b / reference_force_n);
         let stiffness_n_per_m = force / delta_m;
@@ -362,15 +444,18 @@ impl<'m> AssembledPunch<'m> {
             nodes: mesh.node_count(),
             elements: mesh.element_count(),
             unknowns: m,
-            factor_nnz: symbolic.factor_nnz(),
+            factor_nnz: solved.factor_nnz,
             timings: StageTimings {
                 pattern_s: self.pattern_s,
                 assembly_s: self.assembly_s,
                 reduction_s,
-                symbolic_s,
-                numeric_s,
+                symbolic_s: solved.symbolic_s,
+                numeric_s: solved.numeric_s,
                 solve_s,
             },
+            method: choice.method.name().to_string(),
+            method_reason: choice.reason,
+            iterations: solved.iterations,
         })
     }
 }

@@ -119,6 +119,34 @@ impl SymbolicCholesky {
         self.inner.faer.len_val()
     }
 
+    /// Floating-point operations of one numeric factorisation, Σ_j c_j² over the
+    /// below-diagonal column counts c_j of L (the classical count, George & Liu 1981), from the
+    /// symbolic structure alone. Feeds the direct/iterative cost model.
+    pub fn factor_flops(&self) -> f64 {
+        let sum_sq = |lo: usize, hi: usize| -> f64 {
+            // Σ_{t=lo}^{hi-1} t², in f64.
+            let f = |t: f64| (t - 1.0) * t * (2.0 * t - 1.0) / 6.0;
+            f(hi as f64) - f(lo as f64)
+        };
+        match self.inner.faer.raw() {
+            SymbolicCholeskyRaw::Simplicial(s) => s
+                .col_ptr()
+                .windows(2)
+                .map(|w| {
+                    let c = (w[1] - w[0]).saturating_sub(1) as f64;
+                    c * c
+                })
+                .sum(),
+            SymbolicCholeskyRaw::Supernodal(s) => (0..s.n_supernodes())
+                .map(|k| {
+                    let width = s.supernode_end()[k] - s.supernode_begin()[k];
+                    let below = s.col_ptr_for_row_idx()[k + 1] - s.col_ptr_for_row_idx()[k];
+                    sum_sq(below, below + width)
+                })
+                .sum(),
+        }
+    }
+
     /// Whether faer chose the supernodal (blocked) variant.
     pub fn is_supernodal(&self) -> bool {
         matches!(self.inner.faer.raw(), SymbolicCholeskyRaw::Supernodal(_))

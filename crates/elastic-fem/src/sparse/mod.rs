@@ -4,7 +4,10 @@
 //! - [`ordering`]: METIS nested dissection / AMD / natural ([`Ordering`]);
 //! - [`factor`]: [`SymbolicCholesky::analyze`] once per pattern, then
 //!   [`SymbolicCholesky::factor`] / [`NumericCholesky::refactor`] per set of values;
-//! - [`solve`]: [`NumericCholesky::solve_in_place`], many right-hand sides.
+//! - [`solve`]: [`NumericCholesky::solve_in_place`], many right-hand sides;
+//! - [`csr`]: [`CsrMatrix`] (both triangles by rows) for row-parallel products and the Galerkin
+//!   product Pᵀ A P, [`RowSparse`] transfer operators;
+//! - [`pcg`]: preconditioned conjugate gradients with an energy-norm stopping rule.
 //!
 //! ```
 //! use elastic_fem::sparse::{Ordering, SymbolicCholesky, SymmetricMatrix};
@@ -16,14 +19,18 @@
 //! assert!((4.0 * x[0] + x[1] - 1.0).abs() < 1e-14 && (x[0] + 3.0 * x[1] - 2.0).abs() < 1e-14);
 //! ```
 
+pub mod csr;
 pub mod factor;
 pub mod matrix;
 pub mod ordering;
+pub mod pcg;
 pub mod solve;
 
+pub use csr::{CsrMatrix, RowSparse};
 pub use factor::{DEFAULT_MIN_PIVOT_RATIO, FactorOptions, NumericCholesky, SymbolicCholesky};
 pub use matrix::SymmetricMatrix;
 pub use ordering::{Ordering, Permutation, metis_nested_dissection};
+pub use pcg::{PcgOptions, PcgReport, PcgWorkspace, pcg};
 
 #[cfg(test)]
 mod tests {

@@ -1,0 +1,486 @@
+//! Iterative solution of the reduced system K_red q = f_red: conjugate gradients preconditioned
+//! by one p-multigrid V-cycle Tet10 → Tet4 with an exact (sparse Cholesky) coarse solve.
+//!
+//! **Hierarchy.** The coarse space is the Tet4 space on the vertices of the Tet10 mesh. The
+//! prolongation P evaluates the linear (Tet4) shape functions at the Tet10 nodes: 1 at a vertex,
+//! ½ + ½ of the two end vertices at a mid-edge node (in reference coordinates, so also for
+//! curved elements). It acts on reduced unknowns: a fine unknown tied to a vertex (Dirichlet,
+//! rigid-face or periodic ties of the [`DofMap`]) is represented by that vertex's coarse unknown,
+//! prescribed vertices contribute 0 (homogeneous correction). The coarse operator is the
+//! Galerkin product A_c = Pᵀ K_red P, factorised once by the sparse module (METIS + faer).
+//! p-multigrid for high-order elasticity: Rønquist & Patera 1987 (IJNME 24:1467); with
+//! Chebyshev smoothing and an exact P1 coarse solve as in Adams, Brezina, Hu & Tuminaro 2003
+//! ("Parallel multigrid smoothing: polynomial versus Gauss–Seidel", JCP 188:593).
+//!
+//! **Smoother.** Chebyshev polynomial of degree [`DEFAULT_SMOOTHER_DEGREE`] in D⁻¹ K_red
+//! (D = diagonal), targeting the eigenvalue interval [λ_max / [`CHEBYSHEV_INTERVAL_RATIO`],
+//! [`CHEBYSHEV_UPPER_SAFETY`] λ_max], λ_max from [`POWER_ITERATIONS`] power steps. A
+//! polynomial smoother is symmetric, parallel (only products with K_red) and independent of the
+//! thread count, so the V-cycle (pre- and post-smoothing alike) is an SPD preconditioner for CG.
+//!
+//! **Stopping rule.** CG stops when its estimated relative energy-norm error (see
+//! [`crate::sparse::pcg`]) falls below `relative_energy_error`. The default ties it to the FEM
+//! discretisation error: [`ALGEBRAIC_FRACTION`] × [`DEFAULT_DISCRETISATION_ERROR`] = 1e-6, so
+//! the algebraic error changes the FEM energy error by < 0.01 % and energy-type quantities
+//! (stiffness uᵀ K u / δ²) by ≈ ε² = 1e-12.
+//!
+//! **Range.** Tet10 meshes (straight or curved). Tet4-only meshes have no p-hierarchy and are
+//! refused with [`FemError::IterativeUnsupported`] (they need algebraic multigrid; the automatic
+//! choice in [`crate::static_solver`] sends them to the direct solver).
+
+use rayon::prelude::*;
+
+use crate::error::{FemError, FemResult};
+use crate::model::{Connectivity, Model};
+use crate::reduction::{DofMap, DofTarget};
+use crate::shape::TET10_EDGES;
+use crate::sparse::csr::ROW_BLOCK;
+use crate::sparse::pcg::{DEFAULT_ERROR_DELAY, DEFAULT_MAX_ITERATIONS, PcgOptions};
+use crate::sparse::{
+    CsrMatrix, FactorOptions, NumericCholesky, Ordering, PcgReport, PcgWorkspace, RowSparse,
+    SymbolicCholesky, SymmetricMatrix, pcg,
+};
+
+/// Relative energy-norm discretisation error the default stopping rule assumes the caller
+/// needs (a Tet10 mesh resolving the stress field to ≈ 0.01 %). Dimensionless; default 1e-4.
+pub const DEFAULT_DISCRETISATION_ERROR: f64 = 1e-4;
+
+/// Algebraic error allowed per unit of discretisation error: the CG tolerance is this fraction
+/// of the discretisation error. Dimensionless; default 0.01.
+pub const ALGEBRAIC_FRACTION: f64 = 0.01;
+
+/// Degree of the Chebyshev smoother (products with K_red per smoothing). Default 2.
+pub const DEFAULT_SMOOTHER_DEGREE: usize = 2;
+
+/// λ_max / λ_min of the interval the Chebyshev smoother damps (the rest is left to the coarse
+/// space). Dimensionless; default 12.
+pub const CHEBYSHEV_INTERVAL_RATIO: f64 = 12.0;
+
+/// Factor applied to the power-iteration estimate of λ_max (which is a lower bound).
+/// Dimensionless; default 1.1.
+pub const CHEBYSHEV_UPPER_SAFETY: f64 = 1.1;
+
+/// Power iterations for λ_max(D⁻¹ K_red). Default 12.
+pub const POWER_ITERATIONS: usize = 12;
+
+/// Options of the iterative path.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IterativeOptions {
+    /// Tolerance on the estimated relative energy-norm error of the algebraic solution
+    /// (default `ALGEBRAIC_FRACTION × DEFAULT_DISCRETISATION_ERROR` = 1e-6; see
+    /// [`Self::for_discretisation_error`]).
+    pub relative_energy_error: f64,
+    /// Iteration limit (default [`DEFAULT_MAX_ITERATIONS`]).
+    pub max_iterations: usize,
+    /// Chebyshev degree (default [`DEFAULT_SMOOTHER_DEGREE`]).
+    pub smoother_degree: usize,
+    /// Ordering of the coarse Cholesky (default METIS).
+    pub coarse_ordering: Ordering,
+}
+
+impl Default for IterativeOptions {
+    fn default() -> Self {
+        Self::for_discretisation_error(DEFAULT_DISCRETISATION_ERROR)
+    }
+}
+
+impl IterativeOptions {
+    /// Options whose CG tolerance is [`ALGEBRAIC_FRACTION`] × `error` (the relative
+    /// energy-norm discretisation error the caller accepts).
+    pub fn for_discretisation_error(error: f64) -> Self {
+        Self {
+            relative_energy_error: ALGEBRAIC_FRACTION * error,
+            max_iterations: DEFAULT_MAX_ITERATIONS,
+            smoother_degree: DEFAULT_SMOOTHER_DEGREE,
+            coarse_ordering: Ordering::Metis,
+        }
+    }
+
+    /// Checks the ranges (tolerance in (0, 1), at least one iteration and smoothing step).
+    pub fn validate(&self) -> FemResult<()> {
+        let e = self.relative_energy_error;
+        if !(e > 0.0 && e < 1.0) {
+            return Err(FemError::InvalidSolverOption {
+                field: "iterative.relative_energy_error",
+                value: e,
+                reason: "must lie in (0, 1)",
+            });
+        }
+        if self.max_iterations == 0 {
+            return Err(FemError::InvalidSolverOption {
+                field: "iterative.max_iterations",
+                value: 0.0,
+                reason: "must be at least 1",
+            });
+        }
+        if self.smoother_degree == 0 {
+            return Err(FemError::InvalidSolverOption {
+                field: "iterative.smoother_degree",
+                value: 0.0,
+                reason: "must be at least 1",
+            });
+        }
+        Ok(())
+    }
+
+    fn pcg(&self) -> PcgOptions {
+        PcgOptions {
+            relative_energy_error: self.relative_energy_error,
+            max_iterations: self.max_iterations,
+            error_delay: DEFAULT_ERROR_DELAY,
+        }
+    }
+}
+
+/// Prolongation Tet4 → Tet10 on reduced unknowns (see the module docs), or an error for Tet4.
+pub fn p_prolongation(model: &Model, dof_map: &DofMap) -> FemResult<RowSparse> {
+    let Connectivity::Tet10(conn) = model.connectivity() else {
+        return Err(FemError::IterativeUnsupported {
+            reason: "the p-multigrid preconditioner needs a Tet10 mesh (Tet4 meshes need AMG, \
+                     not implemented; use the direct method)"
+                .into(),
+        });
+    };
+    let n_nodes = model.node_count();
+    let mut is_vertex = vec![false; n_nodes];
+    let mut edge_of: Vec<Option<(u32, u32)>> = vec![None; n_nodes];
+    for el in conn {
+        el[..4].iter().for_each(|&v| is_vertex[v] = true);
+        for (k, &(a, b)) in TET10_EDGES.iter().enumerate() {
+            edge_of[el[4 + k]] = Some((el[a] as u32, el[b] as u32));
+        }
+    }
+    let m = dof_map.reduced_count();
+    let mut coarse_of = vec![usize::MAX; m];
+    let mut nc = 0usize;
+    for node in (0..n_nodes).filter(|&n| is_vertex[n]) {
+        for c in 0..3 {
+            if let DofTarget::Reduced(j) = dof_map.target(3 * node + c) {
+                if coarse_of[j] == usize::MAX {
+                    coarse_of[j] = nc;
+                    nc += 1;
+                }
+            }
+        }
+    }
+    let coarse_at = |node: usize, c: usize| match dof_map.target(3 * node + c) {
+        DofTarget::Reduced(j) => Some(coarse_of[j]),
+        DofTarget::Prescribed(_) => None,
+    };
+    let rows: Vec<Vec<(usize, f64)>> = (0..m)
+        .map(|j| {
+            if coarse_of[j] != usize::MAX {
+                return vec![(coarse_of[j], 1.0)];
+            }
+            let dof = dof_map.representative_dof(j);
+            let (node, c) = (dof / 3, dof % 3);
+            let Some((a, b)) = edge_of[node] else {
+                return Vec::new();
+            };
+            let mut row: Vec<(usize, f64)> = Vec::with_capacity(2);
+            for end in [a as usize, b as usize] {
+                if let Some(cj) = coarse_at(end, c) {
+                    match row.iter_mut().find(|(k, _)| *k == cj) {
+                        Some(entry) => entry.1 += 0.5,
+                        None => row.push((cj, 0.5)),
+                    }
+                }
+            }
+            row
+        })
+        .collect();
+    RowSparse::from_rows(nc, &rows)
+}
+
+/// Chebyshev smoothing data: D⁻¹ and the eigenvalue interval of D⁻¹ A.
+#[derive(Debug, Clone)]
+struct Chebyshev {
+    inv_diag: Vec<f64>,
+    lambda_min: f64,
+    lambda_max: f64,
+    degree: usize,
+}
+
+impl Chebyshev {
+    fn new(a: &CsrMatrix, degree: usize) -> FemResult<Self> {
+        let diag = a.diagonal();
+        if let Some(i) = diag.iter().position(|&d| d.is_nan() || d <= 0.0) {
+            return Err(FemError::NotPositiveDefinite {
+                column: i,
+                pivot_ratio: 0.0,
+                minimum: 0.0,
+                location: " (non-positive diagonal entry, seen by the multigrid smoother)".into(),
+            });
+        }
+        let inv_diag: Vec<f64> = diag.iter().map(|d| 1.0 / d).collect();
+        let n = a.dim();
+        // Power iteration on D⁻¹ A from a deterministic non-smooth start vector.
+        let mut v: Vec<f64> = (0..n)
+            .map(|i| 1.0 + ((i * 7919) % 13) as f64 / 13.0)
+            .collect();
+        let mut w = vec![0.0; n];
+        let mut lambda = 1.0;
+        for _ in 0..POWER_ITERATIONS {
+            let norm = v.par_iter().map(|x| x * x).sum::<f64>().sqrt();
+            v.par_iter_mut().for_each(|x| *x /= norm);
+            a.mul_vec(&v, &mut w);
+            w.par_iter_mut().zip(&inv_diag).for_each(|(x, d)| *x *= d);
+            lambda = w.par_iter().zip(&v).map(|(x, y)| x * y).sum::<f64>();
+            std::mem::swap(&mut v, &mut w);
+        }
+        let lambda_max = CHEBYSHEV_UPPER_SAFETY * lambda;
+        Ok(Self {
+            inv_diag,
+            lambda_min: lambda_max / CHEBYSHEV_INTERVAL_RATIO,
+            lambda_max,
+            degree,
+        })
+    }
+
+    /// x ← x + Chebyshev(b − A x); `x_is_zero` saves the first product. Work vectors r, d.
+    fn smooth(
+        &self,
+        a: &CsrMatrix,
+        b: &[f64],
+        x: &mut [f64],
+        x_is_zero: bool,
+        r: &mut [f64],
+        d: &mut [f64],
+    ) {
+        let theta = 0.5 * (self.lambda_max + self.lambda_min);
+        let delta = 0.5 * (self.lambda_max - self.lambda_min);
+        let sigma = theta / delta;
+        let mut rho = 1.0 / sigma;
+        if x_is_zero {
+            r.copy_from_slice(b);
+        } else {
+            a.residual(b, x, r);
+        }
+        let inv = &self.inv_diag;
+        d.par_chunks_mut(ROW_BLOCK)
+            .enumerate()
+            .for_each(|(blk, db)| {
+                let base = blk * ROW_BLOCK;
+                for (k, di) in db.iter_mut().enumerate() {
+                    *di = inv[base + k] * r[base + k] / theta;
+                }
+            });
+        for step in 0..self.degree {
+            x.par_iter_mut()
+                .zip(d.par_iter())
+                .for_each(|(xi, di)| *xi += di);
+            if step + 1 == self.degree {
+                break;
+            }
+            a.residual(b, x, r);
+            let rho_new = 1.0 / (2.0 * sigma - rho);
+            let (c1, c2) = (rho_new * rho, 2.0 * rho_new / delta);
+            d.par_chunks_mut(ROW_BLOCK)
+                .enumerate()
+                .for_each(|(blk, db)| {
+                    let base = blk * ROW_BLOCK;
+                    for (k, di) in db.iter_mut().enumerate() {
+                        *di = c1 * *di + c2 * inv[base + k] * r[base + k];
+                    }
+                });
+            rho = rho_new;
+        }
+    }
+}
+
+/// Work vectors of one V-cycle (caller-owned, reused across iterations and right-hand sides).
+#[derive(Debug, Clone)]
+pub struct MultigridWorkspace {
+    r: Vec<f64>,
+    d: Vec<f64>,
+    rc: Vec<f64>,
+    pcg: PcgWorkspace,
+}
+
+/// Sizes and set-up figures of an [`IterativeSolver`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MultigridReport {
+    /// Fine (reduced Tet10) unknowns.
+    pub fine_unknowns: usize,
+    /// Coarse (Tet4 vertex) unknowns.
+    pub coarse_unknowns: usize,
+    /// Stored entries of the fine CSR matrix (both triangles).
+    pub fine_nnz: usize,
+    /// Stored entries of the coarse Cholesky factor.
+    pub coarse_factor_nnz: usize,
+    /// Bytes held by the solver (CSR, transfer operators, coarse factor).
+    pub memory_bytes: usize,
+    /// Estimated λ_max of D⁻¹ K_red.
+    pub lambda_max: f64,
+}
+
+/// PCG with the p-multigrid preconditioner for one reduced stiffness matrix. Set up once, then
+/// solve any number of right-hand sides (the set-up is shared).
+#[derive(Debug, Clone)]
+pub struct IterativeSolver {
+    a: CsrMatrix,
+    p: RowSparse,
+    pt: RowSparse,
+    coarse: NumericCholesky,
+    smoother: Chebyshev,
+    options: IterativeOptions,
+}
+
+impl IterativeSolver {
+    /// Sets up the hierarchy for `k_red` (the reduction of `model`'s stiffness by `dof_map`).
+    /// `factor` holds the thread count of the coarse factorisation and solves.
+    pub fn new(
+        model: &Model,
+        dof_map: &DofMap,
+        k_red: &SymmetricMatrix,
+        options: &IterativeOptions,
+        factor: FactorOptions,
+    ) -> FemResult<Self> {
+        options.validate()?;
+        if k_red.dim() != dof_map.reduced_count() {
+            return Err(FemError::DimensionMismatch {
+                what: "reduced matrix vs DOF map",
+                expected: dof_map.reduced_count(),
+                found: k_red.dim(),
+            });
+        }
+        let p = p_prolongation(model, dof_map)?;
+        let pt = p.transpose();
+        let a = CsrMatrix::from_symmetric(k_red)?;
+        let coarse_matrix = a.galerkin(&p, &pt)?;
+        let symbolic = SymbolicCholesky::analyze(&coarse_matrix, options.coarse_ordering)?;
+        let coarse = symbolic.factor_with(&coarse_matrix, factor)?;
+        let smoother = Chebyshev::new(&a, options.smoother_degree)?;
+        Ok(Self {
+            a,
+            p,
+            pt,
+            coarse,
+            smoother,
+            options: *options,
+        })
+    }
+
+    /// Recomputes the fine matrix, coarse operator and smoother for new values of `k_red`
+    /// (same pattern), reusing the transfer operators and the coarse symbolic analysis.
+    pub fn refactor(&mut self, k_red: &SymmetricMatrix) -> FemResult<()> {
+        if k_red.dim() != self.a.dim() {
+            return Err(FemError::PatternMismatch {
+                detail: format!(
+                    "iterative solver set up for dimension {}, got {}",
+                    self.a.dim(),
+                    k_red.dim()
+                ),
+            });
+        }
+        self.a = CsrMatrix::from_symmetric(k_red)?;
+        let coarse_matrix = self.a.galerkin(&self.p, &self.pt)?;
+        self.coarse.refactor(&coarse_matrix)?;
+        self.smoother = Chebyshev::new(&self.a, self.options.smoother_degree)?;
+        Ok(())
+    }
+
+    /// A workspace for [`Self::solve_in_place`].
+    pub fn workspace(&self) -> MultigridWorkspace {
+        let n = self.a.dim();
+        MultigridWorkspace {
+            r: vec![0.0; n],
+            d: vec![0.0; n],
+            rc: vec![0.0; self.pt.rows()],
+            pcg: PcgWorkspace::new(n),
+        }
+    }
+
+    /// Sizes and memory.
+    pub fn report(&self) -> MultigridReport {
+        MultigridReport {
+            fine_unknowns: self.a.dim(),
+            coarse_unknowns: self.pt.rows(),
+            fine_nnz: self.a.nnz(),
+            coarse_factor_nnz: self.coarse.symbolic().factor_nnz(),
+            memory_bytes: self.a.memory_bytes()
+                + 2 * 12 * self.p.rows()
+                + self.coarse.memory_bytes()
+                + 8 * self.a.dim(),
+            lambda_max: self.smoother.lambda_max,
+        }
+    }
+
+    /// The options in use.
+    pub fn options(&self) -> &IterativeOptions {
+        &self.options
+    }
+
+    /// One V-cycle z = M⁻¹ r (pre-smoothing, coarse correction, post-smoothing).
+    fn v_cycle(
+        &self,
+        r_in: &[f64],
+        z: &mut [f64],
+        r: &mut [f64],
+        d: &mut [f64],
+        rc: &mut [f64],
+    ) -> FemResult<()> {
+        z.fill(0.0);
+        self.smoother.smooth(&self.a, r_in, z, true, r, d);
+        self.a.residual(r_in, z, r);
+        self.pt.mul_vec(r, rc);
+        self.coarse.solve_in_place(rc)?;
+        self.p.mul_add_vec(rc, z);
+        self.smoother.smooth(&self.a, r_in, z, false, r, d);
+        Ok(())
+    }
+
+    /// Solves K_red x = b; on entry `rhs` = b, on exit x. Returns the iteration record.
+    pub fn solve_in_place(
+        &self,
+        rhs: &mut [f64],
+        ws: &mut MultigridWorkspace,
+    ) -> FemResult<PcgReport> {
+        let n = self.a.dim();
+        if rhs.len() != n {
+            return Err(FemError::DimensionMismatch {
+                what: "right-hand side",
+                expected: n,
+                found: rhs.len(),
+            });
+        }
+        let b = rhs.to_vec();
+        let MultigridWorkspace { r, d, rc, pcg: pw } = ws;
+        let report = pcg(
+            |v, out| self.a.mul_vec(v, out),
+            |res, z| self.v_cycle(res, z, r, d, rc),
+            &b,
+            rhs,
+            pw,
+            &self.options.pcg(),
+        )?;
+        if let Some(i) = rhs.iter().position(|v| !v.is_finite()) {
+            return Err(FemError::NonFiniteSolution { unknown: i });
+        }
+        Ok(report)
+    }
+
+    /// Solves for `ncols` right-hand sides stored column-major in `rhs` (overwritten with the
+    /// solutions), one after the other with the shared set-up.
+    pub fn solve_columns_in_place(
+        &self,
+        rhs: &mut [f64],
+        ncols: usize,
+        ws: &mut MultigridWorkspace,
+    ) -> FemResult<Vec<PcgReport>> {
+        let n = self.a.dim();
+        if rhs.len() != n * ncols {
+            return Err(FemError::DimensionMismatch {
+                what: "column-major right-hand sides",
+                expected: n * ncols,
+                found: rhs.len(),
+            });
+        }
+        if n == 0 {
+            return Ok(vec![PcgReport::default(); ncols]);
+        }
+        rhs.chunks_mut(n)
+            .map(|col| self.solve_in_place(col, ws))
+            .collect()
+    }
+}

@@ -1,0 +1,326 @@
+//! The iterative path (p-multigrid PCG) against the direct Cholesky on the same reduced system,
+//! its named failure, and the automatic choice between the two.
+
+mod common;
+
+use common::{distort, model_of, steel};
+use elastic_fem::iterative::IterativeSolver;
+use elastic_fem::mesh_gen::{BoxFace, BoxMesh};
+use elastic_fem::sparse::FactorOptions;
+use elastic_fem::{
+    Constraints, Dirichlet, DofMap, FemError, IterativeOptions, Model, ReducedSystem,
+    RigidComponent, RigidFace, SolverMethod, SolverOptions, StaticProblem, StaticSolution,
+    StiffnessPattern, assemble_stiffness, loads, solve_static,
+};
+
+/// A distorted Tet10 block clamped at z = 0 with an oblique traction on top and a rigid face
+/// (tied x displacement) at x = L: exercises Dirichlet, ties and a full 3D stress state.
+fn block(divisions: usize) -> (Model, Constraints, Vec<f64>) {
+    let mut mesh = BoxMesh::tet10([2.0, 1.0, 1.0], [2 * divisions, divisions, divisions]);
+    distort(&mut mesh, 0.05);
+    let model = model_of(&mesh, steel());
+    let mut f = vec![0.0; model.dof_count()];
+    loads::add_surface_traction(
+        model.nodes(),
+        &mesh.face_triangles(BoxFace::ZMax),
+        [1e6, -3e5, 5e5],
+        &mut f,
+    )
+    .unwrap();
+    let constraints = Constraints {
+        dirichlet: vec![Dirichlet::clamped(mesh.face_nodes(BoxFace::ZMin))],
+        rigid_faces: vec![RigidFace {
+            nodes: mesh.face_nodes(BoxFace::XMax),
+            components: [
+                RigidComponent::Loaded { force_n: 2e5 },
+                RigidComponent::Free,
+                RigidComponent::Free,
+            ],
+        }],
+        ..Default::default()
+    };
+    (model, constraints, f)
+}
+
+fn solve(
+    model: &Model,
+    constraints: &Constraints,
+    f: &[f64],
+    method: SolverMethod,
+) -> StaticSolution {
+    let options = SolverOptions {
+        method,
+        ..SolverOptions::default()
+    };
+    solve_static(
+        &StaticProblem {
+            model,
+            constraints,
+            load_n: f,
+        },
+        &options,
+    )
+    .unwrap()
+}
+
+/// ‖u − v‖_K / ‖v‖_K with the full stiffness of `model`.
+fn relative_energy_difference(model: &Model, u: &[f64], v: &[f64]) -> f64 {
+    let k = assemble_stiffness(model, &StiffnessPattern::build(model)).unwrap();
+    let d: Vec<f64> = u.iter().zip(v).map(|(a, b)| a - b).collect();
+    (k.quadratic_form(&d) / k.quadratic_form(v)).sqrt()
+}
+
+#[test]
+fn iterative_and_direct_solutions_agree_within_the_energy_tolerance_on_a_block() {
+    let (model, constraints, f) = block(4);
+    let direct = solve(&model, &constraints, &f, SolverMethod::Direct);
+    let iterative = solve(&model, &constraints, &f, SolverMethod::Iterative);
+    assert_eq!(
+        iterative.choice.method,
+        SolverMethod::Iterative,
+        "method used"
+    );
+    let tolerance = IterativeOptions::default().relative_energy_error;
+    let error =
+        relative_energy_difference(&model, &iterative.displacement_m, &direct.displacement_m);
+    // The estimate is a lower bound that is tight within a small factor (module docs of pcg).
+    assert!(
+        error < 10.0 * tolerance,
+        "relative energy-norm displacement difference {error:e} vs tolerance {tolerance:e}"
+    );
+    let energy_difference =
+        (iterative.strain_energy_j - direct.strain_energy_j).abs() / direct.strain_energy_j;
+    assert!(
+        energy_difference < 1e-9,
+        "strain energy: iterative {} J, direct {} J",
+        iterative.strain_energy_j,
+        direct.strain_energy_j
+    );
+    assert!(
+        iterative.report.iterations > 0 && iterative.report.iterations < 60,
+        "PCG iterations with the p-multigrid preconditioner: {}",
+        iterative.report.iterations
+    );
+}
+
+#[test]
+fn a_tighter_discretisation_error_gives_a_smaller_algebraic_error() {
+    let (model, constraints, f) = block(3);
+    let direct = solve(&model, &constraints, &f, SolverMethod::Direct);
+    let run = |discretisation_error: f64| {
+        let options = SolverOptions {
+            method: SolverMethod::Iterative,
+            iterative: IterativeOptions::for_discretisation_error(discretisation_error),
+            ..SolverOptions::default()
+        };
+        let sol = solve_static(
+            &StaticProblem {
+                model: &model,
+                constraints: &constraints,
+                load_n: &f,
+            },
+            &options,
+        )
+        .unwrap();
+        let error = relative_energy_difference(&model, &sol.displacement_m, &direct.displacement_m);
+        (sol.report.iterations, error)
+    };
+    let (loose_iterations, loose_error) = run(1e-2);
+    let (tight_iterations, tight_error) = run(1e-7);
+    assert!(
+        tight_iterations > loose_iterations && tight_error < loose_error,
+        "iterations {loose_iterations} → {tight_iterations}, energy error {loose_error:e} → {tight_error:e}"
+    );
+    assert!(
+        tight_error < 1e-8,
+        "energy error at a 1e-9 algebraic tolerance: {tight_error:e}"
+    );
+}
+
+#[test]
+fn iterative_solver_names_its_stopping_rule_when_it_cannot_converge() {
+    let (model, constraints, f) = block(2);
+    let options = SolverOptions {
+        method: SolverMethod::Iterative,
+        iterative: IterativeOptions {
+            max_iterations: 2,
+            relative_energy_error: 1e-12,
+            ..IterativeOptions::default()
+        },
+        ..SolverOptions::default()
+    };
+    let err = solve_static(
+        &StaticProblem {
+            model: &model,
+            constraints: &constraints,
+            load_n: &f,
+        },
+        &options,
+    )
+    .unwrap_err();
+    let text = err.to_string();
+    assert!(
+        matches!(err, FemError::IterativeNotConverged { iterations: 2, .. })
+            && text.contains("iteration limit"),
+        "stall error: {text}"
+    );
+}
+
+#[test]
+fn iterative_method_is_refused_on_tet4_meshes_and_auto_goes_direct() {
+    let mesh = BoxMesh::tet4([1.0; 3], [3, 3, 3]);
+    let model = model_of(&mesh, steel());
+    let constraints = Constraints {
+        dirichlet: vec![Dirichlet::clamped(mesh.face_nodes(BoxFace::ZMin))],
+        ..Default::default()
+    };
+    let mut f = vec![0.0; model.dof_count()];
+    loads::add_surface_traction(
+        model.nodes(),
+        &mesh.face_triangles(BoxFace::ZMax),
+        [1e6, 0.0, 0.0],
+        &mut f,
+    )
+    .unwrap();
+    let problem = StaticProblem {
+        model: &model,
+        constraints: &constraints,
+        load_n: &f,
+    };
+    let iterative = SolverOptions {
+        method: SolverMethod::Iterative,
+        ..SolverOptions::default()
+    };
+    let err = solve_static(&problem, &iterative).unwrap_err();
+    assert!(
+        matches!(err, FemError::IterativeUnsupported { .. }),
+        "Tet4 iterative: {err}"
+    );
+    let auto = solve_static(&problem, &SolverOptions::default()).unwrap();
+    assert_eq!(
+        auto.choice.method,
+        SolverMethod::Direct,
+        "auto on Tet4: {}",
+        auto.choice.reason
+    );
+    assert!(
+        auto.choice.reason.contains("Tet4"),
+        "reason: {}",
+        auto.choice.reason
+    );
+}
+
+#[test]
+fn auto_picks_direct_for_a_small_system_with_its_reason() {
+    let (model, constraints, f) = block(2);
+    let sol = solve(&model, &constraints, &f, SolverMethod::Auto);
+    assert_eq!(
+        sol.choice.method,
+        SolverMethod::Direct,
+        "reason: {}",
+        sol.choice.reason
+    );
+    assert!(
+        sol.choice.reason.contains("unknowns"),
+        "reason: {}",
+        sol.choice.reason
+    );
+}
+
+#[test]
+fn auto_cost_model_picks_iterative_for_a_large_system_and_direct_for_many_right_hand_sides() {
+    // 2 × 1 × 1 block with 24 × 12 × 12 Tet10 cubes: ≈ 170k unknowns.
+    let (model, constraints, _) = block(12);
+    let k = assemble_stiffness(&model, &StiffnessPattern::build(&model)).unwrap();
+    let map = DofMap::new(model.node_count(), &constraints).unwrap();
+    let reduced = ReducedSystem::new(&k, map).unwrap();
+    let k_red = reduced.reduce_matrix(&k).unwrap();
+    let ordering = SolverOptions::default().ordering;
+    let (one, _) = elastic_fem::choose_method(
+        SolverMethod::Auto,
+        &k_red,
+        1,
+        model.connectivity(),
+        ordering,
+    )
+    .unwrap();
+    assert_eq!(
+        one.method,
+        SolverMethod::Iterative,
+        "one right-hand side: {}",
+        one.reason
+    );
+    assert!(
+        one.reason.contains("direct ≈"),
+        "reason gives the estimates: {}",
+        one.reason
+    );
+    let (many, analysed) = elastic_fem::choose_method(
+        SolverMethod::Auto,
+        &k_red,
+        400,
+        model.connectivity(),
+        ordering,
+    )
+    .unwrap();
+    assert_eq!(
+        many.method,
+        SolverMethod::Direct,
+        "400 right-hand sides: {}",
+        many.reason
+    );
+    assert!(
+        analysed.is_some(),
+        "the symbolic analysis is handed to the direct path"
+    );
+}
+
+#[test]
+fn many_right_hand_sides_share_one_setup_and_each_meets_the_tolerance() {
+    let (model, constraints, f) = block(3);
+    let k = assemble_stiffness(&model, &StiffnessPattern::build(&model)).unwrap();
+    let map = DofMap::new(model.node_count(), &constraints).unwrap();
+    let reduced = ReducedSystem::new(&k, map).unwrap();
+    let k_red = reduced.reduce_matrix(&k).unwrap();
+    let b = reduced.reduce_load(&k, &f).unwrap();
+    let m = b.len();
+    let mut rhs: Vec<f64> = b
+        .iter()
+        .chain(b.iter().map(|v| -2.0 * v).collect::<Vec<_>>().iter())
+        .copied()
+        .collect();
+    let solver = IterativeSolver::new(
+        &model,
+        reduced.dof_map(),
+        &k_red,
+        &IterativeOptions::default(),
+        FactorOptions::default(),
+    )
+    .unwrap();
+    let reports = solver
+        .solve_columns_in_place(&mut rhs, 2, &mut solver.workspace())
+        .unwrap();
+    assert_eq!(reports.len(), 2, "one report per right-hand side");
+    for (i, r) in reports.iter().enumerate() {
+        assert!(
+            r.relative_energy_error <= IterativeOptions::default().relative_energy_error,
+            "column {i}: estimated energy error {:e}",
+            r.relative_energy_error
+        );
+        assert_eq!(
+            r.residual_history.len(),
+            r.iterations,
+            "residual history of column {i}"
+        );
+    }
+    let ratio_error = rhs[..m]
+        .iter()
+        .zip(&rhs[m..])
+        .map(|(a, b)| (b + 2.0 * a).abs())
+        .fold(0.0, f64::max)
+        / rhs[..m].iter().fold(0.0, |x: f64, v| x.max(v.abs()));
+    assert!(
+        ratio_error < 1e-4,
+        "linearity: x(−2b) = −2 x(b) within the tolerance, got {ratio_error:e}"
+    );
+}

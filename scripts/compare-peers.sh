@@ -1,0 +1,92 @@
+#!/usr/bin/env bash
+# Peer benchmark on the same punch meshes: validation's FEM (elastic-fem, direct and iterative)
+# vs TUNED scikit-fem (CG + pyamg smoothed aggregation with rigid-body modes,
+# scripts/compare-skfem-tuned.py) and CalculiX ccx (SPOOLES, scripts/compare-ccx.py).
+#
+#   scripts/compare-peers.sh [--threads N] [--peers skfem,ccx] LEVEL|MESH.msh ...
+#       LEVEL: quarter Tet10 mesh of that level of the springs-study family (gmsh, cached in
+#              target/sawdrive-meshes; level 0 ≈ 20k, 1 ≈ 55k, 2 ≈ 140k, 3 ≈ 350k, 4 ≈ 900k,
+#              5 ≈ 2.3M unknowns)
+#
+# Whole-process wall time and peak resident memory of each code (/usr/bin/time -v), one thread
+# by default (OMP/OpenBLAS/MKL/RAYON/ccx thread variables all set to N), and k_sn (frictionless
+# normal punch, clamped far field) of every code, which must agree to 1e-6 (same mesh, same
+# isoparametric Tet10, same boundary conditions). Ours runs the punch_scaling example, which
+# solves both far-field problems A and B (two right-hand sides); the peers solve A only.
+# Prints one JSON line per code and mesh, then a summary line per mesh (ratios of one run).
+# Python peers live in a venv in the target folder (pip: scikit-fem, meshio, pyamg); ccx from
+# Debian (apt-get install calculix-ccx).
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+target="${CARGO_TARGET_DIR:-$root/target}"
+venv="$target/skfem-venv"
+threads=1
+peers="skfem,ccx"
+args=()
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --threads) threads="$2"; shift 2 ;;
+    --peers) peers="$2"; shift 2 ;;
+    *) args+=("$1"); shift ;;
+  esac
+done
+[[ ${#args[@]} -gt 0 ]] || { echo "usage: $0 [--threads N] [--peers skfem,ccx] LEVEL|MESH.msh ..." >&2; exit 2; }
+if [[ ! -x "$venv/bin/python" ]]; then
+  python3 -m venv "$venv"
+  "$venv/bin/pip" install -q scikit-fem meshio pyamg
+fi
+command -v ccx >/dev/null || [[ "$peers" != *ccx* ]] || { echo "ccx not found: apt-get install calculix-ccx" >&2; exit 1; }
+export OMP_NUM_THREADS="$threads" OPENBLAS_NUM_THREADS="$threads" MKL_NUM_THREADS="$threads" \
+  RAYON_NUM_THREADS="$threads" CCX_NPROC_STIFFNESS="$threads" CCX_NPROC_EQUATION_SOLVER="$threads"
+(cd "$root" && cargo build -q --release -p validation --example punch_scaling)
+ours="$target/release/examples/punch_scaling"
+out="$(mktemp -d)"
+trap 'rm -rf "$out"' EXIT
+
+# Runs a command under /usr/bin/time -v; prints its stdout's last line with wall_s and peak_mb added.
+timed() {
+  local name="$1"; shift
+  /usr/bin/time -v "$@" >"$out/$name.json" 2>"$out/$name.time"
+  python3 - "$out/$name.json" "$out/$name.time" "$name" <<'PY'
+import json, re, sys
+line = open(sys.argv[1]).read().strip().splitlines()[-1]
+t = open(sys.argv[2]).read()
+d = json.loads(line)
+m = re.search(r"Elapsed \(wall clock\) time \(h:mm:ss or m:ss\): (?:(\d+):)?(\d+):([\d.]+)", t)
+d["wall_s"] = (int(m.group(1) or 0) * 3600 + int(m.group(2)) * 60 + float(m.group(3)))
+d["peak_mb"] = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", t).group(1)) / 1024
+d["run"] = sys.argv[3]
+print(json.dumps(d))
+PY
+}
+
+for arg in "${args[@]}"; do
+  if [[ "$arg" =~ ^[0-9]+$ ]]; then
+    mesh="$("$ours" --method direct --level "$arg" --mesh-only)"
+  else
+    mesh="$arg"
+  fi
+  : >"$out/lines"
+  for method in iterative direct; do
+    timed "ours-$method" "$ours" --method "$method" "$mesh" | tee -a "$out/lines"
+  done
+  if [[ "$peers" == *skfem* ]]; then
+    timed skfem-tuned "$venv/bin/python" "$root/scripts/compare-skfem-tuned.py" "$mesh" | tee -a "$out/lines"
+  fi
+  if [[ "$peers" == *ccx* ]]; then
+    timed ccx "$venv/bin/python" "$root/scripts/compare-ccx.py" "$mesh" --workdir "$out/ccx" | tee -a "$out/lines"
+  fi
+  python3 - "$out/lines" "$threads" <<'PY'
+import json, sys
+runs = {d["run"]: d for d in map(json.loads, open(sys.argv[1]))}
+ours = runs["ours-iterative"]
+k = ours["k_sn_clamped_n_per_m"]
+parts = [f'{ours["unknowns"]} unknowns, {sys.argv[2]} thread(s): ours iterative {ours["wall_s"]:.1f} s {ours["peak_mb"]:.0f} MB ({ours["iterations"]} it)']
+for name, d in runs.items():
+    if name == "ours-iterative":
+        continue
+    dk = d["k_sn_clamped_n_per_m"] / k - 1
+    parts.append(f'{name} {d["wall_s"]:.1f} s {d["peak_mb"]:.0f} MB (x{d["wall_s"] / ours["wall_s"]:.2f}, dk {dk:+.1e})')
+print("SUMMARY " + "; ".join(parts))
+PY
+done
