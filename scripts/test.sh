@@ -5,3 +5,4 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 cargo test --workspace "$@"
+cargo check -p stick-slip -p static-contact --no-default-features  # solvers build without plotting (feature `charts` off)

@@ -104,7 +104,7 @@ pub struct ValidateStickSlipArgs {
     /// Output folder for the charts and report.json.
     #[arg(
         long = "out",
-        default_value = "validation/stick-slip/figures",
+        default_value = "out/validation/stick-slip",
         value_name = "DIR"
     )]
     pub out: PathBuf,

@@ -1,18 +1,25 @@
 //! Files for people: a ParaView VTU of one snapshot (displacement, stress, contact pressure) and
-//! a chart of post force against x with the frozen wave beneath it.
+//! a chart of post force against x with the frozen wave beneath it (the chart only with the
+//! cargo feature `charts`, on by default; without it the crate builds without plotters and font
+//! libraries).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
+#[cfg(feature = "charts")]
+use std::path::PathBuf;
 
+#[cfg(feature = "charts")]
 use charts::{Chart, Series, Style, write_stacked};
 use gmsh_mesh::{Field, FieldValues, write_vtu};
 
 use crate::BodyCompliance;
 use crate::analysis::{SnapshotResult, StaticAnalysis};
 use crate::error::{ContactError, Result};
+#[cfg(feature = "charts")]
 use crate::lumped::independent_posts;
 use crate::scene::StatorCompliance;
 
 /// Points per wavelength of the drawn wave. Default 48.
+#[cfg(feature = "charts")]
 pub const WAVE_CHART_POINTS_PER_WAVELENGTH: usize = 48;
 
 fn scatter_body(body: &BodyCompliance, u_body: &[f64], offset_z_m: f64, u: &mut [[f64; 3]]) {
@@ -97,6 +104,7 @@ pub fn write_snapshot_vtu(
 
 /// Writes `stem.svg` (and `.png`): post forces against x (FEM, and the lumped model with the
 /// fitted η) above the frozen wave w(x) and the posts' positions. Returns the files written.
+#[cfg(feature = "charts")]
 pub fn write_force_chart(
     analysis: &StaticAnalysis,
     preload_index: usize,

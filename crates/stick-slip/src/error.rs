@@ -131,6 +131,7 @@ pub enum StickSlipError {
         source: std::io::Error,
     },
     /// Writing a chart failed.
+    #[cfg(feature = "charts")]
     #[error("chart {path}: {source}")]
     Chart {
         /// Chart stem at fault.

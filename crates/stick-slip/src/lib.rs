@@ -11,8 +11,8 @@
 //! * [`PeriodicAverageModel`]: one post period-averaged at imposed speed (closed-form
 //!   event-driven segments by default).
 //! * [`TransientModel`]: all phase groups and the slider integrated in time.
-//! * [`charts`](mod@crate::plots) and [`validation`]: SVG/PNG charts, the work-precision chart
-//!   and stability maps.
+//! * `plots` (cargo feature `charts`, on by default): SVG/PNG charts of a
+//!   result. The validation study (work-precision, stability maps) is in the `validation` crate.
 //!
 //! Inside the solvers lengths are scaled by A_n, time by 1/ω and forces by k_n A_n per post
 //! (N_eff k_n A_n for the slider), so every tolerance is relative.
@@ -34,6 +34,7 @@ mod integrator;
 mod math;
 mod mean_normal;
 mod periodic;
+#[cfg(feature = "charts")]
 pub mod plots;
 mod post;
 mod result;
@@ -41,7 +42,6 @@ mod scene;
 mod slider;
 mod solve;
 mod transient;
-pub mod validation;
 mod wave;
 
 pub use contact::{PAPER_FRICTION_COEFFICIENT, PostContact, SILICON_DENSITY_KG_PER_M3};
@@ -53,6 +53,7 @@ pub use integrator::{
     StabilityPolicy, StabilitySetting, TRANSIENT_DEFAULT_STEPS_PER_PERIOD,
 };
 pub use periodic::{PeriodicAverageModel, SpeedSample};
+pub use post::stepping::StabilityProbe;
 pub use result::{
     CurvePoint, DynamicResult, OperatingPoint, TransientSummary, curve_csv, write_curve_csv,
 };

@@ -236,7 +236,7 @@ impl PeriodicAverageModel {
 
     /// Stability probe of the model's fixed-step scheme at one speed: `None` for the
     /// closed-form event-driven post (no step).
-    pub(crate) fn probe_at_speed(
+    pub fn probe_at_speed(
         &self,
         speed_m_per_s: f64,
         periods: usize,

@@ -357,6 +357,7 @@ fn result_serialises_with_the_documented_keys_and_csv_header() {
     );
 }
 
+#[cfg(feature = "charts")]
 #[test]
 fn histories_for_the_charts_cover_the_requested_periods() {
     let scene = paper_scene();

@@ -93,6 +93,9 @@ pub enum ValidationError {
         reason: &'static str,
     },
     /// A convergence extrapolation could not be made.
+    /// The stick/slip model refused a scene or failed (stick-slip study).
+    #[error("validation: stick-slip model: {0}")]
+    StickSlip(#[from] stick_slip::StickSlipError),
     #[error("validation: extrapolation of {quantity} failed: {reason}")]
     Extrapolation {
         /// Which quantity.

@@ -17,6 +17,14 @@
 //! ```
 //!
 //! Run without the CLI: `cargo run --release -p validation --example validate_springs -- --help`.
+//!
+//! **Stick/slip dynamics** ([`stick_slip`]): work-precision and stability maps of the
+//! integrators of the `stick-slip` crate, transient against period average, the paper's trends;
+//! `sawdrive validate stick-slip` or
+//! `cargo run --release -p validation --example validate_stick_slip`.
+//!
+//! **Static contact and η**: `cargo run --release -p validation --example static_contact_report`
+//! regenerates `validation/static-contact/` (the numbers of its README).
 
 pub mod error;
 pub mod family;
@@ -28,6 +36,7 @@ pub mod report;
 pub mod richardson;
 pub mod spring;
 pub mod stability;
+pub mod stick_slip;
 pub mod study;
 
 pub use error::ValidationError;

@@ -2,7 +2,7 @@
 
 use sawdrive::scene::load_scene;
 use stick_slip::PostContact;
-use stick_slip::validation::{ValidationLevel, ValidationSetup, run_validation};
+use validation::stick_slip::{ValidationLevel, ValidationSetup, run_validation};
 
 use crate::cli::{ValidateSpringsArgs, ValidateStickSlipArgs};
 
@@ -70,4 +70,37 @@ pub fn springs(args: &ValidateSpringsArgs) -> anyhow::Result<()> {
         println!("charts and cases.json in {}", args.out.display());
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use clap::Parser;
+
+    use crate::cli::{Cli, Command, ValidateCommand};
+
+    /// The `--out` folder `sawdrive validate stick-slip ARGS` would write to.
+    fn stick_slip_out(args: &[&str]) -> std::path::PathBuf {
+        let cli = Cli::try_parse_from(["sawdrive", "validate", "stick-slip"].iter().chain(args))
+            .expect("valid command line");
+        match cli.command {
+            Command::Validate(ValidateCommand::StickSlip(a)) => a.out,
+            other => panic!("parsed as {other:?}"),
+        }
+    }
+
+    #[test]
+    fn stick_slip_study_writes_under_out_relative_to_the_working_folder_by_default() {
+        assert_eq!(
+            stick_slip_out(&[]),
+            Path::new("out/validation/stick-slip"),
+            "default output folder of the stick-slip study"
+        );
+        assert_eq!(
+            stick_slip_out(&["--out", "elsewhere"]),
+            Path::new("elsewhere"),
+            "--out folder of the stick-slip study"
+        );
+    }
 }

@@ -27,10 +27,12 @@ const OSCILLATION_FLIP_FRACTION: f64 = 0.05;
 /// smooth signal's turning points are a large fraction of the steps). Default 8.
 const OSCILLATION_MIN_FLIPS: usize = 8;
 
-/// Outcome of a stability probe.
+/// Outcome of a stability probe ([`crate::PeriodicAverageModel::probe_at_speed`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct StabilityProbe {
+pub struct StabilityProbe {
+    /// The stepped post's force grew beyond the divergence bound.
     pub diverged: bool,
+    /// The force alternates at the step frequency (chatter).
     pub oscillating: bool,
     /// Mean force of the last period (NaN if diverged).
     pub mean_force: f64,

@@ -1,8 +1,8 @@
 //! Regenerates the numbers of `validation/static-contact/README.md`.
 //!
 //! ```sh
-//! cargo run -p static-contact --release --example report                 # every section (≈ 20 min, needs gmsh)
-//! cargo run -p static-contact --release --example report -- refinement   # one or more sections
+//! cargo run -p validation --release --example static_contact_report                 # every section (≈ 20 min, needs gmsh)
+//! cargo run -p validation --release --example static_contact_report -- refinement   # one or more sections
 //! ```
 //! Sections: `single_post`, `stator`, `refinement`, `strip`, `high_preload`, `diameters`, `counts`. Results go to
 //! `validation/static-contact/results/<section>.json` (override the folder with `--out DIR`) and

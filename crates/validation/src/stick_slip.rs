@@ -1,7 +1,9 @@
-//! The crate's validation study (`sawdrive validate stick-slip`, or
-//! `cargo run -p stick-slip --example validate --release`): work-precision of every integrator,
-//! stability maps, transient-vs-period-average agreement, the paper's trends, and the Fig. 6
-//! history; charts plus `report.json` in the output directory.
+//! Validation study of the `stick-slip` crate (`sawdrive validate stick-slip`, or
+//! `cargo run -p validation --example validate_stick_slip --release`): work-precision of every
+//! integrator against the closed-form event-driven post, stability maps of the fixed-step
+//! schemes, transient-vs-period-average agreement, the paper's trends (Figs 7–12) and the Fig. 6
+//! history (physics.md §4–5); charts plus `report.json` in the output directory. Valid for the
+//! paper's motor (physics.md §1) with the springs and post mass given in [`ValidationSetup`].
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -9,16 +11,18 @@ use std::time::Instant;
 use charts::{CategoryMap, Chart, Scale, Series, Style, write_category_map, write_stacked};
 use serde::Serialize;
 
-use crate::contact::PostContact;
-use crate::error::{Result, StickSlipError};
-use crate::integrator::{Integrator, StabilityPolicy};
-use crate::periodic::PeriodicAverageModel;
-use crate::plots::{
+use stick_slip::plots::{
     write_post_history_chart, write_slider_history_chart, write_speed_thrust_comparison,
 };
-use crate::scene::{DynamicScene, ModelChoice, ModelKind, TransientStart};
-use crate::slider::{PostLayout, VerticalModel};
-use crate::transient::TransientModel;
+use stick_slip::{
+    DynamicResult, DynamicScene, Integrator, ModelChoice, ModelKind, PAPER_FRICTION_COEFFICIENT,
+    PeriodicAverageModel, PostContact, PostLayout, StabilityPolicy, StabilityProbe, TransientModel,
+    TransientStart, VerticalModel,
+};
+
+use crate::error::ValidationError;
+
+type Result<T> = std::result::Result<T, ValidationError>;
 
 /// Accuracy class boundary of the stability maps: a stable cell within this relative error of
 /// its row's finest stable result counts as accurate. Default 0.02.
@@ -182,15 +186,15 @@ fn paper_scene(setup: &ValidationSetup) -> DynamicScene {
     scene.contact = PostContact::new(
         setup.k_n_n_per_m,
         setup.k_t_n_per_m,
-        crate::contact::PAPER_FRICTION_COEFFICIENT,
+        PAPER_FRICTION_COEFFICIENT,
     )
     .with_post_mass(setup.post_mass_kg);
     scene.model = ModelChoice::PeriodicAverage;
     scene
 }
 
-fn chart_error(stem: &Path) -> impl FnOnce(charts::ChartError) -> StickSlipError + '_ {
-    move |source| StickSlipError::Chart {
+fn chart_error(stem: &Path) -> impl FnOnce(charts::ChartError) -> ValidationError + '_ {
+    move |source| ValidationError::Chart {
         path: stem.to_path_buf(),
         source,
     }
@@ -198,7 +202,7 @@ fn chart_error(stem: &Path) -> impl FnOnce(charts::ChartError) -> StickSlipError
 
 /// Run the whole study, writing charts and `report.json` into `out_dir`.
 pub fn run_validation(setup: &ValidationSetup, out_dir: &Path) -> Result<ValidationReport> {
-    std::fs::create_dir_all(out_dir).map_err(|source| StickSlipError::Io {
+    std::fs::create_dir_all(out_dir).map_err(|source| ValidationError::Io {
         path: out_dir.to_path_buf(),
         source,
     })?;
@@ -272,8 +276,11 @@ pub fn run_validation(setup: &ValidationSetup, out_dir: &Path) -> Result<Validat
         files: files.clone(),
     };
     let path = out_dir.join("report.json");
-    let json = serde_json::to_string_pretty(&report).unwrap_or_default();
-    std::fs::write(&path, json).map_err(|source| StickSlipError::Io {
+    let json = serde_json::to_string_pretty(&report).map_err(|source| ValidationError::Json {
+        what: "stick-slip report",
+        source,
+    })?;
+    std::fs::write(&path, json).map_err(|source| ValidationError::Io {
         path: path.clone(),
         source,
     })?;
@@ -497,7 +504,7 @@ const MAP_CATEGORIES: [&str; 4] = [
 ];
 
 /// Classify one row of probes against its finest stable result.
-fn classify_row(probes: &[Option<crate::post::stepping::StabilityProbe>]) -> Vec<usize> {
+fn classify_row(probes: &[Option<StabilityProbe>]) -> Vec<usize> {
     let reference = probes
         .iter()
         .flatten()
@@ -521,7 +528,7 @@ fn probe_row(
     scene: &DynamicScene,
     integrators: &[Integrator],
     speed: f64,
-) -> Result<Vec<Option<crate::post::stepping::StabilityProbe>>> {
+) -> Result<Vec<Option<StabilityProbe>>> {
     // Columns are passed from the finest step to the coarsest.
     integrators
         .iter()
@@ -530,7 +537,7 @@ fn probe_row(
             s.integrator = *integrator;
             s.options.stability = StabilityPolicy::Warn;
             let model = PeriodicAverageModel::new(&s)?;
-            model.probe_at_speed(speed, MAP_PERIODS)
+            Ok(model.probe_at_speed(speed, MAP_PERIODS)?)
         })
         .collect()
 }
@@ -828,7 +835,7 @@ fn trends(
             PeriodicAverageModel::new(&scene)?.solve()?,
         ));
     }
-    let labelled: Vec<(&str, &crate::result::DynamicResult)> =
+    let labelled: Vec<(&str, &DynamicResult)> =
         results.iter().map(|(l, r)| (l.as_str(), r)).collect();
     let stem = out_dir.join("speed_thrust_preloads");
     files.extend(write_speed_thrust_comparison(

@@ -1,14 +1,14 @@
 //! Run the stick-slip validation study and write its charts and `report.json`.
 //!
-//! `cargo run -p stick-slip --example validate --release [-- OUT_DIR] [--quick | --smoke]`
-//! (default OUT_DIR: validation/stick-slip/figures).
+//! `cargo run -p validation --example validate_stick_slip --release [-- OUT_DIR] [--quick | --smoke]`
+//! (default OUT_DIR: validation/stick-slip/figures, the committed figures).
 
 #[path = "../tests/support/johnson.rs"]
 mod johnson;
 
 use std::path::PathBuf;
 
-use stick_slip::validation::{ValidationLevel, ValidationSetup, run_validation};
+use validation::stick_slip::{ValidationLevel, ValidationSetup, run_validation};
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();

@@ -1,10 +1,10 @@
-//! The validation study (`cargo run -p stick-slip --example validate --release`) at smoke level:
+//! The validation study (`cargo run -p validation --example validate_stick_slip --release`) at smoke level:
 //! every documented figure and the report are produced.
 
 #[path = "support/johnson.rs"]
 mod johnson;
 
-use stick_slip::validation::{ValidationLevel, ValidationSetup, run_validation};
+use validation::stick_slip::{ValidationLevel, ValidationSetup, run_validation};
 
 #[test]
 fn validation_study_writes_every_figure_and_the_report() {
