@@ -17,8 +17,9 @@ pub const MIN_CONTACT_STEPS: usize = 8;
 
 /// Golden-section steps of the η_dyn search on ln η. Default 80.
 const ETA_SEARCH_STEPS: usize = 80;
-/// Search interval of η_dyn. Default [1e-3, 4].
-const ETA_RANGE: (f64, f64) = (1e-3, 4.0);
+/// Search interval of η_dyn: [1e-3, the largest η the lumped model accepts]
+/// (`contact_springs::effective_ratio::MAX_EFFECTIVE_RATIO`, the one η contract).
+const ETA_RANGE: (f64, f64) = (1e-3, contact_springs::effective_ratio::MAX_EFFECTIVE_RATIO);
 
 /// Result of a coupled run.
 #[derive(Debug, Clone, PartialEq, Serialize)]
