@@ -1,4 +1,4 @@
-//! The contract for the effective contact ratio η = N_eff/N (physics.md §4), one rule for the
+//! The contract for the effective contact ratio η = N_eff/N (docs/physics.md §4), one rule for the
 //! scene, the static and the dynamic crates.
 //!
 //! η scales the number of independent posts of Johnson stiffness k_n that carry the preload.

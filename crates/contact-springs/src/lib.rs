@@ -3,7 +3,7 @@
 //! A post is a rigid flat punch of radius `a`, bonded to the silicon slider it is etched from and
 //! touching the LiNbO3 stator through a frictional interface. Its compliance is four half-space
 //! springs (K. L. Johnson, *Contact Mechanics*, CUP 1985; the SAW-motor model of Shigematsu &
-//! Kurosawa, eqs (1)–(4)); see `shared/design/physics.md` §3 for the binding definitions.
+//! Kurosawa, eqs (1)–(4)); see `docs/physics.md` §3 for the binding definitions.
 //!
 //! | spring | formula | boundary condition on r < a |
 //! |---|---|---|

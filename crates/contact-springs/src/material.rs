@@ -20,7 +20,7 @@ pub struct Material {
 impl Material {
     /// Silicon, isotropic Voigt–Reuss–Hill average of the cubic constants
     /// C11 = 165.7, C12 = 63.9, C44 = 79.6 GPa: G = 66.5 GPa, ν = 0.22, ρ = 2329 kg/m³
-    /// (physics.md §2; see [`Material::from_cubic_hill`]).
+    /// (docs/physics.md §2; see [`Material::from_cubic_hill`]).
     pub fn silicon() -> Self {
         Self {
             name: "si".into(),
@@ -31,7 +31,7 @@ impl Material {
     }
 
     /// 128° Y-rotated LiNbO3, isotropic average: G = 67.0 GPa, ν = 0.25, ρ = 4628 kg/m³
-    /// (physics.md §2). Do not derive the Rayleigh-wave speed from it.
+    /// (docs/physics.md §2). Do not derive the Rayleigh-wave speed from it.
     pub fn lithium_niobate() -> Self {
         Self {
             name: "linbo3".into(),

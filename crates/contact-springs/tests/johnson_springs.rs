@@ -34,7 +34,7 @@ fn springs_match_closed_forms_for_silicon_and_lithium_niobate() {
 
 #[test]
 fn twenty_micron_post_has_the_documented_order_of_magnitude() {
-    // physics.md §3: k_n ≈ 1.8·10⁶ N/m, k_t ≈ 1.5·10⁶ N/m per post of d = 20 µm.
+    // docs/physics.md §3: k_n ≈ 1.8·10⁶ N/m, k_t ≈ 1.5·10⁶ N/m per post of d = 20 µm.
     let s = post_springs(&Material::silicon(), &Material::lithium_niobate(), A).unwrap();
     assert!(rel(s.k_n_n_per_m, 1.8e6) < 0.03, "k_n = {}", s.k_n_n_per_m);
     assert!(rel(s.k_t_n_per_m, 1.5e6) < 0.03, "k_t = {}", s.k_t_n_per_m);

@@ -30,7 +30,7 @@ pub enum PreloadBalance {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "kebab-case")]
 pub enum WaveDirection {
-    /// θ = ωt − kx (physics.md's convention): the slider moves along −x.
+    /// θ = ωt − kx (docs/physics.md's convention): the slider moves along −x.
     #[default]
     PlusX,
     /// θ = ωt + kx, the mirrored wave: the slider moves along +x.

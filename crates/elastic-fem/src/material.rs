@@ -177,7 +177,7 @@ impl CubicCrystal {
     }
 
     /// Silicon with crystal axes along the global axes (<100> orientation). Constants from
-    /// physics.md §2: C11 = 165.7, C12 = 63.9, C44 = 79.6 GPa.
+    /// docs/physics.md §2: C11 = 165.7, C12 = 63.9, C44 = 79.6 GPa.
     pub fn silicon_100() -> Self {
         Self {
             c11_pa: 165.7e9,

@@ -9,7 +9,7 @@
 //!
 //! - near field, the post's own cell (scale a … pitch): the stator's rigid-disk sink
 //!   1/k_sn = (1−ν)/(4Ga) (exact, Johnson §3.8) and the slider side s_post: by default the
-//!   Johnson bonded punch 1/k_pn (physics.md §3, post column not counted), or a value taken from
+//!   Johnson bonded punch 1/k_pn (docs/physics.md §3, post column not counted), or a value taken from
 //!   the strip FEM's condensed compliance ([`crate::calibration`]) that contains the 2 µm post,
 //!   its fillet-free base and the mesh of the one-off cell FEM;
 //! - far field, between posts (scale pitch … slider): the stator is an elastic half-space, a
@@ -156,7 +156,7 @@ impl LatticeGeometry {
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum NearField {
-    /// Johnson's bonded rigid punch on a half-space, 1/k_pn (physics.md §3).
+    /// Johnson's bonded rigid punch on a half-space, 1/k_pn (docs/physics.md §3).
     #[default]
     Johnson,
     /// A given value (m/N), e.g. from the strip FEM ([`crate::calibration`]).

@@ -5,7 +5,7 @@
 //! through the stator half-space and the slider body bonded to a rigid back, applied by FFT,
 //! [`layer`] for the body's Fourier-space influence function) and a constrained
 //! conjugate-gradient solver ([`solver`], Polonsky & Keer 1999) → post forces and gaps per phase
-//! of the frozen wave → η (physics.md §6), load sharing, contact fraction ([`slider`]).
+//! of the frozen wave → η (docs/physics.md §6), load sharing, contact fraction ([`slider`]).
 //! Imperfections of a real slider (height scatter, height map, tilt, bow): [`heights`].
 //!
 //! ```

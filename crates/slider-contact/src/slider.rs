@@ -1,7 +1,7 @@
 //! The whole-slider static stage: parameters → lattice operator (once) → per preload, the frozen
-//! wave at each phase θ₀ (w(x) = A_n sin(θ₀ − kx), physics.md §6) plus each post's extra height
+//! wave at each phase θ₀ (w(x) = A_n sin(θ₀ − kx), docs/physics.md §6) plus each post's extra height
 //! ([`crate::heights`]) → constrained CG contact of all posts → post forces and gaps per phase →
-//! η fitted as physics.md §6 ([`static_contact::fit_eta`], pooled over the phases), load sharing
+//! η fitted as docs/physics.md §6 ([`static_contact::fit_eta`], pooled over the phases), load sharing
 //! (Σf)²/(N Σf²), contact fraction, complementarity residual, iterations, wall time.
 //!
 //! Preload mechanism: `rigid` only (the body bonded to a rigid flat back, today's clamp of the
@@ -96,7 +96,7 @@ pub struct SliderParams {
 }
 
 impl Default for SliderParams {
-    /// The paper's default slider (physics.md §1) as in `static_contact::StaticParams::default`:
+    /// The paper's default slider (docs/physics.md §1) as in `static_contact::StaticParams::default`:
     /// 100 × 100 posts of 20 µm at 40 µm in a 5 × 5 × 0.5 mm Si body, LiNbO3 stator,
     /// A_n = 20 nm, λ = 3979/9.61e6 m, P = 40 N, 4 phases, ideal posts, rigid back.
     fn default() -> Self {

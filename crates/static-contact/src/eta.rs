@@ -1,4 +1,4 @@
-//! The effective contact ratio η (physics.md §6): the factor on the Johnson post stiffness k_n
+//! The effective contact ratio η (docs/physics.md §6): the factor on the Johnson post stiffness k_n
 //! for which independent posts (the lumped model, [`crate::lumped`]) pressed with the same load
 //! on the same surface reproduce the FEM post forces best in least squares, pooled over several
 //! snapshot phases so that the fit sees the whole force-versus-phase profile:

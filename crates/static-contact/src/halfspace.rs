@@ -2,7 +2,7 @@
 //!
 //! K. L. Johnson, *Contact Mechanics* (CUP 1985) §3.8, eqs (3.35)–(3.36): a rigid flat punch of
 //! radius a pressed with force F on an isotropic half-space (G, ν) sinks by
-//! δ = F (1−ν)/(4 G a) (the inverse of the spring `k_sn` of physics.md §3) and displaces the free
+//! δ = F (1−ν)/(4 G a) (the inverse of the spring `k_sn` of docs/physics.md §3) and displaces the free
 //! surface outside it by u_z(r) = F (1−ν)/(2π G a) · arcsin(a/r), r ≥ a.
 //!
 //! The mutual compliance of two disks at centre distance r is taken as u_z(r) at the other disk's

@@ -1,5 +1,5 @@
 //! Static frictionless unilateral contact of the textured slider on the SAW stator, and the
-//! effective contact ratio η (physics.md §6).
+//! effective contact ratio η (docs/physics.md §6).
 //!
 //! Pipeline: a `slider-strip` mesh (one post pitch wide, symmetry planes in y, the whole post row
 //! along x) → [`StripModel`]: the slider strip's FEM stiffness factored once and condensed onto the

@@ -1,4 +1,4 @@
-//! The lumped model of physics.md §5–6: independent posts of stiffness k pressed with the total
+//! The lumped model of docs/physics.md §5–6: independent posts of stiffness k pressed with the total
 //! load P on obstacle heights h_i, f_i = k ⟨h_i − z_s⟩₊ with z_s such that Σ f_i = P.
 
 /// Post forces (N) and reference height z_s (m) of independent springs of stiffness

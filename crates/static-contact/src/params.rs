@@ -114,7 +114,7 @@ pub struct StaticParams {
 }
 
 impl Default for StaticParams {
-    /// The paper's default slider (physics.md §1): 5 × 5 × 0.5 mm Si, 100 × 100 posts of 20 µm,
+    /// The paper's default slider (docs/physics.md §1): 5 × 5 × 0.5 mm Si, 100 × 100 posts of 20 µm,
     /// 2 µm high, pitch 40 µm; LiNbO3 stator; λ = 3979/9.61e6 m, A_n = 20 nm; P = 40 N; 4 phases.
     fn default() -> Self {
         Self {

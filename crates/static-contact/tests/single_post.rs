@@ -3,7 +3,7 @@
 //! stiffness k_pn ⊕ k_sn.
 //!
 //! Mesh: the committed quarter punch model (Tet10, half-space truncated at R = 100 a, clamped
-//! there), whose truncation makes it stiffer by ≈ 0.6 a/R = 0.6 % (physics.md §8); the edge
+//! there), whose truncation makes it stiffer by ≈ 0.6 a/R = 0.6 % (docs/physics.md §8); the edge
 //! singularity costs another ≈ 1.4 % at this edge size (0.05 a): measured 2.0 % (bonded) and
 //! 1.9 % (frictionless) too stiff, converging under refinement (see the `report` example's
 //! single-post section). Tolerance: 2.5 %.

@@ -1,5 +1,5 @@
 //! One post's contact: series springs k_n, k_t (from Johnson's formulas, computed elsewhere),
-//! static and kinetic friction, and an optional post mass (physics.md §3, §5).
+//! static and kinetic friction, and an optional post mass (docs/physics.md §3, §5).
 
 use std::f64::consts::PI;
 
@@ -7,9 +7,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, StickSlipError, Warning, require_non_negative, require_positive};
 
-/// Density of silicon (kg/m³), physics.md §2.
+/// Density of silicon (kg/m³), docs/physics.md §2.
 pub const SILICON_DENSITY_KG_PER_M3: f64 = 2329.0;
-/// Friction coefficient Si on LiNbO3 assumed by physics.md §1 (dimensionless).
+/// Friction coefficient Si on LiNbO3 assumed by docs/physics.md §1 (dimensionless).
 pub const PAPER_FRICTION_COEFFICIENT: f64 = 0.3;
 
 /// The contact of one post with the stator.

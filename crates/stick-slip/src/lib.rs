@@ -1,4 +1,4 @@
-//! Lumped dynamic stick/slip model of the SAW motor (physics.md §4–5).
+//! Lumped dynamic stick/slip model of the SAW motor (docs/physics.md §4–5).
 //!
 //! A Rayleigh wave travels along +x on the stator (w = A_n sin θ, u = A_t cos θ, θ = ωt − kx,
 //! retrograde orbit); the slider's posts touch it through springs k_n, k_t and Coulomb friction

@@ -1,4 +1,4 @@
-//! Closed-form period-mean normal force of one post and its inverse (physics.md §5.1).
+//! Closed-form period-mean normal force of one post and its inverse (docs/physics.md §5.1).
 //!
 //! With N = k_n⟨A_n sin θ − z_s⟩₊ and c = z_s/A_n, averaging over θ gives
 //! ⟨N⟩ = k_n A_n (√(1−c²) − c·arccos c)/π for |c| ≤ 1, ⟨N⟩ = −k_n z_s for c ≤ −1 (always in

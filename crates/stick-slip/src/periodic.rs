@@ -1,4 +1,4 @@
-//! The period-average model (physics.md §5.1): with posts spread uniformly over the wave phase
+//! The period-average model (docs/physics.md §5.1): with posts spread uniformly over the wave phase
 //! and a slider much heavier than one period's impulse, the sum over posts equals N_eff times
 //! the period average of one post at an imposed constant speed. The tip height follows from
 //! ⟨N⟩ = P/N_eff in closed form; thrust F(v) = N_eff⟨F⟩, stall thrust F(0⁺), no-load speed

@@ -2,7 +2,7 @@
 //! writer of the speed–thrust curve.
 //!
 //! Signs: speeds and thrusts are reported along the drive direction (−x for the +x wave), so a
-//! working motor has positive speed and positive thrust (physics.md §4).
+//! working motor has positive speed and positive thrust (docs/physics.md §4).
 
 use std::fmt::Write as _;
 use std::path::Path;

@@ -1,6 +1,6 @@
 //! The complete input of a dynamic run ([`DynamicScene`]), its validation, and the automatic
 //! choice between the period-average and the transient model ("model no more than the scene
-//! needs", physics.md §5.1).
+//! needs", docs/physics.md §5.1).
 
 use std::f64::consts::PI;
 
@@ -168,7 +168,7 @@ pub struct DynamicScene {
 }
 
 impl DynamicScene {
-    /// The paper's scene with the given post springs (N/m): wave of physics.md §1, μ = 0.3,
+    /// The paper's scene with the given post springs (N/m): wave of docs/physics.md §1, μ = 0.3,
     /// Si slider 5 × 5 × 0.5 mm with 100 × 100 posts at 40 µm, η = 0.36, preload 40 N.
     pub fn paper_default(k_n_n_per_m: f64, k_t_n_per_m: f64) -> Self {
         Self {

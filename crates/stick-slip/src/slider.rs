@@ -1,5 +1,5 @@
 //! The rigid slider: mass, preload, external load, post layout, effective contact ratio and
-//! the vertical model (physics.md §4–6).
+//! the vertical model (docs/physics.md §4–6).
 
 use serde::{Deserialize, Serialize};
 
@@ -10,7 +10,7 @@ use crate::error::{
 
 /// Paper slider side length (m): 5 × 5 mm.
 pub const PAPER_SLIDER_SIDE_M: f64 = 5e-3;
-/// Slider thickness (m): not given by the paper, 0.5 mm assumed (physics.md §1).
+/// Slider thickness (m): not given by the paper, 0.5 mm assumed (docs/physics.md §1).
 pub const PAPER_SLIDER_THICKNESS_M: f64 = 0.5e-3;
 /// Posts per side of the paper's densest array (100 × 100 = 10000 posts of 20 µm).
 pub const PAPER_POSTS_PER_SIDE: usize = 100;
@@ -172,9 +172,9 @@ pub enum VerticalModel {
 
 /// The rigid slider.
 ///
-/// Sign convention (physics.md §4): the wave travels along +x, the slider is driven along −x.
+/// Sign convention (docs/physics.md §4): the wave travels along +x, the slider is driven along −x.
 /// `external_load_n` is the magnitude of a load *opposing* the drive (it pushes the slider along
-/// +x): M v̇ = ΣF_i + external_load_n, i.e. physics.md's F_load = −external_load_n. A negative
+/// +x): M v̇ = ΣF_i + external_load_n, i.e. docs/physics.md's F_load = −external_load_n. A negative
 /// value assists the drive.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -188,7 +188,7 @@ pub struct Slider {
     pub external_load_n: f64,
     /// Post positions.
     pub layout: PostLayout,
-    /// Effective contact ratio η: the model uses N_eff = η·N posts (physics.md §6).
+    /// Effective contact ratio η: the model uses N_eff = η·N posts (docs/physics.md §6).
     #[serde(default = "unit_ratio")]
     pub effective_ratio: f64,
     /// Vertical model.

@@ -1,4 +1,4 @@
-//! The stator's surface wave (physics.md §4): a Rayleigh wave travelling along +x with an
+//! The stator's surface wave (docs/physics.md §4): a Rayleigh wave travelling along +x with an
 //! elliptical retrograde orbit, w = A_n sin θ, u = A_t cos θ, θ = ωt − kx.
 
 use std::f64::consts::PI;
@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, StickSlipError, Warning, require_non_negative, require_positive};
 
-/// Paper operating frequency f (Hz), physics.md §1.
+/// Paper operating frequency f (Hz), docs/physics.md §1.
 pub const PAPER_FREQUENCY_HZ: f64 = 9.61e6;
 /// Paper normal vibration amplitude A_n (m) at 125 V(0-p).
 pub const PAPER_NORMAL_AMPLITUDE_M: f64 = 20e-9;

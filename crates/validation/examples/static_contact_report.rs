@@ -32,7 +32,7 @@ type AnyResult<T> = Result<T, Box<dyn std::error::Error>>;
 /// out the ends (where the rigid-punch edge effect loads the posts most). Default 0.6.
 const CENTRAL_FRACTION: f64 = 0.6;
 
-/// η fitted (physics.md §6) on the posts of the central [`CENTRAL_FRACTION`] of the strip only,
+/// η fitted (docs/physics.md §6) on the posts of the central [`CENTRAL_FRACTION`] of the strip only,
 /// each snapshot's load being what those posts carry in the FEM.
 fn central_eta(report: &StaticReport, preload: &PreloadResult) -> Option<f64> {
     let xs = preload.snapshots[0].posts.iter().map(|q| q.x_m);

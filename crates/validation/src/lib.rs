@@ -2,7 +2,7 @@
 //!
 //! **Springs** (issue 4): the FEM stiffness of a rigid flat punch of radius a on an elastic
 //! half-space, for the four boundary conditions behind the Johnson springs k_pn, k_pt, k_sn,
-//! k_st (physics.md §3), converged in mesh size (Richardson, [`richardson`]) and truncation
+//! k_st (docs/physics.md §3), converged in mesh size (Richardson, [`richardson`]) and truncation
 //! radius (point-force far field, [`punch`]) with error estimates, against the formulas of
 //! `contact-springs`; plus work-precision of Tet4 vs Tet10 and the failure modes
 //! ([`stability`]). Entry point: [`validate_springs`]; text table via `Display`, `--json`

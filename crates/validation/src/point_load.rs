@@ -1,7 +1,7 @@
 //! Displacement fields of a point force on the surface of an elastic half-space: Boussinesq
 //! (normal force) and Cerruti (tangential force), Johnson, *Contact Mechanics* (1985) ch. 3,
 //! written in this workspace's frame: the solid is z ≤ 0, z points out of it
-//! (physics.md §4). With ζ = −z the depth, ρ = |x| and G, ν the shear modulus and Poisson ratio,
+//! (docs/physics.md §4). With ζ = −z the depth, ρ = |x| and G, ν the shear modulus and Poisson ratio,
 //! a unit force pushing **into** the solid (direction −z) gives
 //!
 //! u_x = [x ζ/ρ³ − (1−2ν) x/(ρ(ρ+ζ))] / (4πG),  u_y likewise with y,

@@ -11,11 +11,11 @@
 //!   with u_x free. A quarter model is therefore also exact for the tangential springs; the
 //!   prescribed punch values agree with both (u_y = 0 always, u_z = 0 or free on x = 0).
 //!
-//! Each reflection maps every punch condition of physics.md §3 onto itself (or its negative), so
+//! Each reflection maps every punch condition of docs/physics.md §3 onto itself (or its negative), so
 //! these conditions are exact, not approximations.
 //!
 //! **Truncation.** The half-space is cut at r = R. Clamping the hemisphere (u = 0) overestimates
-//! the stiffness by ≈ 0.6 a/R (physics.md §8). Instead the far field is prescribed as the point
+//! the stiffness by ≈ 0.6 a/R (docs/physics.md §8). Instead the far field is prescribed as the point
 //! force field of the punch's own resultant P (Boussinesq for normal, Cerruti for tangential,
 //! [`crate::point_load`]): u = P g(x) on r = R. Since P is unknown, two solves with one
 //! factorisation are superposed:

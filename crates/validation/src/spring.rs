@@ -1,4 +1,4 @@
-//! The four punch problems behind the Johnson springs (physics.md §3): which boundary condition
+//! The four punch problems behind the Johnson springs (docs/physics.md §3): which boundary condition
 //! each imposes on the punch disk r < a, which symmetry it has, and its analytic value.
 
 use std::fmt;
@@ -113,7 +113,7 @@ impl Spring {
         }
     }
 
-    /// The analytic stiffness (N/m) from `contact-springs` (physics.md §3, eqs (1)–(4)).
+    /// The analytic stiffness (N/m) from `contact-springs` (docs/physics.md §3, eqs (1)–(4)).
     pub fn analytic_n_per_m(
         &self,
         material: &Material,

@@ -2,8 +2,8 @@
 //! `cargo run -p validation --example validate_stick_slip --release`): work-precision of every
 //! integrator against the closed-form event-driven post, stability maps of the fixed-step
 //! schemes, transient-vs-period-average agreement, the paper's trends (Figs 7–12) and the Fig. 6
-//! history (physics.md §4–5); charts plus `report.json` in the output directory. Valid for the
-//! paper's motor (physics.md §1) with the springs and post mass given in [`ValidationSetup`].
+//! history (docs/physics.md §4–5); charts plus `report.json` in the output directory. Valid for the
+//! paper's motor (docs/physics.md §1) with the springs and post mass given in [`ValidationSetup`].
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;

@@ -25,7 +25,7 @@ pub struct Scene {
     pub static_fem: StaticSettings,
 }
 
-/// The travelling Rayleigh wave (physics.md §4).
+/// The travelling Rayleigh wave (docs/physics.md §4).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Wave {
     pub frequency_hz: f64,

@@ -372,7 +372,7 @@ impl AnalyticPost {
     ///   drift of ê by −2πv̂/s and are fast-forwarded in closed form up to the next bound
     ///   contact; the steady cycle is found when a post-slip state repeats.
     /// * Post always in contact, v = 0: the stuck steady state is not unique; the v → 0⁺ limit
-    ///   is taken (physics.md §5.1): the orbit dragged against its upper static bound (μ_s = μ_k),
+    ///   is taken (docs/physics.md §5.1): the orbit dragged against its upper static bound (μ_s = μ_k),
     ///   or, with μ_s > μ_k, the mean over the slow creep between the post-snap orbit and the
     ///   touching orbit (mean thrust is affine in the orbit offset, so the midpoint orbit).
     pub fn steady(&self) -> Result<SteadyPost> {

@@ -1,5 +1,5 @@
 //! One post at an imposed constant slider speed, in solver units (length A_n, time 1/ω, force
-//! k_n A_n): the building block of the period-average model (physics.md §5.1).
+//! k_n A_n): the building block of the period-average model (docs/physics.md §5.1).
 //!
 //! Phase θ = ωt − k(x_i + x_s) advances at θ̇ = s = 1 − κ v̂ (κ = kA_n, v̂ the slider's x-velocity
 //! over A_n ω: the Doppler shift of the wave seen by a moving post). The stator particle under the

@@ -7,7 +7,7 @@ use std::f64::consts::PI;
 
 use contact_springs::{Material, post_springs};
 
-/// Post height (m), physics.md §1.
+/// Post height (m), docs/physics.md §1.
 pub const POST_HEIGHT_M: f64 = 2e-6;
 
 /// (k_n, k_t) in N/m of one rigid post of radius `a` (m) of Si on LiNbO3: bonded slider springs
