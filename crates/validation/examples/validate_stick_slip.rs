@@ -3,9 +3,6 @@
 //! `cargo run -p validation --example validate_stick_slip --release [-- OUT_DIR] [--quick | --smoke]`
 //! (default OUT_DIR: validation/stick-slip/figures, the committed figures).
 
-#[path = "../tests/support/johnson.rs"]
-mod johnson;
-
 use std::path::PathBuf;
 
 use validation::stick_slip::{ValidationLevel, ValidationSetup, run_validation};
@@ -29,16 +26,7 @@ fn main() {
                 "/../../validation/stick-slip/figures"
             ))
         });
-    let (k_n, k_t) = johnson::springs(10e-6);
-    let (k_n_50, k_t_50) = johnson::springs(25e-6);
-    let setup = ValidationSetup {
-        k_n_n_per_m: k_n,
-        k_t_n_per_m: k_t,
-        post_mass_kg: johnson::post_mass(10e-6),
-        k_n_50um_n_per_m: k_n_50,
-        k_t_50um_n_per_m: k_t_50,
-        level,
-    };
+    let setup = ValidationSetup::paper_posts(level).expect("Johnson springs of the paper posts");
     match run_validation(&setup, &out) {
         Ok(report) => {
             println!(

@@ -8,6 +8,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use contact_springs::{Material, post_springs};
 use charts::{CategoryMap, Chart, Scale, Series, Style, write_category_map, write_stacked};
 use serde::Serialize;
 
@@ -54,6 +55,41 @@ pub struct ValidationSetup {
     pub k_t_50um_n_per_m: f64,
     /// How much to compute.
     pub level: ValidationLevel,
+}
+
+/// Radius (m) of the paper's 20 µm post, for which the study is set up.
+pub const PAPER_POST_RADIUS_M: f64 = 10e-6;
+/// Radius (m) of the 50 µm post of the diameter comparison.
+pub const WIDE_POST_RADIUS_M: f64 = 25e-6;
+/// Post height (m), docs/physics.md §1.
+pub const PAPER_POST_HEIGHT_M: f64 = 2e-6;
+
+impl ValidationSetup {
+    /// The study for the paper's posts: Johnson springs of Si posts on LiNbO3
+    /// (`contact_springs::post_springs`) of radius [`PAPER_POST_RADIUS_M`] and
+    /// [`WIDE_POST_RADIUS_M`], and the mass ρπa²h of the 20 µm post.
+    pub fn paper_posts(level: ValidationLevel) -> Result<Self> {
+        let (si, linbo3) = (Material::silicon(), Material::lithium_niobate());
+        let springs = |a| {
+            post_springs(&si, &linbo3, a).map_err(|source| ValidationError::Formula {
+                spring: "post springs (Si on LiNbO3)",
+                source,
+            })
+        };
+        let (narrow, wide) = (springs(PAPER_POST_RADIUS_M)?, springs(WIDE_POST_RADIUS_M)?);
+        Ok(Self {
+            k_n_n_per_m: narrow.k_n_n_per_m,
+            k_t_n_per_m: narrow.k_t_n_per_m,
+            post_mass_kg: PostContact::cylinder_mass_kg(
+                si.density_kg_per_m3,
+                PAPER_POST_RADIUS_M,
+                PAPER_POST_HEIGHT_M,
+            ),
+            k_n_50um_n_per_m: wide.k_n_n_per_m,
+            k_t_50um_n_per_m: wide.k_t_n_per_m,
+            level,
+        })
+    }
 }
 
 /// Size of the study.

@@ -1,23 +1,11 @@
 //! The validation study (`cargo run -p validation --example validate_stick_slip --release`) at smoke level:
 //! every documented figure and the report are produced.
 
-#[path = "support/johnson.rs"]
-mod johnson;
-
 use validation::stick_slip::{ValidationLevel, ValidationSetup, run_validation};
 
 #[test]
 fn validation_study_writes_every_figure_and_the_report() {
-    let (k_n, k_t) = johnson::springs(10e-6);
-    let (k_n_50, k_t_50) = johnson::springs(25e-6);
-    let setup = ValidationSetup {
-        k_n_n_per_m: k_n,
-        k_t_n_per_m: k_t,
-        post_mass_kg: johnson::post_mass(10e-6),
-        k_n_50um_n_per_m: k_n_50,
-        k_t_50um_n_per_m: k_t_50,
-        level: ValidationLevel::Smoke,
-    };
+    let setup = ValidationSetup::paper_posts(ValidationLevel::Smoke).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let report = run_validation(&setup, dir.path()).unwrap();
     for stem in [
