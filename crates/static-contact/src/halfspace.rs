@@ -88,6 +88,20 @@ pub fn strip_compliance(
     posts: &[StripPost],
     layout: &RowLayout,
 ) -> DMatrix<f64> {
+    summed_over_images(posts, layout, |dx, dy| {
+        let r = (dx * dx + dy * dy).sqrt();
+        disk_mutual_compliance(shear_modulus_pa, poisson_ratio, radius_m, r)
+    })
+}
+
+/// Symmetric dense matrix of `pair(dx, dy)` (the compliance of disk i to a unit force at the
+/// offset (dx, dy)) between the strip's posts, summed over each post j and all its images in the
+/// other slider rows (every slider row carries the forces of the strip row it unfolds to).
+fn summed_over_images(
+    posts: &[StripPost],
+    layout: &RowLayout,
+    pair: impl Fn(f64, f64) -> f64,
+) -> DMatrix<f64> {
     let n = posts.len();
     let first = layout.first_strip_row();
     // Slider rows grouped by the strip row they carry: offsets in y from strip row 0's line.
@@ -103,10 +117,7 @@ pub fn strip_compliance(
             let dx = posts[i].x_m - posts[j].x_m;
             let sum: f64 = images[posts[j].row]
                 .iter()
-                .map(|yk| {
-                    let r = (dx * dx + (yi - yk).powi(2)).sqrt();
-                    disk_mutual_compliance(shear_modulus_pa, poisson_ratio, radius_m, r)
-                })
+                .map(|yk| pair(dx, yi - yk))
                 .sum();
             c[(i, j)] = sum;
             c[(j, i)] = sum;
@@ -184,35 +195,9 @@ pub fn strip_tangential_compliance(
     posts: &[StripPost],
     layout: &RowLayout,
 ) -> DMatrix<f64> {
-    let n = posts.len();
-    let first = layout.first_strip_row();
-    let mut images: Vec<Vec<f64>> = vec![Vec::new(); layout.strip_rows];
-    for k in 0..layout.slider_rows {
-        let y = (k as f64 - first as f64) * layout.pitch_m;
-        images[layout.strip_row_of(k)].push(y);
-    }
-    let mut c = DMatrix::zeros(n, n);
-    for i in 0..n {
-        let yi = posts[i].row as f64 * layout.pitch_m;
-        for j in i..n {
-            let dx = posts[i].x_m - posts[j].x_m;
-            let sum: f64 = images[posts[j].row]
-                .iter()
-                .map(|yk| {
-                    tangential_mutual_compliance(
-                        shear_modulus_pa,
-                        poisson_ratio,
-                        radius_m,
-                        dx,
-                        yi - yk,
-                    )
-                })
-                .sum();
-            c[(i, j)] = sum;
-            c[(j, i)] = sum;
-        }
-    }
-    c
+    summed_over_images(posts, layout, |dx, dy| {
+        tangential_mutual_compliance(shear_modulus_pa, poisson_ratio, radius_m, dx, dy)
+    })
 }
 
 #[cfg(test)]
