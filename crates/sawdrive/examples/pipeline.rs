@@ -21,7 +21,7 @@ fn speed_thrust_curve(scene_file: &str) -> anyhow::Result<Vec<CurvePoint>> {
         "k_n = {:.4e} N/m, k_t = {:.4e} N/m",
         springs.k_n_n_per_m, springs.k_t_n_per_m
     );
-    let eta = run_static(&scene, None, false)?
+    let eta = run_static(&scene, &springs, None, false)?
         .effective_ratio
         .ok_or_else(|| anyhow::anyhow!("η is not identifiable for scene {}", scene.name))?;
     println!("η = {eta:.4}");

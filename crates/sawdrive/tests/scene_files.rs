@@ -2,7 +2,7 @@
 
 use std::io::Write;
 
-use sawdrive::scene::{DEFAULT_SCENE_TOML, DynamicsChoice, SceneError, load_scene};
+use sawdrive::scene::{DEFAULT_SCENE_TOML, SceneError, load_scene};
 
 fn scene_file(text: &str) -> tempfile::NamedTempFile {
     let mut file = tempfile::Builder::new().suffix(".toml").tempfile().unwrap();
@@ -21,31 +21,41 @@ fn error_of(text: &str, overrides: &[&str]) -> String {
 #[test]
 fn default_scene_is_the_papers_motor() {
     let scene = load_scene(None, &[]).unwrap();
-    assert_eq!(scene.wave.frequency_hz, 9.61e6, "frequency");
-    assert_eq!(scene.wave.normal_amplitude_m, 20e-9, "normal amplitude");
+    assert_eq!(scene.motor.wave.frequency_hz, 9.61e6, "frequency");
+    assert_eq!(
+        scene.motor.wave.normal_amplitude_m, 20e-9,
+        "normal amplitude"
+    );
     let omega = 2.0 * std::f64::consts::PI * 9.61e6;
     assert!(
-        (scene.wave.tangential_amplitude_m - 1.1 / omega).abs() < 1e-20,
+        (scene.motor.wave.tangential_amplitude_m - 1.1 / omega).abs() < 1e-20,
         "A_t = V_t/ω ≈ 18.2 nm"
     );
     assert_eq!(
-        (scene.posts.count_x, scene.posts.count_y, scene.posts.count),
+        (
+            scene.motor.posts.count_x,
+            scene.motor.posts.count_y,
+            scene.motor.posts.count()
+        ),
         (100, 100, 10_000),
         "post count"
     );
-    assert!((scene.posts.pitch_x_m - 40e-6).abs() < 1e-15, "pitch 40 µm");
-    assert_eq!(scene.posts.diameter_m, 20e-6, "post diameter");
-    assert_eq!(scene.slider.material.name, "si");
-    assert_eq!(scene.stator.name, "linbo3");
+    assert!(
+        (scene.motor.posts.pitch_x_m() - 40e-6).abs() < 1e-15,
+        "pitch 40 µm"
+    );
+    assert_eq!(scene.motor.posts.diameter_m, 20e-6, "post diameter");
+    assert_eq!(scene.motor.slider.material.name, "si");
+    assert_eq!(scene.motor.stator.name, "linbo3");
     let expected_mass = 2329.0 * 5e-3 * 5e-3 * 0.5e-3;
     assert!(
-        (scene.slider.mass_kg - expected_mass).abs() < 1e-15,
+        (scene.motor.slider.mass_kg - expected_mass).abs() < 1e-15,
         "mass from geometry"
     );
     assert_eq!(scene.contact.effective_ratio_source, "fem");
     // λ = c/f ≈ 414 µm
     assert!(
-        (scene.wave.wavelength_m - 3979.0 / 9.61e6).abs() < 1e-15,
+        (scene.motor.wave.wavelength_m() - 3979.0 / 9.61e6).abs() < 1e-15,
         "wavelength"
     );
 }
@@ -66,9 +76,16 @@ fn a_partial_scene_overrides_only_what_it_gives() {
     );
     let scene = load_scene(Some(file.path()), &[]).unwrap();
     assert_eq!(scene.name, "light");
-    assert!((scene.slider.mass_kg - 5e-6).abs() < 1e-18, "given mass");
-    assert_eq!(scene.model.dynamics, DynamicsChoice::Transient);
-    assert_eq!(scene.posts.count, 10_000, "untouched keys keep the default");
+    assert!(
+        (scene.motor.slider.mass_kg - 5e-6).abs() < 1e-18,
+        "given mass"
+    );
+    assert_eq!(scene.model.dynamics, stick_slip::ModelChoice::Transient);
+    assert_eq!(
+        scene.motor.posts.count(),
+        10_000,
+        "untouched keys keep the default"
+    );
 }
 
 #[test]
@@ -83,11 +100,17 @@ fn set_overrides_accept_short_names_and_human_units() {
     .map(String::from)
     .to_vec();
     let scene = load_scene(None, &overrides).unwrap();
-    assert_eq!(scene.load.preload_n, 20.0, "preload");
-    assert_eq!(scene.posts.count, 2500, "post count");
-    assert!((scene.posts.diameter_m - 30e-6).abs() < 1e-18, "diameter");
+    assert_eq!(scene.motor.load.preload_n, 20.0, "preload");
+    assert_eq!(scene.motor.posts.count(), 2500, "post count");
+    assert!(
+        (scene.motor.posts.diameter_m - 30e-6).abs() < 1e-18,
+        "diameter"
+    );
     assert_eq!(
-        (scene.friction.mu_static, scene.friction.mu_kinetic),
+        (
+            scene.motor.friction.mu_static,
+            scene.motor.friction.mu_kinetic
+        ),
         (0.2, 0.2),
         "friction"
     );
@@ -98,9 +121,9 @@ fn set_overrides_accept_short_names_and_human_units() {
 fn tangential_amplitude_may_replace_the_velocity() {
     let file = scene_file("[wave]\ntangential_amplitude = \"10 nm\"\n");
     let scene = load_scene(Some(file.path()), &[]).unwrap();
-    assert_eq!(scene.wave.tangential_amplitude_m, 10e-9);
+    assert_eq!(scene.motor.wave.tangential_amplitude_m, 10e-9);
     let omega = 2.0 * std::f64::consts::PI * 9.61e6;
-    assert!((scene.wave.tangential_velocity_m_per_s - 10e-9 * omega).abs() < 1e-12);
+    assert!((scene.motor.wave.crest_speed_m_per_s() - 10e-9 * omega).abs() < 1e-12);
 }
 
 #[test]
@@ -203,5 +226,17 @@ fn an_effective_ratio_the_fem_reports_above_one_reads_back_and_the_bound_is_shar
     assert!(
         dynamic.validate().is_err(),
         "stick-slip refuses η above the same bound"
+    );
+}
+
+/// The embedded default scene (human units, with comments) and the libraries' one copy of the
+/// paper's numbers (`motor::Motor::paper`) describe the same motor, bit for bit.
+#[test]
+fn default_scene_resolves_into_motor_paper() {
+    let scene = load_scene(None, &[]).expect("default scene");
+    assert_eq!(
+        scene.motor,
+        motor::Motor::paper(),
+        "default.toml vs Motor::paper()"
     );
 }

@@ -12,6 +12,7 @@ use std::f64::consts::PI;
 use std::time::Instant;
 
 use contact_springs::{Material, post_springs};
+use motor::Motor;
 use rayon::prelude::*;
 use serde::Serialize;
 use static_contact::{EtaFit, FitSample, fit_eta};
@@ -96,24 +97,33 @@ pub struct SliderParams {
 }
 
 impl Default for SliderParams {
-    /// The paper's default slider (docs/physics.md §1) as in `static_contact::StaticParams::default`:
-    /// 100 × 100 posts of 20 µm at 40 µm in a 5 × 5 × 0.5 mm Si body, LiNbO3 stator,
-    /// A_n = 20 nm, λ = 3979/9.61e6 m, P = 40 N, 4 phases, ideal posts, rigid back.
+    /// The paper's motor ([`Motor::paper`], docs/physics.md §1): 100 × 100 posts of 20 µm at
+    /// 40 µm in a 5 × 5 × 0.5 mm Si body, LiNbO3 stator, A_n = 20 nm, λ = 3979/9.61e6 m,
+    /// P = 40 N; 4 phases, ideal posts, rigid back.
     fn default() -> Self {
+        Self::for_motor(&Motor::paper())
+    }
+}
+
+impl SliderParams {
+    /// The whole slider of `motor` with the default settings (4 phases, ideal posts, rigid back,
+    /// Johnson near field). The lattice takes the x pitch (square lattices only).
+    pub fn for_motor(motor: &Motor) -> Self {
+        let posts = &motor.posts;
         Self {
-            slider_material: Material::silicon(),
-            stator_material: Material::lithium_niobate(),
-            post_diameter_m: 20e-6,
-            post_height_m: 2e-6,
-            posts_x: 100,
-            posts_y: 100,
-            post_pitch_m: 40e-6,
-            slider_length_m: 5e-3,
-            slider_width_m: 5e-3,
-            slider_thickness_m: 0.5e-3,
-            wave_amplitude_m: 20e-9,
-            wavelength_m: 3979.0 / 9.61e6,
-            preload_n: 40.0,
+            slider_material: motor.slider.material.clone(),
+            stator_material: motor.stator.clone(),
+            post_diameter_m: posts.diameter_m,
+            post_height_m: posts.height_m,
+            posts_x: posts.count_x as usize,
+            posts_y: posts.count_y as usize,
+            post_pitch_m: posts.pitch_x_m(),
+            slider_length_m: motor.slider.length_m,
+            slider_width_m: motor.slider.width_m,
+            slider_thickness_m: motor.slider.thickness_m,
+            wave_amplitude_m: motor.wave.normal_amplitude_m,
+            wavelength_m: motor.wave.wavelength_m(),
+            preload_n: motor.load.preload_n,
             phases: 4,
             imperfections: Imperfections::default(),
             mechanism: Mechanism::Rigid,

@@ -3,7 +3,7 @@
 use std::f64::consts::PI;
 use std::time::Instant;
 
-use contact_springs::post_springs;
+use contact_springs::PostSprings;
 use serde::{Deserialize, Serialize};
 
 use crate::FemStats;
@@ -367,6 +367,16 @@ pub fn prepare_strip(params: &StaticParams) -> Result<PreparedStrip> {
 
 /// [`run`] with explicit solver options.
 pub fn run_with(params: &StaticParams, options: ActiveSetOptions) -> Result<StaticAnalysis> {
+    run_with_springs(params, &params.post_springs()?, options)
+}
+
+/// [`run_with`] for a caller that already has the post's Johnson springs (a pipeline computes
+/// them once per run and passes them to every stage).
+pub fn run_with_springs(
+    params: &StaticParams,
+    springs: &PostSprings,
+    options: ActiveSetOptions,
+) -> Result<StaticAnalysis> {
     let start = Instant::now();
     params.validate()?;
     let content_hash = params.content_hash()?;
@@ -374,6 +384,7 @@ pub fn run_with(params: &StaticParams, options: ActiveSetOptions) -> Result<Stat
     let report = report_for_model(
         &prepared.model,
         params,
+        springs,
         content_hash,
         prepared.mesh_file,
         options,
@@ -394,6 +405,7 @@ pub fn run_with(params: &StaticParams, options: ActiveSetOptions) -> Result<Stat
 pub fn report_for_model(
     model: &StripModel,
     params: &StaticParams,
+    springs: &PostSprings,
     content_hash: String,
     mesh_file: String,
     options: ActiveSetOptions,
@@ -402,16 +414,6 @@ pub fn report_for_model(
     start: Instant,
 ) -> Result<StaticReport> {
     let t = Instant::now();
-    let springs = post_springs(
-        &params.slider_material,
-        &params.stator_material,
-        0.5 * params.post_diameter_m,
-    )
-    .map_err(|e| ContactError::InvalidParameter {
-        parameter: "post_diameter_m",
-        value: params.post_diameter_m,
-        reason: e.to_string(),
-    })?;
     let k_n = springs.k_n_n_per_m;
     let preloads = params
         .all_preloads_n()

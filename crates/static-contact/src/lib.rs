@@ -39,7 +39,7 @@ pub mod scene;
 
 pub use analysis::{
     PostResult, PreloadResult, PreparedStrip, SnapshotResult, StaticAnalysis, StaticReport,
-    prepare_strip, run, run_with,
+    prepare_strip, run, run_with, run_with_springs,
 };
 pub use body::{BodyCompliance, BodySpec, Disk, FemStats, TangentialCompliance, TipLateral};
 pub use error::{ContactError, Result};

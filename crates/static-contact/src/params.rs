@@ -2,7 +2,8 @@
 
 use std::path::PathBuf;
 
-use contact_springs::Material;
+use contact_springs::{Material, PostSprings, post_springs};
+use motor::Motor;
 use serde::Serialize;
 use sha2::{Digest, Sha256};
 
@@ -114,23 +115,48 @@ pub struct StaticParams {
 }
 
 impl Default for StaticParams {
-    /// The paper's default slider (docs/physics.md §1): 5 × 5 × 0.5 mm Si, 100 × 100 posts of 20 µm,
-    /// 2 µm high, pitch 40 µm; LiNbO3 stator; λ = 3979/9.61e6 m, A_n = 20 nm; P = 40 N; 4 phases.
+    /// The paper's motor ([`Motor::paper`], docs/physics.md §1) with the default stage settings:
+    /// 5 × 5 × 0.5 mm Si, 100 × 100 posts of 20 µm, 2 µm high, pitch 40 µm; LiNbO3 stator;
+    /// λ = 3979/9.61e6 m, A_n = 20 nm; P = 40 N; 4 phases, Tet10, half-space stator.
     fn default() -> Self {
+        Self::for_motor(&Motor::paper())
+    }
+}
+
+impl StaticParams {
+    /// The Johnson springs of one post (slider side bonded, stator side frictional).
+    pub fn post_springs(&self) -> Result<PostSprings> {
+        post_springs(
+            &self.slider_material,
+            &self.stator_material,
+            0.5 * self.post_diameter_m,
+        )
+        .map_err(|e| ContactError::InvalidParameter {
+            parameter: "post_diameter_m",
+            value: self.post_diameter_m,
+            reason: e.to_string(),
+        })
+    }
+
+    /// The static stage of `motor` with the default stage settings (4 phases, Tet10, automatic
+    /// mesh, half-space stator, default solver tolerances). The strip model takes the x pitch
+    /// (the lattice must be square: the caller checks `motor.posts.is_square_lattice`).
+    pub fn for_motor(motor: &Motor) -> Self {
+        let posts = &motor.posts;
         Self {
-            slider_material: Material::silicon(),
-            stator_material: Material::lithium_niobate(),
-            post_diameter_m: 20e-6,
-            post_height_m: 2e-6,
-            posts_x: 100,
-            posts_y: 100,
-            post_pitch_m: 40e-6,
-            slider_length_m: 5e-3,
-            slider_width_m: 5e-3,
-            slider_thickness_m: 0.5e-3,
-            wave_amplitude_m: 20e-9,
-            wavelength_m: 3979.0 / 9.61e6,
-            preload_n: 40.0,
+            slider_material: motor.slider.material.clone(),
+            stator_material: motor.stator.clone(),
+            post_diameter_m: posts.diameter_m,
+            post_height_m: posts.height_m,
+            posts_x: posts.count_x as usize,
+            posts_y: posts.count_y as usize,
+            post_pitch_m: posts.pitch_x_m(),
+            slider_length_m: motor.slider.length_m,
+            slider_width_m: motor.slider.width_m,
+            slider_thickness_m: motor.slider.thickness_m,
+            wave_amplitude_m: motor.wave.normal_amplitude_m,
+            wavelength_m: motor.wave.wavelength_m(),
+            preload_n: motor.load.preload_n,
             preload_sweep_n: Vec::new(),
             phases: 4,
             element_order: 2,

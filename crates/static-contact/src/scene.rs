@@ -36,6 +36,14 @@ pub enum StatorModel {
     MeshedBlock,
 }
 
+impl StatorModel {
+    /// Each model by its scene name (`static.stator`).
+    pub const NAMES: [(&'static str, Self); 2] = [
+        ("half-space", Self::HalfSpace),
+        ("meshed-block", Self::MeshedBlock),
+    ];
+}
+
 /// What the strip scene needs besides the mesh.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct StripConfig {

@@ -7,10 +7,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, StickSlipError, Warning, require_non_negative, require_positive};
 
-/// Density of silicon (kg/m³), docs/physics.md §2.
-pub const SILICON_DENSITY_KG_PER_M3: f64 = 2329.0;
-/// Friction coefficient Si on LiNbO3 assumed by docs/physics.md §1 (dimensionless).
-pub const PAPER_FRICTION_COEFFICIENT: f64 = 0.3;
+/// Friction coefficient Si on LiNbO3 assumed by docs/physics.md §1 (dimensionless), from the
+/// one copy of the paper's numbers in `motor::paper`.
+pub use motor::paper::FRICTION_COEFFICIENT as PAPER_FRICTION_COEFFICIENT;
 
 /// The contact of one post with the stator.
 ///

@@ -27,6 +27,34 @@ pub const TRANSIENT_DEFAULT_STEPS_PER_PERIOD: f64 = 256.0;
 /// shorten steps further). Default 64.
 pub const EVENT_DRIVEN_STEPS_PER_PERIOD: f64 = 64.0;
 
+/// The integrators by name, without their step settings: what a scene chooses
+/// (`model.integrator`); [`Integrator`] carries the steps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum IntegratorKind {
+    /// [`Integrator::Auto`].
+    Auto,
+    /// [`Integrator::EventDriven`].
+    EventDriven,
+    /// [`Integrator::ReturnMapping`].
+    ReturnMapping,
+    /// [`Integrator::RegularizedExplicit`].
+    Regularized,
+    /// [`Integrator::PostMass`].
+    PostMass,
+}
+
+impl IntegratorKind {
+    /// Each kind by its scene name.
+    pub const NAMES: [(&'static str, Self); 5] = [
+        ("auto", Self::Auto),
+        ("event-driven", Self::EventDriven),
+        ("return-mapping", Self::ReturnMapping),
+        ("regularized", Self::Regularized),
+        ("post-mass", Self::PostMass),
+    ];
+}
+
 /// Time-stepping scheme (serde tag `kind`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]

@@ -44,13 +44,13 @@ mod solve;
 mod transient;
 mod wave;
 
-pub use contact::{PAPER_FRICTION_COEFFICIENT, PostContact, SILICON_DENSITY_KG_PER_M3};
+pub use contact::{PAPER_FRICTION_COEFFICIENT, PostContact};
 pub use cost::{MAX_POST_STEPS, MAX_RUN_MEMORY_BYTES, MemoryEstimate, WorkEstimate};
 pub use error::{Result, StickSlipError, Warning};
 pub use history::{ContactState, PostHistory, SliderHistory};
 pub use integrator::{
-    EVENT_DRIVEN_STEPS_PER_PERIOD, Integrator, RETURN_MAPPING_MIN_STEPS_PER_PERIOD, StabilityLimit,
-    StabilityPolicy, StabilitySetting, TRANSIENT_DEFAULT_STEPS_PER_PERIOD,
+    EVENT_DRIVEN_STEPS_PER_PERIOD, Integrator, IntegratorKind, RETURN_MAPPING_MIN_STEPS_PER_PERIOD,
+    StabilityLimit, StabilityPolicy, StabilitySetting, TRANSIENT_DEFAULT_STEPS_PER_PERIOD,
 };
 pub use periodic::{PeriodicAverageModel, SpeedSample};
 pub use post::stepping::StabilityProbe;

@@ -147,7 +147,7 @@ impl PeriodicAverageModel {
         let omega = wave.angular_frequency_rad_per_s();
         let force_n = contact.k_n_n_per_m * length_m;
         let n_eff = scene.slider.effective_post_count();
-        let scaled = wave.scaled();
+        let scaled = crate::wave::scaled(wave);
         let height = tip_height_for_mean_normal(scene.slider.preload_n / (n_eff * force_n));
         let params = PostParams {
             tangential_ratio: scaled.tangential_ratio,

@@ -38,6 +38,15 @@ pub enum ModelChoice {
     Transient,
 }
 
+impl ModelChoice {
+    /// Each choice by its scene name (`model.dynamics`).
+    pub const NAMES: [(&'static str, Self); 3] = [
+        ("auto", Self::Auto),
+        ("periodic-average", Self::PeriodicAverage),
+        ("transient", Self::Transient),
+    ];
+}
+
 /// The model that actually ran.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -187,7 +196,7 @@ impl DynamicScene {
 
     /// Validate every part; returns the warnings.
     pub fn validate(&self) -> Result<Vec<Warning>> {
-        let mut warnings = self.wave.validate(&self.options.wave_limits)?;
+        let mut warnings = crate::wave::validate(&self.wave, &self.options.wave_limits)?;
         warnings.extend(self.contact.validate()?);
         warnings.extend(self.slider.validate()?);
         if self.options.curve_points < 2 {

@@ -3,23 +3,20 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::contact::SILICON_DENSITY_KG_PER_M3;
+use motor::{Motor, PostArray};
+
+use crate::cost::MAX_RUN_MEMORY_BYTES;
 use crate::error::{
     Result, StickSlipError, Warning, require_finite, require_non_negative, require_positive,
 };
 
-/// Paper slider side length (m): 5 × 5 mm.
-pub const PAPER_SLIDER_SIDE_M: f64 = 5e-3;
-/// Slider thickness (m): not given by the paper, 0.5 mm assumed (docs/physics.md §1).
-pub const PAPER_SLIDER_THICKNESS_M: f64 = 0.5e-3;
+// The paper's slider (docs/physics.md §1), from the one copy of its numbers in `motor::paper`.
+pub use motor::paper::{
+    EFFECTIVE_RATIO as PAPER_EFFECTIVE_RATIO, PITCH_M as PAPER_PITCH_M,
+    SLIDER_SIDE_M as PAPER_SLIDER_SIDE_M, SLIDER_THICKNESS_M as PAPER_SLIDER_THICKNESS_M,
+};
 /// Posts per side of the paper's densest array (100 × 100 = 10000 posts of 20 µm).
-pub const PAPER_POSTS_PER_SIDE: usize = 100;
-/// Pitch of the paper's 100 × 100 array in a 4 mm square (m).
-pub const PAPER_PITCH_M: f64 = 40e-6;
-/// Effective contact ratio η of the paper's static FEM (36 %).
-pub const PAPER_EFFECTIVE_RATIO: f64 = 0.36;
-/// Default preload (N), inside the range of interest 0–100 N.
-pub const DEFAULT_PRELOAD_N: f64 = 40.0;
+pub const PAPER_POSTS_PER_SIDE: usize = motor::paper::POSTS_PER_SIDE as usize;
 
 /// Where the posts sit on the slider, along the wave direction x (relative to the slider
 /// centre). Only x matters to the wave; posts with equal x (mod λ, without decay or burst) share
@@ -53,6 +50,34 @@ pub enum PostLayout {
 }
 
 impl PostLayout {
+    /// The layout of the motor's post array: a centred square array when the lattice is square,
+    /// else one x per post (refused, naming `posts.count`, when the positions alone would exceed
+    /// the run's memory limit).
+    pub fn for_array(posts: &PostArray) -> Result<Self> {
+        if posts.count_x == posts.count_y && posts.is_square_lattice(1e-12) {
+            return Ok(Self::SquareArray {
+                posts_per_side: posts.count_x as usize,
+                pitch_m: posts.pitch_x_m(),
+            });
+        }
+        let bytes = posts.count() as f64 * 4.0 * std::mem::size_of::<f64>() as f64;
+        if bytes > MAX_RUN_MEMORY_BYTES {
+            return Err(StickSlipError::InvalidParameter {
+                parameter: "posts.count",
+                value: posts.count() as f64,
+                requirement: format!(
+                    "a rectangular array needs ≈ {bytes:.3e} bytes of post positions, above the limit of {MAX_RUN_MEMORY_BYTES:.3e} bytes"
+                ),
+            });
+        }
+        let x_m = posts
+            .column_x_m()
+            .into_iter()
+            .flat_map(|x| std::iter::repeat_n(x, posts.count_y as usize))
+            .collect();
+        Ok(Self::Positions { x_m, gap_m: None })
+    }
+
     /// Total number of posts N.
     pub fn post_count(&self) -> usize {
         match self {
@@ -204,26 +229,29 @@ impl Slider {
     /// The paper's slider: Si 5 × 5 × 0.5 mm, 100 × 100 posts at 40 µm pitch, η = 0.36,
     /// preload 40 N, no external load, quasi-static vertical.
     pub fn paper_default() -> Self {
-        Self {
-            mass_kg: Self::silicon_mass_kg(
-                PAPER_SLIDER_SIDE_M,
-                PAPER_SLIDER_SIDE_M,
-                PAPER_SLIDER_THICKNESS_M,
-            ),
-            preload_n: DEFAULT_PRELOAD_N,
-            external_load_n: 0.0,
-            layout: PostLayout::SquareArray {
-                posts_per_side: PAPER_POSTS_PER_SIDE,
-                pitch_m: PAPER_PITCH_M,
-            },
-            effective_ratio: PAPER_EFFECTIVE_RATIO,
-            vertical: VerticalModel::PeriodMean,
-        }
+        Self::for_motor(
+            &Motor::paper(),
+            PAPER_EFFECTIVE_RATIO,
+            VerticalModel::PeriodMean,
+        )
+        .expect("the paper's square array has a square-array layout")
+    }
+
+    /// The rigid slider of `motor` with effective contact ratio η and the vertical model.
+    pub fn for_motor(motor: &Motor, effective_ratio: f64, vertical: VerticalModel) -> Result<Self> {
+        Ok(Self {
+            mass_kg: motor.slider.mass_kg,
+            preload_n: motor.load.preload_n,
+            external_load_n: motor.load.external_load_n,
+            layout: PostLayout::for_array(&motor.posts)?,
+            effective_ratio,
+            vertical,
+        })
     }
 
     /// Mass of a silicon block (kg), ρ_Si·volume.
     pub fn silicon_mass_kg(length_m: f64, width_m: f64, thickness_m: f64) -> f64 {
-        SILICON_DENSITY_KG_PER_M3 * length_m * width_m * thickness_m
+        contact_springs::Material::silicon().density_kg_per_m3 * length_m * width_m * thickness_m
     }
 
     /// Effective post count N_eff = η·N.

@@ -7,14 +7,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, StickSlipError, Warning, require_non_negative, require_positive};
 
-/// Paper operating frequency f (Hz), docs/physics.md §1.
-pub const PAPER_FREQUENCY_HZ: f64 = 9.61e6;
-/// Paper normal vibration amplitude A_n (m) at 125 V(0-p).
-pub const PAPER_NORMAL_AMPLITUDE_M: f64 = 20e-9;
-/// Paper tangential vibration velocity amplitude V_t = A_t ω (m/s).
-pub const PAPER_TANGENTIAL_VELOCITY_M_PER_S: f64 = 1.1;
-/// Rayleigh wave speed on the free surface of 128° YX LiNbO3 (m/s).
-pub const PAPER_PHASE_VELOCITY_M_PER_S: f64 = 3979.0;
+/// The stator's wave: the motor's description (`motor::Wave`, docs/physics.md §4).
+pub use motor::Wave;
 
 /// Fastest bulk wave in LiNbO3 (longitudinal along the crystal Z axis ≈ 7.3 km/s, m/s). No
 /// surface or pseudo-surface wave travels faster than the fastest bulk wave: above this the
@@ -56,160 +50,74 @@ impl Default for WaveLimits {
     }
 }
 
-/// The travelling surface wave, SI units. Phase θ = ωt − kx with ω = 2πf and k = ω/c.
-///
-/// * `decay_length_m`: amplitudes scale as exp(−x/L) along +x (x measured from the slider
-///   centre at t = 0), e.g. attenuation under the slider. `None`: no decay.
-/// * `burst_periods`: a finite burst of n periods: at each material point the wave is on for
-///   0 ≤ θ < 2πn and the surface is at rest before and after (the burst front reaches the
-///   slider centre at t = 0). `None`: continuous wave.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Wave {
-    /// Drive frequency f (Hz).
-    pub frequency_hz: f64,
-    /// Normal displacement amplitude A_n (m).
-    pub normal_amplitude_m: f64,
-    /// Tangential displacement amplitude A_t (m); the tangential velocity amplitude is A_t ω.
-    pub tangential_amplitude_m: f64,
-    /// Phase velocity c of the wave along +x (m/s).
-    pub phase_velocity_m_per_s: f64,
-    /// Amplitude decay length along +x (m), if any.
-    #[serde(default)]
-    pub decay_length_m: Option<f64>,
-    /// Burst length in wave periods, if the drive is a finite burst.
-    #[serde(default)]
-    pub burst_periods: Option<f64>,
+/// Check `wave` against `limits`: typed errors for impossible values, warnings for allowed but
+/// suspicious ones.
+pub fn validate(wave: &Wave, limits: &WaveLimits) -> Result<Vec<Warning>> {
+    let mut warnings = Vec::new();
+    require_positive("wave.frequency_hz", wave.frequency_hz)?;
+    require_positive("wave.normal_amplitude_m", wave.normal_amplitude_m)?;
+    require_non_negative("wave.tangential_amplitude_m", wave.tangential_amplitude_m)?;
+    require_positive("wave.phase_velocity_m_per_s", wave.phase_velocity_m_per_s)?;
+    if let Some(decay) = wave.decay_length_m {
+        require_positive("wave.decay_length_m", decay)?;
+    }
+    if let Some(burst) = wave.burst_periods {
+        require_positive("wave.burst_periods", burst)?;
+        if (burst - burst.round()).abs() > 1e-9 {
+            warnings.push(Warning::new(
+                "wave.burst_periods",
+                format!("{burst} is not a whole number of periods: the tangential surface velocity jumps at the burst end"),
+            ));
+        }
+    }
+    let c = wave.phase_velocity_m_per_s;
+    if c > limits.max_phase_velocity_m_per_s {
+        return Err(StickSlipError::UnphysicalWave {
+            parameter: "wave.phase_velocity_m_per_s",
+            value: c,
+            limit: limits.max_phase_velocity_m_per_s,
+            reason: "faster than the fastest bulk wave of the stator; no surface wave travels faster",
+        });
+    }
+    if c > limits.shear_speed_warning_m_per_s {
+        warnings.push(Warning::new(
+            "wave.phase_velocity_m_per_s",
+            format!(
+                "{c} m/s exceeds the fastest bulk shear speed {} m/s: only a leaky pseudo-SAW travels this fast",
+                limits.shear_speed_warning_m_per_s
+            ),
+        ));
+    }
+    let strain = wave.surface_strain();
+    if strain > limits.max_surface_strain {
+        return Err(StickSlipError::UnphysicalWave {
+            parameter: "wave.normal_amplitude_m / wave.tangential_amplitude_m",
+            value: strain,
+            limit: limits.max_surface_strain,
+            reason: "surface strain k·max(A_n, A_t) (equivalently A_t ω / c) beyond linear elasticity of the stator",
+        });
+    }
+    if strain > limits.surface_strain_warning {
+        warnings.push(Warning::new(
+            "wave.normal_amplitude_m / wave.tangential_amplitude_m",
+            format!(
+                "surface strain {strain:.2e} exceeds {:.0e}, far above SAW device practice (crest speed {:.3} m/s)",
+                limits.surface_strain_warning,
+                wave.crest_speed_m_per_s()
+            ),
+        ));
+    }
+    Ok(warnings)
 }
 
-impl Wave {
-    /// The paper's wave: f = 9.61 MHz, A_n = 20 nm, V_t = 1.1 m/s, c = 3979 m/s, continuous.
-    pub fn paper_default() -> Self {
-        Self::from_tangential_velocity(
-            PAPER_FREQUENCY_HZ,
-            PAPER_NORMAL_AMPLITUDE_M,
-            PAPER_TANGENTIAL_VELOCITY_M_PER_S,
-            PAPER_PHASE_VELOCITY_M_PER_S,
-        )
-    }
-
-    /// A continuous wave given the tangential *velocity* amplitude V_t (A_t = V_t/ω).
-    pub fn from_tangential_velocity(
-        frequency_hz: f64,
-        normal_amplitude_m: f64,
-        tangential_velocity_m_per_s: f64,
-        phase_velocity_m_per_s: f64,
-    ) -> Self {
-        Self {
-            frequency_hz,
-            normal_amplitude_m,
-            tangential_amplitude_m: tangential_velocity_m_per_s / (2.0 * PI * frequency_hz),
-            phase_velocity_m_per_s,
-            decay_length_m: None,
-            burst_periods: None,
-        }
-    }
-
-    /// Angular frequency ω = 2πf (rad/s).
-    pub fn angular_frequency_rad_per_s(&self) -> f64 {
-        2.0 * PI * self.frequency_hz
-    }
-
-    /// Wave period T = 1/f (s).
-    pub fn period_s(&self) -> f64 {
-        1.0 / self.frequency_hz
-    }
-
-    /// Wavelength λ = c/f (m).
-    pub fn wavelength_m(&self) -> f64 {
-        self.phase_velocity_m_per_s / self.frequency_hz
-    }
-
-    /// Wavenumber k = ω/c (rad/m).
-    pub fn wavenumber_rad_per_m(&self) -> f64 {
-        self.angular_frequency_rad_per_s() / self.phase_velocity_m_per_s
-    }
-
-    /// Crest speed A_t ω (m/s): the tangential surface velocity at the crest, an upper bound of
-    /// the slider's no-load speed.
-    pub fn crest_speed_m_per_s(&self) -> f64 {
-        self.tangential_amplitude_m * self.angular_frequency_rad_per_s()
-    }
-
-    /// Surface strain k·max(A_n, A_t) (dimensionless).
-    pub fn surface_strain(&self) -> f64 {
-        self.wavenumber_rad_per_m() * self.normal_amplitude_m.max(self.tangential_amplitude_m)
-    }
-
-    /// Check the wave against `limits`: typed errors for impossible values, warnings for
-    /// allowed but suspicious ones.
-    pub fn validate(&self, limits: &WaveLimits) -> Result<Vec<Warning>> {
-        let mut warnings = Vec::new();
-        require_positive("wave.frequency_hz", self.frequency_hz)?;
-        require_positive("wave.normal_amplitude_m", self.normal_amplitude_m)?;
-        require_non_negative("wave.tangential_amplitude_m", self.tangential_amplitude_m)?;
-        require_positive("wave.phase_velocity_m_per_s", self.phase_velocity_m_per_s)?;
-        if let Some(decay) = self.decay_length_m {
-            require_positive("wave.decay_length_m", decay)?;
-        }
-        if let Some(burst) = self.burst_periods {
-            require_positive("wave.burst_periods", burst)?;
-            if (burst - burst.round()).abs() > 1e-9 {
-                warnings.push(Warning::new(
-                    "wave.burst_periods",
-                    format!("{burst} is not a whole number of periods: the tangential surface velocity jumps at the burst end"),
-                ));
-            }
-        }
-        let c = self.phase_velocity_m_per_s;
-        if c > limits.max_phase_velocity_m_per_s {
-            return Err(StickSlipError::UnphysicalWave {
-                parameter: "wave.phase_velocity_m_per_s",
-                value: c,
-                limit: limits.max_phase_velocity_m_per_s,
-                reason: "faster than the fastest bulk wave of the stator; no surface wave travels faster",
-            });
-        }
-        if c > limits.shear_speed_warning_m_per_s {
-            warnings.push(Warning::new(
-                "wave.phase_velocity_m_per_s",
-                format!(
-                    "{c} m/s exceeds the fastest bulk shear speed {} m/s: only a leaky pseudo-SAW travels this fast",
-                    limits.shear_speed_warning_m_per_s
-                ),
-            ));
-        }
-        let strain = self.surface_strain();
-        if strain > limits.max_surface_strain {
-            return Err(StickSlipError::UnphysicalWave {
-                parameter: "wave.normal_amplitude_m / wave.tangential_amplitude_m",
-                value: strain,
-                limit: limits.max_surface_strain,
-                reason: "surface strain k·max(A_n, A_t) (equivalently A_t ω / c) beyond linear elasticity of the stator",
-            });
-        }
-        if strain > limits.surface_strain_warning {
-            warnings.push(Warning::new(
-                "wave.normal_amplitude_m / wave.tangential_amplitude_m",
-                format!(
-                    "surface strain {strain:.2e} exceeds {:.0e}, far above SAW device practice (crest speed {:.3} m/s)",
-                    limits.surface_strain_warning,
-                    self.crest_speed_m_per_s()
-                ),
-            ));
-        }
-        Ok(warnings)
-    }
-
-    /// The wave in the solvers' units (lengths by A_n, time by 1/ω).
-    pub(crate) fn scaled(&self) -> ScaledWave {
-        let a_n = self.normal_amplitude_m;
-        ScaledWave {
-            tangential_ratio: self.tangential_amplitude_m / a_n,
-            doppler: self.wavenumber_rad_per_m() * a_n,
-            decay_length: self.decay_length_m.map(|l| l / a_n),
-            burst_phase_end: self.burst_periods.map(|n| 2.0 * PI * n),
-        }
+/// The wave in the solvers' units (lengths by A_n, time by 1/ω).
+pub(crate) fn scaled(wave: &Wave) -> ScaledWave {
+    let a_n = wave.normal_amplitude_m;
+    ScaledWave {
+        tangential_ratio: wave.tangential_amplitude_m / a_n,
+        doppler: wave.wavenumber_rad_per_m() * a_n,
+        decay_length: wave.decay_length_m.map(|l| l / a_n),
+        burst_phase_end: wave.burst_periods.map(|n| 2.0 * PI * n),
     }
 }
 

@@ -267,10 +267,12 @@ fn stator_section() -> AnyResult<Value> {
             ..StaticParams::default()
         };
         let path = resolve_mesh(&params)?;
+        let springs = params.post_springs()?;
         let meshed = StripModel::build(gmsh_mesh::read_msh(&path)?, strip_config(&params))?;
         let meshed_report = report_for_model(
             &meshed,
             &params,
+            &springs,
             String::new(),
             String::new(),
             Default::default(),
@@ -283,6 +285,7 @@ fn stator_section() -> AnyResult<Value> {
         let half_report = report_for_model(
             &half,
             &params,
+            &springs,
             String::new(),
             String::new(),
             Default::default(),

@@ -8,8 +8,8 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use contact_springs::{Material, post_springs};
 use charts::{CategoryMap, Chart, Scale, Series, Style, write_category_map, write_stacked};
+use contact_springs::{Material, post_springs};
 use serde::Serialize;
 
 use stick_slip::plots::{
@@ -58,11 +58,11 @@ pub struct ValidationSetup {
 }
 
 /// Radius (m) of the paper's 20 µm post, for which the study is set up.
-pub const PAPER_POST_RADIUS_M: f64 = 10e-6;
+pub const PAPER_POST_RADIUS_M: f64 = 0.5 * motor::paper::POST_DIAMETER_M;
 /// Radius (m) of the 50 µm post of the diameter comparison.
 pub const WIDE_POST_RADIUS_M: f64 = 25e-6;
 /// Post height (m), docs/physics.md §1.
-pub const PAPER_POST_HEIGHT_M: f64 = 2e-6;
+pub const PAPER_POST_HEIGHT_M: f64 = motor::paper::POST_HEIGHT_M;
 
 impl ValidationSetup {
     /// The study for the paper's posts: Johnson springs of Si posts on LiNbO3

@@ -9,17 +9,17 @@ use crate::cli::StageArgs;
 
 pub fn run(args: &StageArgs) -> anyhow::Result<()> {
     let scene = load_scene(args.input.scene.as_deref(), &args.input.overrides)?;
+    let springs = scene_springs(&scene)?;
     let eta = match scene.contact.effective_ratio {
         Some(eta) => eta,
         None => {
             let cache = (!args.no_cache).then(|| args.out.join(".cache"));
-            let outcome = run_static(&scene, cache.as_deref(), false)?;
+            let outcome = run_static(&scene, &springs, cache.as_deref(), false)?;
             outcome.effective_ratio.ok_or_else(|| {
                 anyhow!("the static stage could not identify η: give --set effective_ratio=0.36")
             })?
         }
     };
-    let springs = scene_springs(&scene)?;
     let run = run_dynamic(&scene, &springs, eta)?;
     let result = &run.result;
     let staged = StagedDir::create(&args.out.join(&scene.name).join("dynamic"))?;

@@ -3,7 +3,7 @@
 use std::io::Write;
 
 use sawdrive::output::StagedDir;
-use sawdrive::pipeline::{run_static, write_static_files};
+use sawdrive::pipeline::{run_static, scene_springs, write_static_files};
 use sawdrive::scene::load_scene;
 
 use crate::cli::StageArgs;
@@ -16,7 +16,8 @@ fn number(value: Option<f64>) -> String {
 pub fn run(args: &StageArgs) -> anyhow::Result<()> {
     let scene = load_scene(args.input.scene.as_deref(), &args.input.overrides)?;
     let cache = (!args.no_cache).then(|| args.out.join(".cache"));
-    let outcome = run_static(&scene, cache.as_deref(), true)?;
+    let springs = scene_springs(&scene)?;
+    let outcome = run_static(&scene, &springs, cache.as_deref(), true)?;
     let staged = StagedDir::create(&args.out.join(&scene.name).join("static"))?;
     write_static_files(&outcome, staged.path())?;
     let folder = staged.commit()?;

@@ -1,7 +1,6 @@
 //! `sawdrive validate …`: validation studies.
 
 use sawdrive::scene::load_scene;
-use stick_slip::PostContact;
 use validation::stick_slip::{ValidationLevel, ValidationSetup, run_validation};
 
 use crate::cli::{ValidateSpringsArgs, ValidateStickSlipArgs};
@@ -27,11 +26,7 @@ pub fn stick_slip(args: &ValidateStickSlipArgs) -> anyhow::Result<()> {
     let setup = ValidationSetup {
         k_n_n_per_m: s20.k_n_n_per_m,
         k_t_n_per_m: s20.k_t_n_per_m,
-        post_mass_kg: PostContact::cylinder_mass_kg(
-            paper.slider.material.density_kg_per_m3,
-            10e-6,
-            paper.posts.height_m,
-        ),
+        post_mass_kg: paper.motor.post_mass_kg(),
         k_n_50um_n_per_m: s50.k_n_n_per_m,
         k_t_50um_n_per_m: s50.k_t_n_per_m,
         level,

@@ -4,17 +4,14 @@ use std::path::{Path, PathBuf};
 
 use contact_springs::PostSprings;
 use stick_slip::{
-    DynamicResult, DynamicScene, HistoryOptions, Integrator, ModelChoice, ModelKind, PostContact,
-    PostLayout, RunHistories, Slider, SolveOptions, StabilityPolicy, StickSlipError,
-    TransientOptions, VerticalModel, Wave,
+    DynamicResult, DynamicScene, HistoryOptions, Integrator, IntegratorKind, ModelKind,
+    PostContact, RunHistories, Slider, SolveOptions, StabilityPolicy, StickSlipError,
+    TransientOptions,
 };
 
 use super::PipelineError;
 use crate::output::io;
-use crate::scene::{
-    DEFAULT_CURVE_POINTS, DEFAULT_TRANSIENT_PERIODS, DEFAULT_VERTICAL_DAMPING_RATIO,
-    DynamicsChoice, IntegratorChoice, Model, Scene, VerticalChoice,
-};
+use crate::scene::{DEFAULT_CURVE_POINTS, DEFAULT_TRANSIENT_PERIODS, Model, Scene};
 
 /// Steps per wave period of a fixed-step integrator when the scene says `time_step = "auto"`.
 const AUTO_STEPS_PER_PERIOD: f64 = stick_slip::TRANSIENT_DEFAULT_STEPS_PER_PERIOD;
@@ -27,94 +24,33 @@ const HISTORY_PERIODS: f64 = 3.0;
 /// Samples per wave period of the time history.
 const HISTORY_SAMPLES_PER_PERIOD: usize = 256;
 
-/// Post layout along x: a centred square array, or explicit positions for rectangular arrays
-/// (one x per post: refused before allocating when above the run's memory limit).
-fn layout(scene: &Scene) -> Result<PostLayout, PipelineError> {
-    let p = &scene.posts;
-    if p.count_x == p.count_y && (p.pitch_x_m - p.pitch_y_m).abs() <= 1e-12 * p.pitch_x_m {
-        return Ok(PostLayout::SquareArray {
-            posts_per_side: p.count_x as usize,
-            pitch_m: p.pitch_x_m,
-        });
-    }
-    let bytes = p.count as f64 * 4.0 * std::mem::size_of::<f64>() as f64;
-    if bytes > stick_slip::MAX_RUN_MEMORY_BYTES {
-        return Err(PipelineError::Unsupported {
-            stage: "dynamic",
-            message: format!(
-                "posts.count: a rectangular array of {} posts needs ≈ {bytes:.3e} bytes of post positions, above the limit of {:.3e} bytes",
-                p.count,
-                stick_slip::MAX_RUN_MEMORY_BYTES
-            ),
-        });
-    }
-    let centre = 0.5 * (f64::from(p.count_x) - 1.0);
-    let x_m = (0..p.count_x)
-        .flat_map(|j| {
-            std::iter::repeat_n((f64::from(j) - centre) * p.pitch_x_m, p.count_y as usize)
-        })
-        .collect();
-    Ok(PostLayout::Positions { x_m, gap_m: None })
-}
-
 /// The dynamic model's input for `scene` with the post springs `springs` (from
 /// [`scene_springs`](super::scene_springs), computed once per run) and effective contact ratio
-/// `effective_ratio`.
+/// `effective_ratio`: the motor's wave, post contact and slider, with the scene's model settings.
 pub fn dynamic_scene(
     scene: &Scene,
     springs: &PostSprings,
     effective_ratio: f64,
 ) -> Result<DynamicScene, PipelineError> {
-    let wave = Wave {
-        frequency_hz: scene.wave.frequency_hz,
-        normal_amplitude_m: scene.wave.normal_amplitude_m,
-        tangential_amplitude_m: scene.wave.tangential_amplitude_m,
-        phase_velocity_m_per_s: scene.wave.phase_velocity_m_per_s,
-        decay_length_m: scene.wave.decay_length_m,
-        burst_periods: scene.wave.burst_periods,
-    };
+    let motor = &scene.motor;
     let m = &scene.model;
     let needs_mass = matches!(
         m.integrator,
-        IntegratorChoice::Regularized | IntegratorChoice::PostMass
-    );
-    let post_mass = PostContact::cylinder_mass_kg(
-        scene.slider.material.density_kg_per_m3,
-        scene.posts.radius_m(),
-        scene.posts.height_m,
+        IntegratorKind::Regularized | IntegratorKind::PostMass
     );
     let contact = PostContact {
         k_n_n_per_m: springs.k_n_n_per_m,
         k_t_n_per_m: springs.k_t_n_per_m,
-        mu_static: scene.friction.mu_static,
-        mu_kinetic: scene.friction.mu_kinetic,
-        post_mass_kg: needs_mass.then_some(post_mass),
+        mu_static: motor.friction.mu_static,
+        mu_kinetic: motor.friction.mu_kinetic,
+        post_mass_kg: needs_mass.then_some(motor.post_mass_kg()),
     };
-    let slider = Slider {
-        mass_kg: scene.slider.mass_kg,
-        preload_n: scene.load.preload_n,
-        external_load_n: scene.load.external_load_n,
-        layout: layout(scene)?,
-        effective_ratio,
-        vertical: match m.vertical {
-            VerticalChoice::QuasiStatic => VerticalModel::PeriodMean,
-            VerticalChoice::Dynamic => VerticalModel::Dynamic {
-                damping_ratio: m
-                    .vertical_damping_ratio
-                    .unwrap_or(DEFAULT_VERTICAL_DAMPING_RATIO),
-            },
-        },
-    };
-    let model = match m.dynamics {
-        DynamicsChoice::Auto => ModelChoice::Auto,
-        DynamicsChoice::PeriodicAverage => ModelChoice::PeriodicAverage,
-        DynamicsChoice::Transient => ModelChoice::Transient,
-    };
+    let slider = Slider::for_motor(motor, effective_ratio, m.vertical).map_err(name_scene_keys)?;
     let mut dynamic = DynamicScene {
-        wave,
+        wave: motor.wave.clone(),
         contact,
         slider,
-        model,
+        model: m.dynamics,
         integrator: Integrator::Auto,
         options: SolveOptions::default(),
     };
@@ -186,7 +122,7 @@ fn integrator(
     let closed_form = kind == ModelKind::PeriodicAverage
         && matches!(
             m.integrator,
-            IntegratorChoice::Auto | IntegratorChoice::EventDriven
+            IntegratorKind::Auto | IntegratorKind::EventDriven
         );
     if let (Some(dt), true) = (m.time_step_s, closed_form) {
         return Err(unused(
@@ -206,17 +142,17 @@ fn integrator(
         Ok((AUTO_STEP_FRACTION_OF_LIMIT * limit).min(period / AUTO_STEPS_PER_PERIOD))
     };
     Ok(match m.integrator {
-        IntegratorChoice::Auto => match m.time_step_s {
+        IntegratorKind::Auto => match m.time_step_s {
             Some(dt_s) => Integrator::ReturnMapping { dt_s },
             None => Integrator::Auto,
         },
-        IntegratorChoice::EventDriven => Integrator::EventDriven {
+        IntegratorKind::EventDriven => Integrator::EventDriven {
             max_step_s: m.time_step_s,
         },
-        IntegratorChoice::ReturnMapping => Integrator::ReturnMapping {
+        IntegratorKind::ReturnMapping => Integrator::ReturnMapping {
             dt_s: m.time_step_s.unwrap_or(period / AUTO_STEPS_PER_PERIOD),
         },
-        IntegratorChoice::Regularized => {
+        IntegratorKind::Regularized => {
             let v_reg = m.regularization_velocity_m_per_s.unwrap_or(
                 AUTO_REGULARIZATION_FRACTION_OF_CREST * dynamic.wave.crest_speed_m_per_s(),
             );
@@ -229,7 +165,7 @@ fn integrator(
                 regularization_speed_m_per_s: v_reg,
             }
         }
-        IntegratorChoice::PostMass => Integrator::PostMass {
+        IntegratorKind::PostMass => Integrator::PostMass {
             dt_s: explicit_step(Integrator::PostMass { dt_s: period })?,
         },
     })

@@ -115,7 +115,12 @@ pub fn run_pipeline(
             Some(eta) => (eta, "given", None, None),
             None => {
                 bar.set_message("static FEM contact (η)");
-                let outcome = run_static(scene, options.cache_dir.as_deref(), options.write_files)?;
+                let outcome = run_static(
+                    scene,
+                    &springs,
+                    options.cache_dir.as_deref(),
+                    options.write_files,
+                )?;
                 let eta = outcome.effective_ratio.ok_or_else(|| PipelineError::Unsupported {
                 stage: "static",
                 message: format!(

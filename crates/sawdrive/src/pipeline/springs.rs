@@ -5,8 +5,8 @@ use crate::scene::Scene;
 /// The four Johnson springs of one post of `scene` (slider side bonded, stator side frictional).
 pub fn scene_springs(scene: &Scene) -> Result<PostSprings, contact_springs::SpringError> {
     post_springs(
-        &scene.slider.material,
-        &scene.stator,
-        scene.posts.radius_m(),
+        &scene.motor.slider.material,
+        &scene.motor.stator,
+        scene.motor.posts.radius_m(),
     )
 }

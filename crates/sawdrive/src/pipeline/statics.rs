@@ -7,65 +7,51 @@ use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+use contact_springs::PostSprings;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
-use static_contact::{
-    ContactError, MeshChoice, StaticAnalysis, StaticParams, StaticReport, StatorModel,
-};
+use static_contact::{ContactError, MeshChoice, StaticAnalysis, StaticParams, StaticReport};
 
 use super::PipelineError;
 use crate::output::{StagedDir, io};
-use crate::scene::{Scene, StatorChoice};
+use crate::scene::Scene;
 
 /// Relative tolerance on equal x and y pitch (the strip model needs a square post lattice).
 const PITCH_MISMATCH_TOLERANCE: f64 = 1e-9;
 
-/// The static stage's parameters for `scene`.
+/// The static stage's parameters for `scene`: the motor's ([`StaticParams::for_motor`]) with the
+/// scene's static settings.
 pub fn static_params(
     scene: &Scene,
     mesh_cache_dir: Option<&Path>,
 ) -> Result<StaticParams, PipelineError> {
-    let posts = &scene.posts;
-    if (posts.pitch_x_m - posts.pitch_y_m).abs() > PITCH_MISMATCH_TOLERANCE * posts.pitch_x_m {
+    let posts = &scene.motor.posts;
+    if !posts.is_square_lattice(PITCH_MISMATCH_TOLERANCE) {
         return Err(PipelineError::Unsupported {
             stage: "static",
             message: format!(
                 "the strip model needs equal pitch in x and y, got {} m and {} m (posts.array / count): \
                  give effective_ratio as a number to skip the static stage",
-                posts.pitch_x_m, posts.pitch_y_m
+                posts.pitch_x_m(),
+                posts.pitch_y_m()
             ),
         });
     }
-    let mesh = match scene.static_fem.mesh.as_str() {
+    let settings = &scene.static_fem;
+    let mesh = match settings.mesh.as_str() {
         "auto" => MeshChoice::Auto,
         path => MeshChoice::File(PathBuf::from(path)),
     };
     Ok(StaticParams {
-        slider_material: scene.slider.material.clone(),
-        stator_material: scene.stator.clone(),
-        post_diameter_m: posts.diameter_m,
-        post_height_m: posts.height_m,
-        posts_x: posts.count_x as usize,
-        posts_y: posts.count_y as usize,
-        post_pitch_m: posts.pitch_x_m,
-        slider_length_m: scene.slider.length_m,
-        slider_width_m: scene.slider.width_m,
-        slider_thickness_m: scene.slider.thickness_m,
-        wave_amplitude_m: scene.wave.normal_amplitude_m,
-        wavelength_m: scene.wave.wavelength_m,
-        preload_n: scene.load.preload_n,
-        phases: scene.static_fem.phases as usize,
-        element_order: scene.static_fem.element_order as u8,
-        strip_rows: scene.static_fem.strip_rows as usize,
-        stator: match scene.static_fem.stator {
-            StatorChoice::HalfSpace => StatorModel::HalfSpace,
-            StatorChoice::MeshedBlock => StatorModel::MeshedBlock,
-        },
+        phases: settings.phases as usize,
+        element_order: settings.element_order as u8,
+        strip_rows: settings.strip_rows as usize,
+        stator: settings.stator,
         mesh,
-        contact_tolerance: scene.static_fem.tolerance,
-        max_iterations: scene.static_fem.max_iterations as usize,
+        contact_tolerance: settings.tolerance,
+        max_iterations: settings.max_iterations as usize,
         mesh_cache_dir: mesh_cache_dir.map(Path::to_owned),
-        ..StaticParams::default()
+        ..StaticParams::for_motor(&scene.motor)
     })
 }
 
@@ -211,13 +197,14 @@ fn static_error(error: ContactError, params: &StaticParams) -> PipelineError {
     }
 }
 
-/// Run the static stage, or take its report from `cache_dir/static-<hash>.json` when the same
+/// Run the static stage with the post springs `springs` (computed once per run), or take its report from `cache_dir/static-<hash>.json` when the same
 /// inputs ran before and the entry verifies (a damaged entry is rebuilt, and said so on stderr).
 /// With `with_fields`, the cache also keeps the force chart and the VTU in
 /// `cache_dir/static-<hash>/`, and a cached report without them (e.g. one a sweep filled in)
 /// counts as a miss, so that a results folder never lacks them.
 pub fn run_static(
     scene: &Scene,
+    springs: &PostSprings,
     cache_dir: Option<&Path>,
     with_fields: bool,
 ) -> Result<StaticOutcome, PipelineError> {
@@ -249,7 +236,8 @@ pub fn run_static(
         }
     }
     announce(&notes);
-    let analysis = static_contact::run(&params).map_err(|e| static_error(e, &params))?;
+    let analysis = static_contact::run_with_springs(&params, springs, params.solver_options())
+        .map_err(|e| static_error(e, &params))?;
     announce(&analysis.notes);
     notes.extend(analysis.notes.iter().cloned());
     if let Some(dir) = &fields_dir {
@@ -388,6 +376,7 @@ fn condense_and_cache(
         let report = static_contact::analysis::report_for_model(
             &prepared.model,
             params,
+            &params.post_springs()?,
             hash.clone(),
             prepared.mesh_file.clone(),
             params.solver_options(),

@@ -14,8 +14,7 @@ use std::path::Path;
 
 pub use resolved::{
     Contact, DEFAULT_CURVE_POINTS, DEFAULT_TRANSIENT_PERIODS, DEFAULT_VERTICAL_DAMPING_RATIO,
-    DynamicsChoice, Friction, IntegratorChoice, Load, Model, Posts, Scene, Slider, StaticSettings,
-    StatorChoice, VerticalChoice, Wave,
+    Model, Scene, StaticSettings,
 };
 
 /// The embedded default scene: the source paper's motor.

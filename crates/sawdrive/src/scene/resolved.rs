@@ -1,99 +1,33 @@
-//! The resolved scene: SI units, unit in every field name, every value checked.
+//! The resolved scene: SI units, unit in every field name, every value checked. The motor
+//! resolves into the one description every stage shares ([`motor::Motor`]); the settings into
+//! the libraries' own choices ([`ModelChoice`], [`IntegratorKind`], [`VerticalModel`],
+//! [`StatorModel`]), so that no enum is mirrored here.
 
 use contact_springs::Material;
+use motor::{Friction, Load, Motor, PostArray, SliderBody, Wave};
 use serde::Serialize;
+use static_contact::StatorModel;
+use stick_slip::{IntegratorKind, ModelChoice, VerticalModel};
 
 use super::SceneError;
 use super::file::{CustomMaterial, MaterialSpec, SceneFile};
 use super::quantity::{AutoOr, EffectiveRatio};
 use crate::units::{Dimension, format_quantity};
 
-/// One motor, in SI units.
+/// One motor and how to simulate it, in SI units.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Scene {
     pub name: String,
     pub description: String,
-    pub wave: Wave,
-    pub stator: Material,
-    pub slider: Slider,
-    pub posts: Posts,
-    pub friction: Friction,
-    pub load: Load,
+    /// The motor (its fields appear at the top level of the scene's JSON).
+    #[serde(flatten)]
+    pub motor: Motor,
+    /// Where `slider.mass_kg` came from: `geometry` (ρ·volume) or `given`.
+    pub slider_mass_source: String,
     pub contact: Contact,
     pub model: Model,
     #[serde(rename = "static")]
     pub static_fem: StaticSettings,
-}
-
-/// The travelling Rayleigh wave (docs/physics.md §4).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Wave {
-    pub frequency_hz: f64,
-    pub normal_amplitude_m: f64,
-    pub tangential_amplitude_m: f64,
-    /// V_t = A_t ω.
-    pub tangential_velocity_m_per_s: f64,
-    pub phase_velocity_m_per_s: f64,
-    /// λ = c / f.
-    pub wavelength_m: f64,
-    pub decay_length_m: Option<f64>,
-    pub burst_periods: Option<f64>,
-}
-
-impl Wave {
-    /// Angular frequency ω = 2πf (rad/s).
-    pub fn angular_frequency_rad_per_s(&self) -> f64 {
-        2.0 * std::f64::consts::PI * self.frequency_hz
-    }
-}
-
-/// The slider body.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Slider {
-    pub material: Material,
-    pub length_m: f64,
-    pub width_m: f64,
-    pub thickness_m: f64,
-    pub mass_kg: f64,
-    /// `geometry` (ρ·volume) or `given`.
-    pub mass_source: String,
-}
-
-/// The post array.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Posts {
-    pub diameter_m: f64,
-    pub height_m: f64,
-    pub count_x: u32,
-    pub count_y: u32,
-    pub count: u64,
-    pub array_x_m: f64,
-    pub array_y_m: f64,
-    pub pitch_x_m: f64,
-    pub pitch_y_m: f64,
-    /// Total tip area N·π d²/4.
-    pub contact_area_m2: f64,
-}
-
-impl Posts {
-    /// Post radius a = d/2.
-    pub fn radius_m(&self) -> f64 {
-        0.5 * self.diameter_m
-    }
-}
-
-/// Coulomb friction.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Friction {
-    pub mu_static: f64,
-    pub mu_kinetic: f64,
-}
-
-/// Forces on the slider.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Load {
-    pub preload_n: f64,
-    pub external_load_n: f64,
 }
 
 /// Contact reduction: where η comes from.
@@ -105,47 +39,11 @@ pub struct Contact {
     pub effective_ratio_source: String,
 }
 
-/// Which dynamic model to run.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum DynamicsChoice {
-    Auto,
-    PeriodicAverage,
-    Transient,
-}
-
-/// Time integrator of the transient model.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum IntegratorChoice {
-    Auto,
-    EventDriven,
-    ReturnMapping,
-    Regularized,
-    PostMass,
-}
-
-/// Vertical slider dynamics.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum VerticalChoice {
-    QuasiStatic,
-    Dynamic,
-}
-
-/// Stator compliance model of the static stage.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum StatorChoice {
-    HalfSpace,
-    MeshedBlock,
-}
-
 /// Dynamic-model settings.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Model {
-    pub dynamics: DynamicsChoice,
-    pub integrator: IntegratorChoice,
+    pub dynamics: ModelChoice,
+    pub integrator: IntegratorKind,
     /// `None`: chosen inside the stability limit.
     pub time_step_s: Option<f64>,
     /// `None`: 1e-3 of the crest speed (regularized integrator only).
@@ -154,9 +52,9 @@ pub struct Model {
     pub curve_points: Option<u32>,
     /// `None`: [`DEFAULT_TRANSIENT_PERIODS`] (transient only).
     pub periods: Option<u32>,
-    pub vertical: VerticalChoice,
-    /// `None`: [`DEFAULT_VERTICAL_DAMPING_RATIO`] (dynamic vertical only).
-    pub vertical_damping_ratio: Option<f64>,
+    /// Vertical slider model; `vertical_damping_ratio = "auto"` gives
+    /// [`DEFAULT_VERTICAL_DAMPING_RATIO`] to the dynamic one.
+    pub vertical: VerticalModel,
 }
 
 /// Wave periods of the transient when `model.periods = "auto"`. Default 1000.
@@ -174,7 +72,7 @@ pub struct StaticSettings {
     pub phases: u32,
     pub element_order: u32,
     pub mesh: String,
-    pub stator: StatorChoice,
+    pub stator: StatorModel,
     pub strip_rows: u32,
     pub tolerance: f64,
     pub max_iterations: u32,
@@ -306,13 +204,12 @@ impl Scene {
             "wavelength λ = c/f (m)",
             phase_velocity_m_per_s / frequency_hz,
         )?;
+        let _ = (tangential_velocity_m_per_s, wavelength_m);
         let wave = Wave {
             frequency_hz,
             normal_amplitude_m,
             tangential_amplitude_m,
-            tangential_velocity_m_per_s,
             phase_velocity_m_per_s,
-            wavelength_m,
             decay_length_m,
             burst_periods,
         };
@@ -369,21 +266,18 @@ impl Scene {
             ));
         }
         let count = u64::from(count_x) * u64::from(count_y);
-        let posts = Posts {
+        derived(
+            "posts.diameter",
+            "contact area N·πd²/4 (m²)",
+            count as f64 * std::f64::consts::PI * diameter_m * diameter_m / 4.0,
+        )?;
+        let posts = PostArray {
             diameter_m,
             height_m,
             count_x,
             count_y,
-            count,
             array_x_m,
             array_y_m,
-            pitch_x_m,
-            pitch_y_m,
-            contact_area_m2: derived(
-                "posts.diameter",
-                "contact area N·πd²/4 (m²)",
-                count as f64 * std::f64::consts::PI * diameter_m * diameter_m / 4.0,
-            )?,
         };
 
         let (mass_kg, mass_source) = match s.mass {
@@ -404,13 +298,12 @@ impl Scene {
                 / 4.0
                 * height_m,
         )?;
-        let slider = Slider {
+        let slider = SliderBody {
             material: slider_material,
             length_m,
             width_m,
             thickness_m,
             mass_kg,
-            mass_source: mass_source.into(),
         };
 
         let f = &file.friction;
@@ -457,33 +350,12 @@ impl Scene {
         };
 
         let m = &file.model;
-        let dynamics = choice(
-            "model.dynamics",
-            &m.dynamics,
-            &[
-                ("auto", DynamicsChoice::Auto),
-                ("periodic-average", DynamicsChoice::PeriodicAverage),
-                ("transient", DynamicsChoice::Transient),
-            ],
-        )?;
-        let integrator = choice(
-            "model.integrator",
-            &m.integrator,
-            &[
-                ("auto", IntegratorChoice::Auto),
-                ("event-driven", IntegratorChoice::EventDriven),
-                ("return-mapping", IntegratorChoice::ReturnMapping),
-                ("regularized", IntegratorChoice::Regularized),
-                ("post-mass", IntegratorChoice::PostMass),
-            ],
-        )?;
-        let vertical = choice(
+        let dynamics = choice("model.dynamics", &m.dynamics, &ModelChoice::NAMES)?;
+        let integrator = choice("model.integrator", &m.integrator, &IntegratorKind::NAMES)?;
+        let vertical_dynamic = choice(
             "model.vertical",
             &m.vertical,
-            &[
-                ("quasi-static", VerticalChoice::QuasiStatic),
-                ("dynamic", VerticalChoice::Dynamic),
-            ],
+            &[("quasi-static", false), ("dynamic", true)],
         )?;
         let time_step_s = match m.time_step {
             AutoOr::Auto => None,
@@ -492,7 +364,7 @@ impl Scene {
         let regularization_velocity_m_per_s = match m.regularization_velocity {
             AutoOr::Auto => None,
             AutoOr::Value(v) => {
-                if integrator != IntegratorChoice::Regularized {
+                if integrator != IntegratorKind::Regularized {
                     return Err(invalid(
                         "model.regularization_velocity",
                         "applies only to integrator = \"regularized\" (tanh friction); remove it or set it to \"auto\"",
@@ -520,7 +392,7 @@ impl Scene {
         };
         let vertical_damping_ratio = match m.vertical_damping_ratio {
             AutoOr::Auto => None,
-            AutoOr::Value(_) if vertical == VerticalChoice::QuasiStatic => {
+            AutoOr::Value(_) if !vertical_dynamic => {
                 return Err(invalid(
                     "model.vertical_damping_ratio",
                     "applies only to vertical = \"dynamic\" (the quasi-static slider has no vertical mode); remove it or set it to \"auto\"",
@@ -534,6 +406,13 @@ impl Scene {
             }
             AutoOr::Value(zeta) => Some(zeta),
         };
+        let vertical = if vertical_dynamic {
+            VerticalModel::Dynamic {
+                damping_ratio: vertical_damping_ratio.unwrap_or(DEFAULT_VERTICAL_DAMPING_RATIO),
+            }
+        } else {
+            VerticalModel::PeriodMean
+        };
         let model = Model {
             dynamics,
             integrator,
@@ -542,7 +421,6 @@ impl Scene {
             curve_points,
             periods,
             vertical,
-            vertical_damping_ratio,
         };
 
         let st = &file.static_fem;
@@ -571,14 +449,7 @@ impl Scene {
                 ),
             ));
         }
-        let stator_model = choice(
-            "static.stator",
-            &st.stator,
-            &[
-                ("half-space", StatorChoice::HalfSpace),
-                ("meshed-block", StatorChoice::MeshedBlock),
-            ],
-        )?;
+        let stator_model = choice("static.stator", &st.stator, &StatorModel::NAMES)?;
         let static_fem = StaticSettings {
             phases: st.phases,
             element_order: st.element_order,
@@ -592,12 +463,15 @@ impl Scene {
         Ok(Self {
             name: file.name,
             description: file.description,
-            wave,
-            stator,
-            slider,
-            posts,
-            friction,
-            load,
+            motor: Motor {
+                wave,
+                stator,
+                slider,
+                posts,
+                friction,
+                load,
+            },
+            slider_mass_source: mass_source.into(),
             contact,
             model,
             static_fem,

@@ -164,13 +164,13 @@ fn run_point(
     };
     let (summary, _) = run_pipeline(&scene, &options).map_err(|e| e.to_string())?;
     let values = BTreeMap::from([
-        ("preload_n".to_owned(), scene.load.preload_n),
-        ("post_count".to_owned(), scene.posts.count as f64),
-        ("post_diameter_m".to_owned(), scene.posts.diameter_m),
-        ("mu_kinetic".to_owned(), scene.friction.mu_kinetic),
+        ("preload_n".to_owned(), scene.motor.load.preload_n),
+        ("post_count".to_owned(), scene.motor.posts.count() as f64),
+        ("post_diameter_m".to_owned(), scene.motor.posts.diameter_m),
+        ("mu_kinetic".to_owned(), scene.motor.friction.mu_kinetic),
         (
             "normal_amplitude_m".to_owned(),
-            scene.wave.normal_amplitude_m,
+            scene.motor.wave.normal_amplitude_m,
         ),
         (
             "effective_contact_ratio".to_owned(),

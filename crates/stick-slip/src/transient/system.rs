@@ -39,7 +39,7 @@ pub(crate) struct System {
 impl System {
     pub fn new(scene: &DynamicScene, load_n: f64) -> Self {
         let groups = Groups::build(scene);
-        let wave = scene.wave.scaled();
+        let wave = crate::wave::scaled(&scene.wave);
         let omega = scene.wave.angular_frequency_rad_per_s();
         let n_eff = scene.slider.effective_post_count();
         let k_n = scene.contact.k_n_n_per_m;

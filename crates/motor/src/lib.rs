@@ -1,0 +1,429 @@
+//! The one description of a SAW motor, shared by every stage.
+//!
+//! A [`Motor`] is what a designer builds: the stator's travelling [`Wave`] on a stator
+//! material, the [`SliderBody`] with its [`PostArray`], the interface [`Friction`] and the
+//! [`Load`]. The scene file resolves into it (`sawdrive::scene`), and each stage builds its own
+//! parameters from it (`static_contact::StaticParams::for_motor`,
+//! `slider_contact::SliderParams::for_motor`, the dynamic scene of the pipeline), so a motor is
+//! described once. Derived quantities (pitch, wavelength, masses …) are methods, never stored
+//! copies, so that they cannot disagree with what they derive from.
+//!
+//! The paper's motor ([`Motor::paper`], docs/physics.md §1) is the only copy of the paper's
+//! numbers in the libraries; the embedded default scene (`sawdrive`'s `default.toml`, in human
+//! units with comments) is checked against it by a test.
+//!
+//! Values are SI, unit in every name. Checking a motor for physical range with messages that
+//! name scene keys is the scene's job; the stages check what they need.
+
+pub mod paper;
+
+pub use contact_springs::Material;
+use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
+
+/// One motor, SI units.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Motor {
+    /// The stator's travelling wave.
+    pub wave: Wave,
+    /// Stator material (the half-space the wave travels on).
+    pub stator: Material,
+    /// The slider body.
+    pub slider: SliderBody,
+    /// The post array on the slider's face.
+    pub posts: PostArray,
+    /// Coulomb friction at the post tips.
+    pub friction: Friction,
+    /// Forces on the slider.
+    pub load: Load,
+}
+
+impl Motor {
+    /// The paper's motor (docs/physics.md §1): 9.61 MHz Rayleigh wave of 20 nm on 128° YX
+    /// LiNbO3, V_t = 1.1 m/s; Si slider 5 × 5 × 0.5 mm with 100 × 100 posts of 20 µm diameter,
+    /// 2 µm high, on a 4 × 4 mm array; μ = 0.3; preload 40 N.
+    pub fn paper() -> Self {
+        use paper::*;
+        let slider_material = Material::silicon();
+        Self {
+            wave: Wave::from_tangential_velocity(
+                FREQUENCY_HZ,
+                NORMAL_AMPLITUDE_M,
+                TANGENTIAL_VELOCITY_M_PER_S,
+                PHASE_VELOCITY_M_PER_S,
+            ),
+            stator: Material::lithium_niobate(),
+            slider: SliderBody::with_geometric_mass(
+                slider_material,
+                SLIDER_SIDE_M,
+                SLIDER_SIDE_M,
+                SLIDER_THICKNESS_M,
+            ),
+            posts: PostArray {
+                diameter_m: POST_DIAMETER_M,
+                height_m: POST_HEIGHT_M,
+                count_x: POSTS_PER_SIDE,
+                count_y: POSTS_PER_SIDE,
+                array_x_m: ARRAY_SIDE_M,
+                array_y_m: ARRAY_SIDE_M,
+            },
+            friction: Friction {
+                mu_static: FRICTION_COEFFICIENT,
+                mu_kinetic: FRICTION_COEFFICIENT,
+            },
+            load: Load {
+                preload_n: PRELOAD_N,
+                external_load_n: 0.0,
+            },
+        }
+    }
+
+    /// Mass of one post, ρ_slider π d² h / 4 (kg).
+    pub fn post_mass_kg(&self) -> f64 {
+        self.slider.material.density_kg_per_m3 * self.posts.tip_area_m2() * self.posts.height_m
+    }
+}
+
+/// The stator's surface wave (docs/physics.md §4): a Rayleigh wave travelling along +x with an
+/// elliptical retrograde orbit, w = A_n sin θ, u = A_t cos θ, θ = ωt − kx.
+///
+/// * `decay_length_m`: amplitudes scale as exp(−x/L) along +x (x measured from the slider
+///   centre at t = 0), e.g. attenuation under the slider. `None`: no decay.
+/// * `burst_periods`: a finite burst of n periods: at each material point the wave is on for
+///   0 ≤ θ < 2πn and the surface is at rest before and after (the burst front reaches the
+///   slider centre at t = 0). `None`: continuous wave.
+///
+/// Its JSON also carries the derived `tangential_velocity_m_per_s` (A_t ω) and `wavelength_m`
+/// for the reader; reading accepts and ignores them (they are recomputed).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(from = "WaveJson")]
+pub struct Wave {
+    /// Drive frequency f (Hz).
+    pub frequency_hz: f64,
+    /// Normal displacement amplitude A_n (m).
+    pub normal_amplitude_m: f64,
+    /// Tangential displacement amplitude A_t (m); the tangential velocity amplitude is A_t ω.
+    pub tangential_amplitude_m: f64,
+    /// Phase velocity c of the wave along +x (m/s).
+    pub phase_velocity_m_per_s: f64,
+    /// Amplitude decay length along +x (m), if any.
+    #[serde(default)]
+    pub decay_length_m: Option<f64>,
+    /// Burst length in wave periods, if the drive is a finite burst.
+    pub burst_periods: Option<f64>,
+}
+
+/// A wave as written: the fields and the derived values, which reading ignores.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct WaveJson {
+    frequency_hz: f64,
+    normal_amplitude_m: f64,
+    tangential_amplitude_m: f64,
+    phase_velocity_m_per_s: f64,
+    #[serde(default)]
+    decay_length_m: Option<f64>,
+    #[serde(default)]
+    burst_periods: Option<f64>,
+    #[serde(default, rename = "tangential_velocity_m_per_s")]
+    _tangential_velocity_m_per_s: Option<f64>,
+    #[serde(default, rename = "wavelength_m")]
+    _wavelength_m: Option<f64>,
+}
+
+impl From<WaveJson> for Wave {
+    fn from(w: WaveJson) -> Self {
+        Self {
+            frequency_hz: w.frequency_hz,
+            normal_amplitude_m: w.normal_amplitude_m,
+            tangential_amplitude_m: w.tangential_amplitude_m,
+            phase_velocity_m_per_s: w.phase_velocity_m_per_s,
+            decay_length_m: w.decay_length_m,
+            burst_periods: w.burst_periods,
+        }
+    }
+}
+
+impl Serialize for Wave {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let mut s = serializer.serialize_struct("Wave", 8)?;
+        s.serialize_field("frequency_hz", &self.frequency_hz)?;
+        s.serialize_field("normal_amplitude_m", &self.normal_amplitude_m)?;
+        s.serialize_field("tangential_amplitude_m", &self.tangential_amplitude_m)?;
+        s.serialize_field("phase_velocity_m_per_s", &self.phase_velocity_m_per_s)?;
+        s.serialize_field("decay_length_m", &self.decay_length_m)?;
+        s.serialize_field("burst_periods", &self.burst_periods)?;
+        s.serialize_field("tangential_velocity_m_per_s", &self.crest_speed_m_per_s())?;
+        s.serialize_field("wavelength_m", &self.wavelength_m())?;
+        s.end()
+    }
+}
+
+impl Wave {
+    /// The paper's wave: f = 9.61 MHz, A_n = 20 nm, V_t = 1.1 m/s, c = 3979 m/s, continuous.
+    pub fn paper_default() -> Self {
+        Motor::paper().wave
+    }
+
+    /// A continuous wave given the tangential *velocity* amplitude V_t (A_t = V_t/ω).
+    pub fn from_tangential_velocity(
+        frequency_hz: f64,
+        normal_amplitude_m: f64,
+        tangential_velocity_m_per_s: f64,
+        phase_velocity_m_per_s: f64,
+    ) -> Self {
+        Self {
+            frequency_hz,
+            normal_amplitude_m,
+            tangential_amplitude_m: tangential_velocity_m_per_s / (2.0 * PI * frequency_hz),
+            phase_velocity_m_per_s,
+            decay_length_m: None,
+            burst_periods: None,
+        }
+    }
+
+    /// Angular frequency ω = 2πf (rad/s).
+    pub fn angular_frequency_rad_per_s(&self) -> f64 {
+        2.0 * PI * self.frequency_hz
+    }
+
+    /// Wave period T = 1/f (s).
+    pub fn period_s(&self) -> f64 {
+        1.0 / self.frequency_hz
+    }
+
+    /// Wavelength λ = c/f (m).
+    pub fn wavelength_m(&self) -> f64 {
+        self.phase_velocity_m_per_s / self.frequency_hz
+    }
+
+    /// Wavenumber k = ω/c (rad/m).
+    pub fn wavenumber_rad_per_m(&self) -> f64 {
+        self.angular_frequency_rad_per_s() / self.phase_velocity_m_per_s
+    }
+
+    /// Crest speed V_t = A_t ω (m/s): the tangential surface velocity at the crest, an upper
+    /// bound of the slider's no-load speed.
+    pub fn crest_speed_m_per_s(&self) -> f64 {
+        self.tangential_amplitude_m * self.angular_frequency_rad_per_s()
+    }
+
+    /// Surface strain k·max(A_n, A_t) (dimensionless).
+    pub fn surface_strain(&self) -> f64 {
+        self.wavenumber_rad_per_m() * self.normal_amplitude_m.max(self.tangential_amplitude_m)
+    }
+}
+
+/// The slider body: a rectangular plate carrying the post array on its face.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SliderBody {
+    /// Slider material.
+    pub material: Material,
+    /// Length along x, the wave's direction (m).
+    pub length_m: f64,
+    /// Width along y (m).
+    pub width_m: f64,
+    /// Body thickness above the posts (m).
+    pub thickness_m: f64,
+    /// Moving mass M (kg): the body's ρ·volume, or a given mass (with a holder, say).
+    pub mass_kg: f64,
+}
+
+impl SliderBody {
+    /// A body whose moving mass is its own, ρ · length · width · thickness.
+    pub fn with_geometric_mass(
+        material: Material,
+        length_m: f64,
+        width_m: f64,
+        thickness_m: f64,
+    ) -> Self {
+        let mass_kg = material.density_kg_per_m3 * length_m * width_m * thickness_m;
+        Self {
+            material,
+            length_m,
+            width_m,
+            thickness_m,
+            mass_kg,
+        }
+    }
+
+    /// ρ · length · width · thickness (kg): the body's own mass.
+    pub fn geometric_mass_kg(&self) -> f64 {
+        self.material.density_kg_per_m3 * self.length_m * self.width_m * self.thickness_m
+    }
+}
+
+/// The post array: `count_x × count_y` cylindrical posts on a regular lattice filling
+/// `array_x_m × array_y_m`, centred on the slider; pitch = array / count.
+///
+/// Its JSON also carries the derived `count`, `pitch_x_m`, `pitch_y_m` and `contact_area_m2`
+/// for the reader (written, never read back: reading ignores them and recomputes).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(from = "PostArrayJson")]
+pub struct PostArray {
+    /// Post diameter d (m).
+    pub diameter_m: f64,
+    /// Post height h (m).
+    pub height_m: f64,
+    /// Posts along x (the wave's direction).
+    pub count_x: u32,
+    /// Posts along y.
+    pub count_y: u32,
+    /// Array extent along x (m).
+    pub array_x_m: f64,
+    /// Array extent along y (m).
+    pub array_y_m: f64,
+}
+
+/// A post array as written: the fields and the derived values, which reading ignores.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PostArrayJson {
+    diameter_m: f64,
+    height_m: f64,
+    count_x: u32,
+    count_y: u32,
+    array_x_m: f64,
+    array_y_m: f64,
+    #[serde(default, rename = "count")]
+    _count: Option<u64>,
+    #[serde(default, rename = "pitch_x_m")]
+    _pitch_x_m: Option<f64>,
+    #[serde(default, rename = "pitch_y_m")]
+    _pitch_y_m: Option<f64>,
+    #[serde(default, rename = "contact_area_m2")]
+    _contact_area_m2: Option<f64>,
+}
+
+impl From<PostArrayJson> for PostArray {
+    fn from(p: PostArrayJson) -> Self {
+        Self {
+            diameter_m: p.diameter_m,
+            height_m: p.height_m,
+            count_x: p.count_x,
+            count_y: p.count_y,
+            array_x_m: p.array_x_m,
+            array_y_m: p.array_y_m,
+        }
+    }
+}
+
+impl Serialize for PostArray {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let mut s = serializer.serialize_struct("PostArray", 10)?;
+        s.serialize_field("diameter_m", &self.diameter_m)?;
+        s.serialize_field("height_m", &self.height_m)?;
+        s.serialize_field("count_x", &self.count_x)?;
+        s.serialize_field("count_y", &self.count_y)?;
+        s.serialize_field("array_x_m", &self.array_x_m)?;
+        s.serialize_field("array_y_m", &self.array_y_m)?;
+        s.serialize_field("count", &self.count())?;
+        s.serialize_field("pitch_x_m", &self.pitch_x_m())?;
+        s.serialize_field("pitch_y_m", &self.pitch_y_m())?;
+        s.serialize_field("contact_area_m2", &self.contact_area_m2())?;
+        s.end()
+    }
+}
+
+impl PostArray {
+    /// Post radius a = d/2 (m).
+    pub fn radius_m(&self) -> f64 {
+        0.5 * self.diameter_m
+    }
+
+    /// Number of posts N = count_x · count_y.
+    pub fn count(&self) -> u64 {
+        u64::from(self.count_x) * u64::from(self.count_y)
+    }
+
+    /// Pitch along x, array_x / count_x (m).
+    pub fn pitch_x_m(&self) -> f64 {
+        self.array_x_m / f64::from(self.count_x)
+    }
+
+    /// Pitch along y, array_y / count_y (m).
+    pub fn pitch_y_m(&self) -> f64 {
+        self.array_y_m / f64::from(self.count_y)
+    }
+
+    /// Tip area of one post, π d²/4 (m²).
+    pub fn tip_area_m2(&self) -> f64 {
+        PI * self.diameter_m * self.diameter_m / 4.0
+    }
+
+    /// Total tip area N · π d²/4 (m²).
+    pub fn contact_area_m2(&self) -> f64 {
+        self.count() as f64 * self.tip_area_m2()
+    }
+
+    /// Whether the lattice is square (equal pitch in x and y within `relative` tolerance).
+    pub fn is_square_lattice(&self, relative: f64) -> bool {
+        (self.pitch_x_m() - self.pitch_y_m()).abs() <= relative * self.pitch_x_m()
+    }
+
+    /// x of each post column relative to the array centre (m), `count_x` values.
+    pub fn column_x_m(&self) -> Vec<f64> {
+        let centre = 0.5 * (f64::from(self.count_x) - 1.0);
+        (0..self.count_x)
+            .map(|j| (f64::from(j) - centre) * self.pitch_x_m())
+            .collect()
+    }
+}
+
+/// Coulomb friction at the post tips.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Friction {
+    /// Static coefficient μ_s.
+    pub mu_static: f64,
+    /// Kinetic coefficient μ_k ≤ μ_s.
+    pub mu_kinetic: f64,
+}
+
+/// Forces on the slider.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Load {
+    /// Preload P pressing the slider onto the stator (N).
+    pub preload_n: f64,
+    /// Load opposing the drive (N): the operating point's thrust.
+    #[serde(default)]
+    pub external_load_n: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn paper_motor_has_the_papers_derived_numbers() {
+        let m = Motor::paper();
+        assert!((m.posts.pitch_x_m() - 40e-6).abs() < 1e-18, "pitch 40 µm");
+        assert_eq!(m.posts.count(), 10_000, "post count");
+        assert!(
+            (m.wave.crest_speed_m_per_s() - 1.1).abs() < 1e-12,
+            "crest speed V_t = 1.1 m/s"
+        );
+        assert!(
+            (m.wave.wavelength_m() - 3979.0 / 9.61e6).abs() < 1e-18,
+            "wavelength c/f"
+        );
+        let mass = 2329.0 * 5e-3 * 5e-3 * 0.5e-3;
+        assert!(
+            (m.slider.mass_kg - mass).abs() < 1e-3 * mass,
+            "slider mass ρ·volume of Si, got {} kg",
+            m.slider.mass_kg
+        );
+    }
+
+    #[test]
+    fn motor_round_trips_through_json() {
+        let m = Motor::paper();
+        let back: Motor = serde_json::from_str(&serde_json::to_string(&m).unwrap()).unwrap();
+        assert_eq!(back, m);
+    }
+}

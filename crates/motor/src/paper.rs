@@ -1,0 +1,31 @@
+//! The source paper's motor, docs/physics.md §1: the only copy of its numbers in the libraries
+//! ([`crate::Motor::paper`] assembles them).
+
+/// Operating frequency f (Hz).
+pub const FREQUENCY_HZ: f64 = 9.61e6;
+/// Normal vibration amplitude A_n (m) at 125 V(0-p).
+pub const NORMAL_AMPLITUDE_M: f64 = 20e-9;
+/// Tangential vibration velocity amplitude V_t = A_t ω (m/s).
+pub const TANGENTIAL_VELOCITY_M_PER_S: f64 = 1.1;
+/// Rayleigh wave speed on the free surface of 128° YX LiNbO3 (m/s).
+pub const PHASE_VELOCITY_M_PER_S: f64 = 3979.0;
+/// Slider side, square (m).
+pub const SLIDER_SIDE_M: f64 = 5e-3;
+/// Slider body thickness (m).
+pub const SLIDER_THICKNESS_M: f64 = 0.5e-3;
+/// Side of the square post array (m).
+pub const ARRAY_SIDE_M: f64 = 4e-3;
+/// Posts per side of the array.
+pub const POSTS_PER_SIDE: u32 = 100;
+/// Post pitch, array side / posts per side (m).
+pub const PITCH_M: f64 = ARRAY_SIDE_M / POSTS_PER_SIDE as f64;
+/// Post diameter d (m).
+pub const POST_DIAMETER_M: f64 = 20e-6;
+/// Post height h (m).
+pub const POST_HEIGHT_M: f64 = 2e-6;
+/// Friction coefficient μ (static = kinetic).
+pub const FRICTION_COEFFICIENT: f64 = 0.3;
+/// Preload P (N).
+pub const PRELOAD_N: f64 = 40.0;
+/// The paper's effective contact ratio η = 0.36 (its FEM's 36 % of posts in contact).
+pub const EFFECTIVE_RATIO: f64 = 0.36;
