@@ -333,3 +333,25 @@ fn fem_shards_sharing_one_cache_condense_each_geometry_once() {
         "results from the shared cache equal the unsharded ones"
     );
 }
+
+/// The Slurm job-array script under a throwaway single-node Slurm (`scripts/slurm-selftest.sh`).
+/// Needs root and the Debian packages `slurmd slurmctld slurm-client munge`, so it is not in the
+/// default run: `cargo test -p sawdrive --test sweep_shards -- --ignored slurm`.
+#[test]
+#[ignore = "needs root and a Slurm installation (apt-get install slurmd slurmctld slurm-client munge)"]
+fn slurm_job_array_merges_to_the_unsharded_results() {
+    let script = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scripts/slurm-selftest.sh"
+    );
+    let output = Command::new(script)
+        .arg(env!("CARGO_BIN_EXE_sawdrive"))
+        .output()
+        .expect("the self-test script runs");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success() && stdout.contains("slurm self-test passed"),
+        "Slurm array of 3 shards merged to the unsharded results: {stdout}\n{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+}

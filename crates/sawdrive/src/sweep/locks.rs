@@ -45,6 +45,14 @@ fn lock_file(cache: &Path, name: &str) -> Result<(File, PathBuf), SweepRunError>
     Ok((file, path))
 }
 
+/// Wait for and take the exclusive lock `name` of `cache`; it is held until the file is dropped.
+pub(super) fn lock_exclusive(cache: &Path, name: &str) -> Result<File, SweepRunError> {
+    let (file, path) = lock_file(cache, name)?;
+    file.lock()
+        .map_err(|source| SweepRunError::Lock { path, source })?;
+    Ok(file)
+}
+
 /// The scenes of one slider geometry.
 struct Group {
     /// [`geometry_key`] of the geometry.
@@ -104,17 +112,12 @@ pub(super) fn fill_static_cache_shared(
         let (file, path) = lock_file(cache, &format!("geometry-{}.lock", group.key))?;
         match file.try_lock() {
             Ok(()) => condensations += fill_group(&group, cache)?,
-            Err(TryLockError::WouldBlock) => busy.push((group, file)),
+            Err(TryLockError::WouldBlock) => busy.push(group),
             Err(TryLockError::Error(source)) => return Err(SweepRunError::Lock { path, source }),
         }
     }
-    for (group, file) in busy {
-        file.lock().map_err(|source| SweepRunError::Lock {
-            path: cache
-                .join(LOCK_FOLDER)
-                .join(format!("geometry-{}.lock", group.key)),
-            source,
-        })?;
+    for group in busy {
+        let _held = lock_exclusive(cache, &format!("geometry-{}.lock", group.key))?;
         condensations += fill_group(&group, cache)?;
     }
     Ok(condensations)
@@ -124,9 +127,7 @@ pub(super) fn fill_static_cache_shared(
 /// geometry once and cache a report per scene (nothing if all are cached already).
 fn fill_group(group: &Group, cache: &Path) -> Result<usize, SweepRunError> {
     if let Ok(params) = static_params(&group.scenes[0], Some(&cache.join("meshes"))) {
-        let (file, path) = lock_file(cache, "meshes.lock")?;
-        file.lock()
-            .map_err(|source| SweepRunError::Lock { path, source })?;
+        let _held = lock_exclusive(cache, "meshes.lock")?;
         // A meshing error is reported by the condensation below, with its scene.
         let _ = static_contact::mesh_source::resolve_mesh_verified(&params);
     }

@@ -170,19 +170,13 @@ fn missing_points(prepared: &Prepared) -> Vec<(usize, String)> {
 }
 
 /// Write the results of a sweep whose points are all saved. Shards finishing together may both
-/// merge: each writes the same bytes atomically, one after the other (`merge.lock`).
+/// merge: each writes the same bytes atomically, one after the other (the lock
+/// `OUT/.cache/locks/merge-<sweep name>.lock`, outside the results folder).
 fn merge_prepared(prepared: &Prepared) -> Result<SweepOutcome, SweepRunError> {
-    let lock_path = prepared.folder.join(".merge.lock");
-    let lock = std::fs::File::options()
-        .create(true)
-        .truncate(false)
-        .write(true)
-        .open(&lock_path)
-        .and_then(|file| file.lock().map(|()| file))
-        .map_err(|source| SweepRunError::Lock {
-            path: lock_path.clone(),
-            source,
-        })?;
+    let lock = super::locks::lock_exclusive(
+        &prepared.cache,
+        &format!("merge-{}.lock", prepared.sweep.name),
+    )?;
     let rows: Vec<PointRow> = (0..prepared.points.len())
         .filter_map(|i| prepared.saved(i))
         .collect();
