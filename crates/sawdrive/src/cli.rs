@@ -63,11 +63,19 @@ pub struct SweepArgs {
     #[arg(long = "out", default_value = "out", value_name = "DIR")]
     pub out: PathBuf,
     /// Parallel jobs, 1 to 256 (default: all cores).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "merge")]
     pub jobs: Option<usize>,
-    /// Print the results table as JSON on stdout.
+    /// Print the results table as JSON on stdout (with --shard: this shard's rows).
     #[arg(long)]
     pub json: bool,
+    /// Run only shard K of N (1-based): points K, K+N, K+2N, … in sweep order. The shard that
+    /// saves the last point writes results.csv and the charts. For job arrays on a cluster.
+    #[arg(long, value_name = "K/N", conflicts_with = "merge")]
+    pub shard: Option<crate::sweep::Shard>,
+    /// Run no point: collect the points saved by all shards into results.csv and the charts
+    /// (refused, naming the missing points, until every point is saved).
+    #[arg(long)]
+    pub merge: bool,
 }
 
 #[derive(Debug, Subcommand)]

@@ -162,10 +162,10 @@ impl SweepFile {
                 message: "the sweep has no [grid] and no [[variants]]: nothing to run".into(),
             });
         }
-        if let Some(scene) = &sweep.scene {
-            if scene.is_relative() {
-                sweep.scene = Some(path.parent().unwrap_or(Path::new(".")).join(scene));
-            }
+        if let Some(scene) = &sweep.scene
+            && scene.is_relative()
+        {
+            sweep.scene = Some(path.parent().unwrap_or(Path::new(".")).join(scene));
         }
         Ok(sweep)
     }

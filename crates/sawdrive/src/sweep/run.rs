@@ -11,7 +11,7 @@ use sha2::{Digest, Sha256};
 
 use super::{SweepFile, SweepPoint};
 use crate::output::write_atomically;
-use crate::pipeline::{RunOptions, fill_static_cache, run_pipeline};
+use crate::pipeline::{RunOptions, run_pipeline};
 use crate::scene::load_scene;
 
 /// Numeric result columns a chart may use.
@@ -118,6 +118,40 @@ pub enum SweepRunError {
         /// Cores available.
         cores: usize,
     },
+    /// `--shard K/N` with K outside 1..=N, or more shards than points.
+    #[error("--shard {shard}: {message}")]
+    Shard {
+        /// The shard as given (`K/N`).
+        shard: String,
+        /// What is wrong, and how the points are split.
+        message: String,
+    },
+    /// `--merge` while points of the sweep are not saved yet.
+    #[error(
+        "sweep {sweep}: {} of {total} points not saved yet in {}: {}; rerun the shards that own them (shard K of N runs points K, K+N, K+2N, …), then --merge",
+        missing.len(), folder.display(), super::shard::point_list(missing)
+    )]
+    MissingPoints {
+        /// Sweep name.
+        sweep: String,
+        /// Folder of the saved points.
+        folder: PathBuf,
+        /// Missing points: number (1-based, sweep order) and overrides.
+        missing: Vec<(usize, String)>,
+        /// Points in the sweep.
+        total: usize,
+    },
+    /// A lock file of the shared FEM cache could not be created or locked.
+    #[error(
+        "cannot lock {}: {source} (shards sharing OUT/.cache need a file system with file locks, e.g. NFSv4, or Lustre mounted with -o flock)",
+        path.display()
+    )]
+    Lock {
+        /// The lock file.
+        path: PathBuf,
+        /// The error.
+        source: std::io::Error,
+    },
     /// Thread pool.
     #[error("cannot start {jobs} worker threads: {message}")]
     Pool {
@@ -197,12 +231,29 @@ fn run_point(
     })
 }
 
-/// Run `sweep` into `out_dir/<sweep name>/` with `jobs` threads (None: all cores).
-pub fn run_sweep(
-    sweep: &SweepFile,
+/// A sweep ready to run or merge: its points, their content hashes and where results go.
+pub(super) struct Prepared<'a> {
+    /// The sweep file.
+    pub(super) sweep: &'a SweepFile,
+    /// Every point, in sweep order.
+    pub(super) points: Vec<SweepPoint>,
+    /// Content hash of each point (same order).
+    pub(super) hashes: Vec<String>,
+    /// `OUT/<sweep name>/`.
+    pub(super) folder: PathBuf,
+    /// `OUT/<sweep name>/points/`.
+    pub(super) points_dir: PathBuf,
+    /// The FEM cache, `OUT/.cache` (shared by every sweep and shard writing to OUT).
+    pub(super) cache: PathBuf,
+}
+
+/// Check the sweep's charts, `--jobs` and first scene, and compute every point's hash. Writes
+/// nothing.
+pub(super) fn prepare<'a>(
+    sweep: &'a SweepFile,
     out_dir: &Path,
     jobs: Option<usize>,
-) -> Result<SweepOutcome, SweepRunError> {
+) -> Result<Prepared<'a>, SweepRunError> {
     for (i, chart) in sweep.charts.iter().enumerate() {
         for column in [&chart.x, &chart.y] {
             if !NUMERIC_COLUMNS.contains(&column.as_str()) {
@@ -230,71 +281,151 @@ pub fn run_sweep(
         Some(path) => std::fs::read_to_string(path).unwrap_or_default(),
         None => crate::scene::DEFAULT_SCENE_TOML.to_owned(),
     };
-    let folder = out_dir.join(&sweep.name);
-    let points_dir = folder.join("points");
-    std::fs::create_dir_all(&points_dir).map_err(crate::output::io("create", &points_dir))?;
-    let cache = out_dir.join(".cache");
-
-    let hashes: Vec<String> = points
+    let hashes = points
         .iter()
         .map(|p| point_hash(&scene_text, p, CURRENT_MODELS))
         .collect();
-    let done = |hash: &str| -> Option<PointRow> {
-        let bytes = std::fs::read(points_dir.join(format!("{hash}.json"))).ok()?;
-        let row: PointRow = serde_json::from_slice(&bytes).ok()?;
-        (row.hash == hash).then_some(row)
-    };
-    let resumed = hashes.iter().filter(|h| done(h).is_some()).count();
-    // One FEM condensation per distinct slider geometry, before the parallel points (which then
-    // read their static reports from the cache).
-    let pending_scenes: Vec<_> = points
-        .iter()
-        .zip(&hashes)
-        .filter(|(_, h)| done(h).is_none())
-        .filter_map(|(p, _)| load_scene(sweep.scene.as_deref(), &p.overrides).ok())
-        .collect();
-    let (_, _static_failures) = fill_static_cache(&pending_scenes, &cache);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(jobs.unwrap_or(0))
-        .build()
-        .map_err(|e| SweepRunError::Pool {
-            jobs: jobs.unwrap_or(0),
-            message: e.to_string(),
-        })?;
-    let results: Vec<Result<PointRow, (String, String)>> = pool.install(|| {
-        points
-            .par_iter()
-            .zip(&hashes)
-            .map(|(point, hash)| {
-                if let Some(row) = done(hash) {
-                    return Ok(row);
-                }
-                let row = run_point(sweep, point, hash, &folder, &cache)
-                    .map_err(|e| (point.overrides.join(" "), e))?;
-                let bytes = serde_json::to_vec_pretty(&row)
-                    .map_err(|e| (point.overrides.join(" "), e.to_string()))?;
-                write_atomically(&points_dir.join(format!("{hash}.json")), bytes)
-                    .map_err(|e| (point.overrides.join(" "), e.to_string()))?;
-                Ok(row)
-            })
-            .collect()
-    });
-    let mut rows = Vec::new();
-    let mut failures = Vec::new();
-    for r in results {
-        match r {
-            Ok(row) => rows.push(row),
-            Err(f) => failures.push(f),
-        }
-    }
-    let mut files = vec![folder.join("results.csv")];
-    write_atomically(&files[0], results_csv(sweep, &rows))?;
-    files.extend(write_charts(sweep, &rows, &folder)?);
-    Ok(SweepOutcome {
+    let folder = out_dir.join(&sweep.name);
+    Ok(Prepared {
+        sweep,
+        points,
+        hashes,
+        points_dir: folder.join("points"),
         folder,
-        rows,
-        resumed,
-        failures,
+        cache: out_dir.join(".cache"),
+    })
+}
+
+impl Prepared<'_> {
+    /// The saved result of point `i` (0-based), if its file exists and holds this point.
+    pub(super) fn saved(&self, i: usize) -> Option<PointRow> {
+        let hash = &self.hashes[i];
+        let bytes = std::fs::read(self.points_dir.join(format!("{hash}.json"))).ok()?;
+        let row: PointRow = serde_json::from_slice(&bytes).ok()?;
+        (row.hash == *hash).then_some(row)
+    }
+
+    /// Run the points `selected` (0-based, ascending) that are not saved yet with `jobs`
+    /// threads, saving each as it finishes. The static cache is filled first, one FEM
+    /// condensation per geometry across every process sharing the cache ([`super::locks`]);
+    /// `rotation` staggers the order in which concurrent shards visit the geometries.
+    pub(super) fn run_points(
+        &self,
+        selected: &[usize],
+        jobs: Option<usize>,
+        rotation: usize,
+    ) -> Result<PointsRun, SweepRunError> {
+        std::fs::create_dir_all(&self.points_dir)
+            .map_err(crate::output::io("create", &self.points_dir))?;
+        let saved: Vec<Option<PointRow>> = selected.iter().map(|&i| self.saved(i)).collect();
+        let resumed = saved.iter().filter(|s| s.is_some()).count();
+        let condensations = self.fill_static_cache(selected, &saved, rotation)?;
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(jobs.unwrap_or(0))
+            .build()
+            .map_err(|e| SweepRunError::Pool {
+                jobs: jobs.unwrap_or(0),
+                message: e.to_string(),
+            })?;
+        let results: Vec<Result<PointRow, (String, String)>> = pool.install(|| {
+            selected
+                .par_iter()
+                .zip(saved)
+                .map(|(&i, saved)| match saved {
+                    Some(row) => Ok(row),
+                    None => self.compute_and_save(i),
+                })
+                .collect()
+        });
+        let mut run = PointsRun {
+            rows: Vec::new(),
+            resumed,
+            failures: Vec::new(),
+            condensations,
+        };
+        for r in results {
+            match r {
+                Ok(row) => run.rows.push(row),
+                Err(f) => run.failures.push(f),
+            }
+        }
+        Ok(run)
+    }
+
+    /// One FEM condensation per distinct slider geometry among the pending `selected` points,
+    /// before the parallel points (which then read their static reports from the cache). The
+    /// reports of every pending point of the sweep with such a geometry are filled, whichever
+    /// shard owns the point, so that no other shard condenses that geometry again.
+    fn fill_static_cache(
+        &self,
+        selected: &[usize],
+        saved: &[Option<PointRow>],
+        rotation: usize,
+    ) -> Result<usize, SweepRunError> {
+        let mine: Vec<usize> = selected
+            .iter()
+            .zip(saved)
+            .filter(|(_, s)| s.is_none())
+            .map(|(&i, _)| i)
+            .collect();
+        if mine.is_empty() {
+            return Ok(0);
+        }
+        let scene = |i: usize| load_scene(self.sweep.scene.as_deref(), &self.points[i].overrides);
+        let pending: Vec<(crate::scene::Scene, bool)> = (0..self.points.len())
+            .filter(|i| mine.binary_search(i).is_ok() || self.saved(*i).is_none())
+            .filter_map(|i| scene(i).ok().map(|s| (s, mine.binary_search(&i).is_ok())))
+            .collect();
+        super::locks::fill_static_cache_shared(&pending, &self.cache, rotation)
+    }
+
+    /// Run point `i` through the pipeline and save its row atomically.
+    fn compute_and_save(&self, i: usize) -> Result<PointRow, (String, String)> {
+        let (point, hash) = (&self.points[i], &self.hashes[i]);
+        let failed = |e: String| (point.overrides.join(" "), e);
+        let row = run_point(self.sweep, point, hash, &self.folder, &self.cache).map_err(failed)?;
+        let bytes = serde_json::to_vec_pretty(&row).map_err(|e| failed(e.to_string()))?;
+        write_atomically(&self.points_dir.join(format!("{hash}.json")), bytes)
+            .map_err(|e| failed(e.to_string()))?;
+        Ok(row)
+    }
+
+    /// Write `results.csv` and the charts of `rows` (in point order); returns the files.
+    pub(super) fn write_results(&self, rows: &[PointRow]) -> Result<Vec<PathBuf>, SweepRunError> {
+        let mut files = vec![self.folder.join("results.csv")];
+        write_atomically(&files[0], results_csv(self.sweep, rows))?;
+        files.extend(write_charts(self.sweep, rows, &self.folder)?);
+        Ok(files)
+    }
+}
+
+/// What running some points of a sweep gave.
+pub(super) struct PointsRun {
+    /// Rows of the points that succeeded, in point order.
+    pub(super) rows: Vec<PointRow>,
+    /// Points that were already saved.
+    pub(super) resumed: usize,
+    /// Points that failed: (overrides, error).
+    pub(super) failures: Vec<(String, String)>,
+    /// FEM condensations this process ran.
+    pub(super) condensations: usize,
+}
+
+/// Run `sweep` into `out_dir/<sweep name>/` with `jobs` threads (None: all cores).
+pub fn run_sweep(
+    sweep: &SweepFile,
+    out_dir: &Path,
+    jobs: Option<usize>,
+) -> Result<SweepOutcome, SweepRunError> {
+    let prepared = prepare(sweep, out_dir, jobs)?;
+    let all: Vec<usize> = (0..prepared.points.len()).collect();
+    let run = prepared.run_points(&all, jobs, 0)?;
+    let files = prepared.write_results(&run.rows)?;
+    Ok(SweepOutcome {
+        folder: prepared.folder,
+        rows: run.rows,
+        resumed: run.resumed,
+        failures: run.failures,
         files,
     })
 }
