@@ -26,16 +26,19 @@
 //! assert!(report.complementarity_residual < 1e-8);
 //! ```
 
+pub mod balanced;
 pub mod bessel;
 pub mod calibration;
 mod error;
 pub mod heights;
 pub mod lattice;
 pub mod layer;
+pub mod plate;
 pub mod rng;
 pub mod slider;
 pub mod solver;
 
+pub use balanced::BalancedCg;
 pub use calibration::{NearFieldCalibration, calibrate_near_field};
 pub use error::{Result, SliderError};
 pub use heights::{HeightMap, Imperfections};
@@ -43,5 +46,8 @@ pub use lattice::{
     ComplianceOperator, DiagonalParts, LatticeGeometry, LatticeKernel, LatticeOperator, NearField,
     OperatorSpec,
 };
-pub use slider::{Mechanism, SliderModel, SliderParams, SliderReport, SliderSnapshot, run};
+pub use plate::FreePlate;
+pub use slider::{
+    FreeBack, Mechanism, SliderModel, SliderParams, SliderReport, SliderSnapshot, run,
+};
 pub use solver::{CgOptions, CgSolution, ConstrainedCg};
