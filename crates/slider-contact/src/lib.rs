@@ -7,6 +7,9 @@
 //! conjugate-gradient solver ([`solver`], Polonsky & Keer 1999) → post forces and gaps per phase
 //! of the frozen wave → η (docs/physics.md §6), load sharing, contact fraction ([`slider`]).
 //! Imperfections of a real slider (height scatter, height map, tilt, bow): [`heights`].
+//! Preload mechanisms ([`Mechanism`]): a rigid back, or a free back under a pressure or a ball,
+//! whose bending is a Kirchhoff plate of the slider outline ([`plate`]) and whose post forces
+//! balance the preload and its moments ([`balanced`]).
 //!
 //! ```
 //! use slider_contact::{SliderParams, run};
