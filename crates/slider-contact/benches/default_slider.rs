@@ -2,10 +2,12 @@
 //! build, one phase, the whole stage; and one phase against the lattice size (1 000 → 40 000
 //! posts at the default pitch and per-post load).
 //!
-//! `cargo bench -p slider-contact --bench default_slider`
+//! Free back (`pressure`, `point` at the centre): operator + plate build and one phase at 40 N.
+//!
+//! `cargo bench -p slider-contact --bench default_slider [-- free_back]`
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use slider_contact::{SliderModel, SliderParams, run};
+use slider_contact::{Mechanism, SliderModel, SliderParams, run};
 
 fn lattice(side_x: usize, side_y: usize) -> SliderParams {
     SliderParams {
@@ -49,5 +51,33 @@ fn growth(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, default_slider, growth);
+fn free_back(c: &mut Criterion) {
+    let mut group = c.benchmark_group("free_back");
+    group.sample_size(10);
+    for (name, mechanism) in [
+        (
+            "point",
+            Mechanism::Point {
+                x_m: 2.5e-3,
+                y_m: 2.5e-3,
+            },
+        ),
+        ("pressure", Mechanism::Pressure),
+    ] {
+        let params = SliderParams {
+            mechanism,
+            ..SliderParams::default()
+        };
+        group.bench_function(format!("{name}_build"), |b| {
+            b.iter(|| SliderModel::build(&params).unwrap())
+        });
+        let model = SliderModel::build(&params).unwrap();
+        group.bench_function(format!("{name}_one_phase_40n"), |b| {
+            b.iter(|| model.solve_phase(40.0, Some(0.0)).unwrap())
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, default_slider, growth, free_back);
 criterion_main!(benches);

@@ -1,17 +1,22 @@
 //! The default slider (100 × 100 posts, rigid back, no scatter) at 10, 40 and 100 N: η, contact
 //! fraction, load sharing, CG iterations and wall times.
 //!
-//! `cargo run -p slider-contact --profile test --example default_slider [posts_per_side]`
+//! `cargo run -p slider-contact --profile test --example default_slider [posts_per_side]
+//! [rigid | pressure | point]` (point: a ball at the slider's centre).
 
-use slider_contact::{ComplianceOperator, SliderModel, SliderParams};
+use slider_contact::{ComplianceOperator, Mechanism, SliderModel, SliderParams};
 
 fn main() -> anyhow::Result<()> {
     let side: usize = std::env::args().nth(1).map_or(Ok(100), |s| s.parse())?;
+    let name = std::env::args().nth(2).unwrap_or_else(|| "rigid".into());
+    let point = (name == "point").then_some((2.5e-3, 2.5e-3));
+    let mechanism = Mechanism::parse(&name, point)?;
     // A square array of side² posts of 20 µm in the default 4 × 4 mm area (side < 200).
     let params = SliderParams {
         posts_x: side,
         posts_y: side,
         post_pitch_m: 4e-3 / side as f64,
+        mechanism,
         ..SliderParams::default()
     };
     let model = SliderModel::build(&params)?;
@@ -34,6 +39,19 @@ fn main() -> anyhow::Result<()> {
         model.operator.apply(&f, &mut u);
     }
     println!("one C·f: {:.2} ms", t.elapsed().as_secs_f64() / 20.0 * 1e3);
+    if name != "rigid" {
+        // The free back: the stage at 40 N only (4 phases and η).
+        let r = model.analyse(40.0)?;
+        println!(
+            "{name}: P = 40 N, 4 phases + η: {:.3} s, η = {:?}, contact fraction {:.3}, load sharing {:.3}, CG iterations {:?}",
+            r.contact_s,
+            r.effective_contact_ratio,
+            r.contact_fraction,
+            r.load_sharing,
+            r.snapshots.iter().map(|s| s.iterations).collect::<Vec<_>>()
+        );
+        return Ok(());
+    }
     let flat = model.solve_phase(40.0, None)?;
     let f = &flat.force_n;
     let (lo, hi) = f

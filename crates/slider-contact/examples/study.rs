@@ -2,14 +2,17 @@
 //! sharing of the default slider (rigid back, Johnson near field) at 10, 40 and 100 N against
 //! post-height scatter σ (5 seeds each), tilt and bow; post-force maps at θ₀ = 0 as CSV.
 //!
-//! `cargo run -p slider-contact --profile test --example study -- validation/whole-slider/results`
+//! The three preload mechanisms (rigid back, pressure on a free back, ball at a point) with and
+//! without scatter go to `mechanisms.json` and their maps; `--mechanisms` runs only that part.
+//!
+//! `cargo run -p slider-contact --profile test --example study -- validation/whole-slider/results [--mechanisms]`
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use charts::{CategoryMap, Chart, Series, Style, write_category_map, write_chart};
 use serde_json::json;
-use slider_contact::{Imperfections, SliderModel, SliderParams, SliderReport};
+use slider_contact::{Imperfections, Mechanism, SliderModel, SliderParams, SliderReport};
 
 const PRELOADS_N: [f64; 3] = [10.0, 40.0, 100.0];
 const SEEDS: u64 = 5;
@@ -102,9 +105,102 @@ fn write_map(dir: &Path, name: &str, r: &SliderReport) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// The preload mechanisms of the default slider (σ = 0 and 5 nm, seed 1): η, contact fraction,
+/// load sharing at 10/40/100 N, the flat-stator load sharing at 40 N, maps at 40 N.
+fn mechanisms(dir: &Path) -> anyhow::Result<()> {
+    let cases = [
+        ("rigid", "rigid", Mechanism::Rigid),
+        ("pressure", "pressure", Mechanism::Pressure),
+        (
+            "point at the centre",
+            "point_centre",
+            Mechanism::Point {
+                x_m: 2.5e-3,
+                y_m: 2.5e-3,
+            },
+        ),
+        (
+            "point at (1.5, 2.5) mm",
+            "point_x1p5mm",
+            Mechanism::Point {
+                x_m: 1.5e-3,
+                y_m: 2.5e-3,
+            },
+        ),
+    ];
+    let mut out = Vec::new();
+    println!(
+        "\n| mechanism | σ (nm) | P (N) | η | contact fraction | load sharing | fit misfit | CG iterations (4 phases) | contact solve (s) |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for (name, tag, mechanism) in cases {
+        for sigma_nm in [0.0, 5.0] {
+            let start = std::time::Instant::now();
+            let model = SliderModel::build(&SliderParams {
+                mechanism,
+                imperfections: Imperfections {
+                    height_scatter_m: sigma_nm * 1e-9,
+                    scatter_seed: 1,
+                    ..Imperfections::default()
+                },
+                ..SliderParams::default()
+            })?;
+            let build_s = start.elapsed().as_secs_f64();
+            let reports: Vec<SliderReport> = PRELOADS_N
+                .iter()
+                .map(|&p| model.analyse(p))
+                .collect::<Result<_, _>>()?;
+            for r in &reports {
+                println!(
+                    "| {name} | {sigma_nm} | {} | {:.4} | {:.3} | {:.3} | {:.3} | {} | {:.2} |",
+                    r.preload_n,
+                    r.effective_contact_ratio.unwrap_or(f64::NAN),
+                    r.contact_fraction,
+                    r.load_sharing,
+                    r.eta_fit.relative_rms_residual,
+                    r.iterations,
+                    r.contact_s
+                );
+            }
+            let flat = model.solve_phase(40.0, None)?;
+            let f = &flat.force_n;
+            let (lo, hi) = f
+                .iter()
+                .fold((f64::MAX, 0.0f64), |(a, b), &x| (a.min(x), b.max(x)));
+            println!(
+                "  flat stator 40 N: load sharing {:.3}, post force min/max {lo:.3e} / {hi:.3e} N, contact fraction {:.3}; build {build_s:.2} s",
+                flat.load_sharing, flat.contact_fraction
+            );
+            if sigma_nm == 0.0 && name != "rigid" {
+                write_map(dir, &format!("40n_{tag}"), &reports[1])?;
+            }
+            out.push(json!({
+                "mechanism": name, "height_scatter_m": sigma_nm * 1e-9, "scatter_seed": 1,
+                "results": summary(&reports),
+                "eta_relative_rms_residual": reports.iter().map(|r| r.eta_fit.relative_rms_residual).collect::<Vec<_>>(),
+                "flat_stator_40n": {"load_sharing": flat.load_sharing, "contact_fraction": flat.contact_fraction,
+                    "post_force_min_n": lo, "post_force_max_n": hi},
+                "build_s": build_s,
+            }));
+        }
+    }
+    std::fs::write(
+        dir.join("mechanisms.json"),
+        serde_json::to_string_pretty(&json!({
+            "model": "slider: Johnson near field, 4 phases; pressure/point: free back (Kirchhoff plate of the 5 × 5 × 0.5 mm outline)",
+            "cases": out,
+        }))?,
+    )?;
+    Ok(())
+}
+
 fn main() -> anyhow::Result<()> {
     let dir = PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| "results".into()));
     std::fs::create_dir_all(&dir)?;
+    mechanisms(&dir)?;
+    if std::env::args().any(|a| a == "--mechanisms") {
+        return Ok(());
+    }
     let mut out = serde_json::Map::new();
     let mut scatter = Vec::new();
     println!("| σ (nm) | P (N) | η mean ± sd | contact fraction | load sharing |");

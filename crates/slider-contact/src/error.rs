@@ -14,7 +14,7 @@ pub enum SliderError {
         reason: String,
     },
     /// A measured post-height map could not be read or does not fit the lattice.
-    #[error("height map {file}: {detail}")]
+    #[error("posts.height_map {file}: {detail}")]
     HeightMap {
         /// The CSV file.
         file: String,

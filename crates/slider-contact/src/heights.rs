@@ -140,12 +140,16 @@ impl Imperfections {
     pub fn validate(&self, geometry: &LatticeGeometry) -> Result<()> {
         let s = self.height_scatter_m;
         if !(s >= 0.0 && s.is_finite()) {
-            return Err(invalid("height_scatter_m", s, "must be ≥ 0 and finite"));
+            return Err(invalid(
+                "posts.height_scatter (height_scatter_m)",
+                s,
+                "must be ≥ 0 and finite",
+            ));
         }
         for (field, v) in [
-            ("tilt_x_m", self.tilt_x_m),
-            ("tilt_y_m", self.tilt_y_m),
-            ("bow_m", self.bow_m),
+            ("slider.tilt_x (tilt_x_m)", self.tilt_x_m),
+            ("slider.tilt_y (tilt_y_m)", self.tilt_y_m),
+            ("slider.bow (bow_m)", self.bow_m),
         ] {
             if !v.is_finite() {
                 return Err(invalid(field, v, "must be finite"));
@@ -191,16 +195,16 @@ impl Imperfections {
             if body - post_height_m > highest_post {
                 let parts = [
                     (
-                        "tilt_x_m",
+                        "slider.tilt_x (tilt_x_m)",
                         self.tilt_x_m,
                         (self.tilt_x_m * x / g.slider_length_m).abs(),
                     ),
                     (
-                        "tilt_y_m",
+                        "slider.tilt_y (tilt_y_m)",
                         self.tilt_y_m,
                         (self.tilt_y_m * y / g.slider_width_m).abs(),
                     ),
-                    ("bow_m", self.bow_m, self.bow_m.abs()),
+                    ("slider.bow (bow_m)", self.bow_m, self.bow_m.abs()),
                 ];
                 let (field, value, _) = parts
                     .into_iter()

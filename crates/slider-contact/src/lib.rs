@@ -7,6 +7,9 @@
 //! conjugate-gradient solver ([`solver`], Polonsky & Keer 1999) → post forces and gaps per phase
 //! of the frozen wave → η (docs/physics.md §6), load sharing, contact fraction ([`slider`]).
 //! Imperfections of a real slider (height scatter, height map, tilt, bow): [`heights`].
+//! Preload mechanisms ([`Mechanism`]): a rigid back, or a free back under a pressure or a ball,
+//! whose bending is a Kirchhoff plate of the slider outline ([`plate`]) and whose post forces
+//! balance the preload and its moments ([`balanced`]).
 //!
 //! ```
 //! use slider_contact::{SliderParams, run};
@@ -26,16 +29,19 @@
 //! assert!(report.complementarity_residual < 1e-8);
 //! ```
 
+pub mod balanced;
 pub mod bessel;
 pub mod calibration;
 mod error;
 pub mod heights;
 pub mod lattice;
 pub mod layer;
+pub mod plate;
 pub mod rng;
 pub mod slider;
 pub mod solver;
 
+pub use balanced::BalancedCg;
 pub use calibration::{NearFieldCalibration, calibrate_near_field};
 pub use error::{Result, SliderError};
 pub use heights::{HeightMap, Imperfections};
@@ -43,5 +49,8 @@ pub use lattice::{
     ComplianceOperator, DiagonalParts, LatticeGeometry, LatticeKernel, LatticeOperator, NearField,
     OperatorSpec,
 };
-pub use slider::{Mechanism, SliderModel, SliderParams, SliderReport, SliderSnapshot, run};
+pub use plate::FreePlate;
+pub use slider::{
+    FreeBack, Mechanism, SliderModel, SliderParams, SliderReport, SliderSnapshot, run,
+};
 pub use solver::{CgOptions, CgSolution, ConstrainedCg};

@@ -4,9 +4,11 @@
 //! η fitted as docs/physics.md §6 ([`static_contact::fit_eta`], pooled over the phases), load sharing
 //! (Σf)²/(N Σf²), contact fraction, complementarity residual, iterations, wall time.
 //!
-//! Preload mechanism: `rigid` only (the body bonded to a rigid flat back, today's clamp of the
-//! strip FEM). A uniform pressure on a free back and a ball at a point need the body's bending
-//! (a plate model of the 5 mm outline) and are refused until implemented.
+//! Preload mechanisms ([`Mechanism`]): `rigid` (the body bonded to a rigid flat back, today's
+//! clamp of the strip FEM: C is the lattice operator, the approach z_s the one multiplier);
+//! `pressure` and `point` (a free back: C + G with G the bending of the slider outline as a free
+//! Kirchhoff plate, [`crate::plate`], the preload's own deflection subtracted from the obstacle,
+//! and the post forces balancing P and its two moments about the load point, [`crate::balanced`]).
 
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -17,41 +19,115 @@ use rayon::prelude::*;
 use serde::Serialize;
 use static_contact::{EtaFit, FitSample, fit_eta};
 
+use crate::balanced::BalancedCg;
 use crate::error::{Result, SliderError, invalid};
 use crate::heights::Imperfections;
 use crate::lattice::{
     ComplianceOperator, DiagonalParts, LatticeGeometry, LatticeOperator, NearField, OperatorSpec,
 };
+use crate::plate::FreePlate;
 use crate::solver::{CgOptions, CgSolution, ConstrainedCg};
 
-/// How the preload reaches the slider body.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default)]
+/// How the preload reaches the slider body (scene key `load.mechanism`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum Mechanism {
-    /// The body's back is held flat by a rigid plate (bonded layer on a rigid back).
+    /// The body's back is held flat by a rigid plate (bonded layer on a rigid back); its
+    /// orientation is the clamp's (`slider.tilt_x`, `slider.tilt_y`).
     #[default]
     Rigid,
+    /// A uniform pressure P/(L·W) on a free back: the body bends ([`crate::plate`]) and rotates
+    /// freely; the post forces balance P and its moments about the slider's centre.
+    Pressure,
+    /// A ball or pin pressing the free back at (x, y), measured from the slider's (−x, −y)
+    /// corner (scene key `load.point`, e.g. "2.5 mm, 2.5 mm" for the default slider's centre).
+    Point {
+        /// x of the load point (m).
+        x_m: f64,
+        /// y of the load point (m).
+        y_m: f64,
+    },
 }
 
 impl Mechanism {
-    /// Parses a scene name; `pressure` and `point` are refused (not implemented), naming the key.
-    pub fn parse(name: &str) -> Result<Self> {
-        match name {
-            "rigid" => Ok(Self::Rigid),
-            "pressure" | "point" => Err(invalid(
-                "load.mechanism",
+    /// Parses the scene's `load.mechanism` with its `load.point` (m, from the slider's corner):
+    /// the point is required by `point` and refused by the others (it would change nothing).
+    pub fn parse(name: &str, point_m: Option<(f64, f64)>) -> Result<Self> {
+        match (name, point_m) {
+            ("point", Some((x_m, y_m))) => Ok(Self::Point { x_m, y_m }),
+            ("point", None) => Err(invalid(
+                "load.point",
                 f64::NAN,
-                format!(
-                    "`{name}` needs the slider body's bending (a plate model), not implemented in \
-                     the whole-slider model yet; use `rigid`"
-                ),
+                "required by load.mechanism = \"point\" (e.g. \"2.5 mm, 2.5 mm\")",
             )),
-            other => Err(invalid(
+            ("rigid" | "pressure", Some((x, _))) => Err(invalid(
+                "load.point",
+                x,
+                format!("only used by load.mechanism = \"point\", not `{name}`"),
+            )),
+            ("rigid", None) => Ok(Self::Rigid),
+            ("pressure", None) => Ok(Self::Pressure),
+            (other, _) => Err(invalid(
                 "load.mechanism",
                 f64::NAN,
                 format!("unknown mechanism `{other}` (rigid | pressure | point)"),
             )),
         }
+    }
+
+    /// Whether the back is free (bends and rotates).
+    pub fn is_free(&self) -> bool {
+        !matches!(self, Self::Rigid)
+    }
+
+    /// Where the preload's resultant acts (m from the slider's corner): the centre for a
+    /// pressure, the point for a ball; `None` for the rigid back.
+    pub fn load_point_m(&self, g: &LatticeGeometry) -> Option<(f64, f64)> {
+        match *self {
+            Self::Rigid => None,
+            Self::Pressure => Some((0.5 * g.slider_length_m, 0.5 * g.slider_width_m)),
+            Self::Point { x_m, y_m } => Some((x_m, y_m)),
+        }
+    }
+
+    /// Refuses a load point outside the slider or outside the post array (the posts could not
+    /// balance its moment: the slider tips over its edge posts), and a free back on a single
+    /// row or column of posts; errors name `load.point` / `load.mechanism`.
+    pub fn validate(&self, g: &LatticeGeometry) -> Result<()> {
+        let Some((x, y)) = self.load_point_m(g) else {
+            return Ok(());
+        };
+        if g.posts_x < 2 || g.posts_y < 2 {
+            return Err(invalid(
+                "load.mechanism",
+                g.posts_x.min(g.posts_y) as f64,
+                "a free back (pressure | point) needs at least 2 × 2 posts to balance its moments",
+            ));
+        }
+        let (l, w) = (g.slider_length_m, g.slider_width_m);
+        if !(x.is_finite() && y.is_finite() && (0.0..=l).contains(&x) && (0.0..=w).contains(&y)) {
+            return Err(invalid(
+                "load.point",
+                x,
+                format!(
+                    "({x:e}, {y:e}) m is outside the slider [0, {l:e}] × [0, {w:e}] m \
+                     (measured from its corner)"
+                ),
+            ));
+        }
+        let (x0, x1) = (g.x_m(0), g.x_m(g.posts_x - 1));
+        let (y0, y1) = (g.y_m(0), g.y_m(g.posts_y - 1));
+        if !(x > x0 && x < x1 && y > y0 && y < y1) {
+            return Err(invalid(
+                "load.point",
+                x,
+                format!(
+                    "({x:e}, {y:e}) m is outside the post array [{x0:e}, {x1:e}] × [{y0:e}, {y1:e}] m: \
+                     the posts cannot balance its moment, the slider would tip"
+                ),
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -180,6 +256,22 @@ impl SliderParams {
         if self.phases == 0 {
             return Err(invalid("phases", 0.0, "at least one phase"));
         }
+        self.mechanism.validate(&self.geometry())?;
+        if self.mechanism.is_free() {
+            for (field, v) in [
+                ("slider.tilt_x", self.imperfections.tilt_x_m),
+                ("slider.tilt_y", self.imperfections.tilt_y_m),
+            ] {
+                if v != 0.0 {
+                    return Err(invalid(
+                        field,
+                        v,
+                        "a free back (load.mechanism = pressure | point) aligns itself with the \
+                         stator, a tilt would change nothing; tilt applies to the rigid back",
+                    ));
+                }
+            }
+        }
         self.imperfections.validate(&self.geometry())
     }
 }
@@ -205,6 +297,8 @@ pub struct SliderSnapshot {
     pub iterations: usize,
     /// Slider approach z_s (m).
     pub reference_height_m: f64,
+    /// Free back: its rigid rotation (gap change per unit moment arm, m, along x and y).
+    pub rotation_m: [f64; 2],
     /// Scaled residual per iteration.
     pub residual_history: Vec<f64>,
 }
@@ -214,6 +308,8 @@ pub struct SliderSnapshot {
 pub struct SliderReport {
     /// Always `"slider"`.
     pub model: &'static str,
+    /// How the preload is applied.
+    pub mechanism: Mechanism,
     /// Preload (N).
     pub preload_n: f64,
     /// η fitted over the wave phases (`None`: not identifiable, see `eta_fit.reason`).
@@ -257,8 +353,92 @@ pub struct SliderModel {
     pub operator: LatticeOperator,
     /// δ_i (m).
     pub post_offset_m: Vec<f64>,
+    /// The free back's bending and load (pressure and point mechanisms).
+    pub free_back: Option<FreeBack>,
     /// Build time (s).
     pub build_s: f64,
+}
+
+/// The free back of a pressure- or point-loaded slider: its plate, the posts' moment arms about
+/// the load point, and the deflection under the preload.
+#[derive(Debug)]
+pub struct FreeBack {
+    /// The plate of the slider outline.
+    pub plate: FreePlate,
+    /// Moment arms (ξ_i, η_i) of the posts about the load point, in units of half the post
+    /// array's length and width.
+    pub arms: Vec<(f64, f64)>,
+    /// Upward deflection at the posts (m per N of preload) under the preload alone.
+    pub load_deflection_m_per_n: Vec<f64>,
+}
+
+impl FreeBack {
+    fn new(params: &SliderParams) -> Result<Self> {
+        let g = params.geometry();
+        let (xp, yp) = params
+            .mechanism
+            .load_point_m(&g)
+            .expect("a free mechanism has a load point");
+        let posts: Vec<(f64, f64)> = (0..g.posts_x)
+            .flat_map(|i| (0..g.posts_y).map(move |j| (g.x_m(i), g.y_m(j))))
+            .collect();
+        let plate = FreePlate::new(
+            g.slider_length_m,
+            g.slider_width_m,
+            params.slider_thickness_m,
+            &params.slider_material,
+            &posts,
+        )?;
+        let (ax, ay) = (
+            0.5 * g.posts_x as f64 * g.pitch_m,
+            0.5 * g.posts_y as f64 * g.pitch_m,
+        );
+        let arms = posts
+            .iter()
+            .map(|&(x, y)| ((x - xp) / ax, (y - yp) / ay))
+            .collect();
+        let load_deflection_m_per_n = match params.mechanism {
+            Mechanism::Pressure => {
+                plate.pressure_deflection(1.0 / (g.slider_length_m * g.slider_width_m))
+            }
+            _ => plate.point_load_deflection(1.0, xp, yp),
+        };
+        Ok(Self {
+            plate,
+            arms,
+            load_deflection_m_per_n,
+        })
+    }
+}
+
+/// The compliance of a free slider: the lattice operator (stator, the body's local part) plus
+/// the bending of its back.
+struct FreeBodyOperator<'a> {
+    lattice: &'a LatticeOperator,
+    plate: &'a FreePlate,
+}
+
+impl ComplianceOperator for FreeBodyOperator<'_> {
+    fn len(&self) -> usize {
+        self.lattice.len()
+    }
+    fn apply(&self, force_n: &[f64], out_m: &mut [f64]) {
+        self.lattice.apply(force_n, out_m);
+        self.plate.add_post_deflection(force_n, out_m);
+    }
+    fn diagonal(&self) -> Vec<f64> {
+        let mut d = self.lattice.diagonal();
+        let mut unit = vec![0.0; d.len()];
+        let mut u = vec![0.0; d.len()];
+        for i in 0..d.len() {
+            unit[i] = 1.0;
+            u.iter_mut().for_each(|x| *x = 0.0);
+            self.plate.add_post_deflection(&unit, &mut u);
+            d[i] += u[i];
+            unit[i] = 0.0;
+        }
+        d
+    }
 }
 
 impl SliderModel {
@@ -273,10 +453,16 @@ impl SliderModel {
             &post_offset_m,
         )?;
         let operator = LatticeOperator::new(&params.operator_spec())?;
+        let free_back = if params.mechanism.is_free() {
+            Some(FreeBack::new(params)?)
+        } else {
+            None
+        };
         Ok(Self {
             params: params.clone(),
             operator,
             post_offset_m,
+            free_back,
             build_s: start.elapsed().as_secs_f64(),
         })
     }
@@ -315,9 +501,26 @@ impl SliderModel {
     pub fn solve_phase(&self, preload_n: f64, phase_rad: Option<f64>) -> Result<SliderSnapshot> {
         let h = self.obstacle_heights(phase_rad);
         let scale = self.length_scale(preload_n, &h);
-        let sol = ConstrainedCg::new(self.params.solver)
-            .solve(&self.operator, &h, preload_n, scale)
-            .map_err(|e| with_context(e, preload_n, phase_rad))?;
+        let sol = match &self.free_back {
+            None => {
+                ConstrainedCg::new(self.params.solver).solve(&self.operator, &h, preload_n, scale)
+            }
+            Some(back) => {
+                // gap = z + θ·φ − h + (C + G) f + w_load: the load's deflection lowers the obstacle.
+                let shifted: Vec<f64> = h
+                    .iter()
+                    .zip(&back.load_deflection_m_per_n)
+                    .map(|(hi, w)| hi - preload_n * w)
+                    .collect();
+                let op = FreeBodyOperator {
+                    lattice: &self.operator,
+                    plate: &back.plate,
+                };
+                BalancedCg::new(self.params.solver)
+                    .solve(&op, &shifted, preload_n, scale, &back.arms)
+            }
+        }
+        .map_err(|e| with_context(e, preload_n, phase_rad))?;
         Ok(snapshot(phase_rad, h, sol))
     }
 
@@ -350,6 +553,7 @@ impl SliderModel {
         let contact_s = start.elapsed().as_secs_f64();
         Ok(SliderReport {
             model: "slider",
+            mechanism: p.mechanism,
             preload_n,
             effective_contact_ratio: eta_fit.eta,
             eta_fit,
@@ -414,6 +618,7 @@ fn snapshot(phase_rad: Option<f64>, h: Vec<f64>, sol: CgSolution) -> SliderSnaps
         complementarity_residual: sol.complementarity_residual,
         iterations: sol.iterations,
         reference_height_m: sol.reference_height_m,
+        rotation_m: sol.rotation_m,
         force_n: sol.force_n,
         gap_m: sol.gap_m,
         residual_history: sol.residual_history,

@@ -59,6 +59,9 @@ pub struct CgSolution {
     pub iterations: usize,
     /// Scaled residual at the start of each iteration.
     pub residual_history: Vec<f64>,
+    /// Rigid rotation of a free slider (m per unit moment arm, x and y): the gap gains
+    /// θ_x·ξ_i + θ_y·η_i; zero for [`ConstrainedCg::solve`] (the back's orientation is held).
+    pub rotation_m: [f64; 2],
 }
 
 impl CgSolution {
@@ -165,6 +168,7 @@ impl ConstrainedCg {
                     complementarity_residual: residual,
                     iterations: iteration,
                     residual_history: history,
+                    rotation_m: [0.0; 2],
                 });
             }
             if iteration == self.options.max_iterations {

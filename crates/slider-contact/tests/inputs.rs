@@ -99,16 +99,119 @@ fn bad_inputs_are_refused_naming_the_field() {
         let e = SliderModel::build(&params).unwrap_err().to_string();
         assert!(e.contains(field), "error must name `{field}`: {e}");
     }
-    for mechanism in ["pressure", "point", "glue"] {
-        let e = Mechanism::parse(mechanism).unwrap_err().to_string();
-        assert!(
-            e.contains("load.mechanism"),
-            "error must name load.mechanism: {e}"
-        );
-    }
+    let e = Mechanism::parse("glue", None).unwrap_err().to_string();
+    assert!(
+        e.contains("load.mechanism"),
+        "error must name load.mechanism: {e}"
+    );
     assert_eq!(
-        Mechanism::parse("rigid").unwrap(),
+        Mechanism::parse("rigid", None).unwrap(),
         Mechanism::Rigid,
         "rigid back"
+    );
+}
+
+/// Issue 13 §6 at the library level: each refusal is one line naming the scene key.
+#[test]
+fn bad_scene_inputs_are_one_line_errors_naming_the_scene_key() {
+    let free = |mechanism: Mechanism, imperfections: Imperfections| SliderParams {
+        mechanism,
+        ..small(imperfections)
+    };
+    let g = small(Imperfections::default()).geometry();
+    let centre = (0.5 * g.slider_length_m, 0.5 * g.slider_width_m);
+    let cases: Vec<(SliderParams, &str)> = vec![
+        (
+            small(Imperfections {
+                height_scatter_m: -1e-9,
+                ..Imperfections::default()
+            }),
+            "posts.height_scatter",
+        ),
+        (
+            // 20 µm across 0.68 mm lands the body corner (2 µm above the tips) first.
+            small(Imperfections {
+                tilt_x_m: 20e-6,
+                ..Imperfections::default()
+            }),
+            "slider.tilt_x",
+        ),
+        (
+            small(Imperfections {
+                bow_m: -5e-6,
+                ..Imperfections::default()
+            }),
+            "slider.bow",
+        ),
+        (
+            free(
+                Mechanism::Point {
+                    x_m: g.slider_length_m + 1e-4,
+                    y_m: centre.1,
+                },
+                Imperfections::default(),
+            ),
+            "load.point",
+        ),
+        (
+            // In the margin: inside the slider, outside the post array.
+            free(
+                Mechanism::Point {
+                    x_m: 0.05e-3,
+                    y_m: centre.1,
+                },
+                Imperfections::default(),
+            ),
+            "load.point",
+        ),
+        (
+            free(
+                Mechanism::Pressure,
+                Imperfections {
+                    tilt_y_m: 1e-8,
+                    ..Imperfections::default()
+                },
+            ),
+            "slider.tilt_y",
+        ),
+        (
+            small(Imperfections {
+                height_map: Some(slider_contact::HeightMap {
+                    file: "h.csv".into(),
+                    height_m: vec![0.0; 5],
+                }),
+                ..Imperfections::default()
+            }),
+            "posts.height_map",
+        ),
+    ];
+    for (params, key) in cases {
+        let e = SliderModel::build(&params).unwrap_err().to_string();
+        assert!(e.contains(key), "error must name `{key}`: {e}");
+        assert!(!e.contains('\n'), "error must be one line: {e}");
+    }
+    let nan_map = "row,column,height_m\n0,0,NaN\n";
+    let e = HeightMap::parse(nan_map, "h.csv", 1, 1)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("posts.height_map") && e.contains("line 2"),
+        "a NaN height names the key and the line: {e}"
+    );
+    for (name, point, key) in [
+        ("point", None, "load.point"),
+        ("pressure", Some((1e-3, 1e-3)), "load.point"),
+        ("glue", None, "load.mechanism"),
+    ] {
+        let e = Mechanism::parse(name, point).unwrap_err().to_string();
+        assert!(e.contains(key), "`{name}`: error must name {key}: {e}");
+    }
+    assert_eq!(
+        Mechanism::parse("point", Some((1e-3, 2e-3))).unwrap(),
+        Mechanism::Point {
+            x_m: 1e-3,
+            y_m: 2e-3
+        },
+        "point mechanism with its load point"
     );
 }

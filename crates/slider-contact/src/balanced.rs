@@ -1,0 +1,313 @@
+//! Contact of a *free* slider (preload by a pressure on the back or a ball at a point): the
+//! posts' forces must balance the preload in force **and in both moments**, and the slider's
+//! approach and two rotations are the multipliers. This generalises the load-controlled
+//! constrained CG of Polonsky & Keer (Wear 231 (1999) 206, [`crate::solver`]), whose single
+//! constraint Σf = P has the approach as its multiplier, to the three rigid modes
+//! φ_i = (1, ξ_i, η_i) of the back, with (ξ_i, η_i) the post's moment arms about the load point
+//! (scaled to O(1)):
+//!
+//! f ≥ 0, g_i = (Cf)_i − h_i + c·φ_i ≥ 0, f_i g_i = 0, Σ f_i φ_i = (P, 0, 0).
+//!
+//! It is the minimum of ½ fᵀCf − hᵀf on {f ≥ 0, Σ f φ = (P, 0, 0)} (C symmetric positive
+//! definite), solved as Polonsky–Keer with: the gap's mean on the contact set replaced by its
+//! least-squares fit by (1, ξ, η) there (the multipliers c), the conjugate direction kept
+//! orthogonal to the three modes on the contact set (so a step keeps the balance), and the
+//! rescaling Σf = P replaced by the multiplicative correction f_i ← f_i·(a·φ_i), a chosen so that
+//! Σ f φ = (P, 0, 0) holds again (Polonsky & Keer's rescale when φ = 1; posts whose factor turns
+//! negative drop out). Converged when max_i |min(f̃_i, g̃_i)| and the scaled balance residual
+//! |Σ f̃ φ − (N, 0, 0)|/N are below the tolerance. Needs the load point strictly inside the convex
+//! hull of the posts (else no balance with f ≥ 0: the slider tips), which the caller checks.
+
+use nalgebra::{Matrix3, Vector3};
+
+use crate::error::{Result, SliderError, invalid};
+use crate::lattice::ComplianceOperator;
+use crate::solver::{CgOptions, CgSolution};
+
+/// Iterations of the multiplicative balance correction (each drops the posts whose factor is
+/// negative). Default 20.
+const BALANCE_PASSES: usize = 20;
+
+fn phi(arm: (f64, f64)) -> Vector3<f64> {
+    Vector3::new(1.0, arm.0, arm.1)
+}
+
+/// Solves M c = r for a symmetric positive semi-definite 3 × 3 M (pseudo-inverse if singular).
+fn solve3(m: Matrix3<f64>, r: Vector3<f64>) -> Vector3<f64> {
+    m.cholesky().map_or_else(
+        || {
+            m.pseudo_inverse(1e-12 * m.norm().max(f64::MIN_POSITIVE))
+                .map_or(Vector3::zeros(), |p| p * r)
+        },
+        |c| c.solve(&r),
+    )
+}
+
+/// Least-squares fit c of v by the modes on the masked posts.
+fn fit_modes(v: &[f64], mask: &[bool], arms: &[(f64, f64)]) -> Vector3<f64> {
+    let (mut m, mut r) = (Matrix3::zeros(), Vector3::zeros());
+    for i in (0..v.len()).filter(|&i| mask[i]) {
+        let p = phi(arms[i]);
+        m += p * p.transpose();
+        r += p * v[i];
+    }
+    solve3(m, r)
+}
+
+/// Σ f φ − (n, 0, 0), scaled by n.
+fn balance_residual(f: &[f64], arms: &[(f64, f64)]) -> f64 {
+    let n = f.len() as f64;
+    let s = f
+        .iter()
+        .zip(arms)
+        .fold(Vector3::zeros(), |acc, (x, a)| acc + phi(*a) * *x);
+    (s - Vector3::new(n, 0.0, 0.0)).abs().max() / n
+}
+
+/// Multiplicative correction f_i ← f_i (a·φ_i) to Σ f φ = (n, 0, 0); false if impossible.
+fn rebalance(f: &mut [f64], arms: &[(f64, f64)]) -> bool {
+    let target = Vector3::new(f.len() as f64, 0.0, 0.0);
+    for _ in 0..BALANCE_PASSES {
+        let mut m = Matrix3::zeros();
+        for (x, a) in f.iter().zip(arms).filter(|(x, _)| **x > 0.0) {
+            let p = phi(*a);
+            m += p * p.transpose() * *x;
+        }
+        let Some(chol) = m.cholesky() else {
+            return false;
+        };
+        let a = chol.solve(&target);
+        let mut dropped = false;
+        for (x, arm) in f.iter_mut().zip(arms).filter(|(x, _)| **x > 0.0) {
+            let factor = a.dot(&phi(*arm));
+            if factor > 0.0 {
+                *x *= factor;
+            } else {
+                *x = 0.0;
+                dropped = true;
+            }
+        }
+        if !dropped {
+            return true;
+        }
+    }
+    balance_residual(f, arms) < 1e-12
+}
+
+/// The free-slider constrained CG (module doc).
+#[derive(Debug, Clone, Default)]
+pub struct BalancedCg {
+    options: CgOptions,
+}
+
+impl BalancedCg {
+    /// A solver with these options.
+    pub fn new(options: CgOptions) -> Self {
+        Self { options }
+    }
+
+    /// Solves the contact of `op`'s posts on obstacle heights `height_m` (m) under `preload_n`
+    /// applied at the point about which `arms` (dimensionless, O(1)) are the posts' moment arms;
+    /// gaps are scaled by `length_scale_m` (m).
+    pub fn solve(
+        &self,
+        op: &dyn ComplianceOperator,
+        height_m: &[f64],
+        preload_n: f64,
+        length_scale_m: f64,
+        arms: &[(f64, f64)],
+    ) -> Result<CgSolution> {
+        let n = op.len();
+        if arms.len() != n || height_m.len() != n || n == 0 {
+            return Err(invalid(
+                "obstacle_height_m",
+                height_m.len() as f64,
+                format!("one height and moment arm per post ({n} posts)"),
+            ));
+        }
+        if !(preload_n > 0.0 && preload_n.is_finite() && length_scale_m > 0.0) {
+            return Err(invalid(
+                "preload_n",
+                preload_n,
+                "must be positive and finite",
+            ));
+        }
+        if let Some(i) = height_m.iter().position(|h| !h.is_finite()) {
+            return Err(invalid(
+                "obstacle_height_m",
+                height_m[i],
+                format!("not finite at post {i}"),
+            ));
+        }
+        let f0 = preload_n / n as f64;
+        let s = f0 / length_scale_m;
+        let h: Vec<f64> = height_m.iter().map(|x| x / length_scale_m).collect();
+        let mut f = vec![1.0; n];
+        if !rebalance(&mut f, arms) {
+            return Err(invalid(
+                "load.point",
+                f64::NAN,
+                "the posts cannot balance the preload's moments (load point outside the post array)",
+            ));
+        }
+        let (mut t, mut u, mut r, mut g) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        let (mut delta, mut g_old) = (0.0, 1.0);
+        let mut history = Vec::new();
+        for iteration in 0..=self.options.max_iterations {
+            op.apply(&f, &mut u);
+            let contact: Vec<bool> = f.iter().map(|&x| x > 0.0).collect();
+            for i in 0..n {
+                g[i] = s * u[i] - h[i];
+            }
+            let c = fit_modes(&g, &contact, arms);
+            for (gi, a) in g.iter_mut().zip(arms) {
+                *gi -= c.dot(&phi(*a));
+            }
+            let residual = f
+                .iter()
+                .zip(&g)
+                .map(|(a, b)| a.min(*b).abs())
+                .fold(balance_residual(&f, arms), f64::max);
+            history.push(residual);
+            if residual <= self.options.tolerance {
+                return Ok(CgSolution {
+                    force_n: f.iter().map(|x| x * f0).collect(),
+                    gap_m: g.iter().map(|x| x.max(0.0) * length_scale_m).collect(),
+                    reference_height_m: -c[0] * length_scale_m,
+                    complementarity_residual: residual,
+                    iterations: iteration,
+                    residual_history: history,
+                    rotation_m: [-c[1] * length_scale_m, -c[2] * length_scale_m],
+                });
+            }
+            if iteration == self.options.max_iterations {
+                break;
+            }
+            let g_norm: f64 = (0..n).filter(|&i| contact[i]).map(|i| g[i] * g[i]).sum();
+            for i in 0..n {
+                t[i] = if contact[i] {
+                    g[i] + delta * (g_norm / g_old) * t[i]
+                } else {
+                    0.0
+                };
+            }
+            let ct = fit_modes(&t, &contact, arms);
+            for i in (0..n).filter(|&i| contact[i]) {
+                t[i] -= ct.dot(&phi(arms[i]));
+            }
+            g_old = g_norm;
+            op.apply(&t, &mut r);
+            let (mut gt, mut rt) = (0.0, 0.0);
+            for i in (0..n).filter(|&i| contact[i]) {
+                gt += g[i] * t[i];
+                rt += s * r[i] * t[i];
+            }
+            let tau = if rt > 0.0 { gt / rt } else { 0.0 };
+            let mut overlap = false;
+            for i in 0..n {
+                if contact[i] {
+                    f[i] = (f[i] - tau * t[i]).max(0.0);
+                }
+                if f[i] == 0.0 && g[i] < 0.0 {
+                    f[i] = -tau.max(f64::MIN_POSITIVE) * g[i];
+                    overlap = true;
+                }
+            }
+            delta = if overlap { 0.0 } else { 1.0 };
+            if !rebalance(&mut f, arms) {
+                f.iter_mut().for_each(|x| *x = 1.0);
+                rebalance(&mut f, arms);
+                delta = 0.0;
+            }
+        }
+        Err(SliderError::NotConverged {
+            iterations: self.options.max_iterations,
+            residual: history.last().copied().unwrap_or(f64::NAN),
+            tolerance: self.options.tolerance,
+            active: f.iter().filter(|&&x| x > 0.0).count(),
+            posts: n,
+            context: String::new(),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::DMatrix;
+
+    /// Rigid punch on independent springs k with a point load at (x_P, y_P): in full contact the
+    /// forces are linear in (x, y), f_i = k (z + θ_x ξ_i + θ_y η_i + h_i), with the three
+    /// balance equations fixing z, θ.
+    #[test]
+    fn an_off_centre_point_load_on_springs_gives_the_linear_rigid_punch_distribution() {
+        let (nx, ny) = (9, 7);
+        let k = 2e6;
+        let c = DMatrix::identity(nx * ny, nx * ny) / k;
+        // Off-centre but within the core of the array: every post stays in contact.
+        let (xp, yp) = (0.6, -0.3);
+        let arms: Vec<(f64, f64)> = (0..nx)
+            .flat_map(|i| (0..ny).map(move |j| (i as f64 - 4.0 - xp, j as f64 - 3.0 - yp)))
+            .collect();
+        let h = vec![0.0; nx * ny];
+        let p = 0.5;
+        let sol = BalancedCg::default().solve(&c, &h, p, 1e-9, &arms).unwrap();
+        // Exact: f = a + b ξ + c η with Σf = P, Σ f ξ = 0, Σ f η = 0.
+        let mut m = Matrix3::zeros();
+        for a in &arms {
+            m += phi(*a) * phi(*a).transpose();
+        }
+        let coef = m.cholesky().unwrap().solve(&Vector3::new(p, 0.0, 0.0));
+        for (i, a) in arms.iter().enumerate() {
+            let exact = coef.dot(&phi(*a));
+            assert!(exact > 0.0, "full contact expected");
+            assert!(
+                (sol.force_n[i] - exact).abs() < 1e-8 * p / 63.0,
+                "post force {i}: CG {} vs rigid punch {exact}",
+                sol.force_n[i]
+            );
+        }
+    }
+
+    #[test]
+    fn a_load_near_the_edge_lifts_the_far_posts_and_still_balances() {
+        let n = 40;
+        let k = 1e6;
+        let c = DMatrix::from_fn(n * n, n * n, |p, q| {
+            let (xp, yp, xq, yq) = (p / n, p % n, q / n, q % n);
+            let r = ((xp as f64 - xq as f64).powi(2) + (yp as f64 - yq as f64).powi(2)).sqrt();
+            if p == q { 1.0 / k } else { 0.2 / k / r }
+        });
+        let (xp, yp) = (4.0, 30.0);
+        let arms: Vec<(f64, f64)> = (0..n * n)
+            .map(|p| (((p / n) as f64 - xp) / 20.0, ((p % n) as f64 - yp) / 20.0))
+            .collect();
+        let h: Vec<f64> = (0..n * n)
+            .map(|p| 1e-8 * ((p / n) as f64 * 0.9).sin())
+            .collect();
+        let sol = BalancedCg::default()
+            .solve(&c, &h, 1.0, 1e-8, &arms)
+            .unwrap();
+        let f = &sol.force_n;
+        let (mut fx, mut fy) = (0.0, 0.0);
+        for (fi, a) in f.iter().zip(&arms) {
+            fx += fi * a.0;
+            fy += fi * a.1;
+        }
+        assert!(
+            fx.abs() < 1e-8 && fy.abs() < 1e-8,
+            "moments of the post forces about the load point: {fx}, {fy}"
+        );
+        assert!(
+            (f.iter().sum::<f64>() - 1.0).abs() < 1e-8,
+            "total post force"
+        );
+        assert!(f.contains(&0.0), "far posts lifted off");
+        for (i, (fi, gap)) in f.iter().zip(&sol.gap_m).enumerate() {
+            assert!(
+                *fi >= 0.0 && *gap >= -1e-17 && (fi * gap).abs() < 1e-8 * 1e-8,
+                "complementarity at post {i}: f {fi} gap {gap}"
+            );
+        }
+    }
+}
