@@ -35,8 +35,8 @@ pub mod result;
 pub mod scene;
 
 pub use criterion::{
-    DEFAULT_AUTO_TOLERANCE, DynamicsChoice, ModelDecision, StaticEvidence, choose_model,
-    lumped_error_estimate,
+    DEFAULT_AUTO_TOLERANCE, DynamicsChoice, LUMPED_ERROR_FACTOR, LumpedEvidence, ModelDecision,
+    choose_model, lumped_error_estimate,
 };
 pub use error::{CoupledError, Result};
 pub use model::{CoupledModel, CoupledPoint, PostHistories, PostMode};

@@ -286,6 +286,15 @@ fn stator_work_equals_output_plus_friction_within_1e_6_at_every_curve_point() {
             p.friction_dissipation_w
         );
     }
+    eprintln!(
+        "largest balance residual over the curve: midpoint {:.2e}, right-endpoint {:.2e}",
+        result.energy_balance_residual,
+        result
+            .curve
+            .iter()
+            .map(|p| p.right_endpoint_balance_residual.abs())
+            .fold(0.0, f64::max)
+    );
     assert!(
         result.energy_balance_residual < 1e-6,
         "largest balance residual over the curve: {:.3e}",
@@ -322,7 +331,16 @@ fn stator_power_and_efficiency_converge_with_the_step() {
         .iter()
         .map(|&m| (run(m).stator_power_w / reference.stator_power_w - 1.0).abs())
         .collect();
-    let order = (errors[0] / errors[3]).ln() / 8f64.ln();
+    // Least-squares slope of ln e against ln M.
+    let xs: Vec<f64> = steps.iter().map(|&m| (m as f64).ln()).collect();
+    let ys: Vec<f64> = errors.iter().map(|e| e.ln()).collect();
+    let (mx, my) = (xs.iter().sum::<f64>() / 4.0, ys.iter().sum::<f64>() / 4.0);
+    let order = -xs
+        .iter()
+        .zip(&ys)
+        .map(|(x, y)| (x - mx) * (y - my))
+        .sum::<f64>()
+        / xs.iter().map(|x| (x - mx).powi(2)).sum::<f64>();
     eprintln!("stator power errors {errors:?} at {steps:?} steps: order {order:.2}");
     assert!(
         order > 0.9,

@@ -18,7 +18,7 @@ use std::time::Instant;
 use charts::{Chart, Series, Style, write_chart};
 use contact_springs::{Material, post_springs};
 use coupled_dynamics::{
-    CoupledModel, CoupledScene, PreloadBalance, StaticEvidence, lumped_error_estimate, solve,
+    CoupledModel, CoupledScene, LumpedEvidence, PreloadBalance, lumped_error_estimate, solve,
 };
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
@@ -210,10 +210,10 @@ fn paper_sliders_lumped_against_coupled() {
             let ls = lumped(&base, eta_static.min(1.5));
             let ld = lumped(&base, eta_dyn);
             let (cs, cv) = (r.stall_thrust_n, r.no_load_speed_m_per_s);
-            let estimate = lumped_error_estimate(&StaticEvidence {
+            let estimate = lumped_error_estimate(&LumpedEvidence {
                 eta_fit_misfit: fit_misfit,
-                effective_contact_ratio: eta_static,
-                posts_in_strip: x.len(),
+                lumped_no_load_speed_m_per_s: ls.1,
+                crest_speed_m_per_s: Wave::paper_default().crest_speed_m_per_s(),
             });
             let row = format!(
                 "{d},{per_side},{preload},{},{eta_static},{fit_misfit},{eta_dyn},{},{cs},{cv},{},{},{},{},{},{},{estimate},{wall},{},{prep_s}\n",
