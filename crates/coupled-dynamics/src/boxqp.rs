@@ -166,6 +166,20 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_solve_that_cannot_converge_reports_its_iterations_and_residual() {
+        // Indefinite A: no Cholesky factor of the free block, the solve stops with an error
+        // that the model turns into CoupledError::NotConverged naming the speed and step.
+        let a = DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 2.0, 1.0]);
+        let b = DVector::from_vec(vec![0.1, 0.2]);
+        let mut sets = vec![Bound::Free; 2];
+        let err = solve(&a, &b, &[-1.0; 2], &[1.0; 2], &mut sets, 1.0, 1e-12).unwrap_err();
+        assert!(
+            err.0 >= 1 && err.1.is_infinite(),
+            "non-convergence reported with iterations and residual: {err:?}"
+        );
+    }
+
+    #[test]
     fn diagonal_problem_is_the_clamped_unconstrained_minimiser() {
         let a = DMatrix::from_diagonal(&DVector::from_vec(vec![2.0, 1.0, 4.0]));
         let b = DVector::from_vec(vec![4.0, -3.0, 1.0]);

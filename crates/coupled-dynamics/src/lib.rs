@@ -28,11 +28,16 @@
 //! the quasi-static body compliance is an approximation there, not an exact limit.
 
 pub mod boxqp;
+pub mod criterion;
 mod error;
 pub mod model;
 pub mod result;
 pub mod scene;
 
+pub use criterion::{
+    DEFAULT_AUTO_TOLERANCE, DynamicsChoice, LUMPED_ERROR_FACTOR, LumpedEvidence, ModelDecision,
+    choose_model, lumped_error_estimate,
+};
 pub use error::{CoupledError, Result};
 pub use model::{CoupledModel, CoupledPoint, PostHistories, PostMode};
 pub use result::{CoupledResult, fit_eta_dyn, lumped_misfit, solve};

@@ -22,10 +22,14 @@
 //! post slipping in the previous step, else μ_s; a post that slips with μ_s drops to μ_k and
 //! the step is re-solved (bounds only fall, so this ends).
 //!
-//! Energy per step: stator work Tⁿ⁺¹·Δu, output Tⁿ⁺¹·v̂h, friction Tⁿ⁺¹·Δs, stored
-//! ½TᵀĈ_tT; the scheme's numerical dissipation ½ΔTᵀĈ_tΔT closes the balance exactly and is
-//! first order in h (reported separately; it is the energy released across a step where T
-//! jumps — μ_s → μ_k drops and separations — plus O(h) elsewhere).
+//! Energy per step, exactly consistent: every work term uses the midpoint force
+//! T̄ = (Tⁿ + Tⁿ⁺¹)/2, the discrete gradient of the stored energy ½TᵀĈ_tT (Gonzalez,
+//! J. Nonlinear Sci. 6 (1996) 449): stator T̄·Δu, output T̄·v̂h, friction T̄·Δs. The step's
+//! compatibility Δu = v̂h + Ĉ_tΔT + Δs is exact (Δs = b − Ĉ_tTⁿ⁺¹), and
+//! T̄·Ĉ_tΔT = ½Tⁿ⁺¹ᵀĈ_tTⁿ⁺¹ − ½TⁿᵀĈ_tTⁿ, so stator = output + friction + stored change holds
+//! to round-off in every step, and over a periodic cycle stator = output + friction. The
+//! right-endpoint bookkeeping (Tⁿ⁺¹ in every term) misses by the numerical dissipation
+//! ½ΔTᵀĈ_tΔT, first order in h (reported separately).
 
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -75,11 +79,14 @@ pub struct CoupledPoint {
     pub thrust_n: f64,
     /// Output power (W).
     pub output_power_w: f64,
-    /// Power the stator delivers through the tangential contacts (W).
+    /// Power the stator delivers through the tangential contacts (W): Σ T̄·Δu per period,
+    /// T̄ = (Tⁿ + Tⁿ⁺¹)/2 the discrete gradient of the stored energy.
     pub stator_power_w: f64,
-    /// Coulomb friction dissipation Σ T·Δs (W).
+    /// Friction dissipation Σ T̄·Δs (W): slip work, including the elastic energy released
+    /// where a post drops from μ_s to μ_k.
     pub friction_dissipation_w: f64,
-    /// Numerical dissipation of the implicit step Σ ½ΔTᵀC_tΔT (W): O(h).
+    /// Numerical dissipation of the backward-Euler trajectory Σ ½ΔTᵀC_tΔT (W): O(h); the
+    /// amount by which the right-endpoint bookkeeping (T = Tⁿ⁺¹ in every work term) misses.
     pub numerical_dissipation_w: f64,
     /// Output over stator power.
     pub efficiency: f64,
@@ -87,10 +94,14 @@ pub struct CoupledPoint {
     pub stick_fraction: f64,
     /// Time in contact over time, mean over posts.
     pub contact_fraction: f64,
-    /// (stator − output − friction − stored change)/power flow over the steady period; equals
-    /// the numerical dissipation's share.
+    /// (stator − output − friction − stored change)/power flow over the steady period, every
+    /// term with the midpoint force T̄: closes to round-off (discrete energy identity, see the
+    /// module docs); a check of the step's kinematic compatibility Δu = v̂h + Ĉ_tΔT + Δs.
     pub energy_balance_residual: f64,
-    /// Same with the numerical dissipation included: round-off (a bookkeeping check).
+    /// The same balance with the right-endpoint force Tⁿ⁺¹ in every work term (the usual
+    /// backward-Euler bookkeeping): misses by the numerical dissipation, first order in h.
+    pub right_endpoint_balance_residual: f64,
+    /// The right-endpoint balance with the numerical dissipation included: round-off.
     pub energy_identity_residual: f64,
     /// Whether the steady cycle closed.
     pub converged: bool,
@@ -352,6 +363,9 @@ struct Integrals {
     power_flow: f64,
     output_work: f64,
     friction: f64,
+    right_stator_work: f64,
+    right_output_work: f64,
+    right_friction: f64,
     numerical: f64,
     stored_change: f64,
     stick_time: f64,
@@ -368,6 +382,9 @@ impl std::ops::Sub for Integrals {
             power_flow: self.power_flow - o.power_flow,
             output_work: self.output_work - o.output_work,
             friction: self.friction - o.friction,
+            right_stator_work: self.right_stator_work - o.right_stator_work,
+            right_output_work: self.right_output_work - o.right_output_work,
+            right_friction: self.right_friction - o.right_friction,
             numerical: self.numerical - o.numerical,
             stored_change: self.stored_change - o.stored_change,
             stick_time: self.stick_time - o.stick_time,
@@ -470,12 +487,17 @@ impl CoupledModel {
         let dforce = &force - &state.force;
         let stored_old = 0.5 * state.force.dot(&(&self.ct * &state.force));
         let stored_new = 0.5 * force.dot(&(&self.ct * &force));
+        // Discrete gradient of the stored energy ½TᵀĈ_tT (Gonzalez 1996): the midpoint force.
+        let mid = 0.5 * (&force + &state.force);
         ints.time += h;
         ints.force_time += force.sum() * h;
-        ints.stator_work += force.dot(&du);
-        ints.power_flow += force.component_mul(&du).abs().sum();
-        ints.output_work += force.sum() * v * h;
-        ints.friction += force.dot(&slip);
+        ints.stator_work += mid.dot(&du);
+        ints.power_flow += mid.component_mul(&du).abs().sum();
+        ints.output_work += mid.sum() * v * h;
+        ints.friction += mid.dot(&slip);
+        ints.right_stator_work += force.dot(&du);
+        ints.right_output_work += force.sum() * v * h;
+        ints.right_friction += force.dot(&slip);
         ints.numerical += 0.5 * dforce.dot(&(&self.ct * &dforce));
         ints.stored_change += stored_new - stored_old;
         for i in 0..n {
@@ -608,6 +630,7 @@ impl CoupledModel {
             .max(i.friction.abs())
             .max(1e-300);
         let balance = i.stator_work - i.output_work - i.friction - i.stored_change;
+        let right = i.right_stator_work - i.right_output_work - i.right_friction - i.stored_change;
         let _ = v;
         CoupledPoint {
             speed_m_per_s,
@@ -628,7 +651,8 @@ impl CoupledModel {
             },
             contact_fraction: i.contact_time / (i.time * self.kx.len() as f64),
             energy_balance_residual: balance / flow,
-            energy_identity_residual: (balance - i.numerical) / flow,
+            right_endpoint_balance_residual: right / flow,
+            energy_identity_residual: (right - i.numerical) / flow,
             converged,
             periods,
             max_solver_residual: stats.max_residual,

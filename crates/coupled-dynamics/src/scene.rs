@@ -211,6 +211,31 @@ impl CoupledScene {
         Ok(())
     }
 
+    /// The scene of the static stage's strip: its posts' x, the condensed normal and
+    /// tangential tip compliances ([`static_contact::StripModel::tip_compliance`]: the same
+    /// factorisation, no second FEM; cross terms dropped, see the crate docs), the strip's share
+    /// of the slider (`StaticParams::strip_share`), and the wave, friction and preload of the
+    /// dynamic scene; preload balanced at every instant, defaults otherwise. Errors: the tip
+    /// compliance could not be formed (named by static-contact), or a field is invalid.
+    pub fn from_strip(
+        strip: &static_contact::StripModel,
+        strip_share: f64,
+        wave: Wave,
+        mu_static: f64,
+        mu_kinetic: f64,
+        preload_n: f64,
+    ) -> Result<Self> {
+        let tips = strip.tip_compliance()?;
+        let x = strip.posts.iter().map(|p| p.x_m).collect();
+        let mut scene =
+            Self::independent_posts(wave, x, 1.0, 1.0, mu_static, mu_kinetic, preload_n);
+        scene.normal_compliance_m_per_n = tips.normal_m_per_n;
+        scene.tangential_compliance_m_per_n = tips.tangential_m_per_n;
+        scene.strip_share = strip_share;
+        scene.validate()?;
+        Ok(scene)
+    }
+
     /// A scene of independent posts (diagonal compliances 1/k_n, 1/k_t): the lumped model's
     /// Jenkins posts.
     pub fn independent_posts(

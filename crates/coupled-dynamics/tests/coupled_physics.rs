@@ -263,3 +263,92 @@ fn a_step_too_coarse_for_the_contact_arcs_is_warned_with_the_limit() {
         fine.warnings
     );
 }
+
+#[test]
+fn stator_work_equals_output_plus_friction_within_1e_6_at_every_curve_point() {
+    // Interacting posts with μ_s > μ_k (force drops at slip onset) and separations: the
+    // midpoint (discrete-gradient) bookkeeping closes the balance to round-off at every point.
+    let n = 9;
+    let mut scene = interacting_scene(n, preload_for(n));
+    scene.curve_points = 12;
+    let result = solve(&CoupledModel::new(&scene).unwrap(), None).unwrap();
+    for p in &result.curve {
+        assert!(
+            p.energy_balance_residual.abs() < 1e-6,
+            "stator − output − friction work per period at {} m/s: {:.3e} of the power flow",
+            p.speed_m_per_s,
+            p.energy_balance_residual
+        );
+        assert!(
+            p.friction_dissipation_w >= 0.0,
+            "friction dissipation at {} m/s is {} W",
+            p.speed_m_per_s,
+            p.friction_dissipation_w
+        );
+    }
+    eprintln!(
+        "largest balance residual over the curve: midpoint {:.2e}, right-endpoint {:.2e}",
+        result.energy_balance_residual,
+        result
+            .curve
+            .iter()
+            .map(|p| p.right_endpoint_balance_residual.abs())
+            .fold(0.0, f64::max)
+    );
+    assert!(
+        result.energy_balance_residual < 1e-6,
+        "largest balance residual over the curve: {:.3e}",
+        result.energy_balance_residual
+    );
+    // The right-endpoint bookkeeping misses by the step's numerical dissipation (O(h)).
+    let worst = result
+        .curve
+        .iter()
+        .map(|p| p.right_endpoint_balance_residual.abs())
+        .fold(0.0, f64::max);
+    assert!(
+        worst > 1e-4,
+        "the right-endpoint balance shows the O(h) numerical dissipation: {worst:.3e}"
+    );
+}
+
+#[test]
+fn stator_power_and_efficiency_converge_with_the_step() {
+    // The work terms are trapezoid quadratures of the backward-Euler trajectory: their error
+    // against a fine step falls at least linearly (observed order printed).
+    let n = 5;
+    let preload = preload_for(n);
+    let run = |m: usize| {
+        let mut scene = interacting_scene(n, preload);
+        scene.steps_per_period = m;
+        let model = CoupledModel::new(&scene).unwrap();
+        let v = 0.3 * model.crest_speed_m_per_s();
+        model.at_speed(v).unwrap()
+    };
+    let reference = run(4096);
+    let steps = [64, 128, 256, 512];
+    let errors: Vec<f64> = steps
+        .iter()
+        .map(|&m| (run(m).stator_power_w / reference.stator_power_w - 1.0).abs())
+        .collect();
+    // Least-squares slope of ln e against ln M.
+    let xs: Vec<f64> = steps.iter().map(|&m| (m as f64).ln()).collect();
+    let ys: Vec<f64> = errors.iter().map(|e| e.ln()).collect();
+    let (mx, my) = (xs.iter().sum::<f64>() / 4.0, ys.iter().sum::<f64>() / 4.0);
+    let order = -xs
+        .iter()
+        .zip(&ys)
+        .map(|(x, y)| (x - mx) * (y - my))
+        .sum::<f64>()
+        / xs.iter().map(|x| (x - mx).powi(2)).sum::<f64>();
+    eprintln!("stator power errors {errors:?} at {steps:?} steps: order {order:.2}");
+    assert!(
+        order > 0.9,
+        "observed order of the stator power: {order:.2} (errors {errors:?})"
+    );
+    assert!(
+        errors[3] < 1e-2,
+        "stator power at 512 steps within 1 % of 4096: {:.3e}",
+        errors[3]
+    );
+}

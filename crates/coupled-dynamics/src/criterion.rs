@@ -1,0 +1,233 @@
+//! When is the lumped model (N_eff = η·N independent posts) good enough? A cheap estimate of its
+//! relative error against the coupled model, from what the static stage already computed, and
+//! the `auto` choice between the two (issue 14 points 4 and 5).
+//!
+//! Estimate: e_lumped ≈ [`LUMPED_ERROR_FACTOR`] · r_fit · V_crest / v₀,lumped, where r_fit is
+//! the static η fit's relative rms misfit of the post forces
+//! (`static_contact::EtaFit::relative_rms_residual`), V_crest = A_t ω the crest speed and
+//! v₀,lumped the lumped model's no-load speed at the static η (both cheap: the lumped period
+//! average runs in ≈ 0.3 ms). Reasoning: the lumped model is exact when the posts do not
+//! interact (r_fit = 0); the interaction the scalar η cannot represent shows first in the static
+//! force misfit; and its effect on the relative error grows as the slider nears locking
+//! (v₀ → 0: the no-load speed is then a small difference of stick and slip drive). The error
+//! measured (max of the relative stall-thrust and no-load-speed errors of the lumped model at
+//! the static η against the coupled model) over the study's 24 scenes is 0.04–0.59 × r_fit ·
+//! V_crest/v₀ (validation/coupled-dynamics/README.md), including a nearly locked slider
+//! (v₀ = 0.3 % of V_crest, lumped error 690 %); the factor is that envelope. Valid inside the
+//! study's range: Si posts of 20–50 µm on LiNbO3, 1089 to 10000 posts, 10–100 N, μ = 0.3, the
+//! paper's wave, r_fit ≤ [`STUDY_MAX_FIT_MISFIT`]; beyond, [`choose_model`] says it extrapolates.
+
+use serde::Serialize;
+
+use crate::error::{CoupledError, Result};
+
+/// Envelope factor of the lumped model's relative error over r_fit · V_crest/v₀,lumped
+/// (dimensionless): the largest ratio over the study's scenes (0.59), rounded up. Default 0.6
+/// (validation/coupled-dynamics/README.md).
+pub const LUMPED_ERROR_FACTOR: f64 = 0.6;
+/// Largest static fit misfit of the study's scenes (dimensionless). Default 0.18.
+pub const STUDY_MAX_FIT_MISFIT: f64 = 0.18;
+/// Default tolerance of the `auto` choice: the lumped model is used when its estimated error is
+/// at most this (dimensionless). Default 0.02 (issue 14's 2 %).
+pub const DEFAULT_AUTO_TOLERANCE: f64 = 0.02;
+
+/// What the pipeline knows before choosing a dynamic model: the static report's η fit misfit
+/// (`StaticReport::preloads[0].eta_fit.relative_rms_residual`) and the lumped model's no-load
+/// speed at the static η with the wave's crest speed (`stick_slip` `DynamicResult::
+/// no_load_speed_m_per_s`, `Wave::crest_speed_m_per_s`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct LumpedEvidence {
+    /// Relative rms misfit of the static η fit of the post forces (dimensionless).
+    pub eta_fit_misfit: f64,
+    /// No-load speed of the lumped model at the static η (m/s).
+    pub lumped_no_load_speed_m_per_s: f64,
+    /// Crest speed A_t ω of the wave (m/s).
+    pub crest_speed_m_per_s: f64,
+}
+
+impl LumpedEvidence {
+    /// The evidence of a static report's main preload and the lumped run; `None` if the static
+    /// stage found no η fit.
+    pub fn from_report(
+        report: &static_contact::StaticReport,
+        lumped_no_load_speed_m_per_s: f64,
+        crest_speed_m_per_s: f64,
+    ) -> Option<Self> {
+        let main = report.preloads.first()?;
+        main.effective_contact_ratio?;
+        Some(Self {
+            eta_fit_misfit: main.eta_fit.relative_rms_residual,
+            lumped_no_load_speed_m_per_s,
+            crest_speed_m_per_s,
+        })
+    }
+}
+
+/// Estimated relative error of the lumped model at the static η against the coupled model
+/// (max of the stall-thrust and no-load-speed errors), see the module docs:
+/// [`LUMPED_ERROR_FACTOR`] · r_fit · V_crest / v₀,lumped; infinite for a locked lumped slider
+/// (v₀ ≤ 0), NaN for NaN evidence.
+pub fn lumped_error_estimate(evidence: &LumpedEvidence) -> f64 {
+    let v0 = evidence.lumped_no_load_speed_m_per_s;
+    if v0 <= 0.0 {
+        return f64::INFINITY;
+    }
+    LUMPED_ERROR_FACTOR * evidence.eta_fit_misfit * evidence.crest_speed_m_per_s / v0
+}
+
+/// The dynamic model to use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum DynamicsChoice {
+    /// The lumped period-average model (stick_slip) at the static η.
+    Lumped,
+    /// This crate's coupled model.
+    Coupled,
+}
+
+/// The `auto` decision with its reason.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ModelDecision {
+    /// The model chosen.
+    pub model: DynamicsChoice,
+    /// Estimated relative error of the lumped model ([`lumped_error_estimate`]).
+    pub lumped_error_estimate: f64,
+    /// Tolerance used.
+    pub tolerance: f64,
+    /// One sentence for the summary.
+    pub reason: String,
+}
+
+/// The cheapest model within `tolerance` of the coupled one: the lumped model if its estimated
+/// error is at most `tolerance`, else the coupled model. Errors: tolerance outside (0, 1),
+/// evidence not finite or negative (named).
+pub fn choose_model(evidence: &LumpedEvidence, tolerance: f64) -> Result<ModelDecision> {
+    if !(tolerance > 0.0 && tolerance < 1.0) {
+        return Err(CoupledError::InvalidParameter {
+            parameter: "model.tolerance",
+            value: tolerance,
+            requirement: "must lie in (0, 1)".into(),
+        });
+    }
+    for (parameter, value) in [
+        ("eta_fit_misfit", evidence.eta_fit_misfit),
+        (
+            "lumped_no_load_speed_m_per_s",
+            evidence.lumped_no_load_speed_m_per_s,
+        ),
+        ("crest_speed_m_per_s", evidence.crest_speed_m_per_s),
+    ] {
+        if !(value.is_finite() && value >= 0.0) {
+            return Err(CoupledError::InvalidParameter {
+                parameter,
+                value,
+                requirement: "must be finite and ≥ 0".into(),
+            });
+        }
+    }
+    let estimate = lumped_error_estimate(evidence);
+    let note = if evidence.eta_fit_misfit > STUDY_MAX_FIT_MISFIT {
+        format!(
+            "; the fit misfit lies beyond the study's {:.0} %: the estimate is extrapolated",
+            100.0 * STUDY_MAX_FIT_MISFIT
+        )
+    } else {
+        String::new()
+    };
+    let basis = format!(
+        "static η fit misfit {:.1} %, lumped no-load speed {:.3} m/s of crest {:.3} m/s{note}",
+        100.0 * evidence.eta_fit_misfit,
+        evidence.lumped_no_load_speed_m_per_s,
+        evidence.crest_speed_m_per_s
+    );
+    let (model, reason) = if estimate <= tolerance {
+        (
+            DynamicsChoice::Lumped,
+            format!(
+                "lumped: estimated error {:.1} % ≤ tolerance {:.1} % ({basis})",
+                100.0 * estimate,
+                100.0 * tolerance
+            ),
+        )
+    } else {
+        (
+            DynamicsChoice::Coupled,
+            format!(
+                "coupled: the lumped model's estimated error {:.1} % exceeds the tolerance {:.1} % ({basis})",
+                100.0 * estimate,
+                100.0 * tolerance
+            ),
+        )
+    };
+    Ok(ModelDecision {
+        model,
+        lumped_error_estimate: estimate,
+        tolerance,
+        reason,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn evidence(misfit: f64) -> LumpedEvidence {
+        LumpedEvidence {
+            eta_fit_misfit: misfit,
+            lumped_no_load_speed_m_per_s: 0.55,
+            crest_speed_m_per_s: 1.1,
+        }
+    }
+
+    #[test]
+    fn the_estimate_grows_with_the_fit_misfit_and_towards_locking() {
+        let small = lumped_error_estimate(&evidence(0.01));
+        let large = lumped_error_estimate(&evidence(0.2));
+        assert!(
+            small < large,
+            "lumped error estimate: {small} at 1 % misfit vs {large} at 20 %"
+        );
+        assert_eq!(
+            lumped_error_estimate(&evidence(0.0)),
+            0.0,
+            "no interaction: the lumped model is exact"
+        );
+        let slow = LumpedEvidence {
+            lumped_no_load_speed_m_per_s: 0.011,
+            ..evidence(0.01)
+        };
+        assert!(
+            (lumped_error_estimate(&slow) / small - 50.0).abs() < 1e-9,
+            "50× slower no-load speed, 50× the estimate: {}",
+            lumped_error_estimate(&slow)
+        );
+        let locked = LumpedEvidence {
+            lumped_no_load_speed_m_per_s: 0.0,
+            ..evidence(0.01)
+        };
+        assert!(
+            lumped_error_estimate(&locked).is_infinite(),
+            "a locked lumped slider cannot be trusted"
+        );
+    }
+
+    #[test]
+    fn auto_picks_the_lumped_model_below_the_tolerance_and_the_coupled_above() {
+        let a = choose_model(&evidence(0.01), DEFAULT_AUTO_TOLERANCE).unwrap();
+        assert_eq!(a.model, DynamicsChoice::Lumped, "{}", a.reason);
+        assert!(a.reason.starts_with("lumped"), "reason: {}", a.reason);
+        let b = choose_model(&evidence(0.15), DEFAULT_AUTO_TOLERANCE).unwrap();
+        assert_eq!(b.model, DynamicsChoice::Coupled, "{}", b.reason);
+        assert!(b.reason.contains("exceeds"), "reason: {}", b.reason);
+        let c = choose_model(&evidence(0.3), DEFAULT_AUTO_TOLERANCE).unwrap();
+        assert!(c.reason.contains("extrapolated"), "reason: {}", c.reason);
+    }
+
+    #[test]
+    fn auto_refuses_a_bad_tolerance_and_missing_evidence_naming_them() {
+        let err = choose_model(&evidence(0.1), 0.0).unwrap_err();
+        assert!(err.to_string().contains("model.tolerance"), "{err}");
+        let err = choose_model(&evidence(f64::NAN), 0.02).unwrap_err();
+        assert!(err.to_string().contains("eta_fit_misfit"), "{err}");
+    }
+}
