@@ -339,8 +339,7 @@ fn tentative(aggregate_of: &[usize], b: &[[f64; NULL_SPACE]], n: usize) -> FemRe
         members[ag].push(i);
     }
     // Per aggregate: Q (rows of its members × kept columns) and R (kept × 6).
-    let local: Vec<(Vec<Vec<f64>>, Vec<[f64; NULL_SPACE]>)> =
-        members.par_iter().map(|rows| thin_qr(rows, b)).collect();
+    let local: Vec<LocalQr> = members.par_iter().map(|rows| thin_qr(rows, b)).collect();
     let mut offset = Vec::with_capacity(na + 1);
     offset.push(0usize);
     for (_, r) in &local {
@@ -364,9 +363,11 @@ fn tentative(aggregate_of: &[usize], b: &[[f64; NULL_SPACE]], n: usize) -> FemRe
     Ok((t, coarse_b, coarse_blocks))
 }
 
-/// Thin QR of the rows `rows` of `b` by modified Gram–Schmidt, dropping dependent columns:
-/// Q by member row (kept columns), R by kept column (6 entries).
-fn thin_qr(rows: &[usize], b: &[[f64; NULL_SPACE]]) -> (Vec<Vec<f64>>, Vec<[f64; NULL_SPACE]>) {
+/// Q of an aggregate by member row (kept columns) and R by kept column (6 entries).
+type LocalQr = (Vec<Vec<f64>>, Vec<[f64; NULL_SPACE]>);
+
+/// Thin QR of the rows `rows` of `b` by modified Gram–Schmidt, dropping dependent columns.
+fn thin_qr(rows: &[usize], b: &[[f64; NULL_SPACE]]) -> LocalQr {
     let m = rows.len();
     let mut q_cols: Vec<Vec<f64>> = Vec::new();
     let mut r: Vec<[f64; NULL_SPACE]> = Vec::new();
