@@ -24,12 +24,18 @@
 //! the algebraic error changes the FEM energy error by < 0.01 % and energy-type quantities
 //! (stiffness uᵀ K u / δ²) by ≈ ε² = 1e-12.
 //!
-//! **Range.** Tet10 meshes (straight or curved). Tet4-only meshes have no p-hierarchy and are
-//! refused with [`FemError::IterativeUnsupported`] (they need algebraic multigrid; the automatic
-//! choice in [`crate::static_solver`] sends them to the direct solver).
+//! **Coarse solve** ([`CoarseSolver`]): the Tet4 coarse problem is factorised (METIS + faer
+//! Cholesky) or, when it is large ([`AMG_COARSE_UNKNOWNS`], where its factorisation grows like
+//! N_c^1.3–1.5 and dominates set-up and memory), approximated by one V-cycle of smoothed-
+//! aggregation AMG with rigid-body near-null space ([`crate::amg`], Vaněk–Mandel–Brezina 1996).
+//! Both keep the preconditioner symmetric positive definite.
+//!
+//! **Range.** Tet10 meshes (straight or curved) get the p-multigrid; Tet4-only meshes have no
+//! p-hierarchy and are preconditioned by SA-AMG on the whole (reduced) Tet4 problem.
 
 use rayon::prelude::*;
 
+use crate::amg::{Amg, AmgWorkspace, rigid_body_modes};
 use crate::error::{FemError, FemResult};
 use crate::model::{Connectivity, Model};
 use crate::reduction::{DofMap, DofTarget};
@@ -63,6 +69,44 @@ pub const CHEBYSHEV_UPPER_SAFETY: f64 = 1.1;
 /// Power iterations for λ_max(D⁻¹ K_red). Default 12.
 pub const POWER_ITERATIONS: usize = 12;
 
+/// Above this many coarse (Tet4) unknowns [`CoarseSolver::Auto`] approximates the coarse solve by
+/// SA-AMG instead of factorising it. Measured on the punch meshes (validation/fem-peers):
+/// default 40 000.
+pub const AMG_COARSE_UNKNOWNS: usize = 40_000;
+
+/// How the p-multigrid solves its Tet4 coarse problem.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum CoarseSolver {
+    /// Factorised up to [`AMG_COARSE_UNKNOWNS`] coarse unknowns, SA-AMG above (default).
+    #[default]
+    Auto,
+    /// Sparse Cholesky (exact coarse solve).
+    Direct,
+    /// One SA-AMG V-cycle (approximate, memory and time linear in the coarse size).
+    Amg,
+}
+
+impl CoarseSolver {
+    /// Parses `auto`, `direct` or `amg`.
+    pub fn parse(text: &str) -> Option<Self> {
+        match text {
+            "auto" => Some(Self::Auto),
+            "direct" => Some(Self::Direct),
+            "amg" => Some(Self::Amg),
+            _ => None,
+        }
+    }
+
+    /// The name [`Self::parse`] accepts.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Auto => "auto",
+            Self::Direct => "direct",
+            Self::Amg => "amg",
+        }
+    }
+}
+
 /// Options of the iterative path.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct IterativeOptions {
@@ -76,6 +120,8 @@ pub struct IterativeOptions {
     pub smoother_degree: usize,
     /// Ordering of the coarse Cholesky (default METIS).
     pub coarse_ordering: Ordering,
+    /// Coarse solve of the p-multigrid (default [`CoarseSolver::Auto`]).
+    pub coarse_solver: CoarseSolver,
 }
 
 impl Default for IterativeOptions {
@@ -93,6 +139,7 @@ impl IterativeOptions {
             max_iterations: DEFAULT_MAX_ITERATIONS,
             smoother_degree: DEFAULT_SMOOTHER_DEGREE,
             coarse_ordering: Ordering::Metis,
+            coarse_solver: CoarseSolver::Auto,
         }
     }
 
@@ -134,11 +181,15 @@ impl IterativeOptions {
 
 /// Prolongation Tet4 → Tet10 on reduced unknowns (see the module docs), or an error for Tet4.
 pub fn p_prolongation(model: &Model, dof_map: &DofMap) -> FemResult<RowSparse> {
+    p_prolongation_with_dofs(model, dof_map).map(|(p, _)| p)
+}
+
+/// [`p_prolongation`] and, per coarse unknown, the global DOF (3 node + component) of the vertex
+/// that first defined it.
+fn p_prolongation_with_dofs(model: &Model, dof_map: &DofMap) -> FemResult<(RowSparse, Vec<usize>)> {
     let Connectivity::Tet10(conn) = model.connectivity() else {
         return Err(FemError::IterativeUnsupported {
-            reason: "the p-multigrid preconditioner needs a Tet10 mesh (Tet4 meshes need AMG, \
-                     not implemented; use the direct method)"
-                .into(),
+            reason: "the p-multigrid preconditioner needs a Tet10 mesh".into(),
         });
     };
     let n_nodes = model.node_count();
@@ -152,17 +203,18 @@ pub fn p_prolongation(model: &Model, dof_map: &DofMap) -> FemResult<RowSparse> {
     }
     let m = dof_map.reduced_count();
     let mut coarse_of = vec![usize::MAX; m];
-    let mut nc = 0usize;
+    let mut coarse_dofs: Vec<usize> = Vec::new();
     for node in (0..n_nodes).filter(|&n| is_vertex[n]) {
         for c in 0..3 {
             if let DofTarget::Reduced(j) = dof_map.target(3 * node + c) {
                 if coarse_of[j] == usize::MAX {
-                    coarse_of[j] = nc;
-                    nc += 1;
+                    coarse_of[j] = coarse_dofs.len();
+                    coarse_dofs.push(3 * node + c);
                 }
             }
         }
     }
+    let nc = coarse_dofs.len();
     let coarse_at = |node: usize, c: usize| match dof_map.target(3 * node + c) {
         DofTarget::Reduced(j) => Some(coarse_of[j]),
         DofTarget::Prescribed(_) => None,
@@ -189,12 +241,34 @@ pub fn p_prolongation(model: &Model, dof_map: &DofMap) -> FemResult<RowSparse> {
             row
         })
         .collect();
-    RowSparse::from_rows(nc, &rows)
+    Ok((RowSparse::from_rows(nc, &rows)?, coarse_dofs))
+}
+
+/// Near-null space (rigid-body modes at the nodes' coordinates) and node blocks of the unknowns
+/// whose global DOFs are `dofs`, for [`Amg::new`].
+fn amg_input(model: &Model, dofs: &[usize]) -> (Vec<[f64; 6]>, Vec<usize>) {
+    let nodes = model.nodes();
+    let points: Vec<[f64; 3]> = dofs.iter().map(|&d| nodes[d / 3]).collect();
+    let components: Vec<usize> = dofs.iter().map(|&d| d % 3).collect();
+    let mut block_of_node = vec![usize::MAX; model.node_count()];
+    let mut count = 0usize;
+    let blocks = dofs
+        .iter()
+        .map(|&d| {
+            let b = &mut block_of_node[d / 3];
+            if *b == usize::MAX {
+                *b = count;
+                count += 1;
+            }
+            *b
+        })
+        .collect();
+    (rigid_body_modes(&points, &components), blocks)
 }
 
 /// Chebyshev smoothing data: D⁻¹ and the eigenvalue interval of D⁻¹ A.
 #[derive(Debug, Clone)]
-struct Chebyshev {
+pub(crate) struct Chebyshev {
     inv_diag: Vec<f64>,
     lambda_min: f64,
     lambda_max: f64,
@@ -202,7 +276,8 @@ struct Chebyshev {
 }
 
 impl Chebyshev {
-    fn new(a: &CsrMatrix, degree: usize) -> FemResult<Self> {
+    /// Smoother of `degree` on [λ_max/`interval_ratio`, λ_max] of D⁻¹ A.
+    pub(crate) fn new(a: &CsrMatrix, degree: usize, interval_ratio: f64) -> FemResult<Self> {
         let diag = a.diagonal();
         if let Some(i) = diag.iter().position(|&d| d.is_nan() || d <= 0.0) {
             return Err(FemError::NotPositiveDefinite {
@@ -231,14 +306,29 @@ impl Chebyshev {
         let lambda_max = CHEBYSHEV_UPPER_SAFETY * lambda;
         Ok(Self {
             inv_diag,
-            lambda_min: lambda_max / CHEBYSHEV_INTERVAL_RATIO,
+            lambda_min: lambda_max / interval_ratio,
             lambda_max,
             degree,
         })
     }
 
+    /// The power-iteration estimate of λ_max(D⁻¹ A) (without the safety factor).
+    pub(crate) fn lambda_max_estimate(&self) -> f64 {
+        self.lambda_max / CHEBYSHEV_UPPER_SAFETY
+    }
+
+    /// Upper end of the damped interval (safety factor included).
+    pub(crate) fn lambda_max(&self) -> f64 {
+        self.lambda_max
+    }
+
+    /// D⁻¹.
+    pub(crate) fn inv_diag(&self) -> &[f64] {
+        &self.inv_diag
+    }
+
     /// x ← x + Chebyshev(b − A x); `x_is_zero` saves the first product. Work vectors r, d.
-    fn smooth(
+    pub(crate) fn smooth(
         &self,
         a: &CsrMatrix,
         b: &[f64],
@@ -294,6 +384,8 @@ pub struct MultigridWorkspace {
     r: Vec<f64>,
     d: Vec<f64>,
     rc: Vec<f64>,
+    xc: Vec<f64>,
+    amg: Option<AmgWorkspace>,
     pcg: PcgWorkspace,
 }
 
@@ -302,27 +394,55 @@ pub struct MultigridWorkspace {
 pub struct MultigridReport {
     /// Fine (reduced Tet10) unknowns.
     pub fine_unknowns: usize,
-    /// Coarse (Tet4 vertex) unknowns.
+    /// Coarse (Tet4 vertex) unknowns (0 for a Tet4 mesh preconditioned by AMG alone).
     pub coarse_unknowns: usize,
     /// Stored entries of the fine CSR matrix (both triangles).
     pub fine_nnz: usize,
-    /// Stored entries of the coarse Cholesky factor.
+    /// Stored entries of the coarse Cholesky factor (for AMG: of its coarsest level).
     pub coarse_factor_nnz: usize,
-    /// Bytes held by the solver (CSR, transfer operators, coarse factor).
+    /// Bytes held by the solver (CSR, transfer operators, coarse factor or AMG hierarchy).
     pub memory_bytes: usize,
     /// Estimated λ_max of D⁻¹ K_red.
     pub lambda_max: f64,
+    /// `direct` (coarse Cholesky), `amg` (coarse SA-AMG) or `amg-only` (Tet4: SA-AMG on the
+    /// whole problem).
+    pub coarse_solver: &'static str,
+    /// Levels of the AMG hierarchy (0 without AMG).
+    pub amg_levels: usize,
+    /// Σ nnz over the AMG levels / nnz of its finest (0 without AMG).
+    pub amg_operator_complexity: f64,
 }
 
-/// PCG with the p-multigrid preconditioner for one reduced stiffness matrix. Set up once, then
-/// solve any number of right-hand sides (the set-up is shared).
+/// The Tet4 coarse solve of the p-multigrid.
+#[derive(Debug, Clone)]
+enum Coarse {
+    Direct(NumericCholesky),
+    Amg { a: CsrMatrix, amg: Amg },
+}
+
+/// The preconditioner: p-multigrid for Tet10, SA-AMG alone for Tet4 (one per solver, so the
+/// variants' size difference costs nothing).
+#[derive(Debug, Clone)]
+#[allow(clippy::large_enum_variant)]
+enum Preconditioner {
+    PMultigrid {
+        p: RowSparse,
+        pt: RowSparse,
+        smoother: Chebyshev,
+        coarse: Coarse,
+    },
+    Amg(Amg),
+}
+
+/// PCG with the p-multigrid (Tet10) or SA-AMG (Tet4) preconditioner for one reduced stiffness
+/// matrix. Set up once, then solve any number of right-hand sides (the set-up is shared).
 #[derive(Debug, Clone)]
 pub struct IterativeSolver {
     a: CsrMatrix,
-    p: RowSparse,
-    pt: RowSparse,
-    coarse: NumericCholesky,
-    smoother: Chebyshev,
+    preconditioner: Preconditioner,
+    /// Near-null space and node blocks of the AMG's finest level (kept for `refactor`).
+    amg_input: Option<(Vec<[f64; 6]>, Vec<usize>)>,
+    factor: FactorOptions,
     options: IterativeOptions,
 }
 
@@ -344,25 +464,60 @@ impl IterativeSolver {
                 found: k_red.dim(),
             });
         }
-        let p = p_prolongation(model, dof_map)?;
-        let pt = p.transpose();
         let a = CsrMatrix::from_symmetric(k_red)?;
+        if let Connectivity::Tet4(_) = model.connectivity() {
+            let dofs: Vec<usize> = (0..a.dim())
+                .map(|j| dof_map.representative_dof(j))
+                .collect();
+            let (b, blocks) = amg_input(model, &dofs);
+            let amg = Amg::new(&a, b.clone(), blocks.clone(), factor)?;
+            return Ok(Self {
+                a,
+                preconditioner: Preconditioner::Amg(amg),
+                amg_input: Some((b, blocks)),
+                factor,
+                options: *options,
+            });
+        }
+        let (p, coarse_dofs) = p_prolongation_with_dofs(model, dof_map)?;
+        let pt = p.transpose();
         let coarse_matrix = a.galerkin(&p, &pt)?;
-        let symbolic = SymbolicCholesky::analyze(&coarse_matrix, options.coarse_ordering)?;
-        let coarse = symbolic.factor_with(&coarse_matrix, factor)?;
-        let smoother = Chebyshev::new(&a, options.smoother_degree)?;
+        let use_amg = match options.coarse_solver {
+            CoarseSolver::Direct => false,
+            CoarseSolver::Amg => true,
+            CoarseSolver::Auto => coarse_matrix.dim() > AMG_COARSE_UNKNOWNS,
+        };
+        let (coarse, amg_input) = if use_amg {
+            let (b, blocks) = amg_input(model, &coarse_dofs);
+            let ca = CsrMatrix::from_symmetric(&coarse_matrix)?;
+            drop(coarse_matrix);
+            let amg = Amg::new(&ca, b.clone(), blocks.clone(), factor)?;
+            (Coarse::Amg { a: ca, amg }, Some((b, blocks)))
+        } else {
+            let symbolic = SymbolicCholesky::analyze(&coarse_matrix, options.coarse_ordering)?;
+            (
+                Coarse::Direct(symbolic.factor_with(&coarse_matrix, factor)?),
+                None,
+            )
+        };
+        let smoother = Chebyshev::new(&a, options.smoother_degree, CHEBYSHEV_INTERVAL_RATIO)?;
         Ok(Self {
             a,
-            p,
-            pt,
-            coarse,
-            smoother,
+            preconditioner: Preconditioner::PMultigrid {
+                p,
+                pt,
+                smoother,
+                coarse,
+            },
+            amg_input,
+            factor,
             options: *options,
         })
     }
 
-    /// Recomputes the fine matrix, coarse operator and smoother for new values of `k_red`
-    /// (same pattern), reusing the transfer operators and the coarse symbolic analysis.
+    /// Recomputes the fine matrix, coarse operator and smoothers for new values of `k_red`
+    /// (same pattern), reusing the transfer operators and the coarse symbolic analysis (an AMG
+    /// hierarchy is rebuilt).
     pub fn refactor(&mut self, k_red: &SymmetricMatrix) -> FemResult<()> {
         if k_red.dim() != self.a.dim() {
             return Err(FemError::PatternMismatch {
@@ -374,36 +529,108 @@ impl IterativeSolver {
             });
         }
         self.a = CsrMatrix::from_symmetric(k_red)?;
-        let coarse_matrix = self.a.galerkin(&self.p, &self.pt)?;
-        self.coarse.refactor(&coarse_matrix)?;
-        self.smoother = Chebyshev::new(&self.a, self.options.smoother_degree)?;
+        let rebuild = |a: &CsrMatrix, input: &Option<(Vec<[f64; 6]>, Vec<usize>)>| {
+            let (b, blocks) = input.clone().expect("AMG input kept at set-up");
+            Amg::new(a, b, blocks, self.factor)
+        };
+        match &mut self.preconditioner {
+            Preconditioner::Amg(amg) => *amg = rebuild(&self.a, &self.amg_input)?,
+            Preconditioner::PMultigrid {
+                p,
+                pt,
+                smoother,
+                coarse,
+            } => {
+                let coarse_matrix = self.a.galerkin(p, pt)?;
+                match coarse {
+                    Coarse::Direct(factor) => factor.refactor(&coarse_matrix)?,
+                    Coarse::Amg { a, amg } => {
+                        *a = CsrMatrix::from_symmetric(&coarse_matrix)?;
+                        *amg = rebuild(a, &self.amg_input)?;
+                    }
+                }
+                *smoother = Chebyshev::new(
+                    &self.a,
+                    self.options.smoother_degree,
+                    CHEBYSHEV_INTERVAL_RATIO,
+                )?;
+            }
+        }
         Ok(())
     }
 
     /// A workspace for [`Self::solve_in_place`].
     pub fn workspace(&self) -> MultigridWorkspace {
         let n = self.a.dim();
+        let (nc, amg) = match &self.preconditioner {
+            Preconditioner::Amg(amg) => (0, Some(amg.workspace())),
+            Preconditioner::PMultigrid { pt, coarse, .. } => (
+                pt.rows(),
+                match coarse {
+                    Coarse::Amg { amg, .. } => Some(amg.workspace()),
+                    Coarse::Direct(_) => None,
+                },
+            ),
+        };
         MultigridWorkspace {
             r: vec![0.0; n],
             d: vec![0.0; n],
-            rc: vec![0.0; self.pt.rows()],
+            rc: vec![0.0; nc],
+            xc: vec![0.0; nc],
+            amg,
             pcg: PcgWorkspace::new(n),
         }
     }
 
     /// Sizes and memory.
     pub fn report(&self) -> MultigridReport {
-        MultigridReport {
+        let mut report = MultigridReport {
             fine_unknowns: self.a.dim(),
-            coarse_unknowns: self.pt.rows(),
+            coarse_unknowns: 0,
             fine_nnz: self.a.nnz(),
-            coarse_factor_nnz: self.coarse.symbolic().factor_nnz(),
-            memory_bytes: self.a.memory_bytes()
-                + 2 * 12 * self.p.rows()
-                + self.coarse.memory_bytes()
-                + 8 * self.a.dim(),
-            lambda_max: self.smoother.lambda_max,
+            coarse_factor_nnz: 0,
+            memory_bytes: self.a.memory_bytes() + 8 * self.a.dim(),
+            lambda_max: 0.0,
+            coarse_solver: "amg-only",
+            amg_levels: 0,
+            amg_operator_complexity: 0.0,
+        };
+        let add_amg = |report: &mut MultigridReport, amg: &Amg| {
+            let r = amg.report();
+            report.amg_levels = r.level_unknowns.len();
+            report.amg_operator_complexity = r.operator_complexity;
+            report.memory_bytes += r.memory_bytes;
+            report.coarse_factor_nnz = amg.coarsest_factor_nnz();
+        };
+        match &self.preconditioner {
+            Preconditioner::Amg(amg) => {
+                add_amg(&mut report, amg);
+                report.lambda_max = amg.finest_lambda_max();
+            }
+            Preconditioner::PMultigrid {
+                p,
+                pt,
+                smoother,
+                coarse,
+            } => {
+                report.coarse_unknowns = pt.rows();
+                report.lambda_max = smoother.lambda_max;
+                report.memory_bytes += p.memory_bytes() + pt.memory_bytes();
+                match coarse {
+                    Coarse::Direct(factor) => {
+                        report.coarse_solver = "direct";
+                        report.coarse_factor_nnz = factor.symbolic().factor_nnz();
+                        report.memory_bytes += factor.memory_bytes();
+                    }
+                    Coarse::Amg { a, amg } => {
+                        report.coarse_solver = "amg";
+                        report.memory_bytes += a.memory_bytes();
+                        add_amg(&mut report, amg);
+                    }
+                }
+            }
         }
+        report
     }
 
     /// The options in use.
@@ -411,23 +638,38 @@ impl IterativeSolver {
         &self.options
     }
 
-    /// One V-cycle z = M⁻¹ r (pre-smoothing, coarse correction, post-smoothing).
-    fn v_cycle(
-        &self,
-        r_in: &[f64],
-        z: &mut [f64],
-        r: &mut [f64],
-        d: &mut [f64],
-        rc: &mut [f64],
-    ) -> FemResult<()> {
-        z.fill(0.0);
-        self.smoother.smooth(&self.a, r_in, z, true, r, d);
-        self.a.residual(r_in, z, r);
-        self.pt.mul_vec(r, rc);
-        self.coarse.solve_in_place(rc)?;
-        self.p.mul_add_vec(rc, z);
-        self.smoother.smooth(&self.a, r_in, z, false, r, d);
-        Ok(())
+    /// z = M⁻¹ r: one p-multigrid V-cycle (pre-smoothing, coarse correction, post-smoothing) or
+    /// one AMG V-cycle.
+    fn precondition(&self, r_in: &[f64], z: &mut [f64], ws: &mut VCycleVectors) -> FemResult<()> {
+        let VCycleVectors { r, d, rc, xc, amg } = ws;
+        match &self.preconditioner {
+            Preconditioner::Amg(h) => {
+                h.v_cycle(&self.a, r_in, z, amg.as_mut().expect("AMG workspace"))
+            }
+            Preconditioner::PMultigrid {
+                p,
+                pt,
+                smoother,
+                coarse,
+            } => {
+                z.fill(0.0);
+                smoother.smooth(&self.a, r_in, z, true, r, d);
+                self.a.residual(r_in, z, r);
+                pt.mul_vec(r, rc);
+                match coarse {
+                    Coarse::Direct(factor) => {
+                        factor.solve_in_place(rc)?;
+                        p.mul_add_vec(rc, z);
+                    }
+                    Coarse::Amg { a, amg: h } => {
+                        h.v_cycle(a, rc, xc, amg.as_mut().expect("AMG workspace"))?;
+                        p.mul_add_vec(xc, z);
+                    }
+                }
+                smoother.smooth(&self.a, r_in, z, false, r, d);
+                Ok(())
+            }
+        }
     }
 
     /// Solves K_red x = b; on entry `rhs` = b, on exit x. Returns the iteration record.
@@ -445,10 +687,18 @@ impl IterativeSolver {
             });
         }
         let b = rhs.to_vec();
-        let MultigridWorkspace { r, d, rc, pcg: pw } = ws;
+        let MultigridWorkspace {
+            r,
+            d,
+            rc,
+            xc,
+            amg,
+            pcg: pw,
+        } = ws;
+        let mut vectors = VCycleVectors { r, d, rc, xc, amg };
         let report = pcg(
             |v, out| self.a.mul_vec(v, out),
-            |res, z| self.v_cycle(res, z, r, d, rc),
+            |res, z| self.precondition(res, z, &mut vectors),
             &b,
             rhs,
             pw,
@@ -483,4 +733,13 @@ impl IterativeSolver {
             .map(|col| self.solve_in_place(col, ws))
             .collect()
     }
+}
+
+/// Borrowed work vectors of one preconditioner application.
+struct VCycleVectors<'a> {
+    r: &'a mut Vec<f64>,
+    d: &'a mut Vec<f64>,
+    rc: &'a mut Vec<f64>,
+    xc: &'a mut Vec<f64>,
+    amg: &'a mut Option<AmgWorkspace>,
 }

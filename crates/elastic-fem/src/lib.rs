@@ -27,6 +27,7 @@
 // Index loops mirror the tensor formulas (C_ijkl, K_ab,ij); iterator chains would obscure them.
 #![allow(clippy::needless_range_loop)]
 
+pub mod amg;
 pub mod assembly;
 pub mod constraints;
 pub mod element;
@@ -48,7 +49,7 @@ pub mod static_solver;
 pub use assembly::{assemble_stiffness, assemble_stiffness_into};
 pub use constraints::{Constraints, Dirichlet, PeriodicPairs, RigidComponent, RigidFace};
 pub use error::{FemError, FemResult};
-pub use iterative::{IterativeOptions, IterativeSolver};
+pub use iterative::{CoarseSolver, IterativeOptions, IterativeSolver};
 pub use loads::SurfaceTriangles;
 pub use material::{CubicCrystal, LameParameters, Material};
 pub use model::{Connectivity, Model, QualityReport};

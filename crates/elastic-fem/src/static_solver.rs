@@ -12,9 +12,9 @@
 //!   linear in the N unknowns (multigrid: bounded iteration counts);
 //!
 //! picks the smaller, and the iterative one whenever the factor would exceed
-//! [`DIRECT_FACTOR_MEMORY_BYTES`]. Below [`ALWAYS_DIRECT_UNKNOWNS`] (and for Tet4 meshes, which
-//! have no p-multigrid hierarchy) it picks direct without analysis; above
-//! [`ALWAYS_ITERATIVE_UNKNOWNS`] iterative without analysis. Rates measured on the punch meshes
+//! [`DIRECT_FACTOR_MEMORY_BYTES`]. Below [`ALWAYS_DIRECT_UNKNOWNS`] it picks direct without
+//! analysis; above [`ALWAYS_ITERATIVE_UNKNOWNS`] iterative without analysis. Tet4 meshes (whose
+//! iterative path is SA-AMG alone, rates not measured) go direct whenever the factor fits. Rates measured on the punch meshes
 //! (validation/fem-peers/README.md). The choice and its reason are in [`StaticSolution::choice`].
 
 use crate::assembly::assemble_stiffness;
@@ -120,12 +120,12 @@ pub fn choose_method(
         }
         SolverMethod::Auto => {}
     }
-    if matches!(connectivity, Connectivity::Tet4(_)) {
-        let reason = "auto: Tet4 mesh (the p-multigrid path needs Tet10)".to_string();
-        return Ok(choice(SolverMethod::Direct, reason, None));
-    }
     if n < ALWAYS_DIRECT_UNKNOWNS {
-        let reason = format!("auto: {n} unknowns < {ALWAYS_DIRECT_UNKNOWNS}");
+        let mesh = match connectivity {
+            Connectivity::Tet4(_) => " (Tet4 mesh)",
+            Connectivity::Tet10(_) => "",
+        };
+        let reason = format!("auto: {n} unknowns < {ALWAYS_DIRECT_UNKNOWNS}{mesh}");
         return Ok(choice(SolverMethod::Direct, reason, None));
     }
     if n > ALWAYS_ITERATIVE_UNKNOWNS {
@@ -146,6 +146,11 @@ pub fn choose_method(
     );
     let (method, why) = if factor_bytes > DIRECT_FACTOR_MEMORY_BYTES {
         (SolverMethod::Iterative, "factor over the memory limit")
+    } else if matches!(connectivity, Connectivity::Tet4(_)) {
+        (
+            SolverMethod::Direct,
+            "Tet4 mesh (its AMG-only iterative path has no measured rates) and the factor fits",
+        )
     } else if iterative_s < direct_s {
         (SolverMethod::Iterative, "iterative cheaper")
     } else {

@@ -4,7 +4,7 @@
 mod common;
 
 use common::{distort, model_of, steel};
-use elastic_fem::iterative::IterativeSolver;
+use elastic_fem::iterative::{CoarseSolver, IterativeSolver};
 use elastic_fem::mesh_gen::{BoxFace, BoxMesh};
 use elastic_fem::sparse::FactorOptions;
 use elastic_fem::{
@@ -166,9 +166,12 @@ fn iterative_solver_names_its_stopping_rule_when_it_cannot_converge() {
     );
 }
 
+/// Tet4 meshes have no p-hierarchy: the iterative path preconditions them by SA-AMG alone
+/// (rigid-body near-null space) and must reach the direct solution; `auto` still goes direct.
 #[test]
-fn iterative_method_is_refused_on_tet4_meshes_and_auto_goes_direct() {
-    let mesh = BoxMesh::tet4([1.0; 3], [3, 3, 3]);
+fn tet4_meshes_solve_iteratively_through_amg_and_auto_goes_direct() {
+    let mut mesh = BoxMesh::tet4([1.0; 3], [14, 14, 14]);
+    distort(&mut mesh, 0.05);
     let model = model_of(&mesh, steel());
     let constraints = Constraints {
         dirichlet: vec![Dirichlet::clamped(mesh.face_nodes(BoxFace::ZMin))],
@@ -178,25 +181,42 @@ fn iterative_method_is_refused_on_tet4_meshes_and_auto_goes_direct() {
     loads::add_surface_traction(
         model.nodes(),
         &mesh.face_triangles(BoxFace::ZMax),
-        [1e6, 0.0, 0.0],
+        [1e6, -2e5, 4e5],
         &mut f,
     )
     .unwrap();
-    let problem = StaticProblem {
-        model: &model,
-        constraints: &constraints,
-        load_n: &f,
-    };
-    let iterative = SolverOptions {
-        method: SolverMethod::Iterative,
-        ..SolverOptions::default()
-    };
-    let err = solve_static(&problem, &iterative).unwrap_err();
+    let direct = solve(&model, &constraints, &f, SolverMethod::Direct);
+    let iterative = solve(&model, &constraints, &f, SolverMethod::Iterative);
+    let tolerance = IterativeOptions::default().relative_energy_error;
+    let error =
+        relative_energy_difference(&model, &iterative.displacement_m, &direct.displacement_m);
     assert!(
-        matches!(err, FemError::IterativeUnsupported { .. }),
-        "Tet4 iterative: {err}"
+        error < 10.0 * tolerance,
+        "Tet4 AMG-PCG vs direct: relative energy-norm difference {error:e}"
     );
-    let auto = solve_static(&problem, &SolverOptions::default()).unwrap();
+    assert!(
+        iterative.report.iterations > 0 && iterative.report.iterations < 100,
+        "PCG iterations with SA-AMG on Tet4: {}",
+        iterative.report.iterations
+    );
+    let (k_red, reduced) = reduced_matrix(&model, &constraints);
+    let solver = IterativeSolver::new(
+        &model,
+        reduced.dof_map(),
+        &k_red,
+        &IterativeOptions::default(),
+        FactorOptions::default(),
+    )
+    .unwrap();
+    let report = solver.report();
+    assert_eq!(report.coarse_solver, "amg-only", "Tet4 preconditioner");
+    assert!(
+        report.amg_levels >= 2,
+        "AMG levels for {} unknowns: {}",
+        report.fine_unknowns,
+        report.amg_levels
+    );
+    let auto = solve(&model, &constraints, &f, SolverMethod::Auto);
     assert_eq!(
         auto.choice.method,
         SolverMethod::Direct,
@@ -208,6 +228,73 @@ fn iterative_method_is_refused_on_tet4_meshes_and_auto_goes_direct() {
         "reason: {}",
         auto.choice.reason
     );
+}
+
+/// The Tet4 coarse level of the p-multigrid solved by one SA-AMG V-cycle instead of a Cholesky
+/// factorisation: same solution within the tolerance, a few more iterations at most.
+#[test]
+fn coarse_amg_reaches_the_direct_solution_on_a_block() {
+    let (model, constraints, f) = block(6);
+    let direct = solve(&model, &constraints, &f, SolverMethod::Direct);
+    let options = |coarse_solver| SolverOptions {
+        method: SolverMethod::Iterative,
+        iterative: IterativeOptions {
+            coarse_solver,
+            ..IterativeOptions::default()
+        },
+        ..SolverOptions::default()
+    };
+    let problem = StaticProblem {
+        model: &model,
+        constraints: &constraints,
+        load_n: &f,
+    };
+    let amg = solve_static(&problem, &options(CoarseSolver::Amg)).unwrap();
+    let exact = solve_static(&problem, &options(CoarseSolver::Direct)).unwrap();
+    let tolerance = IterativeOptions::default().relative_energy_error;
+    let error = relative_energy_difference(&model, &amg.displacement_m, &direct.displacement_m);
+    assert!(
+        error < 10.0 * tolerance,
+        "coarse AMG vs direct: relative energy-norm difference {error:e}"
+    );
+    assert!(
+        amg.report.iterations <= 2 * exact.report.iterations + 5,
+        "PCG iterations: coarse AMG {} vs exact coarse solve {}",
+        amg.report.iterations,
+        exact.report.iterations
+    );
+    let (k_red, reduced) = reduced_matrix(&model, &constraints);
+    let iterative = IterativeOptions {
+        coarse_solver: CoarseSolver::Amg,
+        ..IterativeOptions::default()
+    };
+    let solver = IterativeSolver::new(
+        &model,
+        reduced.dof_map(),
+        &k_red,
+        &iterative,
+        FactorOptions::default(),
+    )
+    .unwrap();
+    let report = solver.report();
+    assert_eq!(report.coarse_solver, "amg", "coarse solver");
+    assert!(
+        report.amg_levels >= 2 && report.amg_operator_complexity < 2.0,
+        "AMG levels {} and operator complexity {}",
+        report.amg_levels,
+        report.amg_operator_complexity
+    );
+}
+
+fn reduced_matrix(
+    model: &Model,
+    constraints: &Constraints,
+) -> (elastic_fem::sparse::SymmetricMatrix, ReducedSystem) {
+    let k = assemble_stiffness(model, &StiffnessPattern::build(model)).unwrap();
+    let map = DofMap::new(model.node_count(), constraints).unwrap();
+    let reduced = ReducedSystem::new(&k, map).unwrap();
+    let k_red = reduced.reduce_matrix(&k).unwrap();
+    (k_red, reduced)
 }
 
 #[test]

@@ -58,7 +58,7 @@ pub use result::{
     CurvePoint, DynamicResult, OperatingPoint, TransientSummary, curve_csv, write_curve_csv,
 };
 pub use scene::{
-    DynamicScene, HistoryOptions, ModelChoice, ModelKind, PHASE_NONUNIFORMITY_LIMIT,
+    BOUNCE_LIMIT, DynamicScene, HistoryOptions, ModelChoice, ModelKind, PHASE_HARMONICS,
     SPEED_RIPPLE_LIMIT, SolveOptions, TransientOptions, TransientStart,
 };
 pub use slider::{

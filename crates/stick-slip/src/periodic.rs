@@ -127,18 +127,11 @@ impl PeriodicAverageModel {
                 "period-average model: the vertical slider dynamics are replaced by the period-mean equilibrium Σ⟨N⟩ = P",
             ));
         }
-        let nonuniformity = scene.phase_nonuniformity();
-        if nonuniformity > crate::scene::PHASE_NONUNIFORMITY_LIMIT {
-            warnings.push(Warning::new(
-                "slider.layout",
-                format!("period-average model assumes posts uniform over the phase; this layout's non-uniformity is {nonuniformity:.3}"),
-            ));
-        }
         let ripple = scene.speed_ripple_estimate();
-        if ripple > crate::scene::SPEED_RIPPLE_LIMIT {
+        if ripple.is_nan() || ripple > crate::scene::SPEED_RIPPLE_LIMIT {
             warnings.push(Warning::new(
                 "slider.mass_kg",
-                format!("period-average model assumes a heavy slider; the estimated speed ripple is {ripple:.1e} of A_t ω"),
+                format!("period-average model assumes a steady slider speed; the estimated speed ripple is {ripple:.1e} of A_t ω (post phase non-uniformity {:.3})", scene.phase_nonuniformity()),
             ));
         }
         let wave = &scene.wave;

@@ -18,12 +18,17 @@ pub const DEFAULT_CURVE_POINTS: usize = 50;
 /// Harmonics checked for the phase uniformity of the posts (m = 1..8): the single-post force
 /// waveform's content beyond the 8th harmonic is below ≈ 1 % of its mean.
 pub const PHASE_HARMONICS: usize = 8;
-/// Largest phase non-uniformity max_m |Σ w e^{imkx}|/Σ w accepted by the period-average model
-/// under `auto` (incommensurate or clustered pitch above this needs the transient). Default 0.1.
-pub const PHASE_NONUNIFORMITY_LIMIT: f64 = 0.1;
+/// Phase sums |S_m| at or below this are treated as exactly uniform (round-off of the sum over
+/// the posts). Default 1e-9.
+const NEGLIGIBLE_PHASE_SUM: f64 = 1e-9;
 /// Largest estimated slider speed ripple, relative to the crest speed A_t ω, accepted by the
-/// period-average model under `auto` (a lighter slider needs the transient). Default 1e-2.
+/// period-average model under `auto` ([`DynamicScene::speed_ripple_estimate`]; the period
+/// average's speed and thrust are off by about this much). Default 1e-2.
 pub const SPEED_RIPPLE_LIMIT: f64 = 1e-2;
+/// Largest estimated vertical bounce of the slider, relative to A_n, accepted by the
+/// period-average model under `auto` for a `dynamic` vertical model
+/// ([`DynamicScene::bounce_estimate`]). Default 1e-2.
+pub const BOUNCE_LIMIT: f64 = 1e-2;
 
 /// Which model to run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -276,36 +281,96 @@ impl DynamicScene {
         }
     }
 
-    /// Phase non-uniformity of the posts, max over m = 1..8 (`PHASE_HARMONICS`) of
-    /// |Σ_i e^{i m k x_i}| / N (0: uniform over the phase; 1: all in phase).
-    pub fn phase_nonuniformity(&self) -> f64 {
+    /// Phase sums of the posts |S_m| = |Σ_i w_i e^{i m k x_i}| / Σ_i w_i for m = 1..8
+    /// (`PHASE_HARMONICS`): 0 when the posts are uniform over the phase at harmonic m, 1 when all
+    /// are in phase.
+    pub fn phase_harmonics(&self) -> [f64; PHASE_HARMONICS] {
+        let mut sums = [0.0; PHASE_HARMONICS];
         if matches!(self.slider.layout, PostLayout::UniformPhase { .. }) {
-            return 0.0;
+            return sums;
         }
         let k = self.wave.wavenumber_rad_per_m();
         let columns = self.slider.layout.columns(self.wave.wavelength_m(), 1);
         let total: f64 = columns.iter().map(|c| c.2).sum();
-        (1..=PHASE_HARMONICS)
-            .map(|m| {
-                let (re, im) = columns.iter().fold((0.0, 0.0), |(re, im), &(x, _, w)| {
-                    let phase = m as f64 * k * x;
-                    (re + w * phase.cos(), im + w * phase.sin())
-                });
-                re.hypot(im) / total
-            })
-            .fold(0.0, f64::max)
+        for (i, sum) in sums.iter_mut().enumerate() {
+            let m = (i + 1) as f64;
+            let (re, im) = columns.iter().fold((0.0, 0.0), |(re, im), &(x, _, w)| {
+                let phase = m * k * x;
+                (re + w * phase.cos(), im + w * phase.sin())
+            });
+            *sum = re.hypot(im) / total;
+        }
+        sums
     }
 
-    /// Estimated slider speed ripple relative to the crest speed: the force ripple (phase
-    /// non-uniformity × friction bound of the peak normal forces) over M ω A_t ω.
+    /// Phase non-uniformity of the posts, max over m = 1..8 of |S_m| ([`Self::phase_harmonics`]).
+    /// Reported with the model choice; the choice itself depends on its effect
+    /// ([`Self::speed_ripple_estimate`], [`Self::bounce_estimate`]).
+    pub fn phase_nonuniformity(&self) -> f64 {
+        self.phase_harmonics().into_iter().fold(0.0, f64::max)
+    }
+
+    /// Estimated slider speed ripple relative to the crest speed A_t ω, an upper bound of the
+    /// forced response of the slider to the harmonics of the summed post forces (docs/physics.md
+    /// §5.1):
+    ///
+    /// δv / (A_t ω) ≤ Σ_{m=1..8} 2 μ_s |S_m| P / (D_m · A_t ω),  D_m = max(M m ω − K_t/(m ω), 0),
+    ///
+    /// because every post sees the same signal shifted in phase, so the m-th harmonic of the
+    /// summed tangential force is |S_m| times N_eff times one post's, whose amplitude is at most
+    /// 2 μ_s ⟨N⟩ = 2 μ_s P/N_eff (|F_t| ≤ μ_s N). The slider responds as a mass M held by at most
+    /// the fully stuck stiffness K_t = N_eff k_t; D_m = 0 (a possible resonance) gives ∞.
+    /// Range of validity: steady running, continuous uniform wave, harmonics above the 8th of
+    /// one post's force below ≈ 1 % of its mean. The period average's speed and thrust are off by
+    /// about this ripple (first order).
     pub fn speed_ripple_estimate(&self) -> f64 {
         let omega = self.wave.angular_frequency_rad_per_s();
-        let force_ripple = self.phase_nonuniformity()
-            * self.contact.mu_static
-            * self.peak_normal_force_n()
-            * self.slider.effective_post_count();
+        let stiffness = self.slider.effective_post_count() * self.contact.k_t_n_per_m;
         let crest = self.wave.crest_speed_m_per_s().max(f64::MIN_POSITIVE);
-        force_ripple / (self.slider.mass_kg * omega * crest)
+        let amplitude = 2.0 * self.contact.mu_static * self.slider.preload_n;
+        self.harmonic_response(|m| {
+            let m_omega = m * omega;
+            (self.slider.mass_kg * m_omega - stiffness / m_omega).max(0.0)
+        }) * amplitude
+            / crest
+    }
+
+    /// Estimated vertical bounce of the slider relative to A_n under the `dynamic` vertical model
+    /// (`None` for the period-mean model, which has no bounce): the forced response of the
+    /// vertical mode to the harmonics of the summed normal force (amplitude ≤ 2 |S_m| P, as for
+    /// [`Self::speed_ripple_estimate`]),
+    ///
+    /// δz / A_n ≤ Σ_{m=1..8} 2 |S_m| P / (|D_m| A_n),  |D_m|² = max(M (mω)² − K_n, 0)² + (c m ω)²,
+    ///
+    /// with K_n = N_eff k_n (contact stiffness at most fully engaged) and c = 2ζ√(M K_n). The
+    /// normal forces, hence the friction bound, change by k_n δz, i.e. the result by about δz/A_n
+    /// of ⟨N⟩-relative terms (first order). Range of validity as for the speed ripple.
+    pub fn bounce_estimate(&self) -> Option<f64> {
+        let VerticalModel::Dynamic { damping_ratio } = self.slider.vertical else {
+            return None;
+        };
+        let omega = self.wave.angular_frequency_rad_per_s();
+        let mass = self.slider.mass_kg;
+        let stiffness = self.slider.effective_post_count() * self.contact.k_n_n_per_m;
+        let damping = 2.0 * damping_ratio * (mass * stiffness).sqrt();
+        let amplitude = 2.0 * self.slider.preload_n;
+        let response = self.harmonic_response(|m| {
+            let m_omega = m * omega;
+            (mass * m_omega * m_omega - stiffness)
+                .max(0.0)
+                .hypot(damping * m_omega)
+        });
+        Some(response * amplitude / self.wave.normal_amplitude_m)
+    }
+
+    /// Σ_m |S_m| / D(m) over m = 1..8 (∞ where |S_m| > 0 and D(m) = 0).
+    fn harmonic_response(&self, denominator: impl Fn(f64) -> f64) -> f64 {
+        self.phase_harmonics()
+            .into_iter()
+            .enumerate()
+            .filter(|(_, s)| *s > NEGLIGIBLE_PHASE_SUM)
+            .map(|(i, s)| s / denominator((i + 1) as f64))
+            .sum()
     }
 
     /// The model to run and why.
@@ -324,16 +389,23 @@ impl DynamicScene {
             }
             ModelChoice::Auto => Ok(match needs_transient.first() {
                 Some((reason, _)) => (ModelKind::Transient, format!("auto: {reason}")),
-                None => (
-                    ModelKind::PeriodicAverage,
-                    format!(
-                        "auto: posts uniform over the phase (non-uniformity {:.3} ≤ {PHASE_NONUNIFORMITY_LIMIT}), heavy slider (speed ripple ≈ {:.1e} of A_t ω ≤ {SPEED_RIPPLE_LIMIT:.0e}), continuous wave without decay",
-                        self.phase_nonuniformity(),
-                        self.speed_ripple_estimate()
-                    ),
-                ),
+                None => (ModelKind::PeriodicAverage, self.period_average_reason()),
             }),
         }
+    }
+
+    /// Why `auto` chose the period average: the estimated effects and their tolerances.
+    fn period_average_reason(&self) -> String {
+        let bounce = match self.bounce_estimate() {
+            Some(b) => format!(", slider bounce ≈ {b:.1e} of A_n ≤ {BOUNCE_LIMIT:.0e}"),
+            None => String::new(),
+        };
+        format!(
+            "auto: continuous wave without decay; effect of the post phases (non-uniformity {:.3}) on a {:.3e} kg slider: speed ripple ≈ {:.1e} of A_t ω ≤ {SPEED_RIPPLE_LIMIT:.0e}{bounce}",
+            self.phase_nonuniformity(),
+            self.slider.mass_kg,
+            self.speed_ripple_estimate(),
+        )
     }
 
     /// Scene features the period-average model cannot represent, with whether they forbid it
@@ -349,21 +421,23 @@ impl DynamicScene {
         if self.slider.layout.has_gaps() {
             reasons.push(("posts with initial gaps (height scatter)".into(), true));
         }
-        if matches!(self.slider.vertical, VerticalModel::Dynamic { .. }) {
-            reasons.push(("dynamic vertical slider motion (bounce)".into(), false));
-        }
         let nonuniformity = self.phase_nonuniformity();
-        if nonuniformity > PHASE_NONUNIFORMITY_LIMIT {
+        let ripple = self.speed_ripple_estimate();
+        if ripple.is_nan() || ripple > SPEED_RIPPLE_LIMIT {
             reasons.push((
-                format!("posts not uniform over the wave phase (non-uniformity {nonuniformity:.3} > {PHASE_NONUNIFORMITY_LIMIT}; incommensurate or clustered pitch)"),
+                format!(
+                    "speed ripple ≈ {ripple:.1e} of A_t ω > {SPEED_RIPPLE_LIMIT:.0e} (a {:.3e} kg slider, post phase non-uniformity {nonuniformity:.3})",
+                    self.slider.mass_kg
+                ),
                 false,
             ));
         }
-        let ripple = self.speed_ripple_estimate();
-        if ripple > SPEED_RIPPLE_LIMIT {
+        if let Some(bounce) = self.bounce_estimate()
+            && (bounce.is_nan() || bounce > BOUNCE_LIMIT)
+        {
             reasons.push((
                 format!(
-                    "light slider (speed ripple ≈ {ripple:.1e} of A_t ω > {SPEED_RIPPLE_LIMIT:.0e})"
+                    "dynamic vertical slider motion: bounce ≈ {bounce:.1e} of A_n > {BOUNCE_LIMIT:.0e} (post phase non-uniformity {nonuniformity:.3})"
                 ),
                 false,
             ));

@@ -223,6 +223,67 @@ fn incommensurate_light_slider_ripples_and_bounces() {
     );
 }
 
+/// The effect estimates behind `auto` bound what the transient measures: on the incommensurate
+/// 33 × 33 array the measured speed ripple and bounce stay below their estimates, and where
+/// `auto` picks the period average (2.9 mg slider) its no-load speed matches the transient's
+/// within the ripple limit; a ten times lighter slider is sent to the transient.
+#[test]
+fn auto_effect_estimates_bound_the_transient_ripple_and_bounce() {
+    for (mass_factor, expected) in [
+        (0.1, stick_slip::ModelKind::PeriodicAverage),
+        (0.01, stick_slip::ModelKind::Transient),
+    ] {
+        let mut scene = transient_scene();
+        scene.slider.layout = PostLayout::SquareArray {
+            posts_per_side: 33,
+            pitch_m: 121e-6,
+        };
+        scene.slider.preload_n = 10.0;
+        scene.slider.mass_kg *= mass_factor;
+        scene.slider.vertical = VerticalModel::Dynamic {
+            damping_ratio: 0.05,
+        };
+        let auto = DynamicScene {
+            model: ModelChoice::Auto,
+            ..scene.clone()
+        };
+        let (kind, reason) = auto.resolve_model().unwrap();
+        assert_eq!(
+            kind, expected,
+            "slider mass {:.2e} kg: {reason}",
+            scene.slider.mass_kg
+        );
+        let run = TransientModel::new(&scene)
+            .unwrap()
+            .run(0.0, TransientStart::Estimate, false)
+            .unwrap();
+        let crest = scene.wave.crest_speed_m_per_s();
+        let ripple_measured = 0.5 * run.speed_ripple_m_per_s / crest;
+        let bounce_measured = 0.5 * run.vertical_bounce_m / scene.wave.normal_amplitude_m;
+        assert!(
+            ripple_measured <= auto.speed_ripple_estimate(),
+            "speed ripple amplitude {ripple_measured:.2e} of A_t ω above its estimate {:.2e}",
+            auto.speed_ripple_estimate()
+        );
+        let bounce_estimate = auto.bounce_estimate().unwrap();
+        assert!(
+            bounce_measured <= bounce_estimate,
+            "bounce amplitude {bounce_measured:.2e} of A_n above its estimate {bounce_estimate:.2e}"
+        );
+        if kind == stick_slip::ModelKind::PeriodicAverage {
+            let v0 = PeriodicAverageModel::new(&auto)
+                .unwrap()
+                .no_load_speed_m_per_s()
+                .unwrap();
+            assert!(
+                (run.speed_m_per_s - v0).abs() <= stick_slip::SPEED_RIPPLE_LIMIT * crest,
+                "no-load speed: transient {} vs period average {v0} m/s",
+                run.speed_m_per_s
+            );
+        }
+    }
+}
+
 #[test]
 fn posts_held_off_by_a_gap_carry_no_load() {
     // 24 phases over one wavelength; in the gapped scene every phase has a second post lifted

@@ -101,6 +101,15 @@ impl CsrMatrix {
             .collect()
     }
 
+    /// Entries (column, value) of row `i`.
+    pub(crate) fn row(&self, i: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let (s, e) = (self.row_ptr[i], self.row_ptr[i + 1]);
+        self.col_idx[s..e]
+            .iter()
+            .zip(&self.values[s..e])
+            .map(|(&c, &v)| (c as usize, v))
+    }
+
     fn row_dot(&self, i: usize, x: &[f64]) -> f64 {
         let (s, e) = (self.row_ptr[i], self.row_ptr[i + 1]);
         self.col_idx[s..e]
@@ -253,6 +262,11 @@ impl RowSparse {
     /// Number of rows.
     pub fn rows(&self) -> usize {
         self.row_ptr.len() - 1
+    }
+
+    /// Bytes of the stored arrays.
+    pub fn memory_bytes(&self) -> usize {
+        self.values.len() * 12 + self.row_ptr.len() * 8
     }
 
     /// Number of columns.
