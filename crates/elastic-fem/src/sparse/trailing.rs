@@ -126,9 +126,16 @@ impl NumericCholesky {
                         continue;
                     }
                     let values = &self.values[s.col_ptr_for_val()[k]..s.col_ptr_for_val()[k + 1]];
-                    let pattern = &s.row_idx()[s.col_ptr_for_row_idx()[k]..s.col_ptr_for_row_idx()[k + 1]];
+                    let pattern =
+                        &s.row_idx()[s.col_ptr_for_row_idx()[k]..s.col_ptr_for_row_idx()[k + 1]];
                     let rows = (end - begin) + pattern.len();
-                    let row_of = |r: usize| if r < end - begin { begin + r } else { pattern[r - (end - begin)] };
+                    let row_of = |r: usize| {
+                        if r < end - begin {
+                            begin + r
+                        } else {
+                            pattern[r - (end - begin)]
+                        }
+                    };
                     for c in begin.max(first)..end {
                         let column = &values[(c - begin) * rows..(c - begin + 1) * rows];
                         for (r, v) in column.iter().enumerate().skip(c - begin) {
@@ -161,58 +168,73 @@ impl NumericCholesky {
 mod tests {
     use super::*;
 
-    /// SPD test matrix: a 2D 5-point Laplacian on a k × k grid plus a diagonal shift.
-    fn laplacian(k: usize) -> SymmetricMatrix {
-        let n = k * k;
+    /// SPD test matrix: the 7-point Laplacian on a kx × ky × kz grid plus a diagonal shift.
+    fn laplacian(kx: usize, ky: usize, kz: usize) -> SymmetricMatrix {
+        let n = kx * ky * kz;
         let mut col_ptr = vec![0];
         let (mut rows, mut vals) = (Vec::new(), Vec::new());
         for j in 0..n {
-            if j % k != 0 {
-                rows.push(j - 1);
-                vals.push(-1.0);
-            }
-            if j >= k {
-                rows.push(j - k);
-                vals.push(-1.0);
+            for (stride, has_neighbour) in [
+                (kx * ky, j >= kx * ky),
+                (kx, j % (kx * ky) >= kx),
+                (1, j % kx != 0),
+            ] {
+                if has_neighbour {
+                    rows.push(j - stride);
+                    vals.push(-1.0);
+                }
             }
             rows.push(j);
-            vals.push(4.1);
+            vals.push(6.1);
             col_ptr.push(rows.len());
         }
         SymmetricMatrix::from_upper_parts(n, col_ptr, rows, vals).unwrap()
     }
 
-    #[test]
-    fn the_trailing_inverse_equals_the_block_of_the_inverse_from_full_solves() {
-        let a = laplacian(30);
+    fn check_block_against_solves(
+        a: &SymmetricMatrix,
+        picked: &[usize],
+        ordering: Ordering,
+    ) -> bool {
         let n = a.dim();
-        let picked = [17, 450, 3, 899, 222, 610];
-        for ordering in [Ordering::Metis, Ordering::Amd, Ordering::Natural] {
-            let numeric = SymbolicCholesky::analyze_with_last(&a, ordering, &picked)
-                .unwrap()
-                .factor(&a)
-                .unwrap();
-            let block = numeric.trailing_inverse(picked.len()).unwrap();
-            for (j, &pj) in picked.iter().enumerate() {
-                let mut e = vec![0.0; n];
-                e[pj] = 1.0;
-                let x = numeric.solve(&e).unwrap();
-                for (i, &pi) in picked.iter().enumerate() {
-                    let err = (block[(i, j)] - x[pi]).abs();
-                    assert!(
-                        err < 1e-13 * x[pj].abs(),
-                        "{ordering:?}: (K⁻¹)[{pi}, {pj}] from the trailing block {} vs solve {}",
-                        block[(i, j)],
-                        x[pi]
-                    );
-                }
+        let symbolic = SymbolicCholesky::analyze_with_last(a, ordering, picked).unwrap();
+        let numeric = symbolic.factor(a).unwrap();
+        let block = numeric.trailing_inverse(picked.len()).unwrap();
+        for (j, &pj) in picked.iter().enumerate() {
+            let mut e = vec![0.0; n];
+            e[pj] = 1.0;
+            let x = numeric.solve(&e).unwrap();
+            for (i, &pi) in picked.iter().enumerate() {
+                let err = (block[(i, j)] - x[pi]).abs();
+                assert!(
+                    err < 1e-13 * x[pj].abs(),
+                    "{ordering:?}: compliance (K⁻¹)[{pi}, {pj}] from the trailing block {} vs solve {}",
+                    block[(i, j)],
+                    x[pi]
+                );
             }
         }
+        symbolic.is_supernodal()
+    }
+
+    #[test]
+    fn the_trailing_inverse_equals_the_block_of_the_inverse_from_full_solves() {
+        let plate = laplacian(30, 30, 1);
+        for ordering in [Ordering::Metis, Ordering::Amd, Ordering::Natural] {
+            check_block_against_solves(&plate, &[17, 450, 3, 899, 222, 610], ordering);
+        }
+        // A 3D grid: supernodal storage, the tie unknowns spread over several supernodes.
+        let cube = laplacian(18, 18, 18);
+        let picked: Vec<usize> = (0..40).map(|i| (i * 1453 + 11) % cube.dim()).collect();
+        assert!(
+            check_block_against_solves(&cube, &picked, Ordering::Metis),
+            "the 3D grid's factor should be supernodal (the branch under test)"
+        );
     }
 
     #[test]
     fn repeated_or_out_of_range_last_unknowns_are_refused() {
-        let a = laplacian(4);
+        let a = laplacian(4, 4, 1);
         assert!(SymbolicCholesky::analyze_with_last(&a, Ordering::Metis, &[1, 1]).is_err());
         assert!(SymbolicCholesky::analyze_with_last(&a, Ordering::Metis, &[16]).is_err());
     }
