@@ -9,7 +9,7 @@
 #
 # then the breakdown of the cached run (mesh read, assembly, ordering + symbolic analysis, numeric
 # factorisation, condensation onto the posts, contact solves and η fits) from the run's
-# static/report.json. Numbers go to stdout as `name wall_s user_s sys_s max_rss_kb` lines.
+# static.json. Numbers go to stdout as `name wall_s user_s sys_s max_rss_kb` lines.
 #
 #   scripts/perf-default.sh [--runs N] [--no-sweep]
 #
@@ -48,7 +48,7 @@ for r in $(seq 1 "$runs"); do
   timed "run_cold" "$bin" run --no-cache --out "$scratch/out-cold-$r"
   timed "run_cached_mesh" "$bin" run --no-cache --out "$scratch/out-cached-$r"
 done
-report="$(find "$scratch/out-cached-$runs" -name report.json -path '*static*' | head -1)"
+report="$(find "$scratch/out-cached-$runs" -name static.json | head -1)"
 if [[ -n "$report" ]]; then
   python3 - "$report" <<'EOF'
 import json, sys
