@@ -326,3 +326,7 @@ impl NumericCholesky {
         self.values.len() * std::mem::size_of::<f64>()
     }
 }
+
+// Condensation onto unknowns ordered last (a child module: it builds `SymbolicCholesky` values).
+#[path = "trailing.rs"]
+mod trailing;
