@@ -21,7 +21,6 @@ line's). Errors are :mod:`sawdrive.errors` exceptions with the command line's on
 
 from __future__ import annotations
 
-import json
 import math
 import numbers
 import os
@@ -161,11 +160,11 @@ class Scene:
 
     def resolve(self) -> Dict[str, Any]:
         """The scene resolved to SI units as a dict (``sawdrive scene --resolve --json``)."""
-        return json.loads(_native.resolve_scene(self._path, self._overrides))
+        return _native.resolve_scene(self._path, self._overrides)
 
     def to_toml(self) -> str:
         """The resolved scene as TOML, SI units (``sawdrive scene --resolve``)."""
-        return _native.resolve_scene(self._path, self._overrides, True)
+        return _native.scene_toml(self._path, self._overrides)
 
     def _args(self) -> Tuple[Optional[str], List[str]]:
         return self._path, list(self._overrides)
@@ -224,23 +223,36 @@ def _pandas():
     return pandas
 
 
-def _curve_array(points: List[Dict[str, float]]) -> np.ndarray:
-    """Columns speed (m/s), thrust (N) of a speed–thrust curve, shape (n, 2)."""
-    array = np.array([[p["speed_m_per_s"], p["thrust_n"]] for p in points], dtype=np.float64)
-    return array.reshape(len(points), 2)
-
-
 class _CurveResult(_Record):
-    def __init__(self, data: Dict[str, Any], curve_points: List[Dict[str, float]]):
+    """A result with a speed–thrust curve. The extension sends the curve as one f64 table
+    (exact, and cheap: a list of dicts would cost more than the millisecond-long period
+    average itself)."""
+
+    def __init__(self, data: Dict[str, Any], curve_bytes: bytes, columns: List[str]):
         super().__init__(data)
-        object.__setattr__(self, "_points", curve_points)
-        object.__setattr__(self, "curve", _curve_array(curve_points))
+        # The extension's columns start with speed (m/s) and thrust (N) (`CURVE_COLUMNS`).
+        table = np.frombuffer(curve_bytes, dtype="<f8").reshape(-1, len(columns))
+        object.__setattr__(self, "_curve_table", table)
+        object.__setattr__(self, "_curve_columns", columns)
+        object.__setattr__(self, "curve", table[:, :2].copy())
+
+    @property
+    def curve_points(self) -> List[Dict[str, float]]:
+        """The curve as the command line's JSON has it: one dict per point (``speed_m_per_s``,
+        ``thrust_n``, ``output_power_w``, ``efficiency``, ``stick_fraction``)."""
+        return [dict(zip(self._curve_columns, map(float, row))) for row in self._curve_table]
+
+    def to_dict(self) -> Dict[str, Any]:
+        """The fields as a plain dict (JSON-compatible, SI units), ``curve`` as a list of dicts."""
+        fields = dict(self.data)
+        fields["curve"] = self.curve_points
+        return fields
 
     def curve_frame(self):
-        """The speed–thrust curve as a pandas DataFrame, one row per point, every column of
+        """The speed–thrust curve as a pandas DataFrame, one row per point, the columns of
         ``curve.csv`` (``speed_m_per_s``, ``thrust_n``, ``output_power_w``, ``efficiency``,
         ``stick_fraction``). Needs pandas."""
-        return _pandas().DataFrame(self._points)
+        return _pandas().DataFrame(self._curve_table.copy(), columns=self._curve_columns)
 
 
 class DynamicResult(_CurveResult):
@@ -359,8 +371,8 @@ def springs(
             raise ArgumentError("springs: give a scene or diameter=, not both")
         if not isinstance(diameter, str):
             raise ArgumentError(f"--diameter {diameter!r}: give the diameter with its unit, e.g. \"20 um\"")
-        return Springs(json.loads(_native.post_springs(diameter, slider, stator)))
-    return Springs(json.loads(_native.scene_post_springs(*_as_scene(scene)._args())))
+        return Springs(_native.post_springs(diameter, slider, stator))
+    return Springs(_native.scene_post_springs(*_as_scene(scene)._args()))
 
 
 def _folders(out: Optional[PathLike], cache: Union[PathLike, bool, None]) -> Tuple[Optional[str], Optional[str]]:
@@ -400,8 +412,7 @@ def static(
     ``(elapsed_s, done, total)``."""
     out_text, cache_text = _folders(out, cache)
     path, overrides = _as_scene(scene)._args()
-    text = _call("static", progress, _native.static_stage, path, overrides, out_text, cache_text)
-    return StaticResult(json.loads(text))
+    return StaticResult(_call("static", progress, _native.static_stage, path, overrides, out_text, cache_text))
 
 
 def dynamic(
@@ -417,11 +428,11 @@ def dynamic(
     ``cache`` and ``progress`` as for :func:`static`."""
     out_text, cache_text = _folders(out, cache)
     path, overrides = _as_scene(scene)._args()
-    text = _call("dynamic", progress, _native.dynamic_stage, path, overrides, out_text, cache_text)
-    data = json.loads(text)
-    fields = dict(data["result"])
-    fields.update({k: v for k, v in data.items() if k != "result"})
-    return DynamicResult(fields, data["result"]["curve"])
+    data = _call("dynamic", progress, _native.dynamic_stage, path, overrides, out_text, cache_text)
+    fields = data["result"]
+    fields.update(effective_ratio=data["effective_ratio"], effective_ratio_source=data["effective_ratio_source"],
+                  folder=data["folder"])
+    return DynamicResult(fields, data["curve"], data["curve_columns"])
 
 
 def run(
@@ -437,10 +448,10 @@ def run(
     ``cache`` and ``progress`` as for :func:`static`."""
     out_text, cache_text = _folders(out, cache)
     path, overrides = _as_scene(scene)._args()
-    data = json.loads(_call("run", progress, _native.run, path, overrides, out_text, cache_text))
-    fields = dict(data["summary"])
+    data = _call("run", progress, _native.run, path, overrides, out_text, cache_text)
+    fields = data["summary"]
     fields["folder"] = data["folder"]
-    return RunResult(fields, data["summary"]["curve"])
+    return RunResult(fields, data["curve"], data["curve_columns"])
 
 
 def sweep(
@@ -457,8 +468,8 @@ def sweep(
     points failed. ``SweepResult.frame()`` gives the table as a DataFrame."""
     if jobs is not None and (isinstance(jobs, bool) or not isinstance(jobs, numbers.Integral) or jobs < 0):
         raise ArgumentError(f"--jobs {jobs!r}: must be between 1 and 256 worker threads")
-    text = _call("sweep", progress, _native.sweep, os.fspath(file), os.fspath(out), None if jobs is None else int(jobs))
-    result = SweepResult(json.loads(text))
+    data = _call("sweep", progress, _native.sweep, os.fspath(file), os.fspath(out), None if jobs is None else int(jobs))
+    result = SweepResult(data)
     if result.failures:
         total = len(result.failures) + len(result.rows)
         lines = "; ".join(f"point [{o}] failed: {e}" for o, e in result.failures)
@@ -474,4 +485,4 @@ def sweep(
 def sweep_points(file: PathLike) -> List[Dict[str, Any]]:
     """The points of a sweep file without running them: ``variant``, ``grid`` (values as
     written) and ``overrides`` (the ``key=value`` list of each point, in application order)."""
-    return json.loads(_native.sweep_points(os.fspath(file)))
+    return _native.sweep_points(os.fspath(file))

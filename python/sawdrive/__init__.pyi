@@ -58,6 +58,8 @@ class Springs(_Record):
 
 class _CurveResult(_Record):
     curve: npt.NDArray[np.float64]  # (n, 2): speed m/s, thrust N
+    @property
+    def curve_points(self) -> List[Dict[str, float]]: ...
     def curve_frame(self) -> Any: ...  # pandas.DataFrame
 
 class DynamicResult(_CurveResult):

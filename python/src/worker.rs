@@ -123,6 +123,22 @@ pub fn run<T: Send + 'static>(
     }
 }
 
+/// Run `job` on the calling thread with the GIL released. For the dynamic stage with η given
+/// (no FEM): milliseconds for the period average, where the hand-over to a worker thread would
+/// cost more than the stage on a loaded machine. Ctrl-C is raised when the job returns (its
+/// result discarded) rather than at once.
+pub fn run_inline<T: Send>(
+    py: Python<'_>,
+    job: impl FnOnce() -> Result<T, Failure> + Send,
+) -> PyResult<T> {
+    let outcome = py.detach(move || {
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(job))
+            .unwrap_or_else(|payload| Err(panic_failure(payload.as_ref())))
+    });
+    py.check_signals()?;
+    outcome.map_err(|f| f.into_pyerr(py))
+}
+
 /// A panic in the library, as a failure naming it (a bug, not bad input).
 fn panic_failure(payload: &(dyn std::any::Any + Send)) -> Failure {
     let message = payload

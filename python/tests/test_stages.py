@@ -52,8 +52,9 @@ def test_dynamic_equals_the_cli_json_to_the_last_bit(cli, tmp_path):
     curve = np.array([[p["speed_m_per_s"], p["thrust_n"]] for p in expected["curve"]])
     assert r.curve.shape == (len(expected["curve"]), 2) and r.curve.dtype == np.float64
     assert np.array_equal(r.curve, curve), "curve (speed m/s, thrust N), bit for bit"
+    assert r.curve_points == expected["curve"], "every column of the curve"
     for key, value in expected.items():
-        if key != "wall_time_s":
+        if key not in ("wall_time_s", "curve"):
             assert r.data[key] == value, f"field {key} as the CLI prints it"
     assert r.effective_ratio == ETA and r.effective_ratio_source == "given"
     assert r.folder is None, "nothing written without out="
