@@ -20,8 +20,8 @@ def load_example():
 
 def test_post_count_example_reproduces_figs_7_and_8(tmp_path):
     pytest.importorskip("matplotlib")
-    # The stiffest, a middle and the softest array at a moderate and the highest preload: the
-    # 1089-post array runs the transient (≈ 10 s a point); all 25 points: the example's default.
+    # The two stiffest arrays (period average, ≈ 1 ms a point) and the softest (transient,
+    # ≈ 10 s a point) at a moderate and the highest preload; all 25 points: the example's default.
     rows = load_example().main(["--out", str(tmp_path), "--arrays", "100x100,80x80,33x33",
                                 "--preloads", "40 N,100 N"])
     for chart in ("fig7_stall_thrust.png", "fig8_no_load_speed.png"):
