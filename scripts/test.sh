@@ -6,3 +6,4 @@ cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 cargo test --workspace "$@"
 cargo check -p stick-slip -p static-contact --no-default-features  # solvers build without plotting (feature `charts` off)
+python/test.sh  # the Python package: pip install ./python into target/python-venv, then pytest
