@@ -105,6 +105,12 @@ impl From<sawdrive::pipeline::PipelineError> for Failure {
     }
 }
 
+impl From<contact_springs::SpringError> for Failure {
+    fn from(error: contact_springs::SpringError) -> Self {
+        sawdrive::pipeline::PipelineError::from(error).into()
+    }
+}
+
 impl From<sawdrive::output::OutputError> for Failure {
     fn from(error: sawdrive::output::OutputError) -> Self {
         Failure::new(Kind::Pipeline, &error)

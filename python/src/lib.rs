@@ -156,7 +156,8 @@ fn static_stage<'py>(
     let scene = raise(py, scene(path, &overrides))?;
     let (out, cache) = folders(out, cache);
     let (mut value, staged) = worker::run(py, progress, None, move || {
-        let outcome = run_static(&scene, cache.as_deref(), out.is_some())?;
+        let springs = scene_springs(&scene)?;
+        let outcome = run_static(&scene, &springs, cache.as_deref(), out.is_some())?;
         let staged = match &out {
             Some(out) => {
                 let staged = StagedDir::create(&out.join(&scene.name).join("static"))?;
@@ -183,7 +184,7 @@ fn scene_eta(scene: &Scene, cache: Option<&Path>) -> Result<(f64, &'static str),
     if let Some(eta) = scene.contact.effective_ratio {
         return Ok((eta, "given"));
     }
-    let outcome = run_static(scene, cache, false)?;
+    let outcome = run_static(scene, &scene_springs(scene)?, cache, false)?;
     let eta = outcome.effective_ratio.ok_or_else(|| {
         Failure::text(
             Kind::Pipeline,
