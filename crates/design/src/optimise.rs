@@ -549,7 +549,8 @@ pub struct VariableSensitivity {
 }
 
 /// Finite-difference sensitivity of `model`'s objective at `x` to each variable, with steps of
-/// `step_fraction` of each range (at least 1 for integers), one-sided at a bound.
+/// `step_fraction` of each range (at least 1 for integers), one-sided at a bound or where the
+/// neighbour violates a constraint (derivative 0 when both neighbours do).
 pub fn local_sensitivity<F>(
     variables: &[Variable],
     x: &[f64],
@@ -579,7 +580,12 @@ where
                     point: point_label(variables, &y),
                     message,
                 })?;
-                Ok((value, o.objective))
+                // An infeasible neighbour (a constraint's boundary): one-sided difference.
+                Ok(if o.feasible() {
+                    (value, o.objective)
+                } else {
+                    (x[k], objective_at_x)
+                })
             };
             let (xm, fm) = at(x[k] - step)?;
             let (xp, fp) = at(x[k] + step)?;

@@ -787,3 +787,80 @@ pub fn describe_variables(variables: &BTreeMap<String, f64>) -> String {
         .collect::<Vec<_>>()
         .join(", ")
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SMALL: &str = r#"
+name = "small"
+set = ["posts.count=10x10", "posts.array=0.4mm"]
+objective = "max_output_power_w"
+[variables]
+preload = ["1 N", "4 N"]
+[optimiser]
+presearch_points = 3
+starts = 1
+max_evaluations_per_start = 3
+finalists = 1
+"#;
+
+    fn parse(text: &str) -> Result<DesignSpec, String> {
+        DesignSpec::parse(text, Path::new("."))
+    }
+
+    #[test]
+    fn a_design_run_reports_a_confirmed_optimum_with_unit_named_variables() {
+        let dir = tempfile::tempdir().unwrap();
+        let (r, folder) = run_design(&parse(SMALL).unwrap(), dir.path(), false).unwrap();
+        assert_eq!(
+            r.optimum.fidelity, "lattice-slider",
+            "fidelity of the optimum"
+        );
+        let p = r.optimum.variables["preload_n"];
+        assert!(
+            (1.0..=4.0).contains(&p),
+            "optimal preload {p} N within its bounds"
+        );
+        assert!(
+            r.evaluations.iter().any(|e| e.fidelity == "lattice-patch"),
+            "cheap search ran"
+        );
+        assert!(r.optimum.objective_value > 0.0, "maximum output power");
+        assert!(folder.join("summary.json").exists());
+    }
+
+    #[test]
+    fn bad_design_files_are_refused_naming_the_key() {
+        let e = parse(&SMALL.replace("[\"1 N\", \"4 N\"]", "[\"4 N\", \"1 N\"]")).unwrap_err();
+        assert!(e.starts_with("variables.preload: bounds reversed"), "{e}");
+        let e = parse(&SMALL.replace("\"max_output_power_w\"", "\"max_power\"")).unwrap_err();
+        assert!(
+            e.starts_with("objective: unknown output \"max_power\""),
+            "{e}"
+        );
+        let e = parse(&format!("{SMALL}\n[scatter]\nheight_scatter = \"5 nm\"\n")).unwrap_err();
+        assert!(e.starts_with("scatter:"), "{e}");
+        let e = parse(&SMALL.replace("[variables]", "samples = 0\n[variables]")).unwrap_err();
+        assert!(e.starts_with("samples: must be ≥ 1"), "{e}");
+    }
+
+    #[test]
+    fn an_infeasible_constraint_set_is_reported_naming_the_constraints() {
+        // 40 µm pitch and diameters of 30–35 µm leave gaps of at most 10 µm < 20 µm; preload
+        // ≥ 10 N above the 5 N limit.
+        let text = SMALL.replace(
+            "preload = [\"1 N\", \"4 N\"]",
+            "preload = [\"10 N\", \"20 N\"]\npost_diameter = [\"30 um\", \"35 um\"]",
+        ) + "[constraints]\nmin_gap = \"20 um\"\nmax_preload = \"5 N\"\n";
+        let dir = tempfile::tempdir().unwrap();
+        let e = run_design(&parse(&text).unwrap(), dir.path(), false)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("infeasible"), "{e}");
+        assert!(
+            e.contains("constraints.min_gap") && e.contains("constraints.max_preload"),
+            "{e}"
+        );
+    }
+}

@@ -28,7 +28,7 @@ const BAND_SPEEDS: usize = 41;
 /// Bins of each histogram.
 const HISTOGRAM_BINS: usize = 20;
 /// Version of the sample files' layout (part of the inputs hash).
-const SAMPLE_FORMAT: u32 = 1;
+const SAMPLE_FORMAT: u32 = 2;
 
 /// How to run a UQ.
 #[derive(Debug, Clone)]
@@ -246,6 +246,16 @@ pub fn run_uq(
             let t = Instant::now();
             let (values, field_seed) = draw_inputs(&inputs, options.seed, k);
             let sample = scatter.sample(&values, field_seed);
+            // The values used (μ_k clamped to ≤ μ_s), for the CSV and the ranking.
+            let values = vec![
+                sample.preload_n,
+                sample.post_diameter_m,
+                sample.mu_static,
+                sample.mu_kinetic,
+                sample.tilt_x_m,
+                sample.tilt_y_m,
+                sample.bow_m,
+            ];
             let out = evaluate(scene, &sample, options.fidelity).map_err(|e| {
                 PipelineError::Unsupported {
                     stage: "uq",
@@ -421,4 +431,148 @@ fn write_uq_files(
         );
     }
     Ok(files)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::load_scene;
+
+    /// 10 × 10 posts at the default 40 µm pitch: a whole-slider solve in milliseconds.
+    fn small_scene() -> Scene {
+        load_scene(
+            None,
+            &["posts.count=10x10".into(), "posts.array=0.4mm".into()],
+        )
+        .unwrap()
+    }
+
+    fn options(dir: &Path, samples: usize, seed: u64) -> UqOptions {
+        UqOptions {
+            samples,
+            seed,
+            out_dir: dir.to_owned(),
+            fidelity: Fidelity::Slider,
+            write_files: false,
+        }
+    }
+
+    fn scattered() -> ScatterSpec {
+        ScatterSpec {
+            height_scatter_m: 5e-9,
+            friction: 0.03,
+            preload_n: 2.0,
+            ..ScatterSpec::default()
+        }
+    }
+
+    #[test]
+    fn zero_scatter_collapses_the_bands_to_the_deterministic_run_exactly() {
+        let dir = tempfile::tempdir().unwrap();
+        let (r, _) = run_uq(
+            &small_scene(),
+            &ScatterSpec::default(),
+            &options(dir.path(), 3, 7),
+        )
+        .unwrap();
+        let bands = [
+            r.effective_contact_ratio,
+            r.stall_thrust_n,
+            r.no_load_speed_m_per_s,
+            r.max_output_power_w,
+            r.efficiency,
+        ];
+        for ((name, det), b) in r.deterministic.iter().zip(bands) {
+            for (what, v) in [
+                ("mean", b.mean),
+                ("p5", b.p5),
+                ("p50", b.p50),
+                ("p95", b.p95),
+            ] {
+                assert_eq!(
+                    v.to_bits(),
+                    det.to_bits(),
+                    "{what} of {name} without scatter"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_same_seed_gives_bitwise_identical_results() {
+        let (a, b) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+        let scene = small_scene();
+        let (ra, _) = run_uq(&scene, &scattered(), &options(a.path(), 4, 11)).unwrap();
+        let (rb, _) = run_uq(&scene, &scattered(), &options(b.path(), 4, 11)).unwrap();
+        let bits = |r: &UqReport| {
+            [
+                r.effective_contact_ratio,
+                r.stall_thrust_n,
+                r.max_output_power_w,
+            ]
+            .iter()
+            .flat_map(|b| [b.mean, b.p5, b.p50, b.p95])
+            .map(f64::to_bits)
+            .collect::<Vec<_>>()
+        };
+        assert_eq!(bits(&ra), bits(&rb), "bands of two runs with seed 11");
+        assert!(
+            ra.stall_thrust_n.p95 > ra.stall_thrust_n.p5,
+            "scatter spreads the stall thrust"
+        );
+        let (rc, _) = run_uq(&scene, &scattered(), &options(b.path(), 4, 12)).unwrap();
+        assert_ne!(bits(&ra), bits(&rc), "another seed draws other samples");
+    }
+
+    #[test]
+    fn an_interrupted_run_resumes_from_its_saved_samples_and_loses_nothing() {
+        let (a, b) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+        let scene = small_scene();
+        run_uq(&scene, &scattered(), &options(a.path(), 3, 5)).unwrap();
+        // Simulate an interruption: one saved sample lost, one damaged.
+        let cache = std::fs::read_dir(a.path().join(".uq-samples"))
+            .unwrap()
+            .next()
+            .unwrap()
+            .unwrap()
+            .path();
+        std::fs::remove_file(cache.join("sample-1.json")).unwrap();
+        std::fs::write(cache.join("sample-2.json"), "{half").unwrap();
+        let (resumed, _) = run_uq(&scene, &scattered(), &options(a.path(), 5, 5)).unwrap();
+        assert_eq!(
+            resumed.resumed_samples, 1,
+            "samples reused after the interruption"
+        );
+        let (fresh, _) = run_uq(&scene, &scattered(), &options(b.path(), 5, 5)).unwrap();
+        assert_eq!(
+            resumed.max_output_power_w.mean.to_bits(),
+            fresh.max_output_power_w.mean.to_bits(),
+            "resumed and fresh mean output power"
+        );
+    }
+
+    #[test]
+    fn bad_scatter_and_sample_count_are_refused_naming_the_key() {
+        let dir = tempfile::tempdir().unwrap();
+        let scene = small_scene();
+        let e = run_uq(&scene, &ScatterSpec::default(), &options(dir.path(), 0, 1)).unwrap_err();
+        assert!(e.to_string().contains("--samples"), "{e}");
+        let t: toml::Table = "height_scatter = \"-5 nm\"".parse().unwrap();
+        let e = ScatterSpec::from_table(&t).unwrap_err();
+        assert!(e.starts_with("scatter.height_scatter:"), "{e}");
+        let t: toml::Table = "sigma = \"5 nm\"".parse().unwrap();
+        assert!(
+            ScatterSpec::from_table(&t)
+                .unwrap_err()
+                .starts_with("scatter.sigma: unknown key")
+        );
+        let t: toml::Table = "distribution = \"uniform\"\npreload = \"50 N\""
+            .parse()
+            .unwrap();
+        let e = ScatterSpec::from_table(&t)
+            .unwrap()
+            .inputs(&scene)
+            .unwrap_err();
+        assert!(e.starts_with("scatter.preload:"), "{e}");
+    }
 }
