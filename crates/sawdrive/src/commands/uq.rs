@@ -82,6 +82,9 @@ pub fn run(args: &UqArgs) -> anyhow::Result<()> {
             report.deterministic[k].1, b.mean, b.p5, b.p50, b.p95
         );
     }
+    for (k, e) in &report.failed_samples {
+        println!("sample {k} failed (left out of the bands): {e}");
+    }
     for (output, ranking) in &report.sensitivity {
         if let Some(top) = ranking.first().filter(|s| s.spearman_rho.is_some()) {
             println!(

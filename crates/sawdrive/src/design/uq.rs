@@ -108,6 +108,8 @@ pub struct UqReport {
     pub curve_band: CurveBand,
     /// Samples reused from an earlier, interrupted run.
     pub resumed_samples: usize,
+    /// Samples whose model failed (index, error): not in the bands.
+    pub failed_samples: Vec<(u64, String)>,
     /// Mean wall time of one computed sample (s), as measured per sample (threads overlap).
     pub sample_cost_s: f64,
     /// Wall time of the whole run (s).
@@ -236,7 +238,7 @@ pub fn run_uq(
         options.fidelity,
     )?);
     let nominal = evaluate(scene, &MotorSample::nominal(scene), options.fidelity)?;
-    let results: Vec<(SampleRecord, bool)> = (0..options.samples as u64)
+    let outcomes: Vec<Result<(SampleRecord, bool), PipelineError>> = (0..options.samples as u64)
         .into_par_iter()
         .map(|k| {
             let path = cache.join(format!("sample-{k}.json"));
@@ -266,7 +268,23 @@ pub fn run_uq(
             write_atomically(&path, serde_json::to_vec(&r)?)?;
             Ok((r, false))
         })
-        .collect::<Result<_, PipelineError>>()?;
+        .collect();
+    // A sample whose model fails (e.g. a stick/slip event loop that does not converge) is
+    // reported by index and left out of the bands; the run fails only if every sample does.
+    let mut results = Vec::new();
+    let mut failed_samples = Vec::new();
+    for (k, o) in outcomes.into_iter().enumerate() {
+        match o {
+            Ok(r) => results.push(r),
+            Err(e) => failed_samples.push((k as u64, e.to_string())),
+        }
+    }
+    if results.is_empty() {
+        return Err(PipelineError::Unsupported {
+            stage: "uq",
+            message: format!("every sample failed; first: {}", failed_samples[0].1),
+        });
+    }
     let resumed_samples = results.iter().filter(|r| r.1).count();
     let records: Vec<SampleRecord> = results.into_iter().map(|r| r.0).collect();
     let computed: Vec<f64> = records.iter().map(|r| r.wall_time_s).collect();
@@ -316,6 +334,7 @@ pub fn run_uq(
         sensitivity,
         curve_band: curve_band(&records)?,
         resumed_samples,
+        failed_samples,
         sample_cost_s: if computed.is_empty() {
             0.0
         } else {
