@@ -37,6 +37,43 @@ pub enum Command {
     /// Validation studies.
     #[command(subcommand)]
     Validate(ValidateCommand),
+    /// Monte Carlo bands under the scene's [scatter] section (issue 15). Writes OUT/<scene>-uq/.
+    Uq(UqArgs),
+    /// Optimise a texture (DESIGN.toml; issue 15). Writes OUT/<name>/.
+    Design(DesignArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct UqArgs {
+    #[command(flatten)]
+    pub input: SceneInput,
+    /// Monte Carlo samples (≥ 1).
+    #[arg(long)]
+    pub samples: usize,
+    /// Seed (same seed: bitwise-identical results).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Results folder; writes OUT/<scene>-uq/ (samples kept in OUT/.uq-samples/ for resume).
+    #[arg(long = "out", default_value = "out", value_name = "DIR")]
+    pub out: PathBuf,
+    /// Static model: 8-row patch of the lattice instead of the whole slider (≈ 10× cheaper).
+    #[arg(long)]
+    pub patch: bool,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct DesignArgs {
+    /// Design file (TOML).
+    pub design: PathBuf,
+    /// Results folder; writes OUT/<name>/.
+    #[arg(long = "out", default_value = "out", value_name = "DIR")]
+    pub out: PathBuf,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Options of the commands that run a stage on a scene.

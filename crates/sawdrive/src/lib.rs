@@ -13,6 +13,8 @@ pub const DYNAMIC_MODEL_VERSION: u32 = 1;
 /// The command line's arguments (clap), here so that tests and docs can parse command lines
 /// (the README's examples are checked by `tests/readme_commands.rs`).
 pub mod cli;
+/// Design under scatter: `sawdrive uq` and `sawdrive design` (issue 15).
+pub mod design;
 pub mod output;
 pub mod pipeline;
 pub mod scene;

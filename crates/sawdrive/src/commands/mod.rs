@@ -1,5 +1,6 @@
 //! One module per subcommand.
 
+mod design;
 mod dynamic;
 mod mesh;
 mod run;
@@ -7,6 +8,7 @@ mod scene;
 mod springs;
 mod statics;
 mod sweep;
+mod uq;
 mod validate;
 
 use crate::cli::{Cli, Command, MeshCommand, ValidateCommand};
@@ -23,5 +25,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Sweep(args) => sweep::run(&args),
         Command::Validate(ValidateCommand::StickSlip(args)) => validate::stick_slip(&args),
         Command::Validate(ValidateCommand::Springs(args)) => validate::springs(&args),
+        Command::Uq(args) => uq::run(&args),
+        Command::Design(args) => design::run(&args),
     }
 }

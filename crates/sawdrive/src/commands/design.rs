@@ -1,0 +1,47 @@
+//! `sawdrive design`: the texture optimiser.
+
+use sawdrive::design::study::{DesignSpec, describe_variables, run_design};
+
+use crate::cli::DesignArgs;
+
+pub fn run(args: &DesignArgs) -> anyhow::Result<()> {
+    let spec = DesignSpec::read(&args.design).map_err(anyhow::Error::msg)?;
+    let (report, folder) = run_design(&spec, &args.out, true)?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+        return Ok(());
+    }
+    let o = &report.optimum;
+    println!(
+        "{}: optimum {}",
+        report.name,
+        describe_variables(&o.variables)
+    );
+    println!(
+        "  {} = {:.6} ({}{})",
+        o.objective,
+        o.objective_value,
+        o.fidelity,
+        report
+            .quantile
+            .map_or(String::new(), |q| format!(", quantile {q}"))
+    );
+    if let Some(b) = &report.baseline {
+        println!(
+            "  scene's own design: {} = {} ({})",
+            o.objective,
+            b.objective
+                .map_or("infeasible".into(), |v| format!("{v:.6}")),
+            b.fidelity
+        );
+    }
+    for (fidelity, n, s) in &report.cost {
+        println!("  {n} evaluations at {fidelity}, {s:.2} s each");
+    }
+    println!(
+        "  {:.1} s; results in {}",
+        report.wall_time_s,
+        folder.display()
+    );
+    Ok(())
+}

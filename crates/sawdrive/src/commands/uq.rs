@@ -1,0 +1,99 @@
+//! `sawdrive uq`: Monte Carlo bands of a scene under its `[scatter]` section.
+
+use std::io::Write as _;
+
+use sawdrive::design::motor::Fidelity;
+use sawdrive::design::scatter::{ScatterSpec, split_scatter};
+use sawdrive::design::uq::{UqOptions, run_uq};
+use sawdrive::scene::load_scene;
+
+use crate::cli::UqArgs;
+
+pub fn run(args: &UqArgs) -> anyhow::Result<()> {
+    let text = match &args.input.scene {
+        Some(p) => Some(
+            std::fs::read_to_string(p)
+                .map_err(|e| anyhow::anyhow!("cannot read scene {}: {e}", p.display()))?,
+        ),
+        None => None,
+    };
+    let (scene_text, overrides, table) =
+        split_scatter(text.as_deref(), &args.input.overrides).map_err(anyhow::Error::msg)?;
+    let scatter = ScatterSpec::from_table(&table).map_err(anyhow::Error::msg)?;
+    // The scene without its [scatter] section, read through the one scene loader.
+    let scene = match (&args.input.scene, scene_text) {
+        (Some(path), Some(text)) => {
+            let dir = tempfile::tempdir()?;
+            let name = path.file_name().unwrap_or_default();
+            let copy = dir.path().join(name);
+            std::fs::File::create(&copy)?.write_all(text.as_bytes())?;
+            load_scene(Some(&copy), &overrides).map_err(|e| {
+                anyhow::anyhow!(
+                    "{}",
+                    e.to_string()
+                        .replace(&copy.display().to_string(), &path.display().to_string())
+                )
+            })?
+        }
+        _ => load_scene(None, &overrides)?,
+    };
+    if args.samples == 0 {
+        anyhow::bail!("--samples: must be ≥ 1");
+    }
+    let options = UqOptions {
+        samples: args.samples,
+        seed: args.seed,
+        out_dir: args.out.clone(),
+        fidelity: if args.patch {
+            Fidelity::Patch
+        } else {
+            Fidelity::Slider
+        },
+        write_files: true,
+    };
+    let (report, folder) = run_uq(&scene, &scatter, &options)?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+        return Ok(());
+    }
+    println!(
+        "{}: {} samples (seed {}, {} resumed), static model {}, {:.1} s",
+        report.scene,
+        report.samples,
+        report.seed,
+        report.resumed_samples,
+        report.fidelity,
+        report.wall_time_s
+    );
+    println!(
+        "{:<26} {:>11} {:>11} {:>11} {:>11} {:>11}",
+        "output", "determ.", "mean", "P5", "P50", "P95"
+    );
+    let rows = [
+        ("effective_contact_ratio", &report.effective_contact_ratio),
+        ("stall_thrust_n", &report.stall_thrust_n),
+        ("no_load_speed_m_per_s", &report.no_load_speed_m_per_s),
+        ("max_output_power_w", &report.max_output_power_w),
+        ("efficiency", &report.efficiency),
+    ];
+    for (k, (name, b)) in rows.iter().enumerate() {
+        println!(
+            "{name:<26} {:>11.5} {:>11.5} {:>11.5} {:>11.5} {:>11.5}",
+            report.deterministic[k].1, b.mean, b.p5, b.p50, b.p95
+        );
+    }
+    for (k, e) in &report.failed_samples {
+        println!("sample {k} failed (left out of the bands): {e}");
+    }
+    for (output, ranking) in &report.sensitivity {
+        if let Some(top) = ranking.first().filter(|s| s.spearman_rho.is_some()) {
+            println!(
+                "spread of {output} driven most by {} (Spearman ρ = {:.2})",
+                top.input,
+                top.spearman_rho.unwrap_or(0.0)
+            );
+        }
+    }
+    println!("results in {}", folder.display());
+    Ok(())
+}

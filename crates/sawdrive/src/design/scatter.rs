@@ -1,0 +1,281 @@
+//! The `[scatter]` section: which inputs scatter, and how (human units, one line each).
+//!
+//! ```toml
+//! [scatter]
+//! distribution = "normal"     # normal: values below are standard deviations (truncated to
+//!                             # the physical range); uniform: half-widths around the nominal
+//! height_scatter = "5 nm"     # σ of each post's extra height (Gaussian, a new seed per sample)
+//! tilt_x = "10 nm"            # spread of the tilt across the length (zero mean)
+//! tilt_y = "10 nm"            # … across the width
+//! bow = "5 nm"                # spread of the bow (zero mean)
+//! friction = 0.03             # spread of μ_s and of μ_k (drawn independently, μ_k ≤ μ_s)
+//! preload = "2 N"             # preload tolerance
+//! diameter = "0.5 um"         # post-diameter tolerance (one etch bias for all posts)
+//! ```
+//!
+//! Every key is optional (0: no scatter). Negative spreads, unknown keys and missing units are
+//! errors naming `scatter.<key>`. Normal draws of μ, P and d are truncated to
+//! [[`MIN_FRICTION`], ∞), (0, ∞) and (0, ∞): a uniform range reaching below them is refused.
+
+use serde::Serialize;
+
+use design::{Distribution, ScatterInput};
+
+use super::motor::MotorSample;
+use crate::scene::Scene;
+use crate::units::{Dimension, parse_quantity};
+
+/// Smallest friction coefficient a draw may take (the dynamic model needs μ > 0 to drive).
+pub const MIN_FRICTION: f64 = 1e-3;
+/// Smallest fraction of the nominal preload or diameter a draw may take.
+pub const MIN_FRACTION_OF_NOMINAL: f64 = 1e-3;
+/// Upper end of the one-sided truncations ("no upper limit").
+const UNBOUNDED: f64 = 1e300;
+
+/// How a spread is read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum SpreadKind {
+    /// Standard deviation of a (truncated) normal.
+    #[default]
+    Normal,
+    /// Half-width of a uniform.
+    Uniform,
+}
+
+/// The scatter of a UQ run, SI.
+#[derive(Debug, Clone, PartialEq, Serialize, Default)]
+pub struct ScatterSpec {
+    /// Meaning of the spreads.
+    pub distribution: SpreadKind,
+    /// σ of the per-post heights (m).
+    pub height_scatter_m: f64,
+    /// Tilt spread (m).
+    pub tilt_x_m: f64,
+    /// Tilt spread (m).
+    pub tilt_y_m: f64,
+    /// Bow spread (m).
+    pub bow_m: f64,
+    /// μ spread.
+    pub friction: f64,
+    /// Preload spread (N).
+    pub preload_n: f64,
+    /// Diameter spread (m).
+    pub diameter_m: f64,
+}
+
+/// Keys of `[scatter]`.
+pub const SCATTER_KEYS: [&str; 8] = [
+    "distribution",
+    "height_scatter",
+    "tilt_x",
+    "tilt_y",
+    "bow",
+    "friction",
+    "preload",
+    "diameter",
+];
+
+fn quantity(value: &toml::Value, key: &str, dim: Dimension) -> Result<f64, String> {
+    let text = value.as_str().ok_or_else(|| {
+        format!(
+            "scatter.{key}: expected a quantity with its unit, e.g. {}",
+            dim.example()
+        )
+    })?;
+    parse_quantity(text, dim).map_err(|e| format!("scatter.{key}: {e}"))
+}
+
+fn spread(value: f64, key: &str) -> Result<f64, String> {
+    if value >= 0.0 && value.is_finite() {
+        Ok(value)
+    } else {
+        Err(format!(
+            "scatter.{key}: spread {value} must be ≥ 0 and finite"
+        ))
+    }
+}
+
+impl ScatterSpec {
+    /// Reads the `[scatter]` table; errors are one line naming `scatter.<key>`.
+    pub fn from_table(table: &toml::Table) -> Result<Self, String> {
+        let mut s = Self::default();
+        for (key, value) in table {
+            match key.as_str() {
+                "distribution" => {
+                    s.distribution = match value.as_str() {
+                        Some("normal") => SpreadKind::Normal,
+                        Some("uniform") => SpreadKind::Uniform,
+                        _ => {
+                            return Err(format!(
+                                "scatter.distribution: {value} is not \"normal\" or \"uniform\""
+                            ));
+                        }
+                    }
+                }
+                "height_scatter" => {
+                    s.height_scatter_m = spread(quantity(value, key, Dimension::Length)?, key)?
+                }
+                "tilt_x" => s.tilt_x_m = spread(quantity(value, key, Dimension::Length)?, key)?,
+                "tilt_y" => s.tilt_y_m = spread(quantity(value, key, Dimension::Length)?, key)?,
+                "bow" => s.bow_m = spread(quantity(value, key, Dimension::Length)?, key)?,
+                "preload" => s.preload_n = spread(quantity(value, key, Dimension::Force)?, key)?,
+                "diameter" => s.diameter_m = spread(quantity(value, key, Dimension::Length)?, key)?,
+                "friction" => {
+                    let v = value
+                        .as_float()
+                        .or_else(|| value.as_integer().map(|i| i as f64))
+                        .ok_or_else(|| {
+                            format!("scatter.friction: expected a number, got {value}")
+                        })?;
+                    s.friction = spread(v, key)?;
+                }
+                other => {
+                    return Err(format!(
+                        "scatter.{other}: unknown key (known: {})",
+                        SCATTER_KEYS.join(", ")
+                    ));
+                }
+            }
+        }
+        Ok(s)
+    }
+
+    /// A distribution of spread `spread` around `nominal`, truncated below at `low`.
+    fn around(&self, nominal: f64, spread: f64, low: f64) -> Distribution {
+        match self.distribution {
+            SpreadKind::Normal => Distribution::TruncatedNormal {
+                mean: nominal,
+                sd: spread,
+                low,
+                high: UNBOUNDED,
+            },
+            SpreadKind::Uniform => Distribution::Uniform {
+                low: nominal - spread,
+                high: nominal + spread,
+            },
+        }
+    }
+
+    /// The scattered inputs (names with units) around `scene`'s nominal values, validated;
+    /// errors name `scatter.<key>`. Order: the fields of [`MotorSample`] except the seed.
+    pub fn inputs(&self, scene: &Scene) -> Result<Vec<ScatterInput>, String> {
+        let zero_mean = |spread: f64| self.around(0.0, spread, -UNBOUNDED);
+        let f = &scene.motor.friction;
+        let list = [
+            (
+                "preload_n",
+                "preload",
+                self.around(
+                    scene.motor.load.preload_n,
+                    self.preload_n,
+                    MIN_FRACTION_OF_NOMINAL * scene.motor.load.preload_n,
+                ),
+            ),
+            (
+                "post_diameter_m",
+                "diameter",
+                self.around(
+                    scene.motor.posts.diameter_m,
+                    self.diameter_m,
+                    MIN_FRACTION_OF_NOMINAL * scene.motor.posts.diameter_m,
+                ),
+            ),
+            (
+                "mu_static",
+                "friction",
+                self.around(f.mu_static, self.friction, MIN_FRICTION),
+            ),
+            (
+                "mu_kinetic",
+                "friction",
+                self.around(f.mu_kinetic, self.friction, MIN_FRICTION),
+            ),
+            ("tilt_x_m", "tilt_x", zero_mean(self.tilt_x_m)),
+            ("tilt_y_m", "tilt_y", zero_mean(self.tilt_y_m)),
+            ("bow_m", "bow", zero_mean(self.bow_m)),
+        ];
+        list.into_iter()
+            .map(|(name, key, distribution)| {
+                distribution.validate(&format!("scatter.{key}")).map_err(|e| e.to_string())?;
+                if let Distribution::Uniform { low, .. } = distribution {
+                    let floor = match key {
+                        "friction" => MIN_FRICTION,
+                        "preload" | "diameter" => 0.0,
+                        _ => -UNBOUNDED,
+                    };
+                    if low <= floor {
+                        return Err(format!(
+                            "scatter.{key}: the uniform range reaches {low}, below the physical limit {floor}"
+                        ));
+                    }
+                }
+                Ok(ScatterInput {
+                    name: name.to_owned(),
+                    distribution,
+                })
+            })
+            .collect()
+    }
+
+    /// The sample of drawn `values` (in the order of [`ScatterSpec::inputs`]) with the post
+    /// heights seeded by `field_seed`.
+    pub fn sample(&self, values: &[f64], field_seed: u64) -> MotorSample {
+        MotorSample {
+            preload_n: values[0],
+            post_diameter_m: values[1],
+            mu_static: values[2],
+            mu_kinetic: values[3].min(values[2]),
+            tilt_x_m: values[4],
+            tilt_y_m: values[5],
+            bow_m: values[6],
+            height_scatter_m: self.height_scatter_m,
+            scatter_seed: field_seed,
+        }
+    }
+}
+
+/// Splits a scene file's text into the scene (without `[scatter]`) and the scatter table, and
+/// the `--set` overrides into scene overrides and `scatter.*` ones (applied to the table).
+pub fn split_scatter(
+    scene_text: Option<&str>,
+    overrides: &[String],
+) -> Result<(Option<String>, Vec<String>, toml::Table), String> {
+    let mut table = toml::Table::new();
+    let scene = match scene_text {
+        Some(text) => {
+            let mut doc: toml::Table = text.parse().map_err(|e: toml::de::Error| {
+                format!(
+                    "scene: not valid TOML: {}",
+                    e.to_string().trim().replace('\n', " ")
+                )
+            })?;
+            if let Some(v) = doc.remove("scatter") {
+                table = v
+                    .as_table()
+                    .cloned()
+                    .ok_or("scatter: must be a table ([scatter])")?;
+            }
+            Some(toml::to_string(&doc).map_err(|e| format!("scene: {e}"))?)
+        }
+        None => None,
+    };
+    let mut rest = Vec::new();
+    for o in overrides {
+        match o.strip_prefix("scatter.") {
+            Some(kv) => {
+                let (k, v) = kv
+                    .split_once('=')
+                    .ok_or_else(|| format!("--set {o}: expected scatter.KEY=VALUE"))?;
+                let value = v.trim();
+                let parsed = value
+                    .parse::<f64>()
+                    .map(toml::Value::Float)
+                    .unwrap_or_else(|_| toml::Value::String(value.to_owned()));
+                table.insert(k.trim().to_owned(), parsed);
+            }
+            None => rest.push(o.clone()),
+        }
+    }
+    Ok((scene, rest, table))
+}

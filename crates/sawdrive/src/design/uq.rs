@@ -1,0 +1,597 @@
+//! Monte Carlo propagation of a scene's scatter (issue 15 §1): N samples of the `[scatter]`
+//! inputs ([`super::scatter`]), each evaluated by [`super::motor::evaluate`] (a whole-slider
+//! contact solve and a dynamic curve, no FEM), in parallel (rayon); bands (mean, P5/P50/P95 with
+//! 95 % order-statistic intervals), histograms, rank-correlation sensitivity.
+//!
+//! Resume: each finished sample is written atomically to
+//! `OUT/.uq-samples/<inputs hash>/sample-<k>.json` (the hash covers the resolved scene, the
+//! scatter, the seed and the model versions; sample k does not depend on N), and a rerun reuses
+//! every sample found there, so an interrupted run loses only the samples in flight. The results
+//! folder `OUT/<scene>-uq/` is replaced only when the run completes.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use design::{Band, Sensitivity, band, draw_inputs, histogram, rank_inputs};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+
+use super::motor::{Fidelity, MotorOutputs, MotorSample, OUTPUT_NAMES, evaluate};
+use super::scatter::ScatterSpec;
+use crate::output::{StagedDir, write_atomically};
+use crate::pipeline::PipelineError;
+use crate::scene::Scene;
+
+/// Speeds of the band chart's grid.
+const BAND_SPEEDS: usize = 41;
+/// Bins of each histogram.
+const HISTOGRAM_BINS: usize = 20;
+/// Version of the sample files' layout (part of the inputs hash).
+const SAMPLE_FORMAT: u32 = 2;
+
+/// How to run a UQ.
+#[derive(Debug, Clone)]
+pub struct UqOptions {
+    /// Samples (≥ 1).
+    pub samples: usize,
+    /// Seed.
+    pub seed: u64,
+    /// Results go to `out_dir/<scene>-uq/`, samples to `out_dir/.uq-samples/`.
+    pub out_dir: PathBuf,
+    /// Static model of each sample.
+    pub fidelity: Fidelity,
+    /// Write charts and CSV besides `summary.json`.
+    pub write_files: bool,
+}
+
+/// One finished sample (also its resume file).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct SampleRecord {
+    /// Index k.
+    pub index: u64,
+    /// Drawn inputs, in the order of `UqReport::input_names`.
+    pub inputs: Vec<f64>,
+    /// Seed of its post heights.
+    pub scatter_seed: u64,
+    /// Outputs in the order of [`OUTPUT_NAMES`].
+    pub outputs: Vec<f64>,
+    /// Its speed–thrust curve, (speed m/s, thrust N).
+    pub curve: Vec<(f64, f64)>,
+    /// Wall time (s).
+    pub wall_time_s: f64,
+}
+
+/// P5/P50/P95 of thrust on a speed grid.
+#[derive(Debug, Clone, Serialize)]
+pub struct CurveBand {
+    /// Speeds (m/s).
+    pub speed_m_per_s: Vec<f64>,
+    /// P5 of thrust (N).
+    pub thrust_p5_n: Vec<f64>,
+    /// Median thrust (N).
+    pub thrust_p50_n: Vec<f64>,
+    /// P95 of thrust (N).
+    pub thrust_p95_n: Vec<f64>,
+}
+
+/// The result of `sawdrive uq` (JSON keys per issue 15's contract).
+#[derive(Debug, Clone, Serialize)]
+pub struct UqReport {
+    /// Scene name.
+    pub scene: String,
+    /// Samples.
+    pub samples: usize,
+    /// Seed.
+    pub seed: u64,
+    /// Static model of every sample.
+    pub fidelity: &'static str,
+    /// The scatter.
+    pub scatter: ScatterSpec,
+    /// Names (with units) of the scattered inputs.
+    pub input_names: Vec<String>,
+    /// Bands.
+    pub effective_contact_ratio: Band,
+    /// Bands.
+    pub stall_thrust_n: Band,
+    /// Bands.
+    pub no_load_speed_m_per_s: Band,
+    /// Bands.
+    pub max_output_power_w: Band,
+    /// Bands.
+    pub efficiency: Band,
+    /// The deterministic run (nominal inputs, ideal posts), same model.
+    pub deterministic: Vec<(String, f64)>,
+    /// Per output, the inputs ranked by |Spearman ρ|.
+    pub sensitivity: Vec<(String, Vec<Sensitivity>)>,
+    /// Thrust band along speed.
+    pub curve_band: CurveBand,
+    /// Samples reused from an earlier, interrupted run.
+    pub resumed_samples: usize,
+    /// Samples whose model failed (index, error): not in the bands.
+    pub failed_samples: Vec<(u64, String)>,
+    /// Mean wall time of one computed sample (s), as measured per sample (threads overlap).
+    pub sample_cost_s: f64,
+    /// Wall time of the whole run (s).
+    pub wall_time_s: f64,
+    /// Files written, relative to the results folder.
+    pub files: Vec<String>,
+}
+
+/// Hash of everything a sample depends on.
+fn inputs_hash(
+    scene: &Scene,
+    scatter: &ScatterSpec,
+    seed: u64,
+    fidelity: Fidelity,
+) -> Result<String, PipelineError> {
+    let mut h = Sha256::new();
+    h.update(serde_json::to_vec(scene)?);
+    h.update(serde_json::to_vec(scatter)?);
+    h.update(serde_json::to_vec(&fidelity)?);
+    h.update(seed.to_le_bytes());
+    h.update(crate::DYNAMIC_MODEL_VERSION.to_le_bytes());
+    h.update(static_contact::params::MODEL_VERSION.to_le_bytes());
+    h.update(SAMPLE_FORMAT.to_le_bytes());
+    Ok(h.finalize()
+        .iter()
+        .take(12)
+        .map(|b| format!("{b:02x}"))
+        .collect())
+}
+
+fn record(
+    index: u64,
+    inputs: Vec<f64>,
+    sample: &MotorSample,
+    out: &MotorOutputs,
+    wall: f64,
+) -> SampleRecord {
+    SampleRecord {
+        index,
+        inputs,
+        scatter_seed: sample.scatter_seed,
+        outputs: out.values().to_vec(),
+        curve: out
+            .curve
+            .iter()
+            .map(|p| (p.speed_m_per_s, p.thrust_n))
+            .collect(),
+        wall_time_s: wall,
+    }
+}
+
+/// A saved sample, if present and readable (a damaged file is recomputed).
+fn load_sample(path: &Path) -> Option<SampleRecord> {
+    let bytes = std::fs::read(path).ok()?;
+    serde_json::from_slice(&bytes).ok()
+}
+
+/// Thrust of a curve at speed v (linear interpolation; 0 beyond its fastest point).
+fn thrust_at(curve: &[(f64, f64)], v: f64) -> f64 {
+    let mut pts = curve.to_vec();
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    match pts.windows(2).find(|w| w[0].0 <= v && v <= w[1].0) {
+        Some(w) if w[1].0 > w[0].0 => w[0].1 + (v - w[0].0) / (w[1].0 - w[0].0) * (w[1].1 - w[0].1),
+        Some(w) => w[0].1,
+        None if pts.first().is_some_and(|p| v < p.0) => pts[0].1,
+        None => 0.0,
+    }
+}
+
+fn curve_band(records: &[SampleRecord]) -> Result<CurveBand, PipelineError> {
+    let vmax = records
+        .iter()
+        .flat_map(|r| r.curve.iter().map(|p| p.0))
+        .fold(0.0, f64::max);
+    let speeds: Vec<f64> = (0..BAND_SPEEDS)
+        .map(|k| vmax * k as f64 / (BAND_SPEEDS - 1) as f64)
+        .collect();
+    let mut band_out = CurveBand {
+        speed_m_per_s: speeds.clone(),
+        thrust_p5_n: Vec::new(),
+        thrust_p50_n: Vec::new(),
+        thrust_p95_n: Vec::new(),
+    };
+    for v in speeds {
+        let t: Vec<f64> = records.iter().map(|r| thrust_at(&r.curve, v)).collect();
+        let b = band(&t, "thrust_n").map_err(design_error)?;
+        band_out.thrust_p5_n.push(b.p5);
+        band_out.thrust_p50_n.push(b.p50);
+        band_out.thrust_p95_n.push(b.p95);
+    }
+    Ok(band_out)
+}
+
+pub(crate) fn design_error(e: design::DesignError) -> PipelineError {
+    PipelineError::Unsupported {
+        stage: "design",
+        message: e.to_string(),
+    }
+}
+
+/// Runs the UQ of `scene` under `scatter`; writes `OUT/<scene>-uq/` when complete.
+pub fn run_uq(
+    scene: &Scene,
+    scatter: &ScatterSpec,
+    options: &UqOptions,
+) -> Result<(UqReport, PathBuf), PipelineError> {
+    let start = Instant::now();
+    if options.samples == 0 {
+        return Err(PipelineError::Unsupported {
+            stage: "uq",
+            message: "--samples: must be ≥ 1".into(),
+        });
+    }
+    let inputs = scatter
+        .inputs(scene)
+        .map_err(|message| PipelineError::Unsupported {
+            stage: "uq",
+            message,
+        })?;
+    let destination = options.out_dir.join(format!("{}-uq", scene.name));
+    let staged = StagedDir::create(&destination)?;
+    let cache = options.out_dir.join(".uq-samples").join(inputs_hash(
+        scene,
+        scatter,
+        options.seed,
+        options.fidelity,
+    )?);
+    let nominal = evaluate(scene, &MotorSample::nominal(scene), options.fidelity)?;
+    let outcomes: Vec<Result<(SampleRecord, bool), PipelineError>> = (0..options.samples as u64)
+        .into_par_iter()
+        .map(|k| {
+            let path = cache.join(format!("sample-{k}.json"));
+            if let Some(r) = load_sample(&path).filter(|r| r.index == k) {
+                return Ok((r, true));
+            }
+            let t = Instant::now();
+            let (values, field_seed) = draw_inputs(&inputs, options.seed, k);
+            let sample = scatter.sample(&values, field_seed);
+            // The values used (μ_k clamped to ≤ μ_s), for the CSV and the ranking.
+            let values = vec![
+                sample.preload_n,
+                sample.post_diameter_m,
+                sample.mu_static,
+                sample.mu_kinetic,
+                sample.tilt_x_m,
+                sample.tilt_y_m,
+                sample.bow_m,
+            ];
+            let out = evaluate(scene, &sample, options.fidelity).map_err(|e| {
+                PipelineError::Unsupported {
+                    stage: "uq",
+                    message: format!("sample {k} (seed {}): {e}", options.seed),
+                }
+            })?;
+            let r = record(k, values, &sample, &out, t.elapsed().as_secs_f64());
+            write_atomically(&path, serde_json::to_vec(&r)?)?;
+            Ok((r, false))
+        })
+        .collect();
+    // A sample whose model fails (e.g. a stick/slip event loop that does not converge) is
+    // reported by index and left out of the bands; the run fails only if every sample does.
+    let mut results = Vec::new();
+    let mut failed_samples = Vec::new();
+    for (k, o) in outcomes.into_iter().enumerate() {
+        match o {
+            Ok(r) => results.push(r),
+            Err(e) => failed_samples.push((k as u64, e.to_string())),
+        }
+    }
+    if results.is_empty() {
+        return Err(PipelineError::Unsupported {
+            stage: "uq",
+            message: format!("every sample failed; first: {}", failed_samples[0].1),
+        });
+    }
+    let resumed_samples = results.iter().filter(|r| r.1).count();
+    let records: Vec<SampleRecord> = results.into_iter().map(|r| r.0).collect();
+    let computed: Vec<f64> = records.iter().map(|r| r.wall_time_s).collect();
+    let column = |k: usize| records.iter().map(|r| r.outputs[k]).collect::<Vec<f64>>();
+    let bands: Vec<Band> = (0..OUTPUT_NAMES.len())
+        .map(|k| band(&column(k), OUTPUT_NAMES[k]).map_err(design_error))
+        .collect::<Result<_, _>>()?;
+    let input_columns: Vec<(String, Vec<f64>)> = inputs
+        .iter()
+        .enumerate()
+        .map(|(i, inp)| {
+            (
+                inp.name.clone(),
+                records.iter().map(|r| r.inputs[i]).collect(),
+            )
+        })
+        .collect();
+    let sensitivity = (0..OUTPUT_NAMES.len())
+        .map(|k| {
+            (
+                OUTPUT_NAMES[k].to_owned(),
+                rank_inputs(&input_columns, &column(k)),
+            )
+        })
+        .collect();
+    let mut report = UqReport {
+        scene: scene.name.clone(),
+        samples: records.len(),
+        seed: options.seed,
+        fidelity: if scene.contact.effective_ratio.is_some() {
+            Fidelity::Given.label()
+        } else {
+            options.fidelity.label()
+        },
+        scatter: scatter.clone(),
+        input_names: inputs.iter().map(|i| i.name.clone()).collect(),
+        effective_contact_ratio: bands[0],
+        stall_thrust_n: bands[1],
+        no_load_speed_m_per_s: bands[2],
+        max_output_power_w: bands[3],
+        efficiency: bands[4],
+        deterministic: OUTPUT_NAMES
+            .iter()
+            .map(|s| s.to_string())
+            .zip(nominal.values())
+            .collect(),
+        sensitivity,
+        curve_band: curve_band(&records)?,
+        resumed_samples,
+        failed_samples,
+        sample_cost_s: if computed.is_empty() {
+            0.0
+        } else {
+            computed.iter().sum::<f64>() / computed.len() as f64
+        },
+        wall_time_s: 0.0,
+        files: Vec::new(),
+    };
+    if options.write_files {
+        report.files = write_uq_files(&report, &records, &nominal, staged.path())?;
+    }
+    report.files.push("summary.json".into());
+    report.wall_time_s = start.elapsed().as_secs_f64();
+    staged.write("summary.json", serde_json::to_vec_pretty(&report)?)?;
+    let folder = staged.commit()?;
+    Ok((report, folder))
+}
+
+fn samples_csv(report: &UqReport, records: &[SampleRecord]) -> String {
+    let mut s = format!(
+        "sample,scatter_seed,{},{}\n",
+        report.input_names.join(","),
+        OUTPUT_NAMES.join(",")
+    );
+    for r in records {
+        let cells: Vec<String> = r
+            .inputs
+            .iter()
+            .chain(&r.outputs)
+            .map(|v| format!("{v:e}"))
+            .collect();
+        s.push_str(&format!(
+            "{},{},{}\n",
+            r.index,
+            r.scatter_seed,
+            cells.join(",")
+        ));
+    }
+    s
+}
+
+/// `samples.csv`, the speed–thrust band chart and the histograms.
+fn write_uq_files(
+    report: &UqReport,
+    records: &[SampleRecord],
+    nominal: &MotorOutputs,
+    dir: &Path,
+) -> Result<Vec<String>, PipelineError> {
+    use charts::{Chart, Series, Style, write_chart, write_stacked};
+    let mut files = vec!["samples.csv".to_owned()];
+    write_atomically(&dir.join("samples.csv"), samples_csv(report, records))?;
+    let b = &report.curve_band;
+    let pts = |t: &[f64]| {
+        b.speed_m_per_s
+            .iter()
+            .copied()
+            .zip(t.iter().copied())
+            .collect::<Vec<_>>()
+    };
+    let mut chart = Chart::new(
+        format!(
+            "{}: speed–thrust band, {} samples",
+            report.scene, report.samples
+        ),
+        "speed (m/s)",
+        "thrust (N)",
+    );
+    chart
+        .series
+        .push(Series::new("P5", pts(&b.thrust_p5_n), Style::Dashed));
+    chart
+        .series
+        .push(Series::new("P50", pts(&b.thrust_p50_n), Style::Line));
+    chart
+        .series
+        .push(Series::new("P95", pts(&b.thrust_p95_n), Style::Dashed));
+    chart.series.push(Series::new(
+        "deterministic",
+        nominal
+            .curve
+            .iter()
+            .map(|p| (p.speed_m_per_s, p.thrust_n))
+            .collect(),
+        Style::Markers,
+    ));
+    for f in write_chart(&chart, &dir.join("band"))? {
+        files.push(
+            f.file_name()
+                .unwrap_or_default()
+                .to_string_lossy()
+                .into_owned(),
+        );
+    }
+    let mut hists = Vec::new();
+    for (k, name) in OUTPUT_NAMES.iter().enumerate() {
+        let values: Vec<f64> = records.iter().map(|r| r.outputs[k]).collect();
+        let h = histogram(&values, HISTOGRAM_BINS, name).map_err(design_error)?;
+        let mut steps = Vec::new();
+        for (i, c) in h.counts.iter().enumerate() {
+            let (lo, hi) = (h.edges[i], h.edges[i + 1]);
+            steps.extend([(lo, 0.0), (lo, *c as f64), (hi, *c as f64), (hi, 0.0)]);
+        }
+        let mut c = Chart::new(format!("histogram of {name}"), name.to_string(), "samples");
+        c.series.push(Series::new(*name, steps, Style::Line));
+        hists.push(c);
+    }
+    for f in write_stacked(&hists, &dir.join("histograms"))? {
+        files.push(
+            f.file_name()
+                .unwrap_or_default()
+                .to_string_lossy()
+                .into_owned(),
+        );
+    }
+    Ok(files)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::load_scene;
+
+    /// 10 × 10 posts at the default 40 µm pitch: a whole-slider solve in milliseconds.
+    fn small_scene() -> Scene {
+        load_scene(
+            None,
+            &["posts.count=10x10".into(), "posts.array=0.4mm".into()],
+        )
+        .unwrap()
+    }
+
+    fn options(dir: &Path, samples: usize, seed: u64) -> UqOptions {
+        UqOptions {
+            samples,
+            seed,
+            out_dir: dir.to_owned(),
+            fidelity: Fidelity::Slider,
+            write_files: false,
+        }
+    }
+
+    fn scattered() -> ScatterSpec {
+        ScatterSpec {
+            height_scatter_m: 5e-9,
+            friction: 0.03,
+            preload_n: 2.0,
+            ..ScatterSpec::default()
+        }
+    }
+
+    #[test]
+    fn zero_scatter_collapses_the_bands_to_the_deterministic_run_exactly() {
+        let dir = tempfile::tempdir().unwrap();
+        let (r, _) = run_uq(
+            &small_scene(),
+            &ScatterSpec::default(),
+            &options(dir.path(), 3, 7),
+        )
+        .unwrap();
+        let bands = [
+            r.effective_contact_ratio,
+            r.stall_thrust_n,
+            r.no_load_speed_m_per_s,
+            r.max_output_power_w,
+            r.efficiency,
+        ];
+        for ((name, det), b) in r.deterministic.iter().zip(bands) {
+            for (what, v) in [
+                ("mean", b.mean),
+                ("p5", b.p5),
+                ("p50", b.p50),
+                ("p95", b.p95),
+            ] {
+                assert_eq!(
+                    v.to_bits(),
+                    det.to_bits(),
+                    "{what} of {name} without scatter"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_same_seed_gives_bitwise_identical_results() {
+        let (a, b) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+        let scene = small_scene();
+        let (ra, _) = run_uq(&scene, &scattered(), &options(a.path(), 4, 11)).unwrap();
+        let (rb, _) = run_uq(&scene, &scattered(), &options(b.path(), 4, 11)).unwrap();
+        let bits = |r: &UqReport| {
+            [
+                r.effective_contact_ratio,
+                r.stall_thrust_n,
+                r.max_output_power_w,
+            ]
+            .iter()
+            .flat_map(|b| [b.mean, b.p5, b.p50, b.p95])
+            .map(f64::to_bits)
+            .collect::<Vec<_>>()
+        };
+        assert_eq!(bits(&ra), bits(&rb), "bands of two runs with seed 11");
+        assert!(
+            ra.stall_thrust_n.p95 > ra.stall_thrust_n.p5,
+            "scatter spreads the stall thrust"
+        );
+        let (rc, _) = run_uq(&scene, &scattered(), &options(b.path(), 4, 12)).unwrap();
+        assert_ne!(bits(&ra), bits(&rc), "another seed draws other samples");
+    }
+
+    #[test]
+    fn an_interrupted_run_resumes_from_its_saved_samples_and_loses_nothing() {
+        let (a, b) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+        let scene = small_scene();
+        run_uq(&scene, &scattered(), &options(a.path(), 3, 5)).unwrap();
+        // Simulate an interruption: one saved sample lost, one damaged.
+        let cache = std::fs::read_dir(a.path().join(".uq-samples"))
+            .unwrap()
+            .next()
+            .unwrap()
+            .unwrap()
+            .path();
+        std::fs::remove_file(cache.join("sample-1.json")).unwrap();
+        std::fs::write(cache.join("sample-2.json"), "{half").unwrap();
+        let (resumed, _) = run_uq(&scene, &scattered(), &options(a.path(), 5, 5)).unwrap();
+        assert_eq!(
+            resumed.resumed_samples, 1,
+            "samples reused after the interruption"
+        );
+        let (fresh, _) = run_uq(&scene, &scattered(), &options(b.path(), 5, 5)).unwrap();
+        assert_eq!(
+            resumed.max_output_power_w.mean.to_bits(),
+            fresh.max_output_power_w.mean.to_bits(),
+            "resumed and fresh mean output power"
+        );
+    }
+
+    #[test]
+    fn bad_scatter_and_sample_count_are_refused_naming_the_key() {
+        let dir = tempfile::tempdir().unwrap();
+        let scene = small_scene();
+        let e = run_uq(&scene, &ScatterSpec::default(), &options(dir.path(), 0, 1)).unwrap_err();
+        assert!(e.to_string().contains("--samples"), "{e}");
+        let t: toml::Table = "height_scatter = \"-5 nm\"".parse().unwrap();
+        let e = ScatterSpec::from_table(&t).unwrap_err();
+        assert!(e.starts_with("scatter.height_scatter:"), "{e}");
+        let t: toml::Table = "sigma = \"5 nm\"".parse().unwrap();
+        assert!(
+            ScatterSpec::from_table(&t)
+                .unwrap_err()
+                .starts_with("scatter.sigma: unknown key")
+        );
+        let t: toml::Table = "distribution = \"uniform\"\npreload = \"50 N\""
+            .parse()
+            .unwrap();
+        let e = ScatterSpec::from_table(&t)
+            .unwrap()
+            .inputs(&scene)
+            .unwrap_err();
+        assert!(e.starts_with("scatter.preload:"), "{e}");
+    }
+}
