@@ -249,11 +249,6 @@ impl Slider {
         })
     }
 
-    /// Mass of a silicon block (kg), ρ_Si·volume.
-    pub fn silicon_mass_kg(length_m: f64, width_m: f64, thickness_m: f64) -> f64 {
-        contact_springs::Material::silicon().density_kg_per_m3 * length_m * width_m * thickness_m
-    }
-
     /// Effective post count N_eff = η·N.
     pub fn effective_post_count(&self) -> f64 {
         self.effective_ratio * self.layout.post_count() as f64

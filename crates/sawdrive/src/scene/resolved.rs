@@ -194,17 +194,16 @@ impl Scene {
             .burst_periods
             .map(|b| positive("wave.burst_periods", b))
             .transpose()?;
-        let tangential_velocity_m_per_s = derived(
+        derived(
             "wave.tangential_amplitude",
             "tangential velocity A_t ω (m/s)",
             tangential_amplitude_m * omega,
         )?;
-        let wavelength_m = derived(
+        derived(
             "wave.phase_velocity",
             "wavelength λ = c/f (m)",
             phase_velocity_m_per_s / frequency_hz,
         )?;
-        let _ = (tangential_velocity_m_per_s, wavelength_m);
         let wave = Wave {
             frequency_hz,
             normal_amplitude_m,
