@@ -80,7 +80,10 @@ fn a_partial_scene_overrides_only_what_it_gives() {
         (scene.motor.slider.mass_kg - 5e-6).abs() < 1e-18,
         "given mass"
     );
-    assert_eq!(scene.model.dynamics, stick_slip::ModelChoice::Transient);
+    assert_eq!(
+        scene.model.dynamics,
+        sawdrive::scene::Dynamics::Lumped(stick_slip::ModelChoice::Transient)
+    );
     assert_eq!(
         scene.motor.posts.count(),
         10_000,

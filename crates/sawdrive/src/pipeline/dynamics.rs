@@ -50,7 +50,7 @@ pub fn dynamic_scene(
         wave: motor.wave.clone(),
         contact,
         slider,
-        model: m.dynamics,
+        model: m.dynamics.lumped_choice(),
         integrator: Integrator::Auto,
         options: SolveOptions::default(),
     };

@@ -4,12 +4,16 @@
 //! Each stage is a function of the scene (and the previous stage's output), so a user can stop
 //! after any stage or feed a hand-chosen η to the dynamics (`effective_ratio = 0.36`).
 
+mod coupled;
 mod dynamics;
 mod error;
 mod run;
 mod springs;
 mod statics;
 
+pub use coupled::{
+    DynamicJson, DynamicStage, LumpedFigures, run_dynamic_stage, write_dynamic_stage_files,
+};
 pub use dynamics::{DynamicRun, dynamic_scene, run_dynamic, write_dynamic_files};
 pub use error::PipelineError;
 pub use run::{RunOptions, RunSummary, StageTimings, run_pipeline};

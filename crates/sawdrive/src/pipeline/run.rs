@@ -7,10 +7,10 @@ use std::time::{Duration, Instant};
 use contact_springs::PostSprings;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
-use stick_slip::DynamicResult;
 
 use super::{
-    PipelineError, run_dynamic, run_static, scene_springs, write_dynamic_files, write_static_files,
+    DynamicStage, PipelineError, run_dynamic_stage, run_static, scene_springs,
+    write_dynamic_stage_files, write_static_files,
 };
 use crate::output::StagedDir;
 use crate::scene::Scene;
@@ -71,13 +71,47 @@ pub struct RunSummary {
     pub no_load_speed_m_per_s: f64,
     pub efficiency: f64,
     pub stick_fraction: f64,
-    /// Which dynamic model ran, and why.
+    /// Which dynamic model ran (`coupled`, `periodic-average` or `transient`), and why.
     pub model: String,
     pub model_reason: String,
+    /// Estimated relative error of the lumped model at the static η against the coupled model
+    /// (`coupled_dynamics::lumped_error_estimate`); `None` when η was given.
+    pub lumped_error_estimate: Option<f64>,
+    /// The coupled model's own figures, when it ran.
+    pub coupled: Option<CoupledFigures>,
     pub curve: Vec<stick_slip::CurvePoint>,
     pub timings: StageTimings,
     /// Files written, relative to the results folder.
     pub files: Vec<String>,
+}
+
+/// The coupled model's figures carried into the summary (the whole result is `coupled.json`).
+#[derive(Debug, Clone, Serialize)]
+pub struct CoupledFigures {
+    /// Largest energy-balance residual over the curve, relative to the power flow.
+    pub energy_balance_residual: f64,
+    /// η at which the lumped model reproduces the coupled curve best.
+    pub eta_dyn: Option<f64>,
+    /// Posts of the strip.
+    pub posts: usize,
+    pub steps_per_period: usize,
+    /// The lumped model's figures at the static η, for comparison.
+    pub lumped: super::LumpedFigures,
+    pub warnings: Vec<String>,
+}
+
+impl CoupledFigures {
+    fn of(stage: &DynamicStage) -> Option<Self> {
+        let c = stage.coupled.as_ref()?;
+        Some(Self {
+            energy_balance_residual: c.energy_balance_residual,
+            eta_dyn: c.eta_dyn,
+            posts: c.posts,
+            steps_per_period: c.steps_per_period,
+            lumped: super::LumpedFigures::of(&stage.lumped.result),
+            warnings: c.warnings.clone(),
+        })
+    }
 }
 
 fn spinner(enabled: bool) -> ProgressBar {
@@ -148,8 +182,13 @@ pub fn run_pipeline(
 
     bar.set_message("stick/slip dynamics");
     let t = Instant::now();
-    let run = run_dynamic(scene, &springs, effective_ratio)?;
-    let dynamic: &DynamicResult = &run.result;
+    let stage = run_dynamic_stage(
+        scene,
+        &springs,
+        effective_ratio,
+        static_outcome.as_ref(),
+        options.cache_dir.as_deref(),
+    )?;
     timings.dynamic_s = t.elapsed().as_secs_f64();
 
     bar.set_message("writing results");
@@ -159,7 +198,7 @@ pub fn run_pipeline(
         if let Some(outcome) = &static_outcome {
             files.extend(write_static_files(outcome, staged.path())?);
         }
-        files.extend(write_dynamic_files(&scene.name, &run, staged.path())?);
+        files.extend(write_dynamic_stage_files(&scene.name, &stage, staged.path())?);
     }
     timings.output_s = t.elapsed().as_secs_f64();
     timings.total_s = start.elapsed().as_secs_f64();
@@ -174,18 +213,17 @@ pub fn run_pipeline(
         springs,
         effective_contact_ratio: effective_ratio,
         effective_contact_ratio_source: source.into(),
-        effective_post_count: dynamic.effective_post_count,
+        effective_post_count: stage.lumped.result.effective_post_count,
         static_figures,
-        stall_thrust_n: dynamic.stall_thrust_n,
-        no_load_speed_m_per_s: dynamic.no_load_speed_m_per_s,
-        efficiency: dynamic.efficiency,
-        stick_fraction: dynamic.stick_fraction,
-        model: serde_json::to_value(dynamic.model)?
-            .as_str()
-            .unwrap_or_default()
-            .to_owned(),
-        model_reason: dynamic.model_reason.clone(),
-        curve: dynamic.curve.clone(),
+        stall_thrust_n: stage.stall_thrust_n(),
+        no_load_speed_m_per_s: stage.no_load_speed_m_per_s(),
+        efficiency: stage.efficiency(),
+        stick_fraction: stage.stick_fraction(),
+        model: stage.model_name().to_owned(),
+        model_reason: stage.model_reason(),
+        lumped_error_estimate: stage.lumped_error_estimate,
+        coupled: CoupledFigures::of(&stage),
+        curve: stage.curve(),
         timings,
         files: names,
     };

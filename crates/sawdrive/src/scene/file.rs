@@ -111,8 +111,11 @@ pub struct ContactFile {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ModelFile {
-    /// `auto`, `periodic-average` or `transient`.
+    /// `auto`, `periodic-average`, `transient` or `coupled`.
     pub dynamics: String,
+    /// Largest estimated relative error of the lumped model that `dynamics = "auto"` accepts
+    /// before it runs the coupled model; `"auto"`: 0.02 (`model.dynamics = "auto"` only).
+    pub lumped_tolerance: AutoOr<f64>,
     /// `auto`, `event-driven`, `return-mapping`, `regularized` or `post-mass`.
     pub integrator: String,
     /// Integrator time step; `"auto"` picks one inside the stability limit.
@@ -125,6 +128,9 @@ pub struct ModelFile {
     /// Wave periods simulated by the transient model; `"auto"`: 1000. Refused for the period
     /// average, which simulates none.
     pub periods: AutoOr<u32>,
+    /// Time steps per wave period of the coupled model; `"auto"`: 64 (`dynamics = "coupled"`,
+    /// or `"auto"` when it picks the coupled model).
+    pub steps_per_period: AutoOr<u32>,
     /// `quasi-static` (⟨ΣN⟩ = P over a period) or `dynamic` (M z̈ = ΣN − P).
     pub vertical: String,
     /// Damping ratio ζ of the slider's vertical mode (`vertical = "dynamic"` only); `"auto"`: 0.05.
@@ -195,3 +201,4 @@ impl<'de> Deserialize<'de> for MaterialSpec {
         deserializer.deserialize_any(SpecVisitor)
     }
 }
+

@@ -13,8 +13,8 @@ mod resolved;
 use std::path::Path;
 
 pub use resolved::{
-    Contact, DEFAULT_CURVE_POINTS, DEFAULT_TRANSIENT_PERIODS, DEFAULT_VERTICAL_DAMPING_RATIO,
-    Model, Scene, StaticSettings,
+    Contact, DEFAULT_COUPLED_STEPS_PER_PERIOD, DEFAULT_CURVE_POINTS, DEFAULT_TRANSIENT_PERIODS,
+    DEFAULT_VERTICAL_DAMPING_RATIO, Dynamics, Model, Scene, StaticSettings,
 };
 
 /// The embedded default scene: the source paper's motor.

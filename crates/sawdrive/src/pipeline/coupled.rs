@@ -1,0 +1,424 @@
+//! Dynamic stage with the model choice of issue 14: the lumped model of N_eff = η·N independent
+//! posts ([`run_dynamic`]), the coupled model of the static strip's posts with their elastic
+//! interaction (`coupled_dynamics`), and `model.dynamics = "auto"` between them by the
+//! criterion of validation/coupled-dynamics (`coupled_dynamics::choose_model`).
+//!
+//! The lumped model always runs: its no-load speed is the criterion's evidence, its scene the
+//! base of η_dyn, and its estimated error ([`coupled_dynamics::lumped_error_estimate`]) goes
+//! into every summary. The coupled model reuses the static stage's factorisation: the strip's
+//! normal and tangential tip compliances come from the fresh analysis, or from the verified
+//! cache `compliance-<geometry key>.json` beside the static report (no second FEM on a cached
+//! run; one strip condensation when the entry is missing).
+
+use std::path::{Path, PathBuf};
+
+use charts::{Series, Style};
+
+use contact_springs::PostSprings;
+use coupled_dynamics::{
+    CoupledModel, CoupledResult, CoupledScene, DEFAULT_AUTO_TOLERANCE, DynamicsChoice,
+    LumpedEvidence, PreloadBalance, choose_model, lumped_error_estimate,
+};
+use nalgebra::DMatrix;
+use serde::{Deserialize, Serialize};
+use static_contact::StripModel;
+use stick_slip::{CurvePoint, DynamicResult, ModelKind, VerticalModel};
+
+use super::statics::{StaticOutcome, geometry_key, sha256_hex, static_params};
+use super::{DynamicRun, PipelineError, run_dynamic, write_dynamic_files};
+use crate::output::io;
+use crate::scene::{DEFAULT_COUPLED_STEPS_PER_PERIOD, Dynamics, Scene};
+
+/// What the dynamic stage produced.
+#[derive(Debug, Clone)]
+pub struct DynamicStage {
+    /// The lumped run (always made: the criterion's evidence and η_dyn's base).
+    pub lumped: DynamicRun,
+    /// The coupled run, when that model was chosen.
+    pub coupled: Option<CoupledResult>,
+    /// Why this model runs (the `auto` decision, or the scene's choice).
+    pub dynamics_reason: String,
+    /// Estimated relative error of the lumped model at the static η against the coupled one
+    /// (`None`: η was given, so there is no static fit to estimate it from).
+    pub lumped_error_estimate: Option<f64>,
+}
+
+impl DynamicStage {
+    /// Name of the model whose numbers are reported: `coupled`, `periodic-average` or
+    /// `transient`.
+    pub fn model_name(&self) -> &'static str {
+        match (&self.coupled, self.lumped.result.model) {
+            (Some(_), _) => "coupled",
+            (None, ModelKind::PeriodicAverage) => "periodic-average",
+            (None, ModelKind::Transient) => "transient",
+        }
+    }
+
+    /// Stall thrust of the reported model (N).
+    pub fn stall_thrust_n(&self) -> f64 {
+        self.coupled
+            .as_ref()
+            .map_or(self.lumped.result.stall_thrust_n, |c| c.stall_thrust_n)
+    }
+
+    /// No-load speed of the reported model (m/s).
+    pub fn no_load_speed_m_per_s(&self) -> f64 {
+        self.coupled.as_ref().map_or(
+            self.lumped.result.no_load_speed_m_per_s,
+            |c| c.no_load_speed_m_per_s,
+        )
+    }
+
+    /// Largest efficiency of the reported model.
+    pub fn efficiency(&self) -> f64 {
+        self.coupled
+            .as_ref()
+            .map_or(self.lumped.result.efficiency, |c| c.efficiency)
+    }
+
+    /// Stick fraction at stall of the reported model.
+    pub fn stick_fraction(&self) -> f64 {
+        self.coupled
+            .as_ref()
+            .map_or(self.lumped.result.stick_fraction, |c| c.stick_fraction)
+    }
+
+    /// Speed–thrust curve of the reported model, in the lumped model's columns.
+    pub fn curve(&self) -> Vec<CurvePoint> {
+        match &self.coupled {
+            None => self.lumped.result.curve.clone(),
+            Some(c) => c
+                .curve
+                .iter()
+                .map(|p| CurvePoint {
+                    speed_m_per_s: p.speed_m_per_s,
+                    thrust_n: p.thrust_n,
+                    output_power_w: p.output_power_w,
+                    efficiency: p.efficiency,
+                    stick_fraction: p.stick_fraction,
+                })
+                .collect(),
+        }
+    }
+
+    /// Why the reported model ran: the `auto` decision, then the lumped model's own choice.
+    pub fn model_reason(&self) -> String {
+        match &self.coupled {
+            Some(_) => self.dynamics_reason.clone(),
+            None => format!(
+                "{}; {}",
+                self.dynamics_reason, self.lumped.result.model_reason
+            ),
+        }
+    }
+
+    /// The JSON of `sawdrive dynamic --json`: the reported model's result with the choice.
+    pub fn json(&self) -> DynamicJson<'_> {
+        DynamicJson {
+            result: match &self.coupled {
+                Some(c) => ResultRef::Coupled(c),
+                None => ResultRef::Lumped(&self.lumped.result),
+            },
+            dynamics_reason: &self.dynamics_reason,
+            lumped_error_estimate: self.lumped_error_estimate,
+            lumped: self.coupled.as_ref().map(|_| LumpedFigures::of(&self.lumped.result)),
+        }
+    }
+}
+
+/// `sawdrive dynamic --json`: the result of the model that ran (its own keys: `model`,
+/// `stall_thrust_n`, `no_load_speed_m_per_s`, `curve`, …; the coupled model's
+/// `energy_balance_residual`, `eta_dyn`), why it ran, and the lumped model's estimated error.
+#[derive(Debug, Serialize)]
+pub struct DynamicJson<'a> {
+    #[serde(flatten)]
+    result: ResultRef<'a>,
+    dynamics_reason: &'a str,
+    lumped_error_estimate: Option<f64>,
+    /// The lumped model's figures beside a coupled run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    lumped: Option<LumpedFigures>,
+}
+
+#[derive(Debug, Serialize)]
+#[serde(untagged)]
+enum ResultRef<'a> {
+    Lumped(&'a DynamicResult),
+    Coupled(&'a CoupledResult),
+}
+
+/// The lumped model's headline figures, reported beside a coupled run.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct LumpedFigures {
+    pub model: ModelKind,
+    pub stall_thrust_n: f64,
+    pub no_load_speed_m_per_s: f64,
+    pub efficiency: f64,
+}
+
+impl LumpedFigures {
+    pub(crate) fn of(r: &DynamicResult) -> Self {
+        Self {
+            model: r.model,
+            stall_thrust_n: r.stall_thrust_n,
+            no_load_speed_m_per_s: r.no_load_speed_m_per_s,
+            efficiency: r.efficiency,
+        }
+    }
+}
+
+/// Write the dynamic stage's files into `dir`: the lumped model's ([`write_dynamic_files`]);
+/// after a coupled run, `dynamic.json` and `curve.csv` hold the coupled result instead, and
+/// `speed_thrust` draws the coupled curve over the lumped one.
+pub fn write_dynamic_stage_files(
+    title: &str,
+    stage: &DynamicStage,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, PipelineError> {
+    let mut files = write_dynamic_files(title, &stage.lumped, dir)?;
+    std::fs::write(dir.join("dynamic.json"), serde_json::to_vec_pretty(&stage.json())?)
+        .map_err(io("write", &dir.join("dynamic.json")))?;
+    let Some(coupled) = &stage.coupled else {
+        return Ok(files);
+    };
+    let csv = dir.join("curve.csv");
+    std::fs::write(&csv, stick_slip::curve_csv(&stage.curve())).map_err(io("write", &csv))?;
+    let mut chart = stick_slip::plots::speed_thrust_chart(
+        &format!("speed–thrust of {title}: coupled and lumped models"),
+        &[("lumped, static η", &stage.lumped.result)],
+    );
+    let points = coupled
+        .curve
+        .iter()
+        .map(|p| (p.speed_m_per_s, p.thrust_n))
+        .collect();
+    chart
+        .series
+        .insert(0, Series::new("coupled", points, Style::LineMarkers));
+    let stem = dir.join("speed_thrust");
+    files.retain(|f| f.file_stem() != stem.file_name());
+    files.extend(charts::write_chart(&chart, &stem)?);
+    Ok(files)
+}
+
+/// Run the dynamic stage of `scene` at η = `effective_ratio`: the lumped model, and the coupled
+/// one when `model.dynamics` asks for it or `auto` finds the lumped model's estimated error above
+/// `model.lumped_tolerance`. `statics` is the static stage's outcome (`None`: η was given);
+/// `cache_dir` holds the strip's tip compliances between runs.
+pub fn run_dynamic_stage(
+    scene: &Scene,
+    springs: &PostSprings,
+    effective_ratio: f64,
+    statics: Option<&StaticOutcome>,
+    cache_dir: Option<&Path>,
+) -> Result<DynamicStage, PipelineError> {
+    let lumped = run_dynamic(scene, springs, effective_ratio)?;
+    let evidence = statics.and_then(|s| {
+        LumpedEvidence::from_report(
+            &s.report,
+            lumped.result.no_load_speed_m_per_s,
+            scene.motor.wave.crest_speed_m_per_s(),
+        )
+    });
+    let estimate = evidence.as_ref().map(lumped_error_estimate);
+    let (run_coupled, reason) = decide(scene, statics, evidence.as_ref())?;
+    let coupled = match (run_coupled, statics) {
+        (true, Some(statics)) => Some(run_coupled_model(scene, statics, &lumped, cache_dir)?),
+        _ => None,
+    };
+    Ok(DynamicStage {
+        lumped,
+        coupled,
+        dynamics_reason: reason,
+        lumped_error_estimate: estimate,
+    })
+}
+
+/// Whether the coupled model runs, and why.
+fn decide(
+    scene: &Scene,
+    statics: Option<&StaticOutcome>,
+    evidence: Option<&LumpedEvidence>,
+) -> Result<(bool, String), PipelineError> {
+    match (scene.model.dynamics, statics, evidence) {
+        (Dynamics::Lumped(_), _, _) => Ok((false, "model.dynamics names a lumped model".into())),
+        (Dynamics::Coupled, None, _) => Err(PipelineError::Unsupported {
+            stage: "dynamic",
+            message: "model.dynamics = \"coupled\" needs the static stage's strip compliance, \
+                      but contact.effective_ratio is given: set it to \"fem\""
+                .into(),
+        }),
+        (Dynamics::Coupled, Some(_), _) => {
+            Ok((true, "model.dynamics = \"coupled\" asks for it".into()))
+        }
+        (Dynamics::Auto, None, _) => Ok((
+            false,
+            "lumped: η is given (contact.effective_ratio), so no static fit estimates the \
+             lumped model's error and the coupled model has no strip compliance"
+                .into(),
+        )),
+        (Dynamics::Auto, Some(_), None) => Ok((
+            false,
+            "lumped: the static stage fitted no η, so the lumped model's error cannot be \
+             estimated"
+                .into(),
+        )),
+        (Dynamics::Auto, Some(_), Some(evidence)) => {
+            let tolerance = scene
+                .model
+                .lumped_tolerance
+                .unwrap_or(DEFAULT_AUTO_TOLERANCE);
+            let decision = choose_model(evidence, tolerance)?;
+            Ok((decision.model == DynamicsChoice::Coupled, decision.reason))
+        }
+    }
+}
+
+/// The coupled model on the static strip's compliance, with η_dyn against the lumped scene.
+fn run_coupled_model(
+    scene: &Scene,
+    statics: &StaticOutcome,
+    lumped: &DynamicRun,
+    cache_dir: Option<&Path>,
+) -> Result<CoupledResult, PipelineError> {
+    if let VerticalModel::Dynamic { .. } = scene.model.vertical {
+        return Err(PipelineError::Unsupported {
+            stage: "dynamic",
+            message: "model.vertical = \"dynamic\": the coupled model balances the preload at \
+                      every instant (a quasi-static slider); use vertical = \"quasi-static\""
+                .into(),
+        });
+    }
+    let tips = strip_tips(scene, statics, cache_dir)?;
+    let motor = &scene.motor;
+    let mut coupled = CoupledScene::independent_posts(
+        motor.wave.clone(),
+        tips.post_x_m.clone(),
+        1.0,
+        1.0,
+        motor.friction.mu_static,
+        motor.friction.mu_kinetic,
+        motor.load.preload_n,
+    );
+    let n = tips.post_x_m.len();
+    coupled.normal_compliance_m_per_n = DMatrix::from_vec(n, n, tips.normal_m_per_n);
+    coupled.tangential_compliance_m_per_n = DMatrix::from_vec(n, n, tips.tangential_m_per_n);
+    coupled.strip_share = tips.strip_share;
+    coupled.preload_balance = PreloadBalance::Instant;
+    coupled.steps_per_period = scene
+        .model
+        .steps_per_period
+        .unwrap_or(DEFAULT_COUPLED_STEPS_PER_PERIOD) as usize;
+    if let Some(points) = scene.model.curve_points {
+        coupled.curve_points = points as usize;
+    }
+    coupled.validate()?;
+    let model = CoupledModel::new(&coupled)?;
+    Ok(coupled_dynamics::solve(&model, Some(&lumped.scene))?)
+}
+
+/// Layout version of a compliance cache entry.
+const COMPLIANCE_FORMAT: u32 = 1;
+
+/// The strip's posts and tip compliances (column-major n × n), as cached.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct StripTips {
+    post_x_m: Vec<f64>,
+    normal_m_per_n: Vec<f64>,
+    tangential_m_per_n: Vec<f64>,
+    strip_share: f64,
+}
+
+/// A compliance cache entry: the tips and the SHA-256 of their JSON.
+#[derive(Debug, Serialize, Deserialize)]
+struct ComplianceEntry {
+    format: u32,
+    geometry_key: String,
+    tips_sha256: String,
+    tips: StripTips,
+}
+
+impl StripTips {
+    fn of(strip: &StripModel, strip_share: f64) -> Result<Self, PipelineError> {
+        let tips = strip.tip_compliance()?;
+        Ok(Self {
+            post_x_m: strip.posts.iter().map(|p| p.x_m).collect(),
+            normal_m_per_n: tips.normal_m_per_n.as_slice().to_vec(),
+            tangential_m_per_n: tips.tangential_m_per_n.as_slice().to_vec(),
+            strip_share,
+        })
+    }
+}
+
+/// The strip's tips: from the fresh static analysis, else from the verified cache, else from
+/// one strip condensation (then cached). A damaged entry is rebuilt and said so on stderr.
+fn strip_tips(
+    scene: &Scene,
+    statics: &StaticOutcome,
+    cache_dir: Option<&Path>,
+) -> Result<StripTips, PipelineError> {
+    let params = static_params(scene, cache_dir.map(|d| d.join("meshes")).as_deref())?;
+    let share = params.strip_share();
+    let key = geometry_key(&params)?;
+    let file = cache_dir.map(|d| d.join(format!("compliance-{key}.json")));
+    if let Some(analysis) = &statics.analysis {
+        let tips = StripTips::of(&analysis.model, share)?;
+        store(file.as_deref(), &key, &tips)?;
+        return Ok(tips);
+    }
+    if let Some(file) = &file {
+        match lookup(file, &key) {
+            Ok(Some(tips)) => return Ok(tips),
+            Ok(None) => {}
+            Err(why) => eprintln!(
+                "note: compliance cache entry {} not used: {why}; recomputing it",
+                file.display()
+            ),
+        }
+    }
+    let prepared = static_contact::prepare_strip(&params)?;
+    let tips = StripTips::of(&prepared.model, share)?;
+    store(file.as_deref(), &key, &tips)?;
+    Ok(tips)
+}
+
+/// A verified entry (`Ok(Some)`), none (`Ok(None)`), or why the entry is damaged.
+fn lookup(file: &Path, key: &str) -> Result<Option<StripTips>, String> {
+    let Ok(bytes) = std::fs::read(file) else {
+        return Ok(None);
+    };
+    let entry: ComplianceEntry = serde_json::from_slice(&bytes)
+        .map_err(|e| format!("not a compliance cache entry ({e})"))?;
+    if entry.format != COMPLIANCE_FORMAT {
+        return Err(format!(
+            "cache format {} (now {COMPLIANCE_FORMAT})",
+            entry.format
+        ));
+    }
+    let tips_bytes = serde_json::to_vec(&entry.tips).map_err(|e| e.to_string())?;
+    if sha256_hex(&tips_bytes) != entry.tips_sha256 {
+        return Err("the compliances do not match the hash stored with them (edited?)".into());
+    }
+    if entry.geometry_key != key {
+        return Err("it holds the compliances of another geometry".into());
+    }
+    let n = entry.tips.post_x_m.len();
+    if entry.tips.normal_m_per_n.len() != n * n || entry.tips.tangential_m_per_n.len() != n * n {
+        return Err(format!("its matrices are not {n} × {n}"));
+    }
+    Ok(Some(entry.tips))
+}
+
+fn store(file: Option<&Path>, key: &str, tips: &StripTips) -> Result<(), PipelineError> {
+    let Some(file) = file else {
+        return Ok(());
+    };
+    let entry = ComplianceEntry {
+        format: COMPLIANCE_FORMAT,
+        geometry_key: key.to_owned(),
+        tips_sha256: sha256_hex(&serde_json::to_vec(tips)?),
+        tips: tips.clone(),
+    };
+    crate::output::write_atomically(file, serde_json::to_vec(&entry)?)?;
+    Ok(())
+}
