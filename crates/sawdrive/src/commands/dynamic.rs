@@ -42,7 +42,9 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
         stage.model_reason()
     );
     if let Some(estimate) = stage.lumped_error_estimate {
-        println!("lumped model's estimated error {estimate:.2e} (relative, against the coupled model)");
+        println!(
+            "lumped model's estimated error {estimate:.2e} (relative, against the coupled model)"
+        );
     }
     if let Some(coupled) = &stage.coupled {
         for w in &coupled.warnings {

@@ -63,10 +63,11 @@ impl DynamicStage {
 
     /// No-load speed of the reported model (m/s).
     pub fn no_load_speed_m_per_s(&self) -> f64 {
-        self.coupled.as_ref().map_or(
-            self.lumped.result.no_load_speed_m_per_s,
-            |c| c.no_load_speed_m_per_s,
-        )
+        self.coupled
+            .as_ref()
+            .map_or(self.lumped.result.no_load_speed_m_per_s, |c| {
+                c.no_load_speed_m_per_s
+            })
     }
 
     /// Largest efficiency of the reported model.
@@ -121,7 +122,10 @@ impl DynamicStage {
             },
             dynamics_reason: &self.dynamics_reason,
             lumped_error_estimate: self.lumped_error_estimate,
-            lumped: self.coupled.as_ref().map(|_| LumpedFigures::of(&self.lumped.result)),
+            lumped: self
+                .coupled
+                .as_ref()
+                .map(|_| LumpedFigures::of(&self.lumped.result)),
         }
     }
 }
@@ -176,8 +180,11 @@ pub fn write_dynamic_stage_files(
     dir: &Path,
 ) -> Result<Vec<PathBuf>, PipelineError> {
     let mut files = write_dynamic_files(title, &stage.lumped, dir)?;
-    std::fs::write(dir.join("dynamic.json"), serde_json::to_vec_pretty(&stage.json())?)
-        .map_err(io("write", &dir.join("dynamic.json")))?;
+    std::fs::write(
+        dir.join("dynamic.json"),
+        serde_json::to_vec_pretty(&stage.json())?,
+    )
+    .map_err(io("write", &dir.join("dynamic.json")))?;
     let Some(coupled) = &stage.coupled else {
         return Ok(files);
     };

@@ -198,7 +198,11 @@ pub fn run_pipeline(
         if let Some(outcome) = &static_outcome {
             files.extend(write_static_files(outcome, staged.path())?);
         }
-        files.extend(write_dynamic_stage_files(&scene.name, &stage, staged.path())?);
+        files.extend(write_dynamic_stage_files(
+            &scene.name,
+            &stage,
+            staged.path(),
+        )?);
     }
     timings.output_s = t.elapsed().as_secs_f64();
     timings.total_s = start.elapsed().as_secs_f64();

@@ -201,4 +201,3 @@ impl<'de> Deserialize<'de> for MaterialSpec {
         deserializer.deserialize_any(SpecVisitor)
     }
 }
-

@@ -58,7 +58,10 @@ impl Dynamics {
     /// Each choice by its scene name.
     pub const NAMES: [(&'static str, Self); 4] = [
         ("auto", Self::Auto),
-        ("periodic-average", Self::Lumped(ModelChoice::PeriodicAverage)),
+        (
+            "periodic-average",
+            Self::Lumped(ModelChoice::PeriodicAverage),
+        ),
         ("transient", Self::Lumped(ModelChoice::Transient)),
         ("coupled", Self::Coupled),
     ];

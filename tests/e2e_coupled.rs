@@ -1,0 +1,229 @@
+//! End-to-end checks of the coupled dynamic model from the command line (issue 14's contract):
+//! `model.dynamics = "coupled"`, the `auto` choice between lumped and coupled, the keys of
+//! `sawdrive dynamic --json` and of the run summary, the compliance cache, and bad input.
+
+mod common;
+
+use std::path::Path;
+
+use common::{sawdrive_err, sawdrive_ok};
+
+/// The small end-to-end scene (10 × 10 posts, committed 10-post strip mesh).
+fn small_scene() -> String {
+    concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/scenes/small-strip.toml"
+    )
+    .to_owned()
+}
+
+fn dynamic_json(out: &Path, sets: &[&str]) -> serde_json::Value {
+    let scene = small_scene();
+    let out = out.to_str().expect("utf-8 path");
+    let mut args = vec!["dynamic", &scene, "--out", out, "--json"];
+    for set in sets {
+        args.extend(["--set", set]);
+    }
+    serde_json::from_str(&sawdrive_ok(&args)).expect("dynamic --json is JSON")
+}
+
+fn number(json: &serde_json::Value, key: &str) -> f64 {
+    json[key]
+        .as_f64()
+        .unwrap_or_else(|| panic!("{key} is a number in {json}"))
+}
+
+#[test]
+fn coupled_dynamics_reports_the_contract_keys_and_balances_energy() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let json = dynamic_json(dir.path(), &["model.dynamics=coupled"]);
+    assert_eq!(json["model"], "coupled", "model of the run: {json}");
+    let stall = number(&json, "stall_thrust_n");
+    let speed = number(&json, "no_load_speed_m_per_s");
+    let friction_limit = 0.3 * 0.4;
+    assert!(
+        stall > 0.0 && stall <= friction_limit * (1.0 + 1e-9),
+        "coupled stall thrust {stall} N within (0, μP = {friction_limit} N]"
+    );
+    assert!(
+        speed > 0.0 && speed < 1.1,
+        "coupled no-load speed {speed} m/s within (0, A_t ω)"
+    );
+    let residual = number(&json, "energy_balance_residual");
+    assert!(
+        residual < 1e-6,
+        "energy balance residual {residual} of the power flow (issue 14: < 1e-6)"
+    );
+    let eta_dyn = number(&json, "eta_dyn");
+    assert!(eta_dyn > 0.0 && eta_dyn.is_finite(), "η_dyn {eta_dyn}");
+    assert!(number(&json, "wall_time_s") > 0.0, "wall time recorded");
+    assert!(
+        number(&json, "lumped_error_estimate") >= 0.0,
+        "the lumped model's estimated error is reported"
+    );
+    let curve = json["curve"].as_array().expect("curve is an array");
+    assert_eq!(curve.len(), 50, "default curve points of the coupled model");
+    assert_eq!(
+        curve[0]["thrust_n"].as_f64(),
+        Some(stall),
+        "the curve starts at the stall thrust"
+    );
+    assert_eq!(
+        json["lumped"]["model"], "periodic-average",
+        "the lumped figures are reported beside the coupled ones"
+    );
+}
+
+#[test]
+fn the_cached_strip_compliance_gives_the_same_coupled_result_bitwise() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let set = [
+        "model.dynamics=coupled",
+        "model.steps_per_period=32",
+        "model.curve_points=5",
+    ];
+    let fresh = dynamic_json(dir.path(), &set);
+    let cache = dir.path().join(".cache");
+    let entries: Vec<_> = std::fs::read_dir(&cache)
+        .expect("cache folder")
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().starts_with("compliance-"))
+        .collect();
+    assert_eq!(entries.len(), 1, "one compliance entry for one geometry");
+    let cached = dynamic_json(dir.path(), &set);
+    for key in ["stall_thrust_n", "no_load_speed_m_per_s", "eta_dyn"] {
+        assert_eq!(
+            fresh[key], cached[key],
+            "{key}: fresh and cached compliance agree"
+        );
+    }
+    assert_eq!(
+        fresh["steps_per_period"].as_u64(),
+        Some(32),
+        "steps_per_period honoured"
+    );
+    assert_eq!(
+        fresh["curve"].as_array().map(Vec::len),
+        Some(5),
+        "curve_points honoured"
+    );
+
+    // A damaged entry is recomputed, not trusted.
+    let entry = entries[0].path();
+    let text = std::fs::read_to_string(&entry).expect("entry");
+    std::fs::write(
+        &entry,
+        text.replacen("\"post_x_m\":[", "\"post_x_m\":[1.0,", 1),
+    )
+    .expect("edit entry");
+    let rebuilt = dynamic_json(dir.path(), &set);
+    assert_eq!(
+        fresh["stall_thrust_n"], rebuilt["stall_thrust_n"],
+        "a damaged compliance entry is rebuilt"
+    );
+}
+
+#[test]
+fn auto_picks_the_coupled_model_only_beyond_the_lumped_tolerance() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let loose = dynamic_json(dir.path(), &["model.lumped_tolerance=0.99"]);
+    let estimate = number(&loose, "lumped_error_estimate");
+    assert!(
+        estimate < 0.99,
+        "estimate {estimate} below the loose tolerance"
+    );
+    assert_ne!(
+        loose["model"], "coupled",
+        "auto keeps the lumped model: {loose}"
+    );
+    assert!(
+        loose["dynamics_reason"]
+            .as_str()
+            .is_some_and(|r| r.contains("lumped")),
+        "auto says why: {}",
+        loose["dynamics_reason"]
+    );
+    let tight = format!("model.lumped_tolerance={}", 0.5 * estimate);
+    let strict = dynamic_json(
+        dir.path(),
+        &[&tight, "model.steps_per_period=32", "model.curve_points=5"],
+    );
+    assert_eq!(
+        strict["model"], "coupled",
+        "auto runs the coupled model: {strict}"
+    );
+    assert_eq!(
+        strict["lumped_error_estimate"], loose["lumped_error_estimate"],
+        "the estimate does not depend on the tolerance"
+    );
+}
+
+#[test]
+fn every_run_summary_carries_the_lumped_error_estimate() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().to_str().expect("utf-8");
+    let scene = small_scene();
+    sawdrive_ok(&[
+        "run",
+        &scene,
+        "--out",
+        out,
+        "--set",
+        "model.dynamics=periodic-average",
+    ]);
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("small-strip/summary.json")).expect("summary"),
+    )
+    .expect("summary JSON");
+    assert!(
+        number(&summary, "lumped_error_estimate") >= 0.0,
+        "summary.json has lumped_error_estimate: {summary}"
+    );
+    assert_eq!(summary["model"], "periodic-average");
+    assert!(
+        summary["coupled"].is_null(),
+        "no coupled figures without a coupled run"
+    );
+}
+
+#[test]
+fn coupled_settings_that_cannot_apply_are_refused_by_name() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().to_str().expect("utf-8");
+    let scene = small_scene();
+    let cases = [
+        (
+            vec!["model.dynamics=coupled", "effective_ratio=0.36"],
+            "contact.effective_ratio",
+        ),
+        (
+            vec!["model.dynamics=coupled", "model.vertical=dynamic"],
+            "model.vertical",
+        ),
+        (
+            vec!["model.dynamics=coupled", "model.steps_per_period=8"],
+            "model.steps_per_period",
+        ),
+        (
+            vec!["model.dynamics=transient", "model.steps_per_period=64"],
+            "model.steps_per_period",
+        ),
+        (
+            vec!["model.dynamics=coupled", "model.lumped_tolerance=0.1"],
+            "model.lumped_tolerance",
+        ),
+        (vec!["model.lumped_tolerance=1.5"], "model.lumped_tolerance"),
+    ];
+    for (sets, key) in cases {
+        let mut args = vec!["dynamic", scene.as_str(), "--out", out];
+        for set in &sets {
+            args.extend(["--set", set]);
+        }
+        let stderr = sawdrive_err(&args, key);
+        assert_eq!(stderr.trim().lines().count(), 1, "one-line error: {stderr}");
+    }
+    assert!(
+        !dir.path().join("small-strip/dynamic").exists(),
+        "a refused run writes no results"
+    );
+}
