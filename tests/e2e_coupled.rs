@@ -72,6 +72,27 @@ fn coupled_dynamics_reports_the_contract_keys_and_balances_energy() {
         json["lumped"]["model"], "periodic-average",
         "the lumped figures are reported beside the coupled ones"
     );
+    let folder = dir.path().join("small-strip/dynamic");
+    let histories = std::fs::read_to_string(folder.join("coupled_post_histories.csv"))
+        .expect("the coupled post histories are written");
+    let posts = json["posts"].as_u64().expect("posts") as usize;
+    let rows = histories.lines().count() - 1;
+    assert!(
+        rows >= 16 * posts && rows % posts == 0,
+        "one row per post and step over a period: {rows} rows for {posts} posts"
+    );
+    assert!(
+        folder.join("coupled_post_forces.svg").exists(),
+        "the coupled post-force chart is written"
+    );
+    let written: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(folder.join("dynamic.json")).expect("dynamic.json"),
+    )
+    .expect("dynamic.json is JSON");
+    assert_eq!(
+        written["stall_thrust_n"], json["stall_thrust_n"],
+        "dynamic.json holds the coupled result"
+    );
 }
 
 #[test]

@@ -12,12 +12,12 @@
 
 use std::path::{Path, PathBuf};
 
-use charts::{Series, Style};
+use charts::{Chart, Series, Style};
 
 use contact_springs::PostSprings;
 use coupled_dynamics::{
     CoupledModel, CoupledResult, CoupledScene, DEFAULT_AUTO_TOLERANCE, DynamicsChoice,
-    LumpedEvidence, PreloadBalance, choose_model, lumped_error_estimate,
+    LumpedEvidence, PostHistories, PostMode, PreloadBalance, choose_model, lumped_error_estimate,
 };
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
@@ -36,6 +36,9 @@ pub struct DynamicStage {
     pub lumped: DynamicRun,
     /// The coupled run, when that model was chosen.
     pub coupled: Option<CoupledResult>,
+    /// Every strip post's forces and contact mode over one steady period of the coupled model,
+    /// at half its no-load speed (with the coupled run).
+    pub coupled_histories: Option<PostHistories>,
     /// Why this model runs (the `auto` decision, or the scene's choice).
     pub dynamics_reason: String,
     /// Estimated relative error of the lumped model at the static η against the coupled one
@@ -205,7 +208,73 @@ pub fn write_dynamic_stage_files(
     let stem = dir.join("speed_thrust");
     files.retain(|f| f.file_stem() != stem.file_name());
     files.extend(charts::write_chart(&chart, &stem)?);
+    if let Some(histories) = &stage.coupled_histories {
+        let csv = dir.join("coupled_post_histories.csv");
+        std::fs::write(&csv, histories_csv(histories)).map_err(io("write", &csv))?;
+        files.push(csv);
+        files.extend(charts::write_stacked(
+            &histories_charts(title, histories),
+            &dir.join("coupled_post_forces"),
+        )?);
+    }
     Ok(files)
+}
+
+/// Posts drawn in the history charts: this many, spread along the strip.
+const HISTORY_CHART_POSTS: usize = 4;
+
+/// One row per sample and post: time, post index, forces (N), contact mode.
+fn histories_csv(h: &PostHistories) -> String {
+    let mut csv = String::from("time_s,post,normal_force_n,tangential_force_n,mode\n");
+    for (k, t) in h.time_s.iter().enumerate() {
+        for (i, (n, f)) in h.normal_force_n[k]
+            .iter()
+            .zip(&h.tangential_force_n[k])
+            .enumerate()
+        {
+            let mode = match h.mode[k][i] {
+                PostMode::Separated => "separated",
+                PostMode::Stick => "stick",
+                PostMode::Slip => "slip",
+            };
+            csv.push_str(&format!("{t:e},{i},{n:e},{f:e},{mode}\n"));
+        }
+    }
+    csv
+}
+
+/// Normal (top) and tangential (bottom) force against time (ns) of a few posts along the strip.
+fn histories_charts(title: &str, h: &PostHistories) -> [Chart; 2] {
+    let posts = h.normal_force_n.first().map_or(0, Vec::len);
+    let shown: Vec<usize> = (0..HISTORY_CHART_POSTS.min(posts))
+        .map(|k| k * posts / HISTORY_CHART_POSTS.min(posts))
+        .collect();
+    let panel = |what: &str, values: &[Vec<f64>]| {
+        let mut chart = Chart::new(
+            &format!(
+                "{title}: coupled model, {what} at {:.3} m/s",
+                h.speed_m_per_s
+            ),
+            "time (ns)",
+            &format!("{what} (N)"),
+        );
+        for &i in &shown {
+            let points = h
+                .time_s
+                .iter()
+                .zip(values)
+                .map(|(t, v)| (t * 1e9, v[i]))
+                .collect();
+            chart
+                .series
+                .push(Series::new(format!("post {i}"), points, Style::Line));
+        }
+        chart
+    };
+    [
+        panel("normal force", &h.normal_force_n),
+        panel("tangential force", &h.tangential_force_n),
+    ]
 }
 
 /// Run the dynamic stage of `scene` at η = `effective_ratio`: the lumped model, and the coupled
@@ -229,13 +298,17 @@ pub fn run_dynamic_stage(
     });
     let estimate = evidence.as_ref().map(lumped_error_estimate);
     let (run_coupled, reason) = decide(scene, statics, evidence.as_ref())?;
-    let coupled = match (run_coupled, statics) {
-        (true, Some(statics)) => Some(run_coupled_model(scene, statics, &lumped, cache_dir)?),
-        _ => None,
+    let (coupled, coupled_histories) = match (run_coupled, statics) {
+        (true, Some(statics)) => {
+            let (result, histories) = run_coupled_model(scene, statics, &lumped, cache_dir)?;
+            (Some(result), Some(histories))
+        }
+        _ => (None, None),
     };
     Ok(DynamicStage {
         lumped,
         coupled,
+        coupled_histories,
         dynamics_reason: reason,
         lumped_error_estimate: estimate,
     })
@@ -281,13 +354,17 @@ fn decide(
     }
 }
 
-/// The coupled model on the static strip's compliance, with η_dyn against the lumped scene.
+/// Fraction of the coupled no-load speed at which the post histories are taken.
+const HISTORY_SPEED_FRACTION: f64 = 0.5;
+
+/// The coupled model on the static strip's compliance, with η_dyn against the lumped scene, and
+/// the post histories at [`HISTORY_SPEED_FRACTION`] of its no-load speed.
 fn run_coupled_model(
     scene: &Scene,
     statics: &StaticOutcome,
     lumped: &DynamicRun,
     cache_dir: Option<&Path>,
-) -> Result<CoupledResult, PipelineError> {
+) -> Result<(CoupledResult, PostHistories), PipelineError> {
     if let VerticalModel::Dynamic { .. } = scene.model.vertical {
         return Err(PipelineError::Unsupported {
             stage: "dynamic",
@@ -321,7 +398,9 @@ fn run_coupled_model(
     }
     coupled.validate()?;
     let model = CoupledModel::new(&coupled)?;
-    Ok(coupled_dynamics::solve(&model, Some(&lumped.scene))?)
+    let result = coupled_dynamics::solve(&model, Some(&lumped.scene))?;
+    let histories = model.post_histories(HISTORY_SPEED_FRACTION * result.no_load_speed_m_per_s)?;
+    Ok((result, histories))
 }
 
 /// Layout version of a compliance cache entry.
