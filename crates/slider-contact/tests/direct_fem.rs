@@ -22,11 +22,18 @@
 //! changes; allowing twice that on the largest force excursion, plus 2 % for the active-set
 //! edge, gives the rigid-back tolerance `2 ε max|f/(P/N) − 1| + 0.02`. For the free back the
 //! Kirchhoff plate drops Mindlin's transverse shear, (kt)²/4 of the bending compliance at
-//! wavenumber k: on a 1.4 mm (10 posts) or 1.1 mm (3 posts) body of t = 0.5 mm, kt ≈ 1–1.4
-//! and the bending part of the redistribution is then uncertain by ≈ 25–50 %; the test
-//! asserts 0.5 of the largest force excursion there (and reports the measured value).
+//! wavenumber k: on a 1.4 mm (10 posts) or 1.1 mm (3 posts) body of t = 0.5 mm, the body's
+//! lowest bending wavelengths give kt ≈ 1, i.e. ≈ 25 % of the bending part of the
+//! redistribution; the test asserts 0.25 of the largest force excursion there.
 //!
-//! The 3 × 3 variant runs in CI (≈ 5 s); the 10 × 10 one is `#[ignore]`:
+//! Measured (max / rms |Δf| in P/N over 4 phases; largest FEM excursion |f/(P/N) − 1|):
+//! 3 × 3 (11 895 nodes, ε = 0.74 %): (a) 0.031 / 0.012 (excursion 2.1), (b) σ = 5 nm
+//! 0.034 / 0.014 (3.2), (c) ball 0.018 / 0.009 (1.2), ball + σ 0.022 / 0.009 (1.9);
+//! 10 × 10 (62 711 nodes, ε = 0.96 %, ≈ 3.5 min, 0.8 GB): (a) 0.029 / 0.007 (4.2),
+//! (b) 0.059 / 0.008 (11.8), (c) 0.130 / 0.022 (6.8), ball + σ 0.102 / 0.021 (12.9); the
+//! contact fractions agree to 0.003.
+//!
+//! The 3 × 3 variant runs in CI (≈ 5 s of gmsh and FEM on a quiet machine, 13 s under load); the 10 × 10 one is `#[ignore]`:
 //! `cargo test -p slider-contact --profile test --test direct_fem -- --ignored --nocapture`.
 
 use std::f64::consts::PI;
@@ -250,13 +257,9 @@ fn compare(model: &SliderModel, fem_slider: &DMatrix<f64>) -> Difference {
         let h = model.obstacle_heights(Some(theta));
         let fem: CgSolution = match &model.free_back {
             None => ConstrainedCg::new(options).solve(&c, &h, p.preload_n, p.wave_amplitude_m),
-            Some(back) => BalancedCg::new(options).solve(
-                &c,
-                &h,
-                p.preload_n,
-                p.wave_amplitude_m,
-                &back.arms,
-            ),
+            Some(back) => {
+                BalancedCg::new(options).solve(&c, &h, p.preload_n, p.wave_amplitude_m, &back.arms)
+            }
         }
         .expect("FEM contact solve");
         let lattice = model.solve_phase(p.preload_n, Some(theta)).unwrap();
@@ -301,9 +304,24 @@ fn check_block(block: &Block) {
         y_m: block.ball_m.1,
     };
     let cases = [
-        ("(a) ideal, rigid back", Imperfections::default(), Mechanism::Rigid, &fem.rigid),
-        ("(b) σ = 5 nm, rigid back", scattered.clone(), Mechanism::Rigid, &fem.rigid),
-        ("(c) ball, free back", Imperfections::default(), ball, &fem.ball),
+        (
+            "(a) ideal, rigid back",
+            Imperfections::default(),
+            Mechanism::Rigid,
+            &fem.rigid,
+        ),
+        (
+            "(b) σ = 5 nm, rigid back",
+            scattered.clone(),
+            Mechanism::Rigid,
+            &fem.rigid,
+        ),
+        (
+            "(c) ball, free back",
+            Imperfections::default(),
+            ball,
+            &fem.ball,
+        ),
         ("(c) ball, free back, σ = 5 nm", scattered, ball, &fem.ball),
     ];
     for (name, imperfections, mechanism, fem_slider) in cases {
@@ -315,7 +333,7 @@ fn check_block(block: &Block) {
         .unwrap();
         let d = compare(&model, fem_slider);
         let tolerance = if mechanism.is_free() {
-            0.5 * d.excursion
+            0.25 * d.excursion
         } else {
             2.0 * eps * d.excursion + 0.02
         };
