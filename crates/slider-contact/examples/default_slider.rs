@@ -2,8 +2,9 @@
 //! fraction, load sharing, CG iterations and wall times.
 //!
 //! `cargo run -p slider-contact --profile test --example default_slider [posts_per_side]
-//! [rigid | pressure | point] [precondition]` (point: a ball at the slider's centre;
-//! `precondition`: the ball's CG preconditioned by the plate, `SliderModel::precondition_free_back`).
+//! [rigid | pressure | point] [precondition | plain] [tolerance]` (point: a ball at the slider's
+//! centre; `precondition`: the ball's CG preconditioned by the plate,
+//! `SliderModel::precondition_free_back`; tolerance: the CG's, default 1e-9).
 
 use slider_contact::{ComplianceOperator, Mechanism, SliderModel, SliderParams};
 
@@ -20,6 +21,10 @@ fn main() -> anyhow::Result<()> {
         mechanism,
         ..SliderParams::default()
     };
+    let mut params = params;
+    if let Some(tol) = std::env::args().nth(4) {
+        params.solver.tolerance = tol.parse()?;
+    }
     let mut model = SliderModel::build(&params)?;
     model.precondition_free_back = std::env::args().nth(3).as_deref() == Some("precondition");
     println!(

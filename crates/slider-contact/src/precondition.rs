@@ -21,10 +21,11 @@
 //! it slower in wall time, so [`crate::SliderModel`] leaves it off by default. Pressure: the
 //! preconditioned steps move the whole plate at once and the contact set oscillates (no
 //! convergence in 5 000 iterations; preconditioning only once the set is unchanged converges
-//! but needs more iterations than the plain CG). The pressure CG's cost is the identification of
-//! its contact set — from full contact at the uniform start down to ≈ 36 % of the posts, a few
-//! tens of posts leaving per iteration — not the conditioning of a fixed set; it is used with the
-//! plain CG.
+//! but needs more iterations than the plain CG), so it runs the plain CG. What sets the
+//! pressure's 200–400 iterations is therefore not the plate's conditioning on a fixed contact
+//! set alone; the slow shrinking of its contact set from the uniform start and the
+//! multiplicative moment rebalancing after every step (which the ball's compact patch hardly
+//! exercises) are the suspects, not resolved here.
 
 use elastic_fem::sparse::{NumericCholesky, SymmetricMatrix};
 
