@@ -22,6 +22,7 @@ use nalgebra::{Matrix3, Vector3};
 
 use crate::error::{Result, SliderError, invalid};
 use crate::lattice::ComplianceOperator;
+use crate::precondition::ContactPreconditioner;
 use crate::solver::{CgOptions, CgSolution};
 
 /// Iterations of the multiplicative balance correction (each drops the posts whose factor is
@@ -117,6 +118,22 @@ impl BalancedCg {
         length_scale_m: f64,
         arms: &[(f64, f64)],
     ) -> Result<CgSolution> {
+        self.solve_preconditioned(op, None, height_m, preload_n, length_scale_m, arms)
+    }
+
+    /// As [`BalancedCg::solve`], with the conjugate directions preconditioned on the contact set
+    /// by `preconditioner` (z = P M_A⁻¹ g, P the projection off the three rigid modes; a
+    /// symmetric positive definite M keeps it a conjugate-gradient method): same solution, fewer
+    /// iterations when M_A approximates the operator's contact block ([`crate::precondition`]).
+    pub fn solve_preconditioned(
+        &self,
+        op: &dyn ComplianceOperator,
+        mut preconditioner: Option<&mut dyn ContactPreconditioner>,
+        height_m: &[f64],
+        preload_n: f64,
+        length_scale_m: f64,
+        arms: &[(f64, f64)],
+    ) -> Result<CgSolution> {
         let n = op.len();
         if arms.len() != n || height_m.len() != n || n == 0 {
             return Err(invalid(
@@ -151,11 +168,18 @@ impl BalancedCg {
             ));
         }
         let (mut t, mut u, mut r, mut g) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        let mut z = vec![0.0; n];
         let (mut delta, mut g_old) = (0.0, 1.0);
+        let mut previous_contact: Vec<bool> = Vec::new();
         let mut history = Vec::new();
         for iteration in 0..=self.options.max_iterations {
             op.apply(&f, &mut u);
             let contact: Vec<bool> = f.iter().map(|&x| x > 0.0).collect();
+            // A preconditioner that changes with the contact set breaks the conjugacy of the
+            // old direction: restart (steepest descent in the new metric) when the set changed.
+            if preconditioner.is_some() && contact != previous_contact {
+                delta = 0.0;
+            }
             for i in 0..n {
                 g[i] = s * u[i] - h[i];
             }
@@ -183,10 +207,21 @@ impl BalancedCg {
             if iteration == self.options.max_iterations {
                 break;
             }
-            let g_norm: f64 = (0..n).filter(|&i| contact[i]).map(|i| g[i] * g[i]).sum();
+            // z = P M⁻¹ g in the CG's scaled units (operator s·C): z̃ = M⁻¹(g̃)/s.
+            if let Some(pre) = preconditioner.as_deref_mut() {
+                pre.apply(&contact, &g, &mut z);
+                z.iter_mut().for_each(|x| *x /= s);
+                let cz = fit_modes(&z, &contact, arms);
+                for i in (0..n).filter(|&i| contact[i]) {
+                    z[i] -= cz.dot(&phi(arms[i]));
+                }
+            } else {
+                z.copy_from_slice(&g);
+            }
+            let g_norm: f64 = (0..n).filter(|&i| contact[i]).map(|i| g[i] * z[i]).sum();
             for i in 0..n {
                 t[i] = if contact[i] {
-                    g[i] + delta * (g_norm / g_old) * t[i]
+                    z[i] + delta * (g_norm / g_old) * t[i]
                 } else {
                     0.0
                 };
@@ -203,6 +238,7 @@ impl BalancedCg {
                 rt += s * r[i] * t[i];
             }
             let tau = if rt > 0.0 { gt / rt } else { 0.0 };
+
             let mut overlap = false;
             for i in 0..n {
                 if contact[i] {
@@ -214,6 +250,7 @@ impl BalancedCg {
                 }
             }
             delta = if overlap { 0.0 } else { 1.0 };
+            previous_contact = contact;
             if !rebalance(&mut f, arms) {
                 f.iter_mut().for_each(|x| *x = 1.0);
                 rebalance(&mut f, arms);

@@ -37,6 +37,7 @@ pub mod heights;
 pub mod lattice;
 pub mod layer;
 pub mod plate;
+pub mod precondition;
 pub mod rng;
 pub mod slider;
 pub mod solver;
@@ -50,6 +51,7 @@ pub use lattice::{
     OperatorSpec,
 };
 pub use plate::FreePlate;
+pub use precondition::{ContactPreconditioner, PlatePreconditioner};
 pub use slider::{
     FreeBack, Mechanism, SliderModel, SliderParams, SliderReport, SliderSnapshot, run,
 };

@@ -110,6 +110,8 @@ pub struct FreePlate {
     /// Reduced dof of each global dof (`usize::MAX`: a fixed corner w).
     reduced: Vec<usize>,
     factor: NumericCholesky,
+    /// The reduced stiffness K (upper triangle), kept for the contact preconditioner.
+    stiffness: SymmetricMatrix,
     /// Per post: its 16 (reduced dof, shape value) pairs.
     post_weights: Vec<[(usize, f64); 16]>,
     /// Flexural rigidity D (N·m).
@@ -172,6 +174,7 @@ impl FreePlate {
             hy: width_m / ey as f64,
             reduced,
             factor: placeholder_factor()?,
+            stiffness: placeholder_matrix()?,
             post_weights: Vec::new(),
             flexural_rigidity_nm: d,
         };
@@ -179,6 +182,7 @@ impl FreePlate {
         plate.factor = SymbolicCholesky::analyze(&matrix, Ordering::Amd)
             .and_then(|s| s.factor(&matrix))
             .map_err(|e| invalid("slider_thickness_m", thickness_m, format!("plate: {e}")))?;
+        plate.stiffness = matrix;
         plate.post_weights = posts_m.iter().map(|&(x, y)| plate.weights(x, y)).collect();
         Ok(plate)
     }
@@ -281,7 +285,22 @@ impl FreePlate {
             .map_err(|e| invalid("slider_thickness_m", d, format!("plate assembly: {e}")))
     }
 
-    fn reduced_dim(&self) -> usize {
+    /// The reduced stiffness K (upper triangle, CSC).
+    pub(crate) fn stiffness_matrix(&self) -> &SymmetricMatrix {
+        &self.stiffness
+    }
+
+    /// The factor of K (its symbolic analysis serves any matrix of K's pattern).
+    pub(crate) fn factor(&self) -> &NumericCholesky {
+        &self.factor
+    }
+
+    /// Per post: its 16 (reduced dof, w shape value) pairs (`usize::MAX`: a fixed corner).
+    pub(crate) fn post_weights(&self) -> &[[(usize, f64); 16]] {
+        &self.post_weights
+    }
+
+    pub(crate) fn reduced_dim(&self) -> usize {
         self.factor.symbolic().dim()
     }
 
@@ -374,6 +393,12 @@ impl FreePlate {
             })
             .collect()
     }
+}
+
+/// A 1 × 1 identity, replaced in [`FreePlate::new`].
+fn placeholder_matrix() -> Result<SymmetricMatrix> {
+    SymmetricMatrix::from_upper_parts(1, vec![0, 1], vec![0], vec![1.0])
+        .map_err(|e| invalid("slider_thickness_m", f64::NAN, e.to_string()))
 }
 
 /// A 1 × 1 factor, replaced in [`FreePlate::new`] (keeps the constructor's field order simple).

@@ -26,6 +26,7 @@ use crate::lattice::{
     ComplianceOperator, DiagonalParts, LatticeGeometry, LatticeOperator, NearField, OperatorSpec,
 };
 use crate::plate::FreePlate;
+use crate::precondition::{ContactPreconditioner, PlatePreconditioner};
 use crate::solver::{CgOptions, CgSolution, ConstrainedCg};
 
 /// How the preload reaches the slider body (scene key `load.mechanism`).
@@ -357,6 +358,12 @@ pub struct SliderModel {
     pub free_back: Option<FreeBack>,
     /// Build time (s).
     pub build_s: f64,
+    /// Precondition a ball-loaded back's contact solve by its plate ([`PlatePreconditioner`]).
+    /// False from [`SliderModel::build`]: measured on the default slider it cuts the iterations
+    /// from 37–40 to 28–29 but costs more time (a refactorisation per contact-set change). The
+    /// pressure mechanism always runs the plain CG: preconditioned, its contact set oscillates
+    /// (validation/whole-slider/README.md, Speed).
+    pub precondition_free_back: bool,
 }
 
 /// The free back of a pressure- or point-loaded slider: its plate, the posts' moment arms about
@@ -464,6 +471,7 @@ impl SliderModel {
             post_offset_m,
             free_back,
             build_s: start.elapsed().as_secs_f64(),
+            precondition_free_back: false,
         })
     }
 
@@ -516,8 +524,13 @@ impl SliderModel {
                     lattice: &self.operator,
                     plate: &back.plate,
                 };
+                let mut pre =
+                    PlatePreconditioner::new(&back.plate, self.operator.parts().total_m_per_n());
+                let use_pre = self.precondition_free_back
+                    && matches!(self.params.mechanism, Mechanism::Point { .. });
+                let pre = use_pre.then_some(&mut pre as &mut dyn ContactPreconditioner);
                 BalancedCg::new(self.params.solver)
-                    .solve(&op, &shifted, preload_n, scale, &back.arms)
+                    .solve_preconditioned(&op, pre, &shifted, preload_n, scale, &back.arms)
             }
         }
         .map_err(|e| with_context(e, preload_n, phase_rad))?;
