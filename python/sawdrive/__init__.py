@@ -12,11 +12,15 @@ Units: SI in every result, the unit in each name (``preload_n``, ``gap_m``); sce
 human units as text (``"20 um"``, ``"9.61 MHz"``, ``"40 N"``). Signs and definitions:
 ``docs/physics.md`` of the repository.
 
-Long calls (:func:`static`, :func:`dynamic`, :func:`run`, :func:`sweep`) run without holding the
-GIL, show a progress line where a terminal or notebook is attached, and raise
-``KeyboardInterrupt`` on Ctrl-C without writing results (an interrupted stage finishes in the
-background and its results are discarded; a sweep keeps the points it saved, as the command
-line's). Errors are :mod:`sawdrive.errors` exceptions with the command line's one-line messages.
+Long calls (:func:`static`, :func:`dynamic`, :func:`run`, :func:`sweep`, :func:`uq`,
+:func:`design`) run without holding the GIL, show a progress line where a terminal or notebook
+is attached, and raise ``KeyboardInterrupt`` on Ctrl-C without writing half a result. What stops
+on Ctrl-C: a sweep starts no further point (the points it saved are kept for a rerun, as the
+command line's); :func:`dynamic` with η from the FEM skips the dynamic stage. Stages have no
+cancellation point inside yet: a static FEM, a dynamic model or a whole :func:`run` already
+running finishes in the background and its result is discarded; :func:`uq` and :func:`design`
+finish in the background and commit their complete results folder. Errors are
+:mod:`sawdrive.errors` exceptions with the command line's one-line messages.
 """
 
 from __future__ import annotations
@@ -30,7 +34,7 @@ from typing import Any, Dict, Iterator, List, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from . import _native
-from ._progress import ProgressArg, callback
+from ._progress import ProgressArg, attached as _attached, callback
 from .errors import (
     ArgumentError,
     PipelineError,
@@ -48,12 +52,16 @@ __all__ = [
     "DynamicResult",
     "RunResult",
     "SweepResult",
+    "UqResult",
+    "DesignResult",
     "springs",
     "static",
     "dynamic",
     "run",
     "sweep",
     "sweep_points",
+    "uq",
+    "design",
     "default_scene_toml",
     "DYNAMIC_MODEL_VERSION",
     "SawdriveError",
@@ -103,15 +111,17 @@ class Scene:
     Build one with :meth:`Scene.default` or :meth:`Scene.load`, change it with :meth:`set`.
     Every change is checked at once (the scene is resolved): a bad key, type, unit or value
     raises :class:`~sawdrive.errors.SceneError` (a ``ValueError``) naming the key, and the
-    scene keeps its earlier overrides.
+    scene keeps its earlier overrides. The scene file is read when the scene is built and at
+    each :meth:`set`; the stages use that resolved scene (build the scene again after editing
+    its file).
     """
 
-    __slots__ = ("_path", "_overrides")
+    __slots__ = ("_path", "_overrides", "_native")
 
     def __init__(self, path: Optional[PathLike] = None, overrides: Sequence[str] = ()):
         self._path = None if path is None else os.fspath(path)
         self._overrides: List[str] = list(overrides)
-        self.resolve()
+        self._native = _native.NativeScene(self._path, self._overrides)
 
     @classmethod
     def default(cls) -> "Scene":
@@ -137,7 +147,7 @@ class Scene:
     @property
     def name(self) -> str:
         """The scene's name (it names the results folder ``OUT/<name>/``)."""
-        return self.resolve()["name"]
+        return self._native.name
 
     def set(self, key: str, value: Any) -> "Scene":
         """Override one scene key, as ``--set key=value``: ``s.set("preload", "20 N")``,
@@ -150,21 +160,24 @@ class Scene:
         if not isinstance(key, str) or not key or "=" in key:
             raise SceneError(f"{key!r}: a scene key is a dotted name like posts.count")
         text = f"{key}={_override_text(key, value)}"
-        _native.resolve_scene(self._path, self._overrides + [text])
+        self._native = _native.NativeScene(self._path, self._overrides + [text])
         self._overrides.append(text)
         return self
 
     def copy(self) -> "Scene":
-        """An independent copy (same file, same overrides)."""
-        return Scene(self._path, self._overrides)
+        """An independent copy (same file, same overrides; the resolved scene is shared, it
+        never changes)."""
+        twin = Scene.__new__(Scene)
+        twin._path, twin._overrides, twin._native = self._path, list(self._overrides), self._native
+        return twin
 
     def resolve(self) -> Dict[str, Any]:
         """The scene resolved to SI units as a dict (``sawdrive scene --resolve --json``)."""
-        return _native.resolve_scene(self._path, self._overrides)
+        return self._native.to_dict()
 
     def to_toml(self) -> str:
         """The resolved scene as TOML, SI units (``sawdrive scene --resolve``)."""
-        return _native.scene_toml(self._path, self._overrides)
+        return self._native.to_toml()
 
     def _args(self) -> Tuple[Optional[str], List[str]]:
         return self._path, list(self._overrides)
@@ -223,53 +236,13 @@ def _pandas():
     return pandas
 
 
-class _CurveResult(_Record):
-    """A result with a speed–thrust curve. The extension sends the curve as one f64 table
-    (exact, and cheap: a list of dicts would cost more than the millisecond-long period
-    average itself)."""
+#: The dynamic stage's result (native; see its docstring): every field of ``sawdrive dynamic
+#: --json`` as an attribute, ``curve`` (numpy (n, 2): speed m/s, thrust N), ``curve_frame()``,
+#: ``effective_ratio``, ``effective_ratio_source``, ``folder``. Fields convert when first read.
+DynamicResult = _native.DynamicResult
 
-    def __init__(self, data: Dict[str, Any], curve_bytes: bytes, columns: List[str]):
-        super().__init__(data)
-        # The extension's columns start with speed (m/s) and thrust (N) (`CURVE_COLUMNS`).
-        table = np.frombuffer(curve_bytes, dtype="<f8").reshape(-1, len(columns))
-        object.__setattr__(self, "_curve_table", table)
-        object.__setattr__(self, "_curve_columns", columns)
-        object.__setattr__(self, "curve", table[:, :2].copy())
-
-    @property
-    def curve_points(self) -> List[Dict[str, float]]:
-        """The curve as the command line's JSON has it: one dict per point (``speed_m_per_s``,
-        ``thrust_n``, ``output_power_w``, ``efficiency``, ``stick_fraction``)."""
-        return [dict(zip(self._curve_columns, map(float, row))) for row in self._curve_table]
-
-    def to_dict(self) -> Dict[str, Any]:
-        """The fields as a plain dict (JSON-compatible, SI units), ``curve`` as a list of dicts."""
-        fields = dict(self.data)
-        fields["curve"] = self.curve_points
-        return fields
-
-    def curve_frame(self):
-        """The speed–thrust curve as a pandas DataFrame, one row per point, the columns of
-        ``curve.csv`` (``speed_m_per_s``, ``thrust_n``, ``output_power_w``, ``efficiency``,
-        ``stick_fraction``). Needs pandas."""
-        return _pandas().DataFrame(self._curve_table.copy(), columns=self._curve_columns)
-
-
-class DynamicResult(_CurveResult):
-    """The dynamic stage's result: every field of ``sawdrive dynamic --json`` as an attribute
-    (``stall_thrust_n`` N, ``no_load_speed_m_per_s`` m/s, ``efficiency``, ``stick_fraction``,
-    ``friction_limit_n`` N, ``crest_speed_m_per_s`` m/s, ``model``, ``model_reason``, …), and
-
-    - ``curve``: numpy array (n, 2), columns speed (m/s) and thrust (N);
-    - ``effective_ratio`` (η used) and ``effective_ratio_source`` (``given`` or ``fem``);
-    - ``folder``: the results folder written, or ``None``.
-    """
-
-
-class RunResult(_CurveResult):
-    """The whole pipeline's ``summary.json`` as attributes (``stall_thrust_n``,
-    ``no_load_speed_m_per_s``, ``effective_contact_ratio``, ``springs``, ``timings``, …),
-    ``curve`` (numpy (n, 2): speed m/s, thrust N) and ``folder`` (results folder or ``None``)."""
+#: The whole pipeline's ``summary.json`` as attributes, ``curve`` and ``folder`` (native).
+RunResult = _native.RunResult
 
 
 class StaticResult(_Record):
@@ -372,7 +345,7 @@ def springs(
         if not isinstance(diameter, str):
             raise ArgumentError(f"--diameter {diameter!r}: give the diameter with its unit, e.g. \"20 um\"")
         return Springs(_native.post_springs(diameter, slider, stator))
-    return Springs(_native.scene_post_springs(*_as_scene(scene)._args()))
+    return Springs(_as_scene(scene)._native.post_springs())
 
 
 def _folders(out: Optional[PathLike], cache: Union[PathLike, bool, None]) -> Tuple[Optional[str], Optional[str]]:
@@ -391,6 +364,8 @@ def _folders(out: Optional[PathLike], cache: Union[PathLike, bool, None]) -> Tup
 
 
 def _call(what: str, progress: ProgressArg, function, *args, **kwargs):
+    if progress is False:
+        return function(*args, **kwargs)
     tick, close = callback(progress, what)
     try:
         return function(*args, progress=tick, **kwargs)
@@ -409,10 +384,10 @@ def static(
     phase, and η. With ``out``, writes ``out/<scene>/static/`` (static.json, force chart, VTU)
     atomically; ``cache``: the FEM cache folder (default ``<out>/.cache``, none without ``out``;
     ``False``: none). ``progress``: ``None`` auto, ``True``/``False``, or a callable
-    ``(elapsed_s, done, total)``."""
+    ``(elapsed_s, done, total)``. Ctrl-C: the FEM has no cancellation point; it finishes in the
+    background and nothing is written."""
     out_text, cache_text = _folders(out, cache)
-    path, overrides = _as_scene(scene)._args()
-    return StaticResult(_call("static", progress, _native.static_stage, path, overrides, out_text, cache_text))
+    return StaticResult(_call("static", progress, _native.static_stage, _as_scene(scene)._native, out_text, cache_text))
 
 
 def dynamic(
@@ -425,14 +400,18 @@ def dynamic(
     """The dynamic stick/slip model (``sawdrive dynamic``) with the scene's η, or η from the
     static stage when ``effective_ratio = "fem"``. The result's fields equal ``sawdrive dynamic
     --json`` to the last bit. With ``out``, writes ``out/<scene>/dynamic/`` atomically;
-    ``cache`` and ``progress`` as for :func:`static`."""
+    ``cache`` and ``progress`` as for :func:`static`.
+
+    Ctrl-C: with η from the FEM, an interrupt during the static stage skips the dynamic one; a
+    stage already running has no cancellation point and finishes in the background, its result
+    discarded. The period average with η given and no ``out`` (milliseconds) runs on the calling
+    thread, and Ctrl-C is raised when it returns."""
+    native = scene._native if type(scene) is Scene else _as_scene(scene)._native
+    if out is None and cache is None and (progress is False or (progress is None and not _attached())):
+        # The common call (nothing to write, no progress line): straight to the extension.
+        return _native.dynamic_stage(native)
     out_text, cache_text = _folders(out, cache)
-    path, overrides = _as_scene(scene)._args()
-    data = _call("dynamic", progress, _native.dynamic_stage, path, overrides, out_text, cache_text)
-    fields = data["result"]
-    fields.update(effective_ratio=data["effective_ratio"], effective_ratio_source=data["effective_ratio_source"],
-                  folder=data["folder"])
-    return DynamicResult(fields, data["curve"], data["curve_columns"])
+    return _call("dynamic", progress, _native.dynamic_stage, native, out_text, cache_text)
 
 
 def run(
@@ -445,13 +424,10 @@ def run(
     """The whole pipeline (``sawdrive run``): springs → static (η) → dynamic. Writes
     ``out/<scene>/`` (default ``out``, as the command line), replacing earlier results only when
     every stage succeeded and the call was not interrupted; ``out=None`` writes nothing.
-    ``cache`` and ``progress`` as for :func:`static`."""
+    ``cache`` and ``progress`` as for :func:`static`. Ctrl-C: the pipeline has no cancellation
+    point; it finishes in the background and its results are discarded."""
     out_text, cache_text = _folders(out, cache)
-    path, overrides = _as_scene(scene)._args()
-    data = _call("run", progress, _native.run, path, overrides, out_text, cache_text)
-    fields = data["summary"]
-    fields["folder"] = data["folder"]
-    return RunResult(fields, data["curve"], data["curve_columns"])
+    return _call("run", progress, _native.run, _as_scene(scene)._native, out_text, cache_text)
 
 
 def sweep(
@@ -465,7 +441,9 @@ def sweep(
     pipeline in parallel, saved as ``OUT/<name>/points/<hash>.json`` (an interrupted sweep
     resumes), then ``results.csv`` and the charts. ``jobs``: worker threads, 1–256 (default:
     all cores). Raises :class:`~sawdrive.errors.SweepPointsFailed` (with ``.result``) when
-    points failed. ``SweepResult.frame()`` gives the table as a DataFrame."""
+    points failed. ``SweepResult.frame()`` gives the table as a DataFrame. Ctrl-C: no further
+    point starts, the running ones finish and are saved in the background; ``results.csv`` and
+    the charts are not written (a rerun resumes from the saved points)."""
     if jobs is not None and (isinstance(jobs, bool) or not isinstance(jobs, numbers.Integral) or jobs < 0):
         raise ArgumentError(f"--jobs {jobs!r}: must be between 1 and 256 worker threads")
     data = _call("sweep", progress, _native.sweep, os.fspath(file), os.fspath(out), None if jobs is None else int(jobs))
@@ -486,3 +464,132 @@ def sweep_points(file: PathLike) -> List[Dict[str, Any]]:
     """The points of a sweep file without running them: ``variant``, ``grid`` (values as
     written) and ``overrides`` (the ``key=value`` list of each point, in application order)."""
     return _native.sweep_points(os.fspath(file))
+
+
+#: The outputs of a UQ or design run, with their units (the report's band names).
+UQ_OUTPUTS = (
+    "effective_contact_ratio",
+    "stall_thrust_n",
+    "no_load_speed_m_per_s",
+    "max_output_power_w",
+    "efficiency",
+)
+
+
+class UqResult(_Record):
+    """A Monte Carlo UQ (``sawdrive uq --json``): every report field as an attribute —
+    ``samples``, ``seed``, ``fidelity``, ``scatter`` (SI), ``input_names``, one band per output
+    (``stall_thrust_n`` N, ``no_load_speed_m_per_s`` m/s, ``max_output_power_w`` W,
+    ``effective_contact_ratio``, ``efficiency``: dicts with ``mean``, ``sd``, ``p5``, ``p50``,
+    ``p95`` and their 95 % intervals ``p5_ci``…), ``deterministic``, ``sensitivity``,
+    ``failed_samples``, ``sample_cost_s`` (s), ``wall_time_s`` (s), ``files`` — and
+
+    - ``curve_band``: numpy array (n, 4): speed (m/s), P5, P50 and P95 of thrust (N);
+    - ``folder``: the results folder ``OUT/<scene>-uq/``.
+    """
+
+    def __init__(self, data: Dict[str, Any]):
+        super().__init__(data)
+        band = data["curve_band"]
+        table = np.column_stack(
+            [np.asarray(band[k], dtype=np.float64) for k in ("speed_m_per_s", "thrust_p5_n", "thrust_p50_n", "thrust_p95_n")]
+        )
+        object.__setattr__(self, "curve_band", table)
+
+    def bands_frame(self):
+        """The bands as a pandas DataFrame: one row per output (index), columns ``samples``,
+        ``mean``, ``sd``, ``p5``, ``p50``, ``p95`` (the output's unit) and ``deterministic``
+        (the nominal run). Needs pandas."""
+        nominal = dict(self.data["deterministic"])
+        rows = {
+            name: {**{k: self.data[name][k] for k in ("samples", "mean", "sd", "p5", "p50", "p95")},
+                   "deterministic": nominal.get(name)}
+            for name in UQ_OUTPUTS
+        }
+        return _pandas().DataFrame.from_dict(rows, orient="index")
+
+    def samples_frame(self):
+        """Every sample as a pandas DataFrame (``samples.csv`` of the results folder: sample,
+        scatter_seed, the drawn inputs in SI, the outputs). Needs pandas."""
+        return _pandas().read_csv(os.path.join(self.data["folder"], "samples.csv"))
+
+
+class DesignResult(_Record):
+    """A design study (``sawdrive design --json``): every report field as an attribute —
+    ``optimum`` (``variables`` by name with unit, ``objective``, ``objective_value``,
+    ``fidelity``, ``outputs``), ``baseline``, ``quantile``, ``sensitivity``, ``evaluations``,
+    ``cost`` (fidelity, evaluations, mean s each), ``wall_time_s`` (s), ``files`` — and
+    ``folder`` (``OUT/<name>/``). :meth:`evaluations_frame` gives every evaluation as a
+    DataFrame."""
+
+    def evaluations_frame(self):
+        """Every evaluation as a pandas DataFrame: the variables (SI, named with their unit),
+        ``fidelity``, ``stage``, ``objective`` (NaN when infeasible), ``feasible``,
+        ``violations`` and the outputs. Needs pandas."""
+        rows = []
+        for e in self.data["evaluations"]:
+            row: Dict[str, Any] = dict(e["variables"])
+            row.update(fidelity=e["fidelity"], stage=e["stage"],
+                       objective=math.nan if e["objective"] is None else e["objective"],
+                       feasible=e["feasible"], violations="; ".join(e["violations"]))
+            row.update(e["outputs"])
+            rows.append(row)
+        return _pandas().DataFrame(rows)
+
+
+def _scatter_overrides(scatter: Optional[Dict[str, Any]]) -> List[str]:
+    """``scatter`` as ``scatter.KEY=VALUE`` overrides; refuses other types naming the key."""
+    if scatter is None:
+        return []
+    if not isinstance(scatter, dict):
+        raise ArgumentError(f"scatter: expected a dict of [scatter] keys, got {type(scatter).__name__}")
+    return [f"scatter.{key}={_override_text('scatter.' + str(key), value)}" for key, value in scatter.items()]
+
+
+def uq(
+    scene: Union[Scene, PathLike, None] = None,
+    *,
+    samples: int,
+    scatter: Optional[Dict[str, Any]] = None,
+    seed: int = 1,
+    out: PathLike = "out",
+    patch: bool = False,
+    progress: ProgressArg = None,
+) -> UqResult:
+    """Monte Carlo bands of a scene under scatter (``sawdrive uq SCENE --samples N --seed S
+    --out OUT [--patch]``): each sample a whole-slider contact solve and a dynamic curve, in
+    parallel; writes ``OUT/<scene>-uq/`` (summary.json, samples.csv, charts) when complete.
+
+    ``scene``: a :class:`Scene` or a scene file; a file's ``[scatter]`` section is read (a path
+    given directly may hold one). ``scatter``: ``[scatter]`` keys to set, with units as text
+    (``{"height_scatter": "5 nm", "friction": 0.03, "preload": "2 N"}``). ``samples`` ≥ 1;
+    ``seed``: same seed, same bits. ``patch``: the cheaper periodic-patch contact model.
+    Samples are saved as they finish, so a rerun after an interrupt resumes.
+
+    Ctrl-C: the library has no cancellation point in a UQ yet; it finishes in the background
+    and then commits its complete results folder.
+    """
+    if isinstance(samples, bool) or not isinstance(samples, numbers.Integral) or samples < 1:
+        raise ArgumentError(f"--samples {samples!r}: must be ≥ 1")
+    if isinstance(seed, bool) or not isinstance(seed, numbers.Integral) or seed < 0:
+        raise ArgumentError(f"--seed {seed!r}: must be an integer ≥ 0")
+    if isinstance(scene, Scene):
+        path, overrides = scene._args()
+    elif scene is None or isinstance(scene, (str, os.PathLike)):
+        path, overrides = (None if scene is None else os.fspath(scene)), []
+    else:
+        raise ArgumentError(f"scene: expected a sawdrive.Scene or a path, got {type(scene).__name__}")
+    overrides = overrides + _scatter_overrides(scatter)
+    data = _call("uq", progress, _native.uq, path, overrides, int(samples), int(seed), os.fspath(out), bool(patch))
+    return UqResult(data)
+
+
+def design(file: PathLike, *, out: PathLike = "out", progress: ProgressArg = None) -> DesignResult:
+    """The texture optimiser (``sawdrive design FILE --out OUT``): a cheap-model search, then
+    the finalists and the optimum confirmed with the whole-slider model; writes ``OUT/<name>/``
+    (summary.json, evaluations, charts) when complete.
+
+    Ctrl-C: the library has no cancellation point in a design study yet; it finishes in the
+    background and then commits its complete results folder.
+    """
+    return DesignResult(_call("design", progress, _native.design, os.fspath(file), os.fspath(out)))

@@ -144,3 +144,47 @@ def sweep(
     file: PathLike, *, out: PathLike = "out", jobs: Optional[int] = None, progress: ProgressArg = None
 ) -> SweepResult: ...
 def sweep_points(file: PathLike) -> List[Dict[str, Any]]: ...
+
+UQ_OUTPUTS: Tuple[str, ...]
+
+class UqResult(_Record):
+    samples: int
+    seed: int
+    fidelity: str
+    scatter: Dict[str, Any]  # SI: height_scatter_m, tilt_x_m, tilt_y_m, bow_m, friction, preload_n, diameter_m
+    input_names: List[str]
+    effective_contact_ratio: Dict[str, Any]  # band: samples, mean, sd, p5, p50, p95, p5_ci, ...
+    stall_thrust_n: Dict[str, Any]  # band (N)
+    no_load_speed_m_per_s: Dict[str, Any]  # band (m/s)
+    max_output_power_w: Dict[str, Any]  # band (W)
+    efficiency: Dict[str, Any]  # band
+    deterministic: List[Tuple[str, float]]
+    sensitivity: List[Tuple[str, List[Dict[str, Any]]]]
+    resumed_samples: int
+    failed_samples: List[Tuple[int, str]]
+    sample_cost_s: float
+    wall_time_s: float
+    files: List[str]
+    folder: str
+    curve_band: npt.NDArray[np.float64]  # (n, 4): speed m/s, thrust P5, P50, P95 (N)
+    def bands_frame(self) -> Any: ...  # pandas.DataFrame
+    def samples_frame(self) -> Any: ...  # pandas.DataFrame
+
+class DesignResult(_Record):
+    name: str
+    optimum: Dict[str, Any]  # variables (SI, unit in the name), objective, objective_value, fidelity, outputs
+    baseline: Optional[Dict[str, Any]]
+    quantile: Optional[float]
+    sensitivity: List[Dict[str, Any]]
+    evaluations: List[Dict[str, Any]]
+    cost: List[Tuple[str, int, float]]  # fidelity, evaluations, mean wall time each (s)
+    wall_time_s: float
+    files: List[str]
+    folder: str
+    def evaluations_frame(self) -> Any: ...  # pandas.DataFrame
+
+def uq(
+    scene: SceneArg = None, *, samples: int, scatter: Optional[Dict[str, Any]] = None, seed: int = 1,
+    out: PathLike = "out", patch: bool = False, progress: ProgressArg = None,
+) -> UqResult: ...
+def design(file: PathLike, *, out: PathLike = "out", progress: ProgressArg = None) -> DesignResult: ...

@@ -10,7 +10,7 @@ and erased when the call returns.
 from __future__ import annotations
 
 import sys
-from typing import Callable, Optional, Union
+from typing import Any, Callable, Optional, Tuple, Union
 
 #: Seconds a call must run before its progress line appears (fast calls stay silent). Unit: s.
 SHOW_AFTER_S = 0.5
@@ -20,14 +20,26 @@ ProgressArg = Union[None, bool, Callable[[float, Optional[int], Optional[int]], 
 _FRAMES = "|/-\\"
 
 
+#: ``(stream, whether it is a TTY)`` of the last stderr asked about: the answer is kept per
+#: stream, so that a call does not pay a system call (on a loaded machine, a chance for the
+#: scheduler to run something else: tens of µs) to decide whether to show a progress line.
+_TTY_OF: Tuple[Any, bool] = (None, False)
+
+
 def attached() -> bool:
     """Whether a terminal (stderr is a TTY) or a Jupyter kernel is attached."""
+    global _TTY_OF
     if "ipykernel" in sys.modules:
         return True
-    try:
-        return sys.stderr.isatty()
-    except (AttributeError, ValueError):
-        return False
+    stream, tty = _TTY_OF
+    if stream is not sys.stderr:
+        stream = sys.stderr
+        try:
+            tty = stream.isatty()
+        except (AttributeError, ValueError):
+            tty = False
+        _TTY_OF = (stream, tty)
+    return tty
 
 
 class Spinner:

@@ -4,8 +4,8 @@
 //! lists, `None`/null `None`.
 
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyBytes, PyDict, PyList, PyString};
-use serde_json::Value;
+use pyo3::types::{PyBool, PyDict, PyList, PyString};
+use serde_json::{Map, Value};
 
 /// `value` as a Python object.
 pub fn to_py<'py>(py: Python<'py>, value: &Value) -> PyResult<Bound<'py, PyAny>> {
@@ -25,17 +25,20 @@ pub fn to_py<'py>(py: Python<'py>, value: &Value) -> PyResult<Bound<'py, PyAny>>
                 .collect::<PyResult<Vec<_>>>()?;
             PyList::new(py, items)?.into_any()
         }
-        Value::Object(map) => {
-            let dict = PyDict::new(py);
-            for (key, v) in map {
-                dict.set_item(key, to_py(py, v)?)?;
-            }
-            dict.into_any()
-        }
+        Value::Object(map) => dict(py, map)?.into_any(),
     })
 }
 
-/// Columns of a speed–thrust curve ([`curve_columns`]), as `curve.csv` names them.
+/// A JSON object as a Python dict.
+pub fn dict<'py>(py: Python<'py>, map: &Map<String, Value>) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    for (key, v) in map {
+        dict.set_item(key, to_py(py, v)?)?;
+    }
+    Ok(dict)
+}
+
+/// Columns of a speed–thrust curve, as `curve.csv` names them.
 pub const CURVE_COLUMNS: [&str; 5] = [
     "speed_m_per_s",
     "thrust_n",
@@ -43,25 +46,3 @@ pub const CURVE_COLUMNS: [&str; 5] = [
     "efficiency",
     "stick_fraction",
 ];
-
-/// A speed–thrust curve as little-endian f64 bytes, row by row, [`CURVE_COLUMNS`] in each row
-/// (`numpy.frombuffer(b, "<f8").reshape(-1, 5)`): exact, and far cheaper than a list of dicts.
-pub fn curve_columns<'py>(
-    py: Python<'py>,
-    curve: &[stick_slip::CurvePoint],
-) -> Bound<'py, PyBytes> {
-    let bytes: Vec<u8> = curve
-        .iter()
-        .flat_map(|p| {
-            [
-                p.speed_m_per_s,
-                p.thrust_n,
-                p.output_power_w,
-                p.efficiency,
-                p.stick_fraction,
-            ]
-        })
-        .flat_map(f64::to_le_bytes)
-        .collect();
-    PyBytes::new(py, &bytes)
-}

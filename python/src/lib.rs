@@ -6,29 +6,35 @@
 //! Python API (`sawdrive/__init__.py`) is built on these dictionaries, so a field added or
 //! renamed inside the library reaches Python without a change here.
 //!
-//! A scene crosses as `(path, overrides)`: the optional scene file and the `key=value`
-//! overrides of `--set`, resolved by [`sawdrive::scene::load_scene`] on every call.
+//! A scene crosses as a [`NativeScene`]: the optional scene file and the `key=value` overrides
+//! of `--set`, resolved by [`sawdrive::scene::load_scene`] once, when the Python scene is built
+//! or changed (so a stage call does not parse TOML again).
+//!
+//! Results with a curve come back as native objects ([`outcome::DynamicResult`],
+//! [`outcome::RunResult`]), converted to Python objects only when their fields are read.
 
 mod convert;
 mod errors;
+mod outcome;
+mod studies;
 mod worker;
 
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, OnceLock};
 use std::time::Instant;
 
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
 use sawdrive::output::StagedDir;
 use sawdrive::pipeline::{
     RunOptions, run_dynamic, run_pipeline, run_static, scene_springs, write_dynamic_files,
     write_static_files,
 };
 use sawdrive::scene::{DEFAULT_SCENE_TOML, Scene, load_scene};
-use sawdrive::sweep::{SweepFile, run_sweep};
+use sawdrive::sweep::Cancel;
 use serde_json::json;
 
 use errors::{Failure, Kind};
-use worker::PointCount;
+use outcome::{DynamicResult, Fields, Outcome, RunResult};
 
 /// The scene of `path` (default scene if `None`) with `overrides`.
 fn scene(path: Option<&str>, overrides: &[String]) -> Result<Scene, Failure> {
@@ -52,43 +58,62 @@ fn py_value<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bou
     convert::to_py(py, &value)
 }
 
-/// The scene resolved to SI as a dict (`sawdrive scene --resolve --json`).
-#[pyfunction]
-fn resolve_scene<'py>(
-    py: Python<'py>,
-    path: Option<&str>,
-    overrides: Vec<String>,
-) -> PyResult<Bound<'py, PyAny>> {
-    let scene = raise(py, scene(path, &overrides))?;
-    py_value(py, &scene)
+/// A scene resolved to SI: the default scene or a scene file, with `--set` overrides. Built
+/// once; stages take it without reading or parsing anything again.
+#[pyclass(frozen, module = "sawdrive._native")]
+#[derive(Debug)]
+struct NativeScene {
+    scene: Arc<Scene>,
+    /// [`quick_dynamic`] of the scene, computed on the first dynamic call.
+    quick_dynamic: OnceLock<bool>,
 }
 
-/// The scene resolved to SI as TOML (`sawdrive scene --resolve`).
-#[pyfunction]
-fn scene_toml(py: Python<'_>, path: Option<&str>, overrides: Vec<String>) -> PyResult<String> {
-    let text = scene(path, &overrides).and_then(|s| {
-        toml::to_string_pretty(&s).map_err(|e| {
+#[pymethods]
+impl NativeScene {
+    /// Load `path` (default scene if `None`) with `overrides` (`key=value`); raises the
+    /// command line's error naming the key or file.
+    #[new]
+    fn new(py: Python<'_>, path: Option<&str>, overrides: Vec<String>) -> PyResult<Self> {
+        let scene = raise(py, scene(path, &overrides))?;
+        Ok(Self {
+            scene: Arc::new(scene),
+            quick_dynamic: OnceLock::new(),
+        })
+    }
+
+    /// The scene's name (`OUT/<name>/`).
+    #[getter]
+    fn name(&self) -> &str {
+        &self.scene.name
+    }
+
+    /// The resolved scene as a dict (`sawdrive scene --resolve --json`).
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        py_value(py, self.scene.as_ref())
+    }
+
+    /// The resolved scene as TOML (`sawdrive scene --resolve`).
+    fn to_toml(&self, py: Python<'_>) -> PyResult<String> {
+        let text = toml::to_string_pretty(self.scene.as_ref()).map_err(|e| {
             Failure::text(
                 Kind::Pipeline,
                 format!("formatting the resolved scene: {e}"),
             )
-        })
-    });
-    raise(py, text)
+        });
+        raise(py, text)
+    }
+
+    /// The four Johnson springs of one post of the scene (SI), as a dict.
+    fn post_springs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let springs = raise(py, springs_of(&self.scene))?;
+        py_value(py, &springs)
+    }
 }
 
-/// The four Johnson springs of one post of the scene (SI), as a dict.
-#[pyfunction]
-fn scene_post_springs<'py>(
-    py: Python<'py>,
-    path: Option<&str>,
-    overrides: Vec<String>,
-) -> PyResult<Bound<'py, PyAny>> {
-    let springs = scene(path, &overrides).and_then(|s| {
-        scene_springs(&s)
-            .map_err(|e| Failure::new(Kind::Pipeline, &sawdrive::pipeline::PipelineError::from(e)))
-    });
-    py_value(py, &raise(py, springs)?)
+/// The post springs of `scene`, failing as the pipeline does.
+fn springs_of(scene: &Scene) -> Result<contact_springs::PostSprings, Failure> {
+    scene_springs(scene)
+        .map_err(|e| Failure::new(Kind::Pipeline, &sawdrive::pipeline::PipelineError::from(e)))
 }
 
 /// `sawdrive springs --diameter D --slider S --stator T --json`, as a dict.
@@ -142,22 +167,24 @@ fn commit(staged: Option<StagedDir>) -> Result<Option<String>, Failure> {
 }
 
 /// `sawdrive static`: post forces and η, as a dict `{report, effective_ratio, content_hash,
-/// cached, notes, folder}`; with `out`, writes `out/<scene>/static/` like the command.
+/// cached, notes, folder}`; with `out`, writes `out/<scene>/static/` like the command. The FEM
+/// has no cancellation point: after an interrupt it finishes in the background and writes
+/// nothing.
 #[pyfunction]
-#[pyo3(signature = (path, overrides, out=None, cache=None, progress=None))]
+#[pyo3(signature = (scene, out=None, cache=None, progress=None))]
 fn static_stage<'py>(
     py: Python<'py>,
-    path: Option<&str>,
-    overrides: Vec<String>,
+    scene: &Bound<'py, NativeScene>,
     out: Option<String>,
     cache: Option<String>,
     progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let scene = raise(py, scene(path, &overrides))?;
+    let scene = Arc::clone(&scene.get().scene);
     let (out, cache) = folders(out, cache);
-    let (mut value, staged) = worker::run(py, progress, None, move || {
-        let springs = scene_springs(&scene)?;
+    let (mut value, staged) = worker::run(py, progress, None, move |cancel| {
+        let springs = springs_of(&scene)?;
         let outcome = run_static(&scene, &springs, cache.as_deref(), out.is_some())?;
+        worker::check(cancel)?;
         let staged = match &out {
             Some(out) => {
                 let staged = StagedDir::create(&out.join(&scene.name).join("static"))?;
@@ -184,7 +211,7 @@ fn scene_eta(scene: &Scene, cache: Option<&Path>) -> Result<(f64, &'static str),
     if let Some(eta) = scene.contact.effective_ratio {
         return Ok((eta, "given"));
     }
-    let outcome = run_static(scene, &scene_springs(scene)?, cache, false)?;
+    let outcome = run_static(scene, &springs_of(scene)?, cache, false)?;
     let eta = outcome.effective_ratio.ok_or_else(|| {
         Failure::text(
             Kind::Pipeline,
@@ -194,29 +221,45 @@ fn scene_eta(scene: &Scene, cache: Option<&Path>) -> Result<(f64, &'static str),
     Ok((eta, "fem"))
 }
 
-/// `sawdrive dynamic`, as a dict `{result, effective_ratio, effective_ratio_source, folder,
-/// curve}`: `result` is what `sawdrive dynamic --json` prints without its `curve`, which comes
-/// as f64 bytes ([`convert::curve_columns`]); with `out`, writes `out/<scene>/dynamic/`.
+/// Whether the dynamic stage of `scene` is the period average with η given: milliseconds, run
+/// on the calling thread (a transient, or a stage that needs the FEM, goes to a worker thread
+/// so that Ctrl-C interrupts it at once). A scene the model refuses goes to the worker, which
+/// reports the error.
+fn quick_dynamic(scene: &Scene) -> bool {
+    let Some(eta) = scene.contact.effective_ratio else {
+        return false;
+    };
+    springs_of(scene)
+        .ok()
+        .and_then(|springs| sawdrive::pipeline::dynamic_scene(scene, &springs, eta).ok())
+        .and_then(|dynamic| dynamic.resolve_model().ok())
+        .is_some_and(|(kind, _)| kind == stick_slip::ModelKind::PeriodicAverage)
+}
+
+/// `sawdrive dynamic`: a [`DynamicResult`] whose fields are what `sawdrive dynamic --json` prints
+/// (without its curve) plus `effective_ratio`, `effective_ratio_source` and `folder`; with
+/// `out`, writes `out/<scene>/dynamic/`. With η from the FEM, an interrupt between the static
+/// and the dynamic stage skips the latter; a stage already running finishes in the background.
 #[pyfunction]
-#[pyo3(signature = (path, overrides, out=None, cache=None, progress=None))]
+#[pyo3(signature = (scene, out=None, cache=None, progress=None))]
 fn dynamic_stage<'py>(
     py: Python<'py>,
-    path: Option<&str>,
-    overrides: Vec<String>,
+    scene: &Bound<'py, NativeScene>,
     out: Option<String>,
     cache: Option<String>,
     progress: Option<&Bound<'py, PyAny>>,
-) -> PyResult<Bound<'py, PyAny>> {
-    let scene = raise(py, scene(path, &overrides))?;
-    // η given and nothing to write: no FEM, no charts; the stage runs on this thread.
-    let inline = out.is_none() && scene.contact.effective_ratio.is_some();
+) -> PyResult<DynamicResult> {
+    let native = scene.get();
+    let scene = Arc::clone(&native.scene);
+    // Nothing to write and a period average with η given: the stage runs on this thread.
+    let inline = out.is_none() && *native.quick_dynamic.get_or_init(|| quick_dynamic(&scene));
     let (out, cache) = folders(out, cache);
-    let job = move || {
+    let job = move |cancel: &Cancel| {
         let (eta, source) = scene_eta(&scene, cache.as_deref())?;
-        let springs = scene_springs(&scene).map_err(|e| {
-            Failure::new(Kind::Pipeline, &sawdrive::pipeline::PipelineError::from(e))
-        })?;
+        worker::check(cancel)?;
+        let springs = springs_of(&scene)?;
         let mut run = run_dynamic(&scene, &springs, eta)?;
+        worker::check(cancel)?;
         let staged = match &out {
             Some(out) => {
                 let staged = StagedDir::create(&out.join(&scene.name).join("dynamic"))?;
@@ -226,41 +269,37 @@ fn dynamic_stage<'py>(
             None => None,
         };
         let curve = std::mem::take(&mut run.result.curve);
-        let value = json!({
-            "result": run.result,
-            "effective_ratio": eta,
-            "effective_ratio_source": source,
-        });
-        Ok((value, curve, staged))
+        let fields = Fields::Dynamic {
+            result: Box::new(run.result),
+            effective_ratio: eta,
+            source,
+        };
+        Ok((fields, curve, staged))
     };
-    let (value, curve, staged) = if inline {
-        worker::run_inline(py, job)?
+    let (fields, curve, staged) = if inline {
+        worker::run_inline(py, || job(&Cancel::new()))?
     } else {
         worker::run(py, progress, None, job)?
     };
     let folder = raise(py, commit(staged))?;
-    let dict = convert::to_py(py, &value)?;
-    dict.set_item("folder", folder)?;
-    dict.set_item("curve", convert::curve_columns(py, &curve))?;
-    dict.set_item("curve_columns", convert::CURVE_COLUMNS.to_vec())?;
-    Ok(dict)
+    Ok(DynamicResult(Outcome::new(fields, folder, curve)))
 }
 
-/// `sawdrive run`, as a dict `{summary, folder, curve}` (`summary` is `summary.json` without
-/// its curve, `curve` as for [`dynamic_stage`]). With `out`, the results replace `out/<scene>/` only when every
-/// stage succeeded and the call was not interrupted; without, they are computed in a temporary
-/// folder and discarded.
+/// `sawdrive run`: a [`RunResult`] whose fields are `summary.json` without its curve, plus
+/// `folder`. With `out`, the results replace `out/<scene>/` only when every stage succeeded and
+/// the call was not interrupted; without, they are computed in a temporary folder and
+/// discarded. The pipeline has no cancellation point: after an interrupt it finishes in the
+/// background and its results are removed.
 #[pyfunction]
-#[pyo3(signature = (path, overrides, out=None, cache=None, progress=None))]
+#[pyo3(signature = (scene, out=None, cache=None, progress=None))]
 fn run<'py>(
     py: Python<'py>,
-    path: Option<&str>,
-    overrides: Vec<String>,
+    scene: &Bound<'py, NativeScene>,
     out: Option<String>,
     cache: Option<String>,
     progress: Option<&Bound<'py, PyAny>>,
-) -> PyResult<Bound<'py, PyAny>> {
-    let scene = raise(py, scene(path, &overrides))?;
+) -> PyResult<RunResult> {
+    let scene = Arc::clone(&scene.get().scene);
     let (out, cache) = folders(out, cache);
     let scratch = raise(py, scratch_folder(out.as_deref()))?;
     let name = scene.name.clone();
@@ -270,10 +309,17 @@ fn run<'py>(
         progress: false,
         write_files: true,
     };
-    let (summary, curve, scratch) = worker::run(py, progress, None, move || {
+    let (summary, curve, scratch) = worker::run(py, progress, None, move |_| {
         let (mut summary, _) = run_pipeline(&scene, &options)?;
         let curve = std::mem::take(&mut summary.curve);
-        Ok((serde_json::to_value(&summary)?, curve, scratch))
+        let fields = match serde_json::to_value(&summary)? {
+            serde_json::Value::Object(mut map) => {
+                map.remove("curve");
+                map
+            }
+            _ => serde_json::Map::new(),
+        };
+        Ok((fields, curve, scratch))
     })?;
     let folder = match &out {
         Some(out) => Some(raise(
@@ -282,12 +328,11 @@ fn run<'py>(
         )?),
         None => None,
     };
-    let dict = PyDict::new(py);
-    dict.set_item("summary", convert::to_py(py, &summary)?)?;
-    dict.set_item("folder", folder)?;
-    dict.set_item("curve", convert::curve_columns(py, &curve))?;
-    dict.set_item("curve_columns", convert::CURVE_COLUMNS.to_vec())?;
-    Ok(dict.into_any())
+    Ok(RunResult(Outcome::new(
+        Fields::Json(summary),
+        folder,
+        curve,
+    )))
 }
 
 /// A hidden temporary folder inside `out` (same file system, so the results move by rename),
@@ -331,67 +376,31 @@ fn publish(from: &Path, destination: &Path) -> Result<String, Failure> {
     Ok(staged.commit()?.display().to_string())
 }
 
-/// `sawdrive sweep FILE --out OUT [--jobs N]`: the sweep's outcome (rows, failures, folder,
-/// resumed, files) as a dict. Progress counts the saved points.
-#[pyfunction]
-#[pyo3(signature = (file, out, jobs=None, progress=None))]
-fn sweep<'py>(
-    py: Python<'py>,
-    file: &str,
-    out: String,
-    jobs: Option<usize>,
-    progress: Option<&Bound<'py, PyAny>>,
-) -> PyResult<Bound<'py, PyAny>> {
-    let sweep = raise(py, SweepFile::load(Path::new(file)).map_err(Failure::from))?;
-    let out = PathBuf::from(out);
-    let count = PointCount {
-        folder: out.join(&sweep.name).join("points"),
-        total: sweep.points().len(),
-    };
-    let outcome = worker::run(py, progress, Some(count), move || {
-        Ok(serde_json::to_value(run_sweep(&sweep, &out, jobs)?)?)
-    })?;
-    convert::to_py(py, &outcome)
-}
-
-/// The points of a sweep file: `[{variant, grid, overrides}]`.
-#[pyfunction]
-fn sweep_points<'py>(py: Python<'py>, file: &str) -> PyResult<Bound<'py, PyAny>> {
-    let sweep = raise(py, SweepFile::load(Path::new(file)).map_err(Failure::from))?;
-    let points: Vec<_> = sweep
-        .points()
-        .into_iter()
-        .map(|p| json!({"variant": p.variant, "grid": p.grid_values, "overrides": p.overrides}))
-        .collect();
-    convert::to_py(py, &serde_json::Value::from(points))
-}
-
-/// Benchmark baseline: the wall time (s) of `repeats` calls of the dynamic stage made from Rust
-/// (load the scene, springs, dynamic model: the work `sawdrive.dynamic` asks for, without the
-/// Python layer). The scene must give η (the benchmark is about the call, not the FEM).
+/// Benchmark baseline: the wall time (s) of each of `repeats` calls of the dynamic stage made
+/// from Rust on the resolved `scene` (post springs, then `run_dynamic`: the work
+/// `sawdrive.dynamic(scene)` asks for, without the Python layer). The scene must give η (the
+/// benchmark is about the call, not the FEM).
 #[pyfunction]
 fn time_rust_dynamic(
     py: Python<'_>,
-    path: Option<&str>,
-    overrides: Vec<String>,
+    scene: &Bound<'_, NativeScene>,
     repeats: usize,
 ) -> PyResult<Vec<f64>> {
-    let timed = py.detach(|| -> Result<Vec<f64>, Failure> {
+    let scene = Arc::clone(&scene.get().scene);
+    let timed = py.detach(move || -> Result<Vec<f64>, Failure> {
+        let eta = scene.contact.effective_ratio.ok_or_else(|| {
+            Failure::text(
+                Kind::Argument,
+                "the benchmark needs a given η: set effective_ratio",
+            )
+        })?;
         let mut times = Vec::with_capacity(repeats);
         for _ in 0..repeats {
             let start = Instant::now();
-            let scene = scene(path, &overrides)?;
-            let eta = scene.contact.effective_ratio.ok_or_else(|| {
-                Failure::text(
-                    Kind::Argument,
-                    "the benchmark needs a given η: set effective_ratio",
-                )
-            })?;
-            let springs = scene_springs(&scene).map_err(|e| {
-                Failure::new(Kind::Pipeline, &sawdrive::pipeline::PipelineError::from(e))
-            })?;
+            let springs = springs_of(&scene)?;
             let run = run_dynamic(&scene, &springs, eta)?;
             std::hint::black_box(&run.result);
+            drop(run);
             times.push(start.elapsed().as_secs_f64());
         }
         Ok(times)
@@ -402,15 +411,14 @@ fn time_rust_dynamic(
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(default_scene_toml, m)?)?;
-    m.add_function(wrap_pyfunction!(resolve_scene, m)?)?;
-    m.add_function(wrap_pyfunction!(scene_toml, m)?)?;
-    m.add_function(wrap_pyfunction!(scene_post_springs, m)?)?;
+    m.add_class::<NativeScene>()?;
+    m.add_class::<DynamicResult>()?;
+    m.add_class::<RunResult>()?;
     m.add_function(wrap_pyfunction!(post_springs, m)?)?;
     m.add_function(wrap_pyfunction!(static_stage, m)?)?;
     m.add_function(wrap_pyfunction!(dynamic_stage, m)?)?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
-    m.add_function(wrap_pyfunction!(sweep, m)?)?;
-    m.add_function(wrap_pyfunction!(sweep_points, m)?)?;
+    studies::register(m)?;
     m.add_function(wrap_pyfunction!(time_rust_dynamic, m)?)?;
     m.add("DYNAMIC_MODEL_VERSION", sawdrive::DYNAMIC_MODEL_VERSION)?;
     Ok(())

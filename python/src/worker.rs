@@ -5,8 +5,13 @@
 //! Interrupted calls leave no half-written results: a call's result (and the staged results
 //! folder it may carry) is handed back over a channel, and only the calling thread commits it.
 //! After an interrupt the receiver is gone, so the result is dropped when the work ends, and a
-//! staged folder with it (`StagedDir` removes itself when dropped uncommitted). The library has
-//! no cancellation point inside a stage, so the stage itself runs to its end in the background.
+//! staged folder with it (`StagedDir` removes itself when dropped uncommitted).
+//!
+//! Cancellation: an interrupt also sets the job's [`Cancel`] token. Jobs check it where the
+//! library lets them (between the points of a sweep and the geometries of its FEM fill, between
+//! the static and the dynamic stage); the stages themselves (FEM, contact solve, dynamic model)
+//! have no cancellation point yet, so a stage already running finishes in the background and
+//! its result is dropped.
 
 use std::path::PathBuf;
 use std::sync::Mutex;
@@ -14,6 +19,7 @@ use std::sync::mpsc::{RecvTimeoutError, Sender, channel};
 use std::time::{Duration, Instant};
 
 use pyo3::prelude::*;
+use sawdrive::sweep::Cancel;
 
 use crate::errors::{Failure, Kind};
 
@@ -79,16 +85,33 @@ fn dispatch(mut job: Job) -> std::io::Result<()> {
 
 /// Run `job` on a worker thread; call `progress(elapsed_s, done, total)` every tick (done and
 /// total are `None` without a `count`). Returns the job's value, or raises its failure, the
-/// progress callback's exception, or `KeyboardInterrupt`.
+/// progress callback's exception, or `KeyboardInterrupt`; the latter two cancel the job's token.
 pub fn run<T: Send + 'static>(
     py: Python<'_>,
     progress: Option<&Bound<'_, PyAny>>,
     count: Option<PointCount>,
-    job: impl FnOnce() -> Result<T, Failure> + Send + 'static,
+    job: impl FnOnce(&Cancel) -> Result<T, Failure> + Send + 'static,
+) -> PyResult<T> {
+    let cancel = Cancel::new();
+    let result = wait(py, progress, count, cancel.clone(), job);
+    if result.is_err() {
+        // Interrupted, or the job failed (then it has ended: the cancel is a no-op).
+        cancel.cancel();
+    }
+    result
+}
+
+/// [`run`] with its token.
+fn wait<T: Send + 'static>(
+    py: Python<'_>,
+    progress: Option<&Bound<'_, PyAny>>,
+    count: Option<PointCount>,
+    cancel: Cancel,
+    job: impl FnOnce(&Cancel) -> Result<T, Failure> + Send + 'static,
 ) -> PyResult<T> {
     let (sender, mut receiver) = channel();
     let work: Job = Box::new(move || {
-        let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(job))
+        let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job(&cancel)))
             .unwrap_or_else(|payload| Err(panic_failure(payload.as_ref())));
         // After an interrupt nobody listens: the outcome (and any staged folder) is dropped.
         let _ = sender.send(outcome);
@@ -150,4 +173,12 @@ fn panic_failure(payload: &(dyn std::any::Any + Send)) -> Failure {
         Kind::Pipeline,
         format!("internal error (please report): {message}"),
     )
+}
+
+/// Stop a job whose token is cancelled (its caller was interrupted and discards the failure).
+pub fn check(cancel: &Cancel) -> Result<(), Failure> {
+    match cancel.is_cancelled() {
+        true => Err(Failure::text(Kind::Pipeline, "cancelled")),
+        false => Ok(()),
+    }
 }

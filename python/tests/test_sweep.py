@@ -1,6 +1,7 @@
 """Sweeps from Python: the results table as a DataFrame, progress, bad input."""
 
 import json
+import time
 
 import numpy as np
 import pytest
@@ -73,3 +74,40 @@ def test_failed_points_raise_with_the_completed_ones(tmp_path):
     assert "1 of 2 sweep points failed" in str(error.value)
     assert "model.regularization_velocity" in error.value.failures[0][1]
     assert len(error.value.result) == 1, "the completed point is kept"
+
+
+def slow_sweep(tmp_path, points=8):
+    """`points` preloads of the small scene through a 200-period transient (≈ 0.2 s a point)."""
+    path = tmp_path / "slow.toml"
+    preloads = ", ".join(f'"{0.1 + 0.05 * k:.2f} N"' for k in range(points))
+    path.write_text(
+        f'name = "slow"\nscene = "{SMALL_SCENE}"\n[set]\neffective_ratio = 0.36\n'
+        f'"model.dynamics" = "transient"\n"model.periods" = 200\n[grid]\npreload = [{preloads}]\n'
+    )
+    return path
+
+
+def saved_points(folder):
+    return len(list(folder.glob("*.json"))) if folder.exists() else 0
+
+
+def test_an_interrupted_sweep_starts_no_further_point_and_a_rerun_completes_it(tmp_path):
+    file, out = slow_sweep(tmp_path), tmp_path / "out"
+    points = out / "slow" / "points"
+
+    def interrupt(elapsed_s, done, total):
+        if elapsed_s > 0.4:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        sawdrive.sweep(file, out=out, jobs=1, progress=interrupt)
+    # The point running at the interrupt finishes in the background; then nothing moves.
+    seen, still_since = saved_points(points), time.monotonic()
+    while time.monotonic() - still_since < 2.0:
+        time.sleep(0.1)
+        if saved_points(points) != seen:
+            seen, still_since = saved_points(points), time.monotonic()
+    assert seen < 8, f"the sweep stopped after the interrupt ({seen} of 8 points saved)"
+    assert not (out / "slow" / "results.csv").exists(), "no results table after an interrupt"
+    result = sawdrive.sweep(file, out=out, jobs=1, progress=False)
+    assert len(result) == 8 and result.resumed == seen, "the rerun resumes the saved points"

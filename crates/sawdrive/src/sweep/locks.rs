@@ -20,7 +20,7 @@
 use std::fs::{File, TryLockError};
 use std::path::{Path, PathBuf};
 
-use super::SweepRunError;
+use super::{Cancel, SweepRunError};
 use crate::pipeline::{fill_static_cache, geometry_key, static_params};
 use crate::scene::Scene;
 
@@ -94,11 +94,13 @@ fn groups(pending: &[(Scene, bool)], cache: &Path) -> Vec<Group> {
 
 /// Fill the static cache for the geometries of the caller's pending scenes under the geometry
 /// locks (see the module text); `rotation` (the shard index) staggers the visiting order.
-/// Returns the number of FEM condensations this process ran.
+/// Returns the number of FEM condensations this process ran. A set `cancel` starts no further
+/// geometry (the caller then reports the cancel).
 pub(super) fn fill_static_cache_shared(
     pending: &[(Scene, bool)],
     cache: &Path,
     rotation: usize,
+    cancel: &Cancel,
 ) -> Result<usize, SweepRunError> {
     let mut groups = groups(pending, cache);
     if groups.is_empty() {
@@ -109,6 +111,9 @@ pub(super) fn fill_static_cache_shared(
     let mut condensations = 0;
     let mut busy = Vec::new();
     for group in groups {
+        if cancel.is_cancelled() {
+            return Ok(condensations);
+        }
         let (file, path) = lock_file(cache, &format!("geometry-{}.lock", group.key))?;
         match file.try_lock() {
             Ok(()) => condensations += fill_group(&group, cache)?,
@@ -117,6 +122,9 @@ pub(super) fn fill_static_cache_shared(
         }
     }
     for group in busy {
+        if cancel.is_cancelled() {
+            return Ok(condensations);
+        }
         let _held = lock_exclusive(cache, &format!("geometry-{}.lock", group.key))?;
         condensations += fill_group(&group, cache)?;
     }

@@ -1,13 +1,16 @@
 //! Parameter sweeps over scene keys: grid files, points, resumable parallel runs, one CSV and
 //! charts of all results; shards of a sweep on a cluster and their merge.
 
+mod cancel;
 mod file;
 mod locks;
 mod run;
 mod shard;
 
+pub use cancel::Cancel;
 pub use file::{ChartSpec, SweepError, SweepFile, SweepPoint, Variant};
 pub use run::{
     MAX_JOBS, NUMERIC_COLUMNS, PointRow, SweepOutcome, SweepRunError, results_csv, run_sweep,
+    run_sweep_cancellable,
 };
 pub use shard::{MAX_LISTED_POINTS, Shard, ShardOutcome, merge_sweep, run_shard};

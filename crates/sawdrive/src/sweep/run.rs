@@ -9,7 +9,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use super::{SweepFile, SweepPoint};
+use super::{Cancel, SweepFile, SweepPoint};
 use crate::output::write_atomically;
 use crate::pipeline::{RunOptions, run_pipeline};
 use crate::scene::load_scene;
@@ -151,6 +151,22 @@ pub enum SweepRunError {
         path: PathBuf,
         /// The error.
         source: std::io::Error,
+    },
+    /// The sweep was cancelled ([`Cancel`]) before every point ran: the points saved so far are
+    /// kept (a rerun resumes them); `results.csv` and the charts are not written.
+    #[error(
+        "sweep {sweep}: cancelled with {saved} of {total} points saved in {}; rerun to resume",
+        folder.display()
+    )]
+    Cancelled {
+        /// Sweep name.
+        sweep: String,
+        /// Folder of the saved points.
+        folder: PathBuf,
+        /// Points saved (this run's and earlier runs').
+        saved: usize,
+        /// Points in the sweep.
+        total: usize,
     },
     /// Thread pool.
     #[error("cannot start {jobs} worker threads: {message}")]
@@ -308,18 +324,21 @@ impl Prepared<'_> {
     /// Run the points `selected` (0-based, ascending) that are not saved yet with `jobs`
     /// threads, saving each as it finishes. The static cache is filled first, one FEM
     /// condensation per geometry across every process sharing the cache ([`super::locks`]);
-    /// `rotation` staggers the order in which concurrent shards visit the geometries.
+    /// `rotation` staggers the order in which concurrent shards visit the geometries. A set
+    /// `cancel` starts no further geometry or point and returns [`SweepRunError::Cancelled`].
     pub(super) fn run_points(
         &self,
         selected: &[usize],
         jobs: Option<usize>,
         rotation: usize,
+        cancel: &Cancel,
     ) -> Result<PointsRun, SweepRunError> {
         std::fs::create_dir_all(&self.points_dir)
             .map_err(crate::output::io("create", &self.points_dir))?;
         let saved: Vec<Option<PointRow>> = selected.iter().map(|&i| self.saved(i)).collect();
         let resumed = saved.iter().filter(|s| s.is_some()).count();
-        let condensations = self.fill_static_cache(selected, &saved, rotation)?;
+        let condensations = self.fill_static_cache(selected, &saved, rotation, cancel)?;
+        self.check_cancel(cancel)?;
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(jobs.unwrap_or(0))
             .build()
@@ -327,23 +346,28 @@ impl Prepared<'_> {
                 jobs: jobs.unwrap_or(0),
                 message: e.to_string(),
             })?;
-        let results: Vec<Result<PointRow, (String, String)>> = pool.install(|| {
+        // `None`: skipped after a cancel.
+        let results: Vec<Option<Result<PointRow, (String, String)>>> = pool.install(|| {
             selected
                 .par_iter()
                 .zip(saved)
                 .map(|(&i, saved)| match saved {
-                    Some(row) => Ok(row),
-                    None => self.compute_and_save(i),
+                    Some(row) => Some(Ok(row)),
+                    None if cancel.is_cancelled() => None,
+                    None => Some(self.compute_and_save(i)),
                 })
                 .collect()
         });
+        if results.iter().any(Option::is_none) {
+            return Err(self.cancelled());
+        }
         let mut run = PointsRun {
             rows: Vec::new(),
             resumed,
             failures: Vec::new(),
             condensations,
         };
-        for r in results {
+        for r in results.into_iter().flatten() {
             match r {
                 Ok(row) => run.rows.push(row),
                 Err(f) => run.failures.push(f),
@@ -361,6 +385,7 @@ impl Prepared<'_> {
         selected: &[usize],
         saved: &[Option<PointRow>],
         rotation: usize,
+        cancel: &Cancel,
     ) -> Result<usize, SweepRunError> {
         let mine: Vec<usize> = selected
             .iter()
@@ -376,7 +401,27 @@ impl Prepared<'_> {
             .filter(|i| mine.binary_search(i).is_ok() || self.saved(*i).is_none())
             .filter_map(|i| scene(i).ok().map(|s| (s, mine.binary_search(&i).is_ok())))
             .collect();
-        super::locks::fill_static_cache_shared(&pending, &self.cache, rotation)
+        super::locks::fill_static_cache_shared(&pending, &self.cache, rotation, cancel)
+    }
+
+    /// [`SweepRunError::Cancelled`] if `cancel` is set.
+    fn check_cancel(&self, cancel: &Cancel) -> Result<(), SweepRunError> {
+        match cancel.is_cancelled() {
+            true => Err(self.cancelled()),
+            false => Ok(()),
+        }
+    }
+
+    /// The cancellation error, counting the points saved now.
+    fn cancelled(&self) -> SweepRunError {
+        SweepRunError::Cancelled {
+            sweep: self.sweep.name.clone(),
+            folder: self.points_dir.clone(),
+            saved: (0..self.points.len())
+                .filter(|&i| self.saved(i).is_some())
+                .count(),
+            total: self.points.len(),
+        }
     }
 
     /// Run point `i` through the pipeline and save its row atomically.
@@ -417,9 +462,21 @@ pub fn run_sweep(
     out_dir: &Path,
     jobs: Option<usize>,
 ) -> Result<SweepOutcome, SweepRunError> {
+    run_sweep_cancellable(sweep, out_dir, jobs, &Cancel::new())
+}
+
+/// [`run_sweep`] that stops when `cancel` is set: no point or FEM condensation starts after
+/// it, the running points finish and are saved, and the sweep returns
+/// [`SweepRunError::Cancelled`] without writing `results.csv` or the charts ([`super::cancel`]).
+pub fn run_sweep_cancellable(
+    sweep: &SweepFile,
+    out_dir: &Path,
+    jobs: Option<usize>,
+    cancel: &Cancel,
+) -> Result<SweepOutcome, SweepRunError> {
     let prepared = prepare(sweep, out_dir, jobs)?;
     let all: Vec<usize> = (0..prepared.points.len()).collect();
-    let run = prepared.run_points(&all, jobs, 0)?;
+    let run = prepared.run_points(&all, jobs, 0, cancel)?;
     let files = prepared.write_results(&run.rows)?;
     Ok(SweepOutcome {
         folder: prepared.folder,
@@ -597,6 +654,42 @@ mod tests {
             outcome.rows[0].values["stall_thrust_n"], 123.0,
             "saved stall thrust reused"
         );
+    }
+
+    #[test]
+    fn a_cancelled_sweep_runs_no_point_writes_no_results_and_a_rerun_completes() {
+        let root = tempfile::tempdir().unwrap();
+        let sweep = one_point_sweep(root.path());
+        let out = root.path().join("out");
+        let cancel = Cancel::new();
+        cancel.cancel();
+        let error = run_sweep_cancellable(&sweep, &out, Some(1), &cancel).unwrap_err();
+        assert!(
+            matches!(
+                error,
+                SweepRunError::Cancelled {
+                    saved: 0,
+                    total: 1,
+                    ..
+                }
+            ),
+            "cancelled before any point: {error}"
+        );
+        assert!(error.to_string().contains("rerun to resume"), "{error}");
+        let folder = out.join(&sweep.name);
+        assert!(
+            !folder.join("results.csv").exists(),
+            "no results table after a cancel"
+        );
+        let points = std::fs::read_dir(folder.join("points")).unwrap().count();
+        assert_eq!(points, 0, "no point saved after a cancel before the start");
+        let outcome = run_sweep_cancellable(&sweep, &out, Some(1), &Cancel::new()).unwrap();
+        assert_eq!(
+            (outcome.rows.len(), outcome.resumed),
+            (1, 0),
+            "the rerun runs the point"
+        );
+        assert!(folder.join("results.csv").exists(), "and writes the table");
     }
 
     #[test]

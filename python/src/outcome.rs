@@ -1,0 +1,291 @@
+//! The results with a speed–thrust curve ([`DynamicResult`], [`RunResult`]) are native objects
+//! whose parts are converted when read: a field (from the library's serde form) on attribute
+//! access, the whole dict only when asked for (`data`), the curve once, as a numpy array over
+//! one f64 buffer (no Python object per number). A call thus costs one small allocation instead
+//! of a dict of every field, and reading a field runs no Python code: on the loaded 2-core test
+//! machine, Python code between two millisecond-long Rust calls ran 5–10× slower than alone
+//! (cold caches), so a Python wrapper class cost more than the conversions themselves.
+
+use std::sync::OnceLock;
+
+use pyo3::exceptions::{PyAttributeError, PyImportError};
+use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
+use pyo3::types::{PyByteArray, PyDict, PyList};
+use serde_json::{Map, Value};
+use stick_slip::CurvePoint;
+
+use crate::convert;
+use crate::errors::Failure;
+
+/// The fields of a result, in the form the library returns them.
+#[derive(Debug)]
+pub enum Fields {
+    /// Already serialised (a JSON object).
+    Json(Map<String, Value>),
+    /// The dynamic stage's result (its curve taken out) and the η it ran with.
+    Dynamic {
+        /// `sawdrive dynamic --json` without the curve.
+        result: Box<stick_slip::DynamicResult>,
+        /// η used.
+        effective_ratio: f64,
+        /// Where η came from: `given` or `fem`.
+        source: &'static str,
+    },
+}
+
+impl Fields {
+    /// The fields as one JSON object.
+    fn to_json(&self) -> Result<Map<String, Value>, Failure> {
+        match self {
+            Fields::Json(map) => Ok(map.clone()),
+            Fields::Dynamic {
+                result,
+                effective_ratio,
+                source,
+            } => {
+                let mut map = match serde_json::to_value(result.as_ref())? {
+                    Value::Object(map) => map,
+                    other => Map::from_iter([("result".to_owned(), other)]),
+                };
+                map.remove("curve");
+                map.insert("effective_ratio".into(), Value::from(*effective_ratio));
+                map.insert("effective_ratio_source".into(), Value::from(*source));
+                Ok(map)
+            }
+        }
+    }
+}
+
+/// The shared body of a result with a speed–thrust curve: its fields, the results folder
+/// written (if any) and the curve.
+#[derive(Debug)]
+pub struct Outcome {
+    fields: Fields,
+    /// [`Fields::to_json`], made on the first read.
+    json: OnceLock<Result<Map<String, Value>, Failure>>,
+    folder: Option<String>,
+    curve: Vec<CurvePoint>,
+    /// The numpy (n, 2) speed–thrust array, made on the first read.
+    array: OnceLock<Py<PyAny>>,
+}
+
+/// `numpy.ndarray`, imported once.
+static NDARRAY: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
+
+impl Outcome {
+    /// `fields`, the results folder written (if any) and the curve.
+    pub fn new(fields: Fields, folder: Option<String>, curve: Vec<CurvePoint>) -> Self {
+        Self {
+            fields,
+            json: OnceLock::new(),
+            folder,
+            curve,
+            array: OnceLock::new(),
+        }
+    }
+
+    /// The fields as JSON (serialised once).
+    fn json(&self, py: Python<'_>) -> PyResult<&Map<String, Value>> {
+        match self.json.get_or_init(|| self.fields.to_json()) {
+            Ok(map) => Ok(map),
+            Err(f) => Err(f.clone().into_pyerr(py)),
+        }
+    }
+
+    /// Field `name` (`folder` included), converted now; `AttributeError` naming `class` if none.
+    fn field<'py>(&self, py: Python<'py>, name: &str, class: &str) -> PyResult<Bound<'py, PyAny>> {
+        if name == "folder" {
+            return Ok(self.folder.as_deref().into_pyobject(py)?.into_any());
+        }
+        match self.json(py)?.get(name) {
+            Some(value) => convert::to_py(py, value),
+            None => Err(PyAttributeError::new_err(format!(
+                "{class} has no field {name:?}"
+            ))),
+        }
+    }
+
+    /// Every field as a new dict (SI units, as the command line's JSON), with `folder`.
+    fn data<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let dict = convert::dict(py, self.json(py)?)?;
+        dict.set_item("folder", self.folder.as_deref())?;
+        Ok(dict)
+    }
+
+    /// A numpy array (rows, `columns`) over little-endian f64 bytes of `values`.
+    fn numpy<'py>(
+        &self,
+        py: Python<'py>,
+        columns: usize,
+        values: impl Fn(&CurvePoint) -> Vec<f64>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mut bytes = Vec::with_capacity(8 * columns * self.curve.len());
+        for p in &self.curve {
+            for v in values(p) {
+                bytes.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+        let ndarray = NDARRAY.import(py, "numpy", "ndarray")?;
+        let shape = (self.curve.len(), columns);
+        ndarray.call1((shape, "<f8", PyByteArray::new(py, &bytes)))
+    }
+
+    /// The speed–thrust curve, numpy (n, 2): speed (m/s), thrust (N). Made once.
+    fn curve<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        if let Some(array) = self.array.get() {
+            return Ok(array.bind(py).clone());
+        }
+        let array = self.numpy(py, 2, |p| vec![p.speed_m_per_s, p.thrust_n])?;
+        // Another thread may have set it meanwhile (the GIL was held throughout: it cannot).
+        let _ = self.array.set(array.clone().unbind());
+        Ok(array)
+    }
+
+    /// Every column of the curve, numpy (n, 5), [`convert::CURVE_COLUMNS`] order.
+    fn table<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        self.numpy(py, convert::CURVE_COLUMNS.len(), |p| {
+            vec![
+                p.speed_m_per_s,
+                p.thrust_n,
+                p.output_power_w,
+                p.efficiency,
+                p.stick_fraction,
+            ]
+        })
+    }
+
+    /// The curve as the command line's JSON has it: a list of one dict per point.
+    fn curve_points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let points =
+            serde_json::to_value(&self.curve).map_err(|e| Failure::from(e).into_pyerr(py))?;
+        convert::to_py(py, &points)?
+            .cast_into::<PyList>()
+            .map_err(Into::into)
+    }
+
+    /// Every field and the curve (a list of dicts) as a plain dict.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let dict = self.data(py)?;
+        dict.set_item("curve", self.curve_points(py)?)?;
+        Ok(dict)
+    }
+
+    /// The curve as a pandas DataFrame with the columns of `curve.csv`.
+    fn curve_frame<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let pandas = py
+            .import("pandas")
+            .map_err(|_| PyImportError::new_err("this needs pandas: pip install pandas"))?;
+        let kwargs = PyDict::new(py);
+        kwargs.set_item("columns", convert::CURVE_COLUMNS.to_vec())?;
+        pandas
+            .getattr("DataFrame")?
+            .call((self.table(py)?,), Some(&kwargs))
+    }
+
+    /// `Class(stall_thrust_n=…, …)`: the first scalar fields.
+    fn repr(&self, py: Python<'_>, class: &str) -> PyResult<String> {
+        let shown: Vec<String> = self
+            .json(py)?
+            .iter()
+            .filter(|(_, v)| v.is_number() || v.is_string())
+            .take(6)
+            .map(|(k, v)| format!("{k}={v}"))
+            .collect();
+        Ok(format!("{class}({}, …)", shown.join(", ")))
+    }
+
+    /// Field names and methods, for `dir()` and completion.
+    fn names(&self, py: Python<'_>) -> PyResult<Vec<String>> {
+        let mut names: Vec<String> = self.json(py)?.keys().cloned().collect();
+        names.extend(
+            [
+                "folder",
+                "curve",
+                "curve_points",
+                "curve_frame",
+                "data",
+                "to_dict",
+            ]
+            .map(String::from),
+        );
+        names.sort();
+        Ok(names)
+    }
+}
+
+/// A native result class over [`Outcome`] (pyo3 classes cannot be generic).
+macro_rules! curve_result {
+    ($(#[$doc:meta])* $name:ident) => {
+        $(#[$doc])*
+        #[pyclass(frozen, module = "sawdrive._native")]
+        #[derive(Debug)]
+        pub struct $name(pub Outcome);
+
+        #[pymethods]
+        impl $name {
+            /// A field of the result (SI units, as the command line's JSON names it).
+            fn __getattr__<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
+                self.0.field(py, name, stringify!($name))
+            }
+
+            /// Every field as a new dict (SI units, as the command line's JSON), with `folder`.
+            #[getter]
+            fn data<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+                self.0.data(py)
+            }
+
+            /// The speed–thrust curve: numpy array (n, 2), columns speed (m/s), thrust (N).
+            #[getter]
+            fn curve<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+                self.0.curve(py)
+            }
+
+            /// The curve as the command line's JSON has it: one dict per point
+            /// (`speed_m_per_s`, `thrust_n`, `output_power_w`, `efficiency`, `stick_fraction`).
+            #[getter]
+            fn curve_points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+                self.0.curve_points(py)
+            }
+
+            /// The fields as a plain dict (JSON-compatible, SI units), `curve` as a list of
+            /// dicts.
+            fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+                self.0.to_dict(py)
+            }
+
+            /// The speed–thrust curve as a pandas DataFrame, one row per point, the columns of
+            /// `curve.csv` (`speed_m_per_s`, `thrust_n`, `output_power_w`, `efficiency`,
+            /// `stick_fraction`). Needs pandas.
+            fn curve_frame<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+                self.0.curve_frame(py)
+            }
+
+            fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+                self.0.repr(py, stringify!($name))
+            }
+
+            fn __dir__(&self, py: Python<'_>) -> PyResult<Vec<String>> {
+                self.0.names(py)
+            }
+        }
+    };
+}
+
+curve_result!(
+    /// The dynamic stage's result: every field of `sawdrive dynamic --json` as an attribute
+    /// (`stall_thrust_n` N, `no_load_speed_m_per_s` m/s, `efficiency`, `stick_fraction`,
+    /// `friction_limit_n` N, `crest_speed_m_per_s` m/s, `model`, `model_reason`, …), and
+    /// `curve` (numpy (n, 2): speed m/s, thrust N), `effective_ratio` (η used),
+    /// `effective_ratio_source` (`given` or `fem`), `folder` (results folder written, or None).
+    /// Fields are converted when first read.
+    DynamicResult
+);
+
+curve_result!(
+    /// The whole pipeline's `summary.json` as attributes (`stall_thrust_n` N,
+    /// `no_load_speed_m_per_s` m/s, `effective_contact_ratio`, `springs`, `timings`, …), `curve`
+    /// (numpy (n, 2): speed m/s, thrust N) and `folder` (results folder, or None). Fields are
+    /// converted when first read.
+    RunResult
+);

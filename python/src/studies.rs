@@ -1,0 +1,178 @@
+//! Studies over many runs: sweeps (`sawdrive sweep`), Monte Carlo UQ (`sawdrive uq`) and the
+//! texture optimiser (`sawdrive design`), each calling the library function its command calls.
+//!
+//! Cancellation: a sweep stops before its next point after an interrupt (the points saved so
+//! far are kept for a rerun; `results.csv` and the charts are not written). UQ and design have
+//! no cancellation point in the library yet: after an interrupt they run to their end in the
+//! background, and since `run_uq`/`run_design` commit their own results folder, that folder
+//! then appears complete (never half-written). UQ samples saved so far let a rerun resume.
+
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+use pyo3::prelude::*;
+use sawdrive::design::motor::Fidelity;
+use sawdrive::design::scatter::{ScatterSpec, split_scatter};
+use sawdrive::design::study::{DesignSpec, run_design};
+use sawdrive::design::uq::{UqOptions, run_uq};
+use sawdrive::scene::{Scene, load_scene};
+use sawdrive::sweep::{SweepFile, run_sweep_cancellable};
+use serde_json::json;
+
+use crate::errors::{Failure, Kind};
+use crate::worker::{self, PointCount};
+use crate::{convert, raise};
+
+/// `sawdrive sweep FILE --out OUT [--jobs N]`: the sweep's outcome (rows, failures, folder,
+/// resumed, files) as a dict. Progress counts the saved points. An interrupt stops the sweep
+/// before its next point.
+#[pyfunction]
+#[pyo3(signature = (file, out, jobs=None, progress=None))]
+fn sweep<'py>(
+    py: Python<'py>,
+    file: &str,
+    out: String,
+    jobs: Option<usize>,
+    progress: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let sweep = raise(py, SweepFile::load(Path::new(file)).map_err(Failure::from))?;
+    let out = PathBuf::from(out);
+    let count = PointCount {
+        folder: out.join(&sweep.name).join("points"),
+        total: sweep.points().len(),
+    };
+    let outcome = worker::run(py, progress, Some(count), move |cancel| {
+        Ok(serde_json::to_value(run_sweep_cancellable(
+            &sweep, &out, jobs, cancel,
+        )?)?)
+    })?;
+    convert::to_py(py, &outcome)
+}
+
+/// The points of a sweep file: `[{variant, grid, overrides}]`.
+#[pyfunction]
+fn sweep_points<'py>(py: Python<'py>, file: &str) -> PyResult<Bound<'py, PyAny>> {
+    let sweep = raise(py, SweepFile::load(Path::new(file)).map_err(Failure::from))?;
+    let points: Vec<_> = sweep
+        .points()
+        .into_iter()
+        .map(|p| json!({"variant": p.variant, "grid": p.grid_values, "overrides": p.overrides}))
+        .collect();
+    convert::to_py(py, &serde_json::Value::from(points))
+}
+
+/// The scene and scatter of `sawdrive uq [SCENE] --set …`: the scene file's `[scatter]`
+/// section and `scatter.*` overrides form the scatter, the rest the scene (as the command).
+fn uq_inputs(path: Option<&str>, overrides: &[String]) -> Result<(Scene, ScatterSpec), Failure> {
+    let scene_error = |message: String| Failure::text(Kind::Scene, message);
+    let text = match path {
+        Some(p) => Some(
+            std::fs::read_to_string(p)
+                .map_err(|e| Failure::text(Kind::File, format!("cannot read scene {p}: {e}")))?,
+        ),
+        None => None,
+    };
+    let (scene_text, overrides, table) =
+        split_scatter(text.as_deref(), overrides).map_err(scene_error)?;
+    let scatter = ScatterSpec::from_table(&table).map_err(scene_error)?;
+    let scene = match (path, scene_text) {
+        (Some(path), Some(text)) => scene_without_scatter(Path::new(path), &text, &overrides)?,
+        _ => load_scene(None, &overrides)?,
+    };
+    Ok((scene, scatter))
+}
+
+/// The scene file `path` whose text without `[scatter]` is `text`, through the one scene loader
+/// (a copy under the same name, so relative paths and messages name the file as given).
+fn scene_without_scatter(path: &Path, text: &str, overrides: &[String]) -> Result<Scene, Failure> {
+    let io = |e: std::io::Error| {
+        Failure::text(
+            Kind::File,
+            format!("cannot copy scene {}: {e}", path.display()),
+        )
+    };
+    let dir = tempfile::tempdir().map_err(io)?;
+    let copy = dir.path().join(path.file_name().unwrap_or_default());
+    std::fs::File::create(&copy)
+        .and_then(|mut f| f.write_all(text.as_bytes()))
+        .map_err(io)?;
+    load_scene(Some(&copy), overrides).map_err(|e| {
+        let mut failure = Failure::from(e);
+        failure.message = failure
+            .message
+            .replace(&copy.display().to_string(), &path.display().to_string());
+        failure
+    })
+}
+
+/// `sawdrive uq [SCENE] --samples N --seed S --out OUT [--patch] --json`: the report as a dict
+/// with `folder` (the results folder written, `OUT/<scene>-uq/`).
+#[pyfunction]
+#[pyo3(signature = (path, overrides, samples, seed, out, patch=false, progress=None))]
+#[allow(clippy::too_many_arguments)] // the command's flags, one argument each
+fn uq<'py>(
+    py: Python<'py>,
+    path: Option<&str>,
+    overrides: Vec<String>,
+    samples: usize,
+    seed: u64,
+    out: String,
+    patch: bool,
+    progress: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let (scene, scatter) = raise(py, uq_inputs(path, &overrides))?;
+    if samples == 0 {
+        let f = Failure::text(Kind::Argument, "--samples: must be ≥ 1");
+        return Err(f.into_pyerr(py));
+    }
+    let options = UqOptions {
+        samples,
+        seed,
+        out_dir: PathBuf::from(out),
+        fidelity: if patch {
+            Fidelity::Patch
+        } else {
+            Fidelity::Slider
+        },
+        write_files: true,
+    };
+    let value = worker::run(py, progress, None, move |_| {
+        let (report, folder) = run_uq(&scene, &scatter, &options)?;
+        let mut value = serde_json::to_value(&report)?;
+        value["folder"] = json!(folder.display().to_string());
+        Ok(value)
+    })?;
+    convert::to_py(py, &value)
+}
+
+/// `sawdrive design FILE --out OUT --json`: the report as a dict with `folder` (`OUT/<name>/`).
+#[pyfunction]
+#[pyo3(signature = (file, out, progress=None))]
+fn design<'py>(
+    py: Python<'py>,
+    file: &str,
+    out: String,
+    progress: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let spec = raise(
+        py,
+        DesignSpec::read(Path::new(file)).map_err(|m| Failure::text(Kind::Scene, m)),
+    )?;
+    let out = PathBuf::from(out);
+    let value = worker::run(py, progress, None, move |_| {
+        let (report, folder) = run_design(&spec, &out, true)?;
+        let mut value = serde_json::to_value(&report)?;
+        value["folder"] = json!(folder.display().to_string());
+        Ok(value)
+    })?;
+    convert::to_py(py, &value)
+}
+
+/// Add the study functions to the module.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep_points, m)?)?;
+    m.add_function(wrap_pyfunction!(uq, m)?)?;
+    m.add_function(wrap_pyfunction!(design, m)?)?;
+    Ok(())
+}
