@@ -26,8 +26,8 @@ use std::time::Instant;
 use pyo3::prelude::*;
 use sawdrive::output::StagedDir;
 use sawdrive::pipeline::{
-    RunOptions, run_dynamic, run_pipeline, run_static, scene_springs, write_dynamic_files,
-    write_static_files,
+    RunOptions, StaticOutcome, run_dynamic_stage, run_pipeline, run_static, scene_springs,
+    write_dynamic_stage_files, write_static_files,
 };
 use sawdrive::scene::{DEFAULT_SCENE_TOML, Scene, load_scene};
 use sawdrive::sweep::Cancel;
@@ -206,10 +206,14 @@ fn static_stage<'py>(
     convert::to_py(py, &value)
 }
 
-/// η of `scene`: given, or from the static stage (as `sawdrive dynamic` does).
-fn scene_eta(scene: &Scene, cache: Option<&Path>) -> Result<(f64, &'static str), Failure> {
+/// η of `scene` with where it came from, and the static stage's outcome when it ran: given, or
+/// from the static stage (as `sawdrive dynamic` does).
+fn scene_eta(
+    scene: &Scene,
+    cache: Option<&Path>,
+) -> Result<(f64, &'static str, Option<StaticOutcome>), Failure> {
     if let Some(eta) = scene.contact.effective_ratio {
-        return Ok((eta, "given"));
+        return Ok((eta, "given", None));
     }
     let outcome = run_static(scene, &springs_of(scene)?, cache, false)?;
     let eta = outcome.effective_ratio.ok_or_else(|| {
@@ -218,7 +222,7 @@ fn scene_eta(scene: &Scene, cache: Option<&Path>) -> Result<(f64, &'static str),
             "the static stage could not identify η: give --set effective_ratio=0.36",
         )
     })?;
-    Ok((eta, "fem"))
+    Ok((eta, "fem", Some(outcome)))
 }
 
 /// Whether the dynamic stage of `scene` is the period average with η given: milliseconds, run
@@ -255,25 +259,20 @@ fn dynamic_stage<'py>(
     let inline = out.is_none() && *native.quick_dynamic.get_or_init(|| quick_dynamic(&scene));
     let (out, cache) = folders(out, cache);
     let job = move |cancel: &Cancel| {
-        let (eta, source) = scene_eta(&scene, cache.as_deref())?;
+        let (eta, source, statics) = scene_eta(&scene, cache.as_deref())?;
         worker::check(cancel)?;
         let springs = springs_of(&scene)?;
-        let mut run = run_dynamic(&scene, &springs, eta)?;
+        let stage = run_dynamic_stage(&scene, &springs, eta, statics.as_ref(), cache.as_deref())?;
         worker::check(cancel)?;
         let staged = match &out {
             Some(out) => {
                 let staged = StagedDir::create(&out.join(&scene.name).join("dynamic"))?;
-                write_dynamic_files(&scene.name, &run, staged.path())?;
+                write_dynamic_stage_files(&scene.name, &stage, staged.path())?;
                 Some(staged)
             }
             None => None,
         };
-        let curve = std::mem::take(&mut run.result.curve);
-        let fields = Fields::Dynamic {
-            result: Box::new(run.result),
-            effective_ratio: eta,
-            source,
-        };
+        let (fields, curve) = Fields::of_stage(stage, eta, source)?;
         Ok((fields, curve, staged))
     };
     let (fields, curve, staged) = if inline {
@@ -377,7 +376,7 @@ fn publish(from: &Path, destination: &Path) -> Result<String, Failure> {
 }
 
 /// Benchmark baseline: the wall time (s) of each of `repeats` calls of the dynamic stage made
-/// from Rust on the resolved `scene` (post springs, then `run_dynamic`: the work
+/// from Rust on the resolved `scene` (post springs, then `run_dynamic_stage`: the work
 /// `sawdrive.dynamic(scene)` asks for, without the Python layer). The scene must give η (the
 /// benchmark is about the call, not the FEM).
 #[pyfunction]
@@ -398,9 +397,9 @@ fn time_rust_dynamic(
         for _ in 0..repeats {
             let start = Instant::now();
             let springs = springs_of(&scene)?;
-            let run = run_dynamic(&scene, &springs, eta)?;
-            std::hint::black_box(&run.result);
-            drop(run);
+            let stage = run_dynamic_stage(&scene, &springs, eta, None, None)?;
+            std::hint::black_box(&stage.lumped.result);
+            drop(stage);
             times.push(start.elapsed().as_secs_f64());
         }
         Ok(times)

@@ -23,10 +23,14 @@ use crate::errors::Failure;
 pub enum Fields {
     /// Already serialised (a JSON object).
     Json(Map<String, Value>),
-    /// The dynamic stage's result (its curve taken out) and the η it ran with.
+    /// The lumped dynamic stage's result (its curve taken out) and the η it ran with.
     Dynamic {
-        /// `sawdrive dynamic --json` without the curve.
+        /// `sawdrive dynamic --json` without the curve (and without the two keys below).
         result: Box<stick_slip::DynamicResult>,
+        /// Why the lumped model ran (`auto`'s decision or the scene's choice).
+        dynamics_reason: String,
+        /// The lumped model's estimated error (`None`: η given).
+        lumped_error_estimate: Option<f64>,
         /// η used.
         effective_ratio: f64,
         /// Where η came from: `given` or `fem`.
@@ -41,6 +45,8 @@ impl Fields {
             Fields::Json(map) => Ok(map.clone()),
             Fields::Dynamic {
                 result,
+                dynamics_reason,
+                lumped_error_estimate,
                 effective_ratio,
                 source,
             } => {
@@ -49,11 +55,52 @@ impl Fields {
                     other => Map::from_iter([("result".to_owned(), other)]),
                 };
                 map.remove("curve");
+                map.insert(
+                    "dynamics_reason".into(),
+                    Value::from(dynamics_reason.as_str()),
+                );
+                map.insert(
+                    "lumped_error_estimate".into(),
+                    serde_json::to_value(lumped_error_estimate)?,
+                );
                 map.insert("effective_ratio".into(), Value::from(*effective_ratio));
                 map.insert("effective_ratio_source".into(), Value::from(*source));
                 Ok(map)
             }
         }
+    }
+}
+
+impl Fields {
+    /// The fields and the curve of a dynamic stage run at η = `effective_ratio` (from `source`):
+    /// the lumped result as it is (converted when read), or a coupled run's JSON (that of
+    /// `sawdrive dynamic --json`: the coupled result, the lumped figures, the choice) with its
+    /// curve in the lumped model's columns.
+    pub fn of_stage(
+        mut stage: sawdrive::pipeline::DynamicStage,
+        effective_ratio: f64,
+        source: &'static str,
+    ) -> Result<(Self, Vec<CurvePoint>), Failure> {
+        if stage.coupled.is_none() {
+            let curve = std::mem::take(&mut stage.lumped.result.curve);
+            let fields = Fields::Dynamic {
+                result: Box::new(stage.lumped.result),
+                dynamics_reason: stage.dynamics_reason,
+                lumped_error_estimate: stage.lumped_error_estimate,
+                effective_ratio,
+                source,
+            };
+            return Ok((fields, curve));
+        }
+        let curve = stage.curve();
+        let mut map = match serde_json::to_value(stage.json())? {
+            Value::Object(map) => map,
+            _ => Map::new(),
+        };
+        map.remove("curve");
+        map.insert("effective_ratio".into(), Value::from(effective_ratio));
+        map.insert("effective_ratio_source".into(), Value::from(source));
+        Ok((Fields::Json(map), curve))
     }
 }
 

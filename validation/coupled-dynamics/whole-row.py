@@ -22,6 +22,12 @@ def run(binary, out, diameter, count, preload):
         args += ["--set", s]
     return json.loads(subprocess.run(args, check=True, capture_output=True, text=True).stdout)
 
+def relative(lumped, coupled):
+    """|lumped/coupled - 1|; 0 when both are 0 (a locked slider), inf when only the coupled is."""
+    if coupled == 0:
+        return 0.0 if lumped == 0 else float("inf")
+    return abs(lumped / coupled - 1)
+
 def main():
     binary, out = sys.argv[1], sys.argv[2]
     w = None
@@ -29,8 +35,8 @@ def main():
         for preload in PRELOADS:
             d = run(binary, out, diameter, count, preload)
             lumped = d["lumped"]
-            err_f = abs(lumped["stall_thrust_n"] / d["stall_thrust_n"] - 1)
-            err_v = abs(lumped["no_load_speed_m_per_s"] / d["no_load_speed_m_per_s"] - 1)
+            err_f = relative(lumped["stall_thrust_n"], d["stall_thrust_n"])
+            err_v = relative(lumped["no_load_speed_m_per_s"], d["no_load_speed_m_per_s"])
             nx, ny = (int(v) for v in count.split("x"))
             row = {
                 "post_diameter_um": diameter.split()[0], "posts": nx * ny,
