@@ -70,8 +70,10 @@ class DynamicResult(_CurveResult):
     friction_limit_n: float
     crest_speed_m_per_s: float
     effective_post_count: float
-    model: str
-    model_reason: str
+    model: str  # "periodic-average" | "transient" | "coupled"
+    model_reason: str  # lumped runs: why this lumped model
+    dynamics_reason: str  # why the lumped or the coupled model ran (model.dynamics, auto's criterion)
+    lumped_error_estimate: Optional[float]  # relative; None when η is given
     warnings: List[Any]
     wall_time_s: float
     effective_ratio: float
@@ -88,6 +90,8 @@ class RunResult(_CurveResult):
     effective_post_count: float
     model: str
     model_reason: str
+    lumped_error_estimate: Optional[float]  # relative; None when η is given
+    coupled: Optional[Dict[str, Any]]  # the coupled model's figures when it ran
     springs: Dict[str, float]
     timings: Dict[str, float]
     files: List[str]

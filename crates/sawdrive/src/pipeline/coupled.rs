@@ -123,6 +123,7 @@ impl DynamicStage {
                 Some(c) => ResultRef::Coupled(c),
                 None => ResultRef::Lumped(&self.lumped.result),
             },
+            model_reason: self.coupled.as_ref().map(|_| self.dynamics_reason.as_str()),
             dynamics_reason: &self.dynamics_reason,
             lumped_error_estimate: self.lumped_error_estimate,
             lumped: self
@@ -140,6 +141,9 @@ impl DynamicStage {
 pub struct DynamicJson<'a> {
     #[serde(flatten)]
     result: ResultRef<'a>,
+    /// A coupled run's reason (a lumped result carries its own `model_reason`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    model_reason: Option<&'a str>,
     dynamics_reason: &'a str,
     lumped_error_estimate: Option<f64>,
     /// The lumped model's figures beside a coupled run.
