@@ -4,7 +4,7 @@
 //! `cargo run -p slider-contact --profile test --example default_slider [posts_per_side]
 //! [rigid | pressure | point]` (point: a ball at the slider's centre).
 
-use slider_contact::{ComplianceOperator, Mechanism, SliderModel, SliderParams};
+use slider_contact::{ComplianceOperator, Mechanism, MechanismExt, SliderModel, SliderParams};
 
 fn main() -> anyhow::Result<()> {
     let side: usize = std::env::args().nth(1).map_or(Ok(100), |s| s.parse())?;

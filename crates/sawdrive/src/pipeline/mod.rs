@@ -7,13 +7,18 @@
 mod dynamics;
 mod error;
 mod run;
+mod slider_static;
 mod springs;
 mod statics;
 
 pub use dynamics::{DynamicRun, dynamic_scene, run_dynamic, write_dynamic_files};
 pub use error::PipelineError;
 pub use run::{RunOptions, RunSummary, StageTimings, run_pipeline};
+pub use slider_static::{
+    SliderStage, run_slider_static, slider_content_hash, slider_params, write_slider_maps,
+};
 pub use springs::scene_springs;
 pub use statics::{
-    StaticOutcome, fill_static_cache, geometry_key, run_static, static_params, write_static_files,
+    StaticDetails, StaticOutcome, StaticStageReport, fill_static_cache, geometry_key, run_static,
+    static_params, write_static_files,
 };
