@@ -284,11 +284,16 @@ fn a_height_map_file_is_read_relative_to_the_scene() {
 }
 
 #[test]
-fn a_strip_model_refuses_what_it_cannot_honour_naming_the_key() {
+fn each_model_refuses_what_it_cannot_honour_naming_the_key() {
     refused(
         "strip-tilt",
         &["static.model=strip", "slider.tilt_x=20 nm"],
         "slider.tilt_x",
+    );
+    refused(
+        "slider-iterations",
+        &["static.model=slider", "static.max_iterations=50"],
+        "static.max_iterations",
     );
     refused(
         "strip-pressure",
@@ -311,7 +316,7 @@ fn bad_whole_slider_input_is_one_line_naming_the_key() {
     );
     refused("lift-off", &["slider.tilt_x=-30 um"], "slider.tilt_x");
     let (dir, _, _) = shared();
-    for (name, text) in [("short", "0,0,1e-9\n"), ("nan", "0,0,NaN\n")] {
+    for (name, text) in [("short-map", "0,0,1e-9\n"), ("nan-map", "0,0,NaN\n")] {
         let csv = dir.path().join(format!("{name}.csv"));
         std::fs::write(&csv, text).expect("map");
         let set = format!("posts.height_map={}", csv.display());
@@ -329,4 +334,66 @@ fn the_slider_writes_its_post_force_map() {
     }
     let csv = std::fs::read_to_string(folder.join("post_forces.csv")).expect("csv");
     assert_eq!(csv.lines().count(), 1001, "header and one line per post");
+}
+
+#[test]
+fn the_scene_keys_land_in_the_motor_in_si_and_the_default_is_the_ideal_motor() {
+    use sawdrive::scene::{DEFAULT_STATIC_MAX_ITERATIONS, StaticModel, load_scene};
+    let ideal = load_scene(None, &[]).expect("default scene");
+    assert_eq!(
+        ideal.motor,
+        motor::Motor::paper(),
+        "the default scene is the ideal paper motor"
+    );
+    assert_eq!(
+        ideal.static_fem.model,
+        StaticModel::Auto,
+        "static.model default"
+    );
+    assert_eq!(
+        ideal.static_fem.max_iterations, DEFAULT_STATIC_MAX_ITERATIONS,
+        "the default scene's static.max_iterations is the one the slider accepts"
+    );
+    let sets: Vec<String> = [
+        "posts.height_scatter=5 nm",
+        "posts.scatter_seed=9",
+        "slider.tilt_x=20 nm",
+        "slider.tilt_y=-10 nm",
+        "slider.bow=3 nm",
+    ]
+    .map(String::from)
+    .to_vec();
+    let real = load_scene(None, &sets).expect("real slider");
+    let i = &real.motor.imperfections;
+    assert_eq!(
+        (
+            i.height_scatter_m,
+            i.scatter_seed,
+            i.tilt_x_m,
+            i.tilt_y_m,
+            i.bow_m
+        ),
+        (5e-9, 9, 20e-9, -10e-9, 3e-9),
+        "σ, seed, tilts and bow in SI"
+    );
+    let ball = load_scene(
+        None,
+        &[
+            "load.mechanism=point".into(),
+            "load.point=2.5 mm, 2 mm".into(),
+        ],
+    )
+    .expect("ball");
+    assert_eq!(
+        ball.motor.load.mechanism,
+        motor::PreloadMechanism::Point {
+            x_m: 2.5e-3,
+            y_m: 2e-3
+        },
+        "the ball's point in m"
+    );
+    let e = load_scene(None, &["load.point=1 mm, 1 mm".into()])
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("load.point:"), "a point without `point`: {e}");
 }

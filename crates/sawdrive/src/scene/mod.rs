@@ -13,8 +13,8 @@ mod resolved;
 use std::path::Path;
 
 pub use resolved::{
-    Contact, DEFAULT_CURVE_POINTS, DEFAULT_TRANSIENT_PERIODS, DEFAULT_VERTICAL_DAMPING_RATIO,
-    Model, Scene, StaticModel, StaticSettings,
+    Contact, DEFAULT_CURVE_POINTS, DEFAULT_STATIC_MAX_ITERATIONS, DEFAULT_TRANSIENT_PERIODS,
+    DEFAULT_VERTICAL_DAMPING_RATIO, Model, Scene, StaticModel, StaticSettings,
 };
 
 /// The embedded default scene: the source paper's motor.

@@ -121,6 +121,10 @@ impl StaticModel {
     }
 }
 
+/// `static.max_iterations` of the default scene (the strip's active-set limit); the slider
+/// model refuses any other value (its CG has its own limit). Default 100.
+pub const DEFAULT_STATIC_MAX_ITERATIONS: u32 = 100;
+
 /// Static contact settings.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct StaticSettings {
@@ -339,6 +343,14 @@ fn check_static_model(
         _ if settings.stator != StatorModel::HalfSpace => Err(invalid(
             "static.stator",
             "the slider model's stator is the elastic half-space: use \"half-space\"",
+        )),
+        _ if settings.max_iterations != DEFAULT_STATIC_MAX_ITERATIONS => Err(invalid(
+            "static.max_iterations",
+            format!(
+                "bounds the strip model's active-set iterations; the slider model's constrained \
+                 CG has its own limit ({}): leave it at {DEFAULT_STATIC_MAX_ITERATIONS}",
+                slider_contact::solver::DEFAULT_MAX_ITERATIONS
+            ),
         )),
         _ => Ok(()),
     }
