@@ -37,6 +37,10 @@ pub struct Motor {
     pub friction: Friction,
     /// Forces on the slider.
     pub load: Load,
+    /// What a real slider has besides the ideal lattice: post-height scatter, a measured
+    /// height map, tilt and bow (none for the paper's ideal motor).
+    #[serde(default)]
+    pub imperfections: Imperfections,
 }
 
 impl Motor {
@@ -75,7 +79,31 @@ impl Motor {
             load: Load {
                 preload_n: PRELOAD_N,
                 external_load_n: 0.0,
+                mechanism: PreloadMechanism::Rigid,
             },
+            imperfections: Imperfections::default(),
+        }
+    }
+
+    /// Whether the motor is the ideal one the strip model of one post row resolves exactly:
+    /// identical rows (no scatter, map, tilt or bow) on a rigid back. `None` if so, else the
+    /// scene key of the first feature that breaks it.
+    pub fn first_non_ideal_key(&self) -> Option<&'static str> {
+        let i = &self.imperfections;
+        if i.height_scatter_m != 0.0 {
+            Some("posts.height_scatter")
+        } else if i.height_map.is_some() {
+            Some("posts.height_map")
+        } else if i.tilt_x_m != 0.0 {
+            Some("slider.tilt_x")
+        } else if i.tilt_y_m != 0.0 {
+            Some("slider.tilt_y")
+        } else if i.bow_m != 0.0 {
+            Some("slider.bow")
+        } else if self.load.mechanism != PreloadMechanism::Rigid {
+            Some("load.mechanism")
+        } else {
+            None
         }
     }
 
@@ -393,6 +421,77 @@ pub struct Load {
     /// Load opposing the drive (N): the operating point's thrust.
     #[serde(default)]
     pub external_load_n: f64,
+    /// How the preload reaches the slider body.
+    #[serde(default)]
+    pub mechanism: PreloadMechanism,
+}
+
+/// How the preload reaches the slider body (scene key `load.mechanism`; the whole-slider
+/// static model `slider_contact` resolves all three, the strip model only `Rigid`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum PreloadMechanism {
+    /// The body's back is held flat by a rigid plate (bonded layer on a rigid back); its
+    /// orientation is the clamp's (`slider.tilt_x`, `slider.tilt_y`).
+    #[default]
+    Rigid,
+    /// A uniform pressure P/(L·W) on a free back: the body bends and rotates freely; the post
+    /// forces balance P and its moments about the slider's centre.
+    Pressure,
+    /// A ball or pin pressing the free back at (x, y), measured from the slider's (−x, −y)
+    /// corner (scene key `load.point`, e.g. "2.5 mm, 2.5 mm" for the default slider's centre).
+    Point {
+        /// x of the load point (m).
+        x_m: f64,
+        /// y of the load point (m).
+        y_m: f64,
+    },
+}
+
+impl PreloadMechanism {
+    /// Whether the back is free (bends and rotates).
+    pub fn is_free(&self) -> bool {
+        !matches!(self, Self::Rigid)
+    }
+
+    /// The scene name: `rigid`, `pressure` or `point`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Rigid => "rigid",
+            Self::Pressure => "pressure",
+            Self::Point { .. } => "point",
+        }
+    }
+}
+
+/// A measured height map: one extra height δ (m) per post (positive: the post reaches further
+/// towards the stator). Read from a CSV by `slider_contact::HeightMapCsv::read_csv`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HeightMap {
+    /// The CSV it came from.
+    pub file: String,
+    /// δ (m) in lattice order (index i·count_y + j, i along x).
+    pub height_m: Vec<f64>,
+}
+
+/// The imperfections of a real slider, SI (definitions and signs: `slider_contact::heights`,
+/// docs/physics.md). All zero (the default): the ideal slider of identical posts.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct Imperfections {
+    /// Standard deviation σ of the Gaussian post-height scatter (m), ≥ 0.
+    pub height_scatter_m: f64,
+    /// Seed of the scatter.
+    pub scatter_seed: u64,
+    /// A measured height map (added to the scatter; use σ = 0 for the map alone).
+    pub height_map: Option<HeightMap>,
+    /// Tilt τ_x: height change of the back across the slider length (m); the +x end higher.
+    pub tilt_x_m: f64,
+    /// Tilt τ_y: height change across the slider width (m).
+    pub tilt_y_m: f64,
+    /// Bow b: corners above the centre (m); b > 0 is convex towards the stator.
+    pub bow_m: f64,
 }
 
 #[cfg(test)]
@@ -425,5 +524,34 @@ mod tests {
         let m = Motor::paper();
         let back: Motor = serde_json::from_str(&serde_json::to_string(&m).unwrap()).unwrap();
         assert_eq!(back, m);
+        let mut real = Motor::paper();
+        real.imperfections = Imperfections {
+            height_scatter_m: 5e-9,
+            scatter_seed: 7,
+            height_map: Some(HeightMap {
+                file: "h.csv".into(),
+                height_m: vec![1e-9; 4],
+            }),
+            tilt_x_m: 2e-8,
+            tilt_y_m: -1e-8,
+            bow_m: 1e-8,
+        };
+        real.load.mechanism = PreloadMechanism::Point {
+            x_m: 2.5e-3,
+            y_m: 2e-3,
+        };
+        let back: Motor = serde_json::from_str(&serde_json::to_string(&real).unwrap()).unwrap();
+        assert_eq!(back, real, "imperfections and mechanism survive the JSON");
+    }
+
+    #[test]
+    fn the_paper_motor_is_ideal_and_each_imperfection_names_its_key() {
+        let mut m = Motor::paper();
+        assert_eq!(m.first_non_ideal_key(), None, "the paper's motor is ideal");
+        m.imperfections.bow_m = 1e-9;
+        assert_eq!(m.first_non_ideal_key(), Some("slider.bow"), "bow");
+        m.imperfections.bow_m = 0.0;
+        m.load.mechanism = PreloadMechanism::Pressure;
+        assert_eq!(m.first_non_ideal_key(), Some("load.mechanism"), "mechanism");
     }
 }

@@ -6,7 +6,7 @@
 //! centre; `precondition`: the ball's CG preconditioned by the plate,
 //! `SliderModel::precondition_free_back`; tolerance: the CG's, default 1e-9).
 
-use slider_contact::{ComplianceOperator, Mechanism, SliderModel, SliderParams};
+use slider_contact::{ComplianceOperator, Mechanism, MechanismExt, SliderModel, SliderParams};
 
 fn main() -> anyhow::Result<()> {
     let side: usize = std::env::args().nth(1).map_or(Ok(100), |s| s.parse())?;

@@ -13,7 +13,7 @@
 //! differential compliances C_ii − C_ij of the FEM and of the lattice, which do not depend on
 //! s_post, test the far field (the split); [`NearFieldCalibration::differential`] lists them.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use static_contact::StripModel;
 
 use crate::error::{Result, invalid};
@@ -25,7 +25,7 @@ use crate::layer::TABLE_MIN_RANGE_OVER_T;
 pub const CENTRAL_FRACTION: f64 = 0.2;
 
 /// One differential compliance C_ii − C_ij (m/N) of a central post i.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct DifferentialCheck {
     /// Post i.
     pub post: usize,
@@ -38,7 +38,7 @@ pub struct DifferentialCheck {
 }
 
 /// The near field taken from a strip FEM.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct NearFieldCalibration {
     /// s_post (m/N).
     pub slider_self_compliance_m_per_n: f64,

@@ -12,26 +12,27 @@
 
 use std::path::Path;
 
-use serde::Serialize;
-
 use crate::error::{Result, SliderError, invalid};
 use crate::lattice::LatticeGeometry;
 use crate::rng::SplitMix64;
 
-/// A measured height map: one extra height (m) per post.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct HeightMap {
-    /// The CSV it came from.
-    pub file: String,
-    /// δ (m) in lattice order (index i·n_y + j).
-    pub height_m: Vec<f64>,
-}
+/// A measured height map: one extra height (m) per post (the motor's [`motor::HeightMap`]).
+pub use motor::HeightMap;
+/// The imperfections of a real slider (module doc; the motor's [`motor::Imperfections`]).
+pub use motor::Imperfections;
 
-impl HeightMap {
+/// Reading a [`HeightMap`] from its CSV.
+pub trait HeightMapCsv: Sized {
     /// Reads a CSV of lines `row,column,height_m` (an optional header line whose first field is
     /// not a number; `#` comments and blank lines skipped): row = post index along y
     /// (0..posts_y), column = along x (0..posts_x), every post exactly once, finite heights.
-    pub fn read_csv(path: &Path, posts_x: usize, posts_y: usize) -> Result<Self> {
+    fn read_csv(path: &Path, posts_x: usize, posts_y: usize) -> Result<Self>;
+    /// Parses the CSV text of [`HeightMapCsv::read_csv`].
+    fn parse(text: &str, file: &str, posts_x: usize, posts_y: usize) -> Result<Self>;
+}
+
+impl HeightMapCsv for HeightMap {
+    fn read_csv(path: &Path, posts_x: usize, posts_y: usize) -> Result<Self> {
         let file = path.display().to_string();
         let text = std::fs::read_to_string(path).map_err(|e| SliderError::HeightMap {
             file: file.clone(),
@@ -40,8 +41,7 @@ impl HeightMap {
         Self::parse(&text, &file, posts_x, posts_y)
     }
 
-    /// Parses the CSV text of [`HeightMap::read_csv`].
-    pub fn parse(text: &str, file: &str, posts_x: usize, posts_y: usize) -> Result<Self> {
+    fn parse(text: &str, file: &str, posts_x: usize, posts_y: usize) -> Result<Self> {
         let err = |detail: String| SliderError::HeightMap {
             file: file.to_string(),
             detail,
@@ -118,26 +118,34 @@ impl HeightMap {
     }
 }
 
-/// The imperfections of a real slider (module doc), SI.
-#[derive(Debug, Clone, PartialEq, Serialize, Default)]
-pub struct Imperfections {
-    /// Standard deviation σ of the Gaussian post-height scatter (m), ≥ 0.
-    pub height_scatter_m: f64,
-    /// Seed of the scatter.
-    pub scatter_seed: u64,
-    /// A measured height map (added to the scatter; use σ = 0 for the map alone).
-    pub height_map: Option<HeightMap>,
-    /// Tilt τ_x: height change of the back across the slider length (m).
-    pub tilt_x_m: f64,
-    /// Tilt τ_y: height change across the slider width (m).
-    pub tilt_y_m: f64,
-    /// Bow b: corners above the centre (m).
-    pub bow_m: f64,
+/// What the whole-slider model computes from [`Imperfections`]: checks and post offsets δ_i.
+pub trait ImperfectionsExt {
+    /// Checks the fields; errors name them.
+    fn validate(&self, geometry: &LatticeGeometry) -> Result<()>;
+    /// Refuses a tilt or bow that brings a corner of the slider body (its underside,
+    /// `post_height_m` above the post tips) onto the stator before the posts: then the body, not
+    /// the posts, carries the preload and every post is lifted off. Compares the body's lowest
+    /// corner with the most protruding post (offsets δ from [`ImperfectionsExt::post_offsets_m`]).
+    fn check_body_clearance(
+        &self,
+        g: &LatticeGeometry,
+        post_height_m: f64,
+        offsets_m: &[f64],
+    ) -> Result<()>;
+    /// δ_i (m) of every post in lattice order.
+    fn post_offsets_m(&self, g: &LatticeGeometry) -> Result<Vec<f64>>;
 }
 
-impl Imperfections {
-    /// Checks the fields; errors name them.
-    pub fn validate(&self, geometry: &LatticeGeometry) -> Result<()> {
+/// The tilt-and-bow part of δ at a point (x, y) from the slider's centre (m).
+fn shape_m(imp: &Imperfections, g: &LatticeGeometry, x: f64, y: f64) -> f64 {
+    let (l, w) = (g.slider_length_m, g.slider_width_m);
+    -imp.tilt_x_m * x / l
+        - imp.tilt_y_m * y / w
+        - imp.bow_m * (x * x + y * y) / (0.25 * (l * l + w * w))
+}
+
+impl ImperfectionsExt for Imperfections {
+    fn validate(&self, geometry: &LatticeGeometry) -> Result<()> {
         let s = self.height_scatter_m;
         if !(s >= 0.0 && s.is_finite()) {
             return Err(invalid(
@@ -170,19 +178,7 @@ impl Imperfections {
         Ok(())
     }
 
-    /// The tilt-and-bow part of δ at a point (x, y) from the slider's centre (m).
-    fn shape_m(&self, g: &LatticeGeometry, x: f64, y: f64) -> f64 {
-        let (l, w) = (g.slider_length_m, g.slider_width_m);
-        -self.tilt_x_m * x / l
-            - self.tilt_y_m * y / w
-            - self.bow_m * (x * x + y * y) / (0.25 * (l * l + w * w))
-    }
-
-    /// Refuses a tilt or bow that brings a corner of the slider body (its underside, `post_height_m`
-    /// above the post tips) onto the stator before the posts: then the body, not the posts,
-    /// carries the preload and every post is lifted off. Compares the body's lowest corner with
-    /// the most protruding post (offsets δ from [`Imperfections::post_offsets_m`]).
-    pub fn check_body_clearance(
+    fn check_body_clearance(
         &self,
         g: &LatticeGeometry,
         post_height_m: f64,
@@ -191,7 +187,7 @@ impl Imperfections {
         let highest_post = offsets_m.iter().copied().fold(f64::MIN, f64::max);
         let (hl, hw) = (0.5 * g.slider_length_m, 0.5 * g.slider_width_m);
         for (x, y) in [(-hl, -hw), (-hl, hw), (hl, -hw), (hl, hw)] {
-            let body = self.shape_m(g, x, y);
+            let body = shape_m(self, g, x, y);
             if body - post_height_m > highest_post {
                 let parts = [
                     (
@@ -226,8 +222,7 @@ impl Imperfections {
         Ok(())
     }
 
-    /// δ_i (m) of every post in lattice order.
-    pub fn post_offsets_m(&self, g: &LatticeGeometry) -> Result<Vec<f64>> {
+    fn post_offsets_m(&self, g: &LatticeGeometry) -> Result<Vec<f64>> {
         self.validate(g)?;
         let scatter = if self.height_scatter_m > 0.0 {
             SplitMix64::new(self.scatter_seed).normals(g.len())
@@ -242,7 +237,7 @@ impl Imperfections {
                 let y = g.y_m(j) - 0.5 * w;
                 let idx = g.index(i, j);
                 let map = self.height_map.as_ref().map_or(0.0, |m| m.height_m[idx]);
-                out.push(self.height_scatter_m * scatter[idx] + map + self.shape_m(g, x, y));
+                out.push(self.height_scatter_m * scatter[idx] + map + shape_m(self, g, x, y));
             }
         }
         Ok(out)

@@ -62,7 +62,7 @@ impl ComplianceOperator for nalgebra::DMatrix<f64> {
 }
 
 /// The post lattice of the slider: n_x × n_y posts at pitch p, centred on the slider.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LatticeGeometry {
     /// Posts along x (the wave's direction).
     pub posts_x: usize,
@@ -182,7 +182,7 @@ pub struct OperatorSpec {
 }
 
 /// The parts of the diagonal (m/N), for reports.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct DiagonalParts {
     /// Stator rigid-disk sink 1/k_sn.
     pub stator_self_m_per_n: f64,

@@ -45,7 +45,7 @@ pub mod solver;
 pub use balanced::BalancedCg;
 pub use calibration::{NearFieldCalibration, calibrate_near_field};
 pub use error::{Result, SliderError};
-pub use heights::{HeightMap, Imperfections};
+pub use heights::{HeightMap, HeightMapCsv, Imperfections, ImperfectionsExt};
 pub use lattice::{
     ComplianceOperator, DiagonalParts, LatticeGeometry, LatticeKernel, LatticeOperator, NearField,
     OperatorSpec,
@@ -53,6 +53,6 @@ pub use lattice::{
 pub use plate::FreePlate;
 pub use precondition::{ContactPreconditioner, PlatePreconditioner};
 pub use slider::{
-    FreeBack, Mechanism, SliderModel, SliderParams, SliderReport, SliderSnapshot, run,
+    FreeBack, Mechanism, MechanismExt, SliderModel, SliderParams, SliderReport, SliderSnapshot, run,
 };
 pub use solver::{CgOptions, CgSolution, ConstrainedCg};

@@ -16,12 +16,12 @@ use std::time::Instant;
 use contact_springs::{Material, post_springs};
 use motor::Motor;
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use static_contact::{EtaFit, FitSample, fit_eta};
 
 use crate::balanced::BalancedCg;
 use crate::error::{Result, SliderError, invalid};
-use crate::heights::Imperfections;
+use crate::heights::{Imperfections, ImperfectionsExt};
 use crate::lattice::{
     ComplianceOperator, DiagonalParts, LatticeGeometry, LatticeOperator, NearField, OperatorSpec,
 };
@@ -29,31 +29,28 @@ use crate::plate::FreePlate;
 use crate::precondition::{ContactPreconditioner, PlatePreconditioner};
 use crate::solver::{CgOptions, CgSolution, ConstrainedCg};
 
-/// How the preload reaches the slider body (scene key `load.mechanism`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Default)]
-#[serde(rename_all = "snake_case")]
-pub enum Mechanism {
-    /// The body's back is held flat by a rigid plate (bonded layer on a rigid back); its
-    /// orientation is the clamp's (`slider.tilt_x`, `slider.tilt_y`).
-    #[default]
-    Rigid,
-    /// A uniform pressure P/(L·W) on a free back: the body bends ([`crate::plate`]) and rotates
-    /// freely; the post forces balance P and its moments about the slider's centre.
-    Pressure,
-    /// A ball or pin pressing the free back at (x, y), measured from the slider's (−x, −y)
-    /// corner (scene key `load.point`, e.g. "2.5 mm, 2.5 mm" for the default slider's centre).
-    Point {
-        /// x of the load point (m).
-        x_m: f64,
-        /// y of the load point (m).
-        y_m: f64,
-    },
-}
+/// How the preload reaches the slider body (scene key `load.mechanism`): the motor's
+/// [`motor::PreloadMechanism`] (`rigid`: the body bonded to a rigid flat back, the strip FEM's
+/// clamp; `pressure`: P/(L·W) on a free back; `point`: a ball at (x, y) from the slider's corner).
+pub use motor::PreloadMechanism as Mechanism;
 
-impl Mechanism {
+/// What the whole-slider model needs of a [`Mechanism`] besides its data: parsing the scene's
+/// words, the load point and its checks.
+pub trait MechanismExt: Sized {
     /// Parses the scene's `load.mechanism` with its `load.point` (m, from the slider's corner):
     /// the point is required by `point` and refused by the others (it would change nothing).
-    pub fn parse(name: &str, point_m: Option<(f64, f64)>) -> Result<Self> {
+    fn parse(name: &str, point_m: Option<(f64, f64)>) -> Result<Self>;
+    /// Where the preload's resultant acts (m from the slider's corner): the centre for a
+    /// pressure, the point for a ball; `None` for the rigid back.
+    fn load_point_m(&self, g: &LatticeGeometry) -> Option<(f64, f64)>;
+    /// Refuses a load point outside the slider or outside the post array (the posts could not
+    /// balance its moment: the slider tips over its edge posts), and a free back on a single
+    /// row or column of posts; errors name `load.point` / `load.mechanism`.
+    fn validate(&self, g: &LatticeGeometry) -> Result<()>;
+}
+
+impl MechanismExt for Mechanism {
+    fn parse(name: &str, point_m: Option<(f64, f64)>) -> Result<Self> {
         match (name, point_m) {
             ("point", Some((x_m, y_m))) => Ok(Self::Point { x_m, y_m }),
             ("point", None) => Err(invalid(
@@ -76,14 +73,7 @@ impl Mechanism {
         }
     }
 
-    /// Whether the back is free (bends and rotates).
-    pub fn is_free(&self) -> bool {
-        !matches!(self, Self::Rigid)
-    }
-
-    /// Where the preload's resultant acts (m from the slider's corner): the centre for a
-    /// pressure, the point for a ball; `None` for the rigid back.
-    pub fn load_point_m(&self, g: &LatticeGeometry) -> Option<(f64, f64)> {
+    fn load_point_m(&self, g: &LatticeGeometry) -> Option<(f64, f64)> {
         match *self {
             Self::Rigid => None,
             Self::Pressure => Some((0.5 * g.slider_length_m, 0.5 * g.slider_width_m)),
@@ -91,10 +81,7 @@ impl Mechanism {
         }
     }
 
-    /// Refuses a load point outside the slider or outside the post array (the posts could not
-    /// balance its moment: the slider tips over its edge posts), and a free back on a single
-    /// row or column of posts; errors name `load.point` / `load.mechanism`.
-    pub fn validate(&self, g: &LatticeGeometry) -> Result<()> {
+    fn validate(&self, g: &LatticeGeometry) -> Result<()> {
         let Some((x, y)) = self.load_point_m(g) else {
             return Ok(());
         };
@@ -184,7 +171,8 @@ impl Default for SliderParams {
 
 impl SliderParams {
     /// The whole slider of `motor` with the default settings (4 phases, ideal posts, rigid back,
-    /// Johnson near field). The lattice takes the x pitch (square lattices only).
+    /// Johnson near field), its imperfections and preload mechanism. The lattice takes the x
+    /// pitch (square lattices only).
     pub fn for_motor(motor: &Motor) -> Self {
         let posts = &motor.posts;
         Self {
@@ -202,8 +190,8 @@ impl SliderParams {
             wavelength_m: motor.wave.wavelength_m(),
             preload_n: motor.load.preload_n,
             phases: 4,
-            imperfections: Imperfections::default(),
-            mechanism: Mechanism::Rigid,
+            imperfections: motor.imperfections.clone(),
+            mechanism: motor.load.mechanism,
             near_field: NearField::Johnson,
             solver: CgOptions::default(),
         }
@@ -278,7 +266,7 @@ impl SliderParams {
 }
 
 /// One phase of one preload.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SliderSnapshot {
     /// θ₀ (rad); `None` for the flat stator.
     pub phase_rad: Option<f64>,
@@ -305,10 +293,10 @@ pub struct SliderSnapshot {
 }
 
 /// The report of a whole-slider run; top-level keys follow the contract.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SliderReport {
     /// Always `"slider"`.
-    pub model: &'static str,
+    pub model: String,
     /// How the preload is applied.
     pub mechanism: Mechanism,
     /// Preload (N).
@@ -565,7 +553,7 @@ impl SliderModel {
         let m = snapshots.len() as f64;
         let contact_s = start.elapsed().as_secs_f64();
         Ok(SliderReport {
-            model: "slider",
+            model: "slider".into(),
             mechanism: p.mechanism,
             preload_n,
             effective_contact_ratio: eta_fit.eta,

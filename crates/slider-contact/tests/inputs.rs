@@ -3,7 +3,10 @@
 
 use std::io::Write;
 
-use slider_contact::{HeightMap, Imperfections, Mechanism, SliderModel, SliderParams};
+use slider_contact::{
+    HeightMap, HeightMapCsv, Imperfections, ImperfectionsExt, Mechanism, MechanismExt, SliderModel,
+    SliderParams,
+};
 
 fn small(imperfections: Imperfections) -> SliderParams {
     SliderParams {

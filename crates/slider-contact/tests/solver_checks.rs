@@ -4,7 +4,8 @@
 
 use nalgebra::DMatrix;
 use slider_contact::{
-    ConstrainedCg, Imperfections, LatticeKernel, LatticeOperator, SliderModel, SliderParams,
+    ConstrainedCg, Imperfections, ImperfectionsExt, LatticeKernel, LatticeOperator, SliderModel,
+    SliderParams,
 };
 use static_contact::{ActiveSetSolver, ContactProblem};
 

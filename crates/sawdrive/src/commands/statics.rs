@@ -3,7 +3,7 @@
 use std::io::Write;
 
 use sawdrive::output::StagedDir;
-use sawdrive::pipeline::{run_static, scene_springs, write_static_files};
+use sawdrive::pipeline::{StaticDetails, run_static, scene_springs, write_static_files};
 use sawdrive::scene::load_scene;
 
 use crate::cli::StageArgs;
@@ -27,11 +27,22 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
         writeln!(out, "{}", serde_json::to_string_pretty(r)?)?;
         return Ok(());
     }
-    writeln!(
-        out,
-        "static contact of {} ({} posts in the strip of {})",
-        scene.name, r.posts_in_strip, r.posts_total
-    )?;
+    match &r.details {
+        StaticDetails::Strip(strip) => writeln!(
+            out,
+            "static contact of {}, strip model ({} posts in the strip of {})",
+            scene.name, strip.posts_in_strip, strip.posts_total
+        )?,
+        StaticDetails::Slider(stage) => writeln!(
+            out,
+            "static contact of {}, whole-slider model ({} × {} posts, {} back)",
+            scene.name,
+            stage.report.posts_x,
+            stage.report.posts_y,
+            stage.report.mechanism.name()
+        )?,
+    }
+    writeln!(out, "  model: {}", r.model_reason)?;
     writeln!(
         out,
         "effective contact ratio η   {}",
@@ -40,11 +51,13 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
     if let Some(note) = &r.effective_contact_ratio_note {
         writeln!(out, "  note: {note}")?;
     }
-    writeln!(
-        out,
-        "η at full contact          {}  (the high-preload limit)",
-        number(r.eta_full_contact)
-    )?;
+    if let StaticDetails::Strip(strip) = &r.details {
+        writeln!(
+            out,
+            "η at full contact          {}  (the high-preload limit)",
+            number(strip.eta_full_contact)
+        )?;
+    }
     writeln!(
         out,
         "load sharing               {}",
@@ -60,13 +73,20 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
         "complementarity residual   {:.2e}",
         r.complementarity_residual
     )?;
-    writeln!(out, "active-set iterations      {}", r.iterations)?;
+    writeln!(out, "solver iterations          {}", r.iterations)?;
     writeln!(
         out,
         "wall time                  {:.2} s{}",
-        r.timings.wall_time_s,
+        r.wall_time_s,
         if outcome.cached { " (cached)" } else { "" }
     )?;
+    if outcome.cell_fem_s > 0.0 {
+        writeln!(
+            out,
+            "one-off cell FEM           {:.2} s  (near field, now cached)",
+            outcome.cell_fem_s
+        )?;
+    }
     writeln!(out, "results in {}", folder.display())?;
     Ok(())
 }

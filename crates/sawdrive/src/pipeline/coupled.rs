@@ -24,7 +24,10 @@ use serde::{Deserialize, Serialize};
 use static_contact::StripModel;
 use stick_slip::{CurvePoint, DynamicResult, ModelKind, VerticalModel};
 
-use super::statics::{StaticOutcome, geometry_key, sha256_hex, static_params};
+use super::statics::{
+    StaticDetails, StaticOutcome, geometry_key, sha256_hex, static_params,
+};
+use crate::scene::StaticModel;
 use super::{DynamicRun, PipelineError, run_dynamic, write_dynamic_files};
 use crate::output::io;
 use crate::scene::{DEFAULT_COUPLED_STEPS_PER_PERIOD, Dynamics, Scene};
@@ -294,8 +297,8 @@ pub fn run_dynamic_stage(
 ) -> Result<DynamicStage, PipelineError> {
     let lumped = run_dynamic(scene, springs, effective_ratio)?;
     let evidence = statics.and_then(|s| {
-        LumpedEvidence::from_report(
-            &s.report,
+        evidence(
+            s,
             lumped.result.no_load_speed_m_per_s,
             scene.motor.wave.crest_speed_m_per_s(),
         )
@@ -318,6 +321,30 @@ pub fn run_dynamic_stage(
     })
 }
 
+/// The criterion's evidence from the static stage of either model: its η fit's misfit (the
+/// strip's main preload, or the whole slider's fit), with the lumped no-load speed.
+fn evidence(
+    statics: &StaticOutcome,
+    lumped_no_load_speed_m_per_s: f64,
+    crest_speed_m_per_s: f64,
+) -> Option<LumpedEvidence> {
+    match &statics.report.details {
+        StaticDetails::Strip(report) => LumpedEvidence::from_report(
+            report,
+            lumped_no_load_speed_m_per_s,
+            crest_speed_m_per_s,
+        ),
+        StaticDetails::Slider(slider) => {
+            let fit = &slider.report.eta_fit;
+            fit.eta.map(|_| LumpedEvidence {
+                eta_fit_misfit: fit.relative_rms_residual,
+                lumped_no_load_speed_m_per_s,
+                crest_speed_m_per_s,
+            })
+        }
+    }
+}
+
 /// Whether the coupled model runs, and why.
 fn decide(
     scene: &Scene,
@@ -332,9 +359,24 @@ fn decide(
                       but contact.effective_ratio is given: set it to \"fem\""
                 .into(),
         }),
+        (Dynamics::Coupled, Some(s), _) if s.report.model != StaticModel::Strip => {
+            Err(PipelineError::Unsupported {
+                stage: "dynamic",
+                message: "model.dynamics = \"coupled\" runs on the strip's tip compliances, but \
+                          the static stage ran the whole slider (static.model): set static.model \
+                          = \"strip\" (an ideal slider) or use a lumped model"
+                    .into(),
+            })
+        }
         (Dynamics::Coupled, Some(_), _) => {
             Ok((true, "model.dynamics = \"coupled\" asks for it".into()))
         }
+        (Dynamics::Auto, Some(s), _) if s.report.model != StaticModel::Strip => Ok((
+            false,
+            "lumped: the coupled model runs on the strip's compliances, and the static stage \
+             ran the whole slider (its η carries the imperfections)"
+                .into(),
+        )),
         (Dynamics::Auto, None, _) => Ok((
             false,
             "lumped: η is given (contact.effective_ratio), so no static fit estimates the \

@@ -8,6 +8,7 @@ mod coupled;
 mod dynamics;
 mod error;
 mod run;
+mod slider_static;
 mod springs;
 mod statics;
 
@@ -17,7 +18,11 @@ pub use coupled::{
 pub use dynamics::{DynamicRun, dynamic_scene, run_dynamic, write_dynamic_files};
 pub use error::PipelineError;
 pub use run::{RunOptions, RunSummary, StageTimings, run_pipeline};
+pub use slider_static::{
+    SliderStage, run_slider_static, slider_content_hash, slider_params, write_slider_maps,
+};
 pub use springs::scene_springs;
 pub use statics::{
-    StaticOutcome, fill_static_cache, geometry_key, run_static, static_params, write_static_files,
+    StaticDetails, StaticOutcome, StaticStageReport, fill_static_cache, geometry_key, run_static,
+    static_params, write_static_files,
 };

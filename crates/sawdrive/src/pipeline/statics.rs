@@ -1,10 +1,11 @@
-//! Static stage: the slider strip pressed on the frozen wave → post forces and η, and its
-//! verified cache: `static-<content hash>.json` holds the typed report with the SHA-256 of its
-//! JSON and of the cached field files; an entry that fails the check is rebuilt and reported on
-//! stderr, and results folders get copies of cached files (never hard links).
+//! Static stage: the slider pressed on the frozen wave → post forces and η, by the model
+//! `static.model` chooses ([`StaticModel::choose`]): the strip (one post row, FEM) here, the
+//! whole slider in [`super::slider_static`]. The strip's verified cache:
+//! `static-<content hash>.json` holds the typed report with the SHA-256 of its JSON and of the
+//! cached field files; an entry that fails the check is rebuilt and reported on stderr, and
+//! results folders get copies of cached files (never hard links).
 
 use std::collections::BTreeMap;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use contact_springs::PostSprings;
@@ -13,8 +14,9 @@ use sha2::{Digest, Sha256};
 use static_contact::{ContactError, MeshChoice, StaticAnalysis, StaticParams, StaticReport};
 
 use super::PipelineError;
+use super::slider_static::{SliderStage, announce, run_slider_static, write_slider_maps};
 use crate::output::{StagedDir, io};
-use crate::scene::Scene;
+use crate::scene::{Scene, StaticModel};
 
 /// Relative tolerance on equal x and y pitch (the strip model needs a square post lattice).
 const PITCH_MISMATCH_TOLERANCE: f64 = 1e-9;
@@ -55,18 +57,112 @@ pub fn static_params(
     })
 }
 
+/// The static stage's report, whichever model ran: the contract's numbers as fields (the same
+/// for both models) and the model's own report. Its JSON is the model's report with `model`,
+/// `model_reason` and `wall_time_s` added at the top level.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StaticStageReport {
+    /// The model that ran: `Strip` or `Slider`.
+    pub model: StaticModel,
+    /// Why that model (one line).
+    pub model_reason: String,
+    /// η (`None`: not identifiable).
+    pub effective_contact_ratio: Option<f64>,
+    /// Why η is `None` or what limits it.
+    pub effective_contact_ratio_note: Option<String>,
+    /// Load sharing (Σf)²/(N Σf²).
+    pub load_sharing: f64,
+    /// Fraction of posts in contact.
+    pub contact_fraction: f64,
+    /// Largest scaled complementarity residual.
+    pub complementarity_residual: f64,
+    /// Solver iterations (active-set for the strip, CG for the slider).
+    pub iterations: usize,
+    /// The stage's own wall time (s); for the slider without the one-off cell FEM.
+    pub wall_time_s: f64,
+    /// The model's report.
+    pub details: StaticDetails,
+}
+
+/// The report of the model that ran.
+#[derive(Debug, Clone, PartialEq)]
+pub enum StaticDetails {
+    /// The strip FEM's report.
+    Strip(Box<StaticReport>),
+    /// The whole slider's.
+    Slider(Box<SliderStage>),
+}
+
+impl StaticStageReport {
+    fn strip(report: StaticReport, model_reason: String) -> Self {
+        Self {
+            model: StaticModel::Strip,
+            model_reason,
+            effective_contact_ratio: report.effective_contact_ratio,
+            effective_contact_ratio_note: report.effective_contact_ratio_note.clone(),
+            load_sharing: report.load_sharing,
+            contact_fraction: report.contact_fraction,
+            complementarity_residual: report.complementarity_residual,
+            iterations: report.iterations,
+            wall_time_s: report.timings.wall_time_s,
+            details: StaticDetails::Strip(Box::new(report)),
+        }
+    }
+
+    fn slider(stage: SliderStage, model_reason: String) -> Self {
+        let r = &stage.report;
+        Self {
+            model: StaticModel::Slider,
+            model_reason,
+            effective_contact_ratio: r.effective_contact_ratio,
+            effective_contact_ratio_note: r.eta_fit.reason.clone(),
+            load_sharing: r.load_sharing,
+            contact_fraction: r.contact_fraction,
+            complementarity_residual: r.complementarity_residual,
+            iterations: r.iterations,
+            wall_time_s: r.wall_time_s,
+            details: StaticDetails::Slider(Box::new(stage)),
+        }
+    }
+}
+
+impl Serialize for StaticStageReport {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::Error;
+        let value = match &self.details {
+            StaticDetails::Strip(r) => serde_json::to_value(r),
+            StaticDetails::Slider(stage) => serde_json::to_value(stage),
+        }
+        .map_err(S::Error::custom)?;
+        let serde_json::Value::Object(mut map) = value else {
+            return Err(S::Error::custom("a static report is a JSON object"));
+        };
+        // The slider's report comes up to the top level, next to its near field and hash.
+        if let Some(serde_json::Value::Object(inner)) = map.remove("report") {
+            map.extend(inner);
+        }
+        map.insert("model".into(), self.model.name().into());
+        map.insert("model_reason".into(), self.model_reason.clone().into());
+        map.insert("wall_time_s".into(), self.wall_time_s.into());
+        map.serialize(serializer)
+    }
+}
+
 /// Result of the static stage: the analysis (fresh runs) or the cached report.
 #[derive(Debug)]
 pub struct StaticOutcome {
     /// The typed report (fresh or from the verified cache).
-    pub report: StaticReport,
+    pub report: StaticStageReport,
     /// η at the scene's preload (`None`: not identifiable, e.g. flat stator).
     pub effective_ratio: Option<f64>,
     /// Content hash of the inputs.
     pub content_hash: String,
     /// Whether the report came from the cache.
     pub cached: bool,
-    /// The analysis, for field and chart output (fresh runs only).
+    /// Seconds of the one-off cell FEM that calibrated the slider's near field in this run
+    /// (0: strip model, or the near field came from the cache).
+    pub cell_fem_s: f64,
+    /// The analysis, for field and chart output (fresh strip runs only).
     pub analysis: Option<StaticAnalysis>,
     /// Cached field files (force chart, VTU) of these inputs, if they were asked for and exist.
     pub cached_fields: Option<PathBuf>,
@@ -177,14 +273,6 @@ fn store(file: &Path, report: &StaticReport, fields: Option<&Path>) -> Result<()
     Ok(())
 }
 
-/// Tell the user on stderr (one line each).
-fn announce(notes: &[String]) {
-    let mut stderr = std::io::stderr().lock();
-    for note in notes {
-        let _ = writeln!(stderr, "note: {note}");
-    }
-}
-
 /// A solver that stopped names the scene keys that limit it; other errors pass through.
 fn static_error(error: ContactError, params: &StaticParams) -> PipelineError {
     match error {
@@ -197,17 +285,38 @@ fn static_error(error: ContactError, params: &StaticParams) -> PipelineError {
     }
 }
 
-/// Run the static stage with the post springs `springs` (computed once per run), or take its report from `cache_dir/static-<hash>.json` when the same
-/// inputs ran before and the entry verifies (a damaged entry is rebuilt, and said so on stderr).
-/// With `with_fields`, the cache also keeps the force chart and the VTU in
-/// `cache_dir/static-<hash>/`, and a cached report without them (e.g. one a sweep filled in)
-/// counts as a miss, so that a results folder never lacks them.
+/// Run the static stage by the model `static.model` chooses (`auto`: the strip for the ideal
+/// motor, else the whole slider, said so on stderr). The whole slider: [`run_slider_static`].
+/// The strip: with the post springs `springs` (computed once per run), or its report from
+/// `cache_dir/static-<hash>.json` when the same inputs ran before and the entry verifies (a
+/// damaged entry is rebuilt, and said so on stderr). With `with_fields`, the cache also keeps
+/// the force chart and the VTU in `cache_dir/static-<hash>/`, and a cached report without them
+/// (e.g. one a sweep filled in) counts as a miss, so that a results folder never lacks them.
 pub fn run_static(
     scene: &Scene,
     springs: &PostSprings,
     cache_dir: Option<&Path>,
     with_fields: bool,
 ) -> Result<StaticOutcome, PipelineError> {
+    let (model, reason) = scene.static_fem.model.choose(&scene.motor);
+    if model == StaticModel::Slider {
+        let (stage, cell_fem_s, cached, mut notes) = run_slider_static(scene, cache_dir)?;
+        // Said after the run, so that an error stays one line (it names the slider model).
+        if scene.static_fem.model == StaticModel::Auto {
+            notes.push(reason.clone());
+        }
+        announce(&notes);
+        return Ok(StaticOutcome {
+            effective_ratio: stage.report.effective_contact_ratio,
+            content_hash: stage.content_hash.clone(),
+            report: StaticStageReport::slider(stage, reason),
+            cached,
+            cell_fem_s,
+            analysis: None,
+            cached_fields: None,
+            notes,
+        });
+    }
     let params = static_params(scene, cache_dir.map(|d| d.join("meshes")).as_deref())?;
     let content_hash = params.content_hash()?;
     let cache_file = cache_dir.map(|d| d.join(format!("static-{content_hash}.json")));
@@ -220,9 +329,10 @@ pub fn run_static(
             Lookup::Hit(report) => {
                 return Ok(StaticOutcome {
                     effective_ratio: report.effective_contact_ratio,
-                    report: *report,
+                    report: StaticStageReport::strip(*report, reason),
                     content_hash,
                     cached: true,
+                    cell_fem_s: 0.0,
                     analysis: None,
                     cached_fields: fields_dir,
                     notes,
@@ -250,9 +360,10 @@ pub fn run_static(
     }
     Ok(StaticOutcome {
         effective_ratio: analysis.report.effective_contact_ratio,
-        report: analysis.report.clone(),
+        report: StaticStageReport::strip(analysis.report.clone(), reason),
         content_hash,
         cached: false,
+        cell_fem_s: 0.0,
         analysis: Some(analysis),
         cached_fields: fields_dir,
         notes,
@@ -293,8 +404,9 @@ fn copy_files(from: &Path, dir: &Path) -> Result<Vec<PathBuf>, PipelineError> {
     Ok(files)
 }
 
-/// Write `static.json`, the post-force chart and the VTU of the first snapshot into `dir` (the
-/// last two from the analysis, or copied from the cache).
+/// Write `static.json` and the field files into `dir`: for the strip, the post-force chart and
+/// the VTU of the first snapshot (from the analysis, or copied from the cache); for the whole
+/// slider, its 2D post-force map ([`write_slider_maps`]).
 pub fn write_static_files(
     outcome: &StaticOutcome,
     dir: &Path,
@@ -302,6 +414,10 @@ pub fn write_static_files(
     let mut files = vec![dir.join("static.json")];
     std::fs::write(&files[0], serde_json::to_vec_pretty(&outcome.report)?)
         .map_err(io("write", &files[0]))?;
+    if let StaticDetails::Slider(stage) = &outcome.report.details {
+        files.extend(write_slider_maps(stage, dir)?);
+        return Ok(files);
+    }
     match (&outcome.cached_fields, &outcome.analysis) {
         (Some(cached), _) if cached.is_dir() => files.extend(copy_files(cached, dir)?),
         (_, Some(analysis)) => files.extend(write_field_files(analysis, dir)?),
@@ -326,10 +442,11 @@ pub fn geometry_key(params: &StaticParams) -> Result<String, PipelineError> {
 /// number of condensations run and the groups that failed (their points fail on their own later).
 pub fn fill_static_cache(scenes: &[Scene], cache_dir: &Path) -> (usize, Vec<(String, String)>) {
     let mut groups: Vec<(String, Vec<(StaticParams, String)>)> = Vec::new();
-    for scene in scenes
-        .iter()
-        .filter(|s| s.contact.effective_ratio.is_none())
-    {
+    // Whole-slider scenes calibrate and cache on their own (one strip FEM per geometry).
+    for scene in scenes.iter().filter(|s| {
+        s.contact.effective_ratio.is_none()
+            && s.static_fem.model.choose(&s.motor).0 == StaticModel::Strip
+    }) {
         let Ok(params) = static_params(scene, Some(&cache_dir.join("meshes"))) else {
             continue;
         };

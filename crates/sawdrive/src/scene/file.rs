@@ -65,6 +65,12 @@ pub struct SliderFile {
     pub thickness: Length,
     /// Slider mass; `"auto"`: ρ · length · width · thickness.
     pub mass: AutoOr<Mass>,
+    /// Tilt: height change of the back across the length (the +x end higher), e.g. `"20 nm"`.
+    pub tilt_x: Length,
+    /// Tilt across the width (the +y side higher).
+    pub tilt_y: Length,
+    /// Bow: the corners above the centre (> 0: convex towards the stator).
+    pub bow: Length,
 }
 
 /// The posts (projections) on the slider's underside.
@@ -79,6 +85,12 @@ pub struct PostsFile {
     pub array: Length,
     /// Extent along y when the array is not square (default: `array`).
     pub array_y: Option<Length>,
+    /// σ of the Gaussian post-height scatter, e.g. `"5 nm"` (≥ 0).
+    pub height_scatter: Length,
+    /// Seed of the scatter.
+    pub scatter_seed: u64,
+    /// A measured height map: CSV of `row,column,height_m` (relative to the scene file).
+    pub height_map: Option<String>,
 }
 
 /// Coulomb friction at the post tips.
@@ -98,6 +110,10 @@ pub struct LoadFile {
     pub preload: Force,
     /// External load opposing the motion.
     pub external: Force,
+    /// How the preload reaches the slider: `rigid`, `pressure` or `point`.
+    pub mechanism: String,
+    /// Where a `point` preload acts, from the slider's (−x, −y) corner: `"2.5 mm, 2.5 mm"`.
+    pub point: Option<String>,
 }
 
 /// Contact reduction.
@@ -141,6 +157,8 @@ pub struct ModelFile {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct StaticFile {
+    /// `strip` (one post row, FEM), `slider` (every post) or `auto`.
+    pub model: String,
     /// Wave snapshot phases θ₀ pooled in the η fit.
     pub phases: u32,
     /// FEM element order: 1 (Tet4) or 2 (Tet10).

@@ -13,8 +13,9 @@ mod resolved;
 use std::path::Path;
 
 pub use resolved::{
-    Contact, DEFAULT_COUPLED_STEPS_PER_PERIOD, DEFAULT_CURVE_POINTS, DEFAULT_TRANSIENT_PERIODS,
-    DEFAULT_VERTICAL_DAMPING_RATIO, Dynamics, Model, Scene, StaticSettings,
+    Contact, DEFAULT_COUPLED_STEPS_PER_PERIOD, DEFAULT_CURVE_POINTS, DEFAULT_STATIC_MAX_ITERATIONS,
+    DEFAULT_TRANSIENT_PERIODS, DEFAULT_VERTICAL_DAMPING_RATIO, Dynamics, Model, Scene, StaticModel,
+    StaticSettings,
 };
 
 /// The embedded default scene: the source paper's motor.
@@ -88,6 +89,7 @@ pub fn load_scene(path: Option<&Path>, overrides: &[String]) -> Result<Scene, Sc
             check_decimal_integers(&text, &origin)?;
             let mut user = parse_table(&text, &origin)?;
             resolve_relative_mesh(&mut user, path);
+            resolve_relative_height_map(&mut user, path);
             merge::deep_merge(&mut table, user);
             origin
         }
@@ -165,6 +167,20 @@ fn resolve_relative_mesh(table: &mut toml::Table, scene_path: &Path) {
     if mesh != "auto" && Path::new(mesh.as_str()).is_relative() {
         let base = scene_path.parent().unwrap_or(Path::new("."));
         *mesh = base.join(mesh.as_str()).display().to_string();
+    }
+}
+
+/// A relative `posts.height_map` in a scene file is relative to that file's folder.
+fn resolve_relative_height_map(table: &mut toml::Table, scene_path: &Path) {
+    let Some(toml::Value::Table(posts)) = table.get_mut("posts") else {
+        return;
+    };
+    let Some(toml::Value::String(map)) = posts.get_mut("height_map") else {
+        return;
+    };
+    if Path::new(map.as_str()).is_relative() {
+        let base = scene_path.parent().unwrap_or(Path::new("."));
+        *map = base.join(map.as_str()).display().to_string();
     }
 }
 

@@ -4,13 +4,13 @@
 //! [`StatorModel`]), so that no enum is mirrored here.
 
 use contact_springs::Material;
-use motor::{Friction, Load, Motor, PostArray, SliderBody, Wave};
+use motor::{Friction, Imperfections, Load, Motor, PostArray, PreloadMechanism, SliderBody, Wave};
 use serde::Serialize;
 use static_contact::StatorModel;
 use stick_slip::{IntegratorKind, ModelChoice, VerticalModel};
 
 use super::SceneError;
-use super::file::{CustomMaterial, MaterialSpec, SceneFile};
+use super::file::{CustomMaterial, LoadFile, MaterialSpec, SceneFile};
 use super::quantity::{AutoOr, EffectiveRatio};
 use crate::units::{Dimension, format_quantity};
 
@@ -126,9 +126,70 @@ pub const DEFAULT_CURVE_POINTS: u32 = 50;
 /// Default 0.05.
 pub const DEFAULT_VERTICAL_DAMPING_RATIO: f64 = 0.05;
 
-/// Static FEM contact settings.
+/// Which static model computes η (`static.model`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StaticModel {
+    /// One post row between symmetry planes on a rigid back (static_contact's strip FEM): exact
+    /// for identical rows, blind to scatter, tilt, bow, the finite width and a free back.
+    Strip,
+    /// Every post of the slider (slider_contact), near field calibrated on the strip FEM.
+    Slider,
+    /// The strip where it is exact, else the slider ([`StaticModel::choose`]).
+    Auto,
+}
+
+impl StaticModel {
+    /// Scene names.
+    pub const NAMES: [(&'static str, StaticModel); 3] = [
+        ("strip", StaticModel::Strip),
+        ("slider", StaticModel::Slider),
+        ("auto", StaticModel::Auto),
+    ];
+
+    /// The model that runs for `motor` (`Strip` or `Slider`) and why, in one line: `auto`
+    /// takes the strip for the ideal motor (identical rows on a rigid back, where it is exact
+    /// and its FEM resolves the post itself) and the slider when any imperfection or a free back
+    /// makes the strip inexact.
+    pub fn choose(self, motor: &Motor) -> (StaticModel, String) {
+        match (self, motor.first_non_ideal_key()) {
+            (StaticModel::Strip, _) => (StaticModel::Strip, "static.model = \"strip\"".into()),
+            (StaticModel::Slider, _) => (StaticModel::Slider, "static.model = \"slider\"".into()),
+            (StaticModel::Auto, None) => (
+                StaticModel::Strip,
+                "static.model = \"auto\": identical rows on a rigid back, where the strip model \
+                 is exact"
+                    .into(),
+            ),
+            (StaticModel::Auto, Some(key)) => (
+                StaticModel::Slider,
+                format!(
+                    "static.model = \"auto\": {key} makes the strip model (identical rows on a \
+                     rigid back) inexact, the whole slider runs"
+                ),
+            ),
+        }
+    }
+
+    /// Its scene name.
+    pub fn name(self) -> &'static str {
+        match self {
+            StaticModel::Strip => "strip",
+            StaticModel::Slider => "slider",
+            StaticModel::Auto => "auto",
+        }
+    }
+}
+
+/// `static.max_iterations` of the default scene (the strip's active-set limit); the slider
+/// model refuses any other value (its CG has its own limit). Default 100.
+pub const DEFAULT_STATIC_MAX_ITERATIONS: u32 = 100;
+
+/// Static contact settings.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct StaticSettings {
+    /// Requested model (`auto` resolved per run by [`StaticModel::choose`]).
+    pub model: StaticModel,
     pub phases: u32,
     pub element_order: u32,
     pub mesh: String,
@@ -216,6 +277,142 @@ fn material(field: &str, spec: &MaterialSpec) -> Result<Material, SceneError> {
             };
             built.map_err(|e| invalid(field, e.to_string()))
         }
+    }
+}
+
+/// The imperfections of the scene's slider (`posts.height_scatter`, `posts.scatter_seed`,
+/// `posts.height_map`, `slider.tilt_x`, `slider.tilt_y`, `slider.bow`), SI; the height map is
+/// read here (every post of the `posts` lattice, finite heights).
+fn imperfections(file: &SceneFile, posts: &PostArray) -> Result<Imperfections, SceneError> {
+    use slider_contact::HeightMapCsv;
+    let p = &file.posts;
+    let height_scatter_m = p.height_scatter.0;
+    if !(height_scatter_m >= 0.0 && height_scatter_m.is_finite()) {
+        return Err(invalid(
+            "posts.height_scatter",
+            format!(
+                "σ of the post-height scatter must be ≥ 0, got {}",
+                format_quantity(height_scatter_m, Dimension::Length)
+            ),
+        ));
+    }
+    let height_map = p
+        .height_map
+        .as_deref()
+        .map(|path| {
+            motor::HeightMap::read_csv(
+                std::path::Path::new(path),
+                posts.count_x as usize,
+                posts.count_y as usize,
+            )
+            .map_err(slider_error)
+        })
+        .transpose()?;
+    let s = &file.slider;
+    Ok(Imperfections {
+        height_scatter_m,
+        scatter_seed: p.scatter_seed,
+        height_map,
+        tilt_x_m: s.tilt_x.0,
+        tilt_y_m: s.tilt_y.0,
+        bow_m: s.bow.0,
+    })
+}
+
+/// `load.mechanism` with `load.point` ("x, y" lengths from the slider's corner, on the
+/// slider `length_m × width_m`).
+fn preload_mechanism(
+    load: &LoadFile,
+    length_m: f64,
+    width_m: f64,
+) -> Result<PreloadMechanism, SceneError> {
+    use slider_contact::MechanismExt;
+    let point = load
+        .point
+        .as_deref()
+        .map(|text| {
+            let bad = |why: String| {
+                invalid(
+                    "load.point",
+                    format!("\"{text}\": {why} (expected \"x, y\" like \"2.5 mm, 2.5 mm\")"),
+                )
+            };
+            let (x, y) = text
+                .split_once(',')
+                .ok_or_else(|| bad("two lengths separated by a comma".into()))?;
+            let length = |v: &str| {
+                crate::units::parse_quantity(v, Dimension::Length).map_err(|e| bad(e.to_string()))
+            };
+            let (x_m, y_m) = (length(x)?, length(y)?);
+            if !((0.0..=length_m).contains(&x_m) && (0.0..=width_m).contains(&y_m)) {
+                return Err(bad(format!(
+                    "outside the slider [0, {}] × [0, {}] (measured from its corner)",
+                    format_quantity(length_m, Dimension::Length),
+                    format_quantity(width_m, Dimension::Length)
+                )));
+            }
+            Ok((x_m, y_m))
+        })
+        .transpose()?;
+    PreloadMechanism::parse(&load.mechanism, point).map_err(slider_error)
+}
+
+/// The whole-slider library's input errors name scene keys (`load.point`, `posts.height_map`,
+/// …): the same one-line error, in the scene's form.
+fn slider_error(e: slider_contact::SliderError) -> SceneError {
+    match e {
+        slider_contact::SliderError::InvalidParameter { field, reason, .. } => {
+            invalid(field, reason)
+        }
+        slider_contact::SliderError::HeightMap { file, detail } => {
+            invalid("posts.height_map", format!("{file}: {detail}"))
+        }
+        other => invalid("static", other.to_string()),
+    }
+}
+
+/// Refuses what the chosen static model cannot honour: with the strip, any imperfection or a
+/// free back (naming the key); with the slider, strip-only settings that would change nothing.
+fn check_static_model(
+    settings: &StaticSettings,
+    motor: &Motor,
+    contact: &Contact,
+) -> Result<(), SceneError> {
+    if let (Some(eta), Some(key)) = (contact.effective_ratio, motor.first_non_ideal_key()) {
+        return Err(invalid(
+            key,
+            format!(
+                "acts through the static stage's η, but contact.effective_ratio = {eta} is given: \
+                 set effective_ratio = \"fem\" or remove {key}"
+            ),
+        ));
+    }
+    match settings.model.choose(motor).0 {
+        StaticModel::Strip => match motor.first_non_ideal_key() {
+            Some(key) => Err(invalid(
+                key,
+                "the strip model (static.model = \"strip\") resolves identical rows on a rigid \
+                 back and cannot honour it: use static.model = \"slider\" or \"auto\"",
+            )),
+            None => Ok(()),
+        },
+        _ if settings.strip_rows != 1 => Err(invalid(
+            "static.strip_rows",
+            "the slider model calibrates its near field on a one-row strip FEM: use 1",
+        )),
+        _ if settings.stator != StatorModel::HalfSpace => Err(invalid(
+            "static.stator",
+            "the slider model's stator is the elastic half-space: use \"half-space\"",
+        )),
+        _ if settings.max_iterations != DEFAULT_STATIC_MAX_ITERATIONS => Err(invalid(
+            "static.max_iterations",
+            format!(
+                "bounds the strip model's active-set iterations; the slider model's constrained \
+                 CG has its own limit ({}): leave it at {DEFAULT_STATIC_MAX_ITERATIONS}",
+                slider_contact::solver::DEFAULT_MAX_ITERATIONS
+            ),
+        )),
+        _ => Ok(()),
     }
 }
 
@@ -395,7 +592,9 @@ impl Scene {
         let load = Load {
             preload_n,
             external_load_n,
+            mechanism: preload_mechanism(&file.load, length_m, width_m)?,
         };
+        let imperfections = imperfections(&file, &posts)?;
 
         let contact = match file.contact.effective_ratio {
             EffectiveRatio::Fem => Contact {
@@ -547,6 +746,7 @@ impl Scene {
         }
         let stator_model = choice("static.stator", &st.stator, &StatorModel::NAMES)?;
         let static_fem = StaticSettings {
+            model: choice("static.model", &st.model, &StaticModel::NAMES)?,
             phases: st.phases,
             element_order: st.element_order,
             mesh: st.mesh.clone(),
@@ -556,17 +756,20 @@ impl Scene {
             max_iterations: st.max_iterations,
         };
 
+        let motor = Motor {
+            wave,
+            stator,
+            slider,
+            posts,
+            friction,
+            load,
+            imperfections,
+        };
+        check_static_model(&static_fem, &motor, &contact)?;
         Ok(Self {
             name: file.name,
             description: file.description,
-            motor: Motor {
-                wave,
-                stator,
-                slider,
-                posts,
-                friction,
-                load,
-            },
+            motor,
             slider_mass_source: mass_source.into(),
             contact,
             model,
