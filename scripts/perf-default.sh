@@ -3,7 +3,8 @@
 #
 #   cold    `sawdrive run` of the default scene, empty mesh cache (gmsh meshes the strip), no FEM
 #           result cache;
-#   cached  the same with the mesh cached (the run above made it), still no FEM result cache;
+#   cached  the same with the mesh cached (the run above made it, with the fill-reducing ordering
+#           of its stiffness stored beside it: no METIS run), still no FEM result cache;
 #   sweep   validation/paper-figures/fig7-8-post-count.toml (25 points, 5 geometries), empty mesh
 #           cache, fresh output folder (no resumed points);
 #
@@ -55,7 +56,8 @@ import json, sys
 r = json.load(open(sys.argv[1]))
 t, f = r["timings"], r["fem"]["slider"]
 print(f"# breakdown of the cached run (s): mesh read {t['mesh_s']:.2f}, assembly {f['assembly_s']:.2f}, "
-      f"ordering+symbolic {f.get('analysis_s', float('nan')):.2f}, "
+      f"ordering+symbolic {f.get('analysis_s', float('nan')):.2f} "
+      f"(ordering {'from the mesh cache' if f.get('ordering_cached') else 'by METIS'}), "
       f"numeric factorisation {f['factor_s'] - f.get('analysis_s', 0.0):.2f}, "
       f"condensation onto the posts {f['solve_s']:.4f}, contact solves + eta fits {t['contact_s']:.4f}, "
       f"static stage {t['wall_time_s']:.2f}")

@@ -355,7 +355,11 @@ pub fn prepare_strip(params: &StaticParams) -> Result<PreparedStrip> {
     }
     let mesh_s = start.elapsed().as_secs_f64();
     let t = Instant::now();
-    let model = StripModel::build(mesh, strip_config(params))?;
+    let model = StripModel::build_with_order_cache(
+        mesh,
+        strip_config(params),
+        resolved.cache_dir.as_deref(),
+    )?;
     Ok(PreparedStrip {
         model,
         notes: resolved.notes,

@@ -8,9 +8,12 @@
 //! unknowns, elastic-fem `sparse/trailing.rs`), no solve per disk. The same factor later
 //! rebuilds the full displacement field for any set of post forces.
 
+use std::path::Path;
 use std::time::Instant;
 
-use elastic_fem::sparse::{NumericCholesky, Ordering, SymbolicCholesky};
+use elastic_fem::sparse::{
+    NumericCholesky, Ordering, SymbolicCholesky, SymmetricMatrix, fill_reducing_order,
+};
 use elastic_fem::static_solver::locate_factor_error;
 use elastic_fem::{
     Connectivity, Constraints, Dirichlet, DofMap, DofTarget, FemError, Model, ReducedSystem,
@@ -21,6 +24,7 @@ use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{ContactError, Result};
+use crate::order_cache::{self, order_file};
 
 /// Relative tolerance (of the disk radius) for picking the nodes of a contact disk. Default 1e-3.
 pub const DISK_NODE_TOLERANCE: f64 = 1e-3;
@@ -94,6 +98,9 @@ pub struct FemStats {
     /// Of `factor_s`: METIS ordering and symbolic analysis (s).
     #[serde(default)]
     pub analysis_s: f64,
+    /// Whether the fill-reducing ordering came from the mesh cache (no METIS run).
+    #[serde(default)]
+    pub ordering_cached: bool,
     /// Symbolic + numeric factorisation time (s).
     pub factor_s: f64,
     /// Time of the condensation onto the disks from the factor (s).
@@ -145,9 +152,49 @@ fn mesh_error(spec: &BodySpec<'_>, source: gmsh_mesh::MeshError) -> ContactError
     }
 }
 
+/// Symbolic analysis of the body's reduced stiffness with the disk ties eliminated last; the
+/// fill-reducing ordering is read from, or stored in, the folder `order_cache` when given.
+/// Returns whether the ordering came from the cache.
+fn analyse(
+    spec: &BodySpec<'_>,
+    k_red: &SymmetricMatrix,
+    masters: &[usize],
+    order_cache: Option<&Path>,
+) -> Result<(SymbolicCholesky, bool)> {
+    let fem = |e| fem_error(spec, e);
+    let Some(dir) = order_cache else {
+        let symbolic = SymbolicCholesky::analyze_with_last(k_red, Ordering::Metis, masters);
+        return Ok((symbolic.map_err(fem)?, false));
+    };
+    let file = order_file(
+        dir,
+        &spec.mesh.source,
+        spec.name,
+        k_red.pattern_fingerprint(),
+    );
+    if let Some((base, used)) = order_cache::load(&file, k_red.dim()) {
+        let symbolic = SymbolicCholesky::analyze_with_last_ordered(k_red, &base, used, masters);
+        return Ok((symbolic.map_err(fem)?, true));
+    }
+    let (base, used) = fill_reducing_order(k_red, Ordering::Metis).map_err(fem)?;
+    order_cache::store(&file, &base, used).map_err(|e| ContactError::CacheWrite {
+        path: file.clone(),
+        detail: e.to_string(),
+    })?;
+    let symbolic = SymbolicCholesky::analyze_with_last_ordered(k_red, &base, used, masters);
+    Ok((symbolic.map_err(fem)?, false))
+}
+
 impl BodyCompliance {
     /// Assembles, constrains, factors and condenses the body.
     pub fn build(spec: &BodySpec<'_>) -> Result<Self> {
+        Self::build_with_order_cache(spec, None)
+    }
+
+    /// [`Self::build`], reading the fill-reducing ordering of the body's stiffness from the
+    /// folder `order_cache` (a mesh cache) or storing it there ([`crate::order_cache`]): a
+    /// second run of the same mesh skips the METIS ordering.
+    pub fn build_with_order_cache(spec: &BodySpec<'_>, order_cache: Option<&Path>) -> Result<Self> {
         let start = Instant::now();
         let mismatch = |detail: String| ContactError::MeshMismatch {
             file: spec.mesh.source.clone(),
@@ -310,8 +357,7 @@ impl BodyCompliance {
         let start = Instant::now();
         // The disk ties eliminated last: their block of K⁻¹ (the compliance) is the inverse of
         // the factor's trailing block (elastic-fem `trailing.rs`), no solve per disk.
-        let symbolic = SymbolicCholesky::analyze_with_last(&k_red, Ordering::Metis, &masters)
-            .map_err(|e| fem_error(spec, e))?;
+        let (symbolic, ordering_cached) = analyse(spec, &k_red, &masters, order_cache)?;
         let analysis_s = start.elapsed().as_secs_f64();
         let factor = symbolic
             .factor(&k_red)
@@ -333,6 +379,7 @@ impl BodyCompliance {
             factor_flops: symbolic.factor_flops(),
             assembly_s,
             analysis_s,
+            ordering_cached,
             factor_s,
             solve_s,
         };

@@ -32,6 +32,7 @@ pub mod halfspace;
 pub mod lcp;
 pub mod lumped;
 pub mod mesh_source;
+pub mod order_cache;
 pub mod output;
 pub mod params;
 pub mod posts;

@@ -183,6 +183,16 @@ pub fn measured_post_height(mesh: &TetMesh, disks: &[Disk]) -> Result<f64> {
 impl StripModel {
     /// Builds the condensed scene from a `slider-strip` mesh (groups of meshes/README.md).
     pub fn build(mesh: TetMesh, config: StripConfig) -> Result<Self> {
+        Self::build_with_order_cache(mesh, config, None)
+    }
+
+    /// [`Self::build`] with the bodies' fill-reducing orderings read from or stored in the folder
+    /// `order_cache` (see [`BodyCompliance::build_with_order_cache`]).
+    pub fn build_with_order_cache(
+        mesh: TetMesh,
+        config: StripConfig,
+        order_cache: Option<&std::path::Path>,
+    ) -> Result<Self> {
         let file = mesh.source.clone();
         let mismatch = |detail: String| ContactError::MeshMismatch {
             file: file.clone(),
@@ -236,19 +246,22 @@ impl StripModel {
                 ..*d
             })
             .collect();
-        let slider = BodyCompliance::build(&BodySpec {
-            name: "slider",
-            mesh: &mesh,
-            volume_group: "slider".into(),
-            material: fem_material(&config.slider_material)?,
-            contact_group: "post_tips".into(),
-            disks: disks.clone(),
-            lateral: TipLateral::Free,
-            clamped_groups: vec!["slider_top".into()],
-            roller_groups: vec![("slider_sym_y0".into(), 1), ("slider_sym_y1".into(), 1)],
-            disk_fraction: 1.0,
-            force_sign: 1.0,
-        })?;
+        let slider = BodyCompliance::build_with_order_cache(
+            &BodySpec {
+                name: "slider",
+                mesh: &mesh,
+                volume_group: "slider".into(),
+                material: fem_material(&config.slider_material)?,
+                contact_group: "post_tips".into(),
+                disks: disks.clone(),
+                lateral: TipLateral::Free,
+                clamped_groups: vec!["slider_top".into()],
+                roller_groups: vec![("slider_sym_y0".into(), 1), ("slider_sym_y1".into(), 1)],
+                disk_fraction: 1.0,
+                force_sign: 1.0,
+            },
+            order_cache,
+        )?;
         let stator = match config.stator {
             StatorModel::HalfSpace => {
                 if config.slider_rows < strip_rows {
@@ -279,24 +292,27 @@ impl StripModel {
                 ))
             }
             StatorModel::MeshedBlock => {
-                StatorCompliance::Meshed(Box::new(BodyCompliance::build(&BodySpec {
-                    name: "stator",
-                    mesh: &mesh,
-                    volume_group: "stator".into(),
-                    material: fem_material(&config.stator_material)?,
-                    contact_group: "stator_top".into(),
-                    disks,
-                    lateral: TipLateral::Free,
-                    clamped_groups: vec!["stator_bottom".into()],
-                    roller_groups: vec![
-                        ("stator_sym_y0".into(), 1),
-                        ("stator_sym_y1".into(), 1),
-                        ("stator_x0".into(), 0),
-                        ("stator_x1".into(), 0),
-                    ],
-                    disk_fraction: 1.0,
-                    force_sign: -1.0,
-                })?))
+                StatorCompliance::Meshed(Box::new(BodyCompliance::build_with_order_cache(
+                    &BodySpec {
+                        name: "stator",
+                        mesh: &mesh,
+                        volume_group: "stator".into(),
+                        material: fem_material(&config.stator_material)?,
+                        contact_group: "stator_top".into(),
+                        disks,
+                        lateral: TipLateral::Free,
+                        clamped_groups: vec!["stator_bottom".into()],
+                        roller_groups: vec![
+                            ("stator_sym_y0".into(), 1),
+                            ("stator_sym_y1".into(), 1),
+                            ("stator_x0".into(), 0),
+                            ("stator_x1".into(), 0),
+                        ],
+                        disk_fraction: 1.0,
+                        force_sign: -1.0,
+                    },
+                    order_cache,
+                )?))
             }
         };
         let compliance_m_per_n = &slider.compliance_m_per_n + stator.matrix();

@@ -330,3 +330,4 @@ impl NumericCholesky {
 // Condensation onto unknowns ordered last (a child module: it builds `SymbolicCholesky` values).
 #[path = "trailing.rs"]
 mod trailing;
+pub use trailing::fill_reducing_order;

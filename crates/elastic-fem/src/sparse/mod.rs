@@ -27,6 +27,7 @@ pub mod pcg;
 pub mod solve;
 
 pub use csr::{CsrMatrix, RowSparse};
+pub use factor::fill_reducing_order;
 pub use factor::{DEFAULT_MIN_PIVOT_RATIO, FactorOptions, NumericCholesky, SymbolicCholesky};
 pub use matrix::SymmetricMatrix;
 pub use ordering::{Ordering, Permutation, metis_nested_dissection};

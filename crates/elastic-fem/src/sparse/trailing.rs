@@ -26,8 +26,13 @@ use super::{NumericCholesky, Ordering, SymbolicCholesky, SymbolicInner, Symmetri
 use crate::error::{FemError, FemResult};
 
 /// Fill-reducing permutation (forward: new → old) of `matrix` by `ordering`, with the Ordering
-/// actually used (METIS falls back to AMD if it refuses the graph).
-fn base_order(matrix: &SymmetricMatrix, ordering: Ordering) -> FemResult<(Vec<usize>, Ordering)> {
+/// actually used (METIS falls back to AMD if it refuses the graph). It depends on the pattern
+/// only, so a caller may store it (e.g. beside a cached mesh) and pass it to
+/// [`SymbolicCholesky::analyze_with_last_ordered`] later.
+pub fn fill_reducing_order(
+    matrix: &SymmetricMatrix,
+    ordering: Ordering,
+) -> FemResult<(Vec<usize>, Ordering)> {
     let n = matrix.dim();
     if ordering == Ordering::Metis {
         if let Some(p) = metis_nested_dissection(matrix) {
@@ -54,6 +59,20 @@ fn base_order(matrix: &SymmetricMatrix, ordering: Ordering) -> FemResult<(Vec<us
     Ok((forward, Ordering::Amd))
 }
 
+/// Marks the unknowns `last`, refusing repeated or out-of-range ones.
+fn last_mask(dim: usize, last: &[usize]) -> FemResult<Vec<bool>> {
+    let mut is_last = vec![false; dim];
+    for &j in last {
+        if j >= dim || is_last[j] {
+            return Err(FemError::SparseBackend(format!(
+                "unknown {j} to be eliminated last is out of range (dim {dim}) or repeated"
+            )));
+        }
+        is_last[j] = true;
+    }
+    Ok(is_last)
+}
+
 impl SymbolicCholesky {
     /// [`SymbolicCholesky::analyze`] with the unknowns `last` (distinct, in this order)
     /// eliminated after all others, so that [`NumericCholesky::trailing_inverse`] gives the
@@ -63,18 +82,30 @@ impl SymbolicCholesky {
         ordering: Ordering,
         last: &[usize],
     ) -> FemResult<Self> {
+        last_mask(matrix.dim(), last)?;
+        let (base, ordering_used) = fill_reducing_order(matrix, ordering)?;
+        Self::analyze_with_last_ordered(matrix, &base, ordering_used, last)
+    }
+
+    /// [`Self::analyze_with_last`] with the fill-reducing permutation `base` (forward: new →
+    /// old, e.g. a stored [`fill_reducing_order`]) instead of computing one; `ordering_used`
+    /// is reported by [`Self::ordering_used`]. `base` must be a permutation of 0..dim.
+    pub fn analyze_with_last_ordered(
+        matrix: &SymmetricMatrix,
+        base: &[usize],
+        ordering_used: Ordering,
+        last: &[usize],
+    ) -> FemResult<Self> {
         let dim = matrix.dim();
-        let mut is_last = vec![false; dim];
-        for &j in last {
-            if j >= dim || is_last[j] {
-                return Err(FemError::SparseBackend(format!(
-                    "unknown {j} to be eliminated last is out of range (dim {dim}) or repeated"
-                )));
-            }
-            is_last[j] = true;
+        let is_last = last_mask(dim, last)?;
+        let mut seen = vec![false; dim];
+        let repeated = |j: usize| j >= dim || std::mem::replace(&mut seen[j], true);
+        if base.len() != dim || base.iter().copied().any(repeated) {
+            return Err(FemError::SparseBackend(format!(
+                "the given ordering is not a permutation of the {dim} unknowns"
+            )));
         }
-        let (base, ordering_used) = base_order(matrix, ordering)?;
-        let mut forward: Vec<usize> = base.into_iter().filter(|&j| !is_last[j]).collect();
+        let mut forward: Vec<usize> = base.iter().copied().filter(|&j| !is_last[j]).collect();
         forward.extend_from_slice(last);
         let mut inverse = vec![0usize; dim];
         for (new, &old) in forward.iter().enumerate() {
@@ -230,6 +261,36 @@ mod tests {
             check_block_against_solves(&cube, &picked, Ordering::Metis),
             "the 3D grid's factor should be supernodal (the branch under test)"
         );
+    }
+
+    #[test]
+    fn a_stored_fill_reducing_order_gives_the_same_factor_and_a_non_permutation_is_refused() {
+        let cube = laplacian(10, 10, 10);
+        let picked = [5, 500, 999];
+        let (base, used) = fill_reducing_order(&cube, Ordering::Metis).unwrap();
+        assert_eq!(used, Ordering::Metis, "ordering used");
+        let direct = SymbolicCholesky::analyze_with_last(&cube, Ordering::Metis, &picked).unwrap();
+        let stored =
+            SymbolicCholesky::analyze_with_last_ordered(&cube, &base, used, &picked).unwrap();
+        assert_eq!(
+            direct.permutation(),
+            stored.permutation(),
+            "a stored ordering must give the permutation of a fresh analysis"
+        );
+        let block = |s: &SymbolicCholesky| s.factor(&cube).unwrap().trailing_inverse(3).unwrap();
+        assert_eq!(
+            block(&direct),
+            block(&stored),
+            "compliance block from a stored ordering"
+        );
+        let mut repeated = base.clone();
+        repeated[1] = repeated[0];
+        for bad in [&base[1..], &repeated[..]] {
+            assert!(
+                SymbolicCholesky::analyze_with_last_ordered(&cube, bad, used, &picked).is_err(),
+                "an ordering that is not a permutation of the unknowns must be refused"
+            );
+        }
     }
 
     #[test]
