@@ -2,9 +2,10 @@
 //! fraction, load sharing, CG iterations and wall times.
 //!
 //! `cargo run -p slider-contact --profile test --example default_slider [posts_per_side]
-//! [rigid | pressure | point] [precondition | plain] [tolerance]` (point: a ball at the slider's
-//! centre; `precondition`: the ball's CG preconditioned by the plate,
-//! `SliderModel::precondition_free_back`; tolerance: the CG's, default 1e-9).
+//! [rigid | pressure | point] [precondition | plain] [tolerance] [phases]` (point: a ball at the
+//! slider's centre; `precondition`: the ball's CG preconditioned by the plate,
+//! `SliderModel::precondition_free_back`; tolerance: the CG's, default 1e-9; phases: wave phases
+//! per preload, default 4).
 
 use slider_contact::{ComplianceOperator, Mechanism, MechanismExt, SliderModel, SliderParams};
 
@@ -24,6 +25,9 @@ fn main() -> anyhow::Result<()> {
     let mut params = params;
     if let Some(tol) = std::env::args().nth(4) {
         params.solver.tolerance = tol.parse()?;
+    }
+    if let Some(phases) = std::env::args().nth(5) {
+        params.phases = phases.parse()?;
     }
     let mut model = SliderModel::build(&params)?;
     model.precondition_free_back = std::env::args().nth(3).as_deref() == Some("precondition");
@@ -50,7 +54,8 @@ fn main() -> anyhow::Result<()> {
         // The free back: the stage at 40 N only (4 phases and η).
         let r = model.analyse(40.0)?;
         println!(
-            "{name}: P = 40 N, 4 phases + η: {:.3} s, η = {:?} (misfit {:.4}), contact fraction {:.3}, load sharing {:.3}, CG iterations {:?}",
+            "{name}: P = 40 N, {} phases + η: {:.3} s, η = {:?} (misfit {:.4}), contact fraction {:.3}, load sharing {:.3}, CG iterations {:?}",
+            params.phases,
             r.contact_s,
             r.effective_contact_ratio,
             r.eta_fit.relative_rms_residual,

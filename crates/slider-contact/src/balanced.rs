@@ -17,6 +17,18 @@
 //! negative drop out). Converged when max_i |min(f̃_i, g̃_i)| and the scaled balance residual
 //! |Σ f̃ φ − (N, 0, 0)|/N are below the tolerance. Needs the load point strictly inside the convex
 //! hull of the posts (else no balance with f ≥ 0: the slider tips), which the caller checks.
+//!
+//! **Departures from Polonsky & Keer that only change the speed** (measured on the default
+//! slider under a pressure, 10 000 posts, 4 phases: 1203 → 826 iterations, validation/whole-slider
+//! README). (1) The conjugacy is *not* restarted when posts re-enter the contact set (Polonsky &
+//! Keer set δ = 0 then): the re-entered posts start with t_i = 0, the direction is still projected
+//! on the set and off the modes, and a direction that is not a descent one (g·t ≤ 0) falls back
+//! to the steepest descent; restarting made the plate's long-wavelength bending converge at the
+//! steepest-descent rate while the set still changed. (2) When a step moves no post out of or into
+//! the set, f − τt already balances the preload (t is orthogonal to the modes on the set), the
+//! rebalancing is skipped and u = Cf is updated as u − τ·Ct, one operator application per
+//! iteration instead of two (recomputed from f every [`MAX_UPDATED_U`] iterations, after any
+//! change of the set, and before convergence is declared).
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -28,6 +40,11 @@ use crate::solver::{CgOptions, CgSolution};
 /// Iterations of the multiplicative balance correction (each drops the posts whose factor is
 /// negative). Default 20.
 const BALANCE_PASSES: usize = 20;
+
+/// Most iterations the displacement u = C f is carried by the update u ← u − τ C t before it is
+/// recomputed from f (bounds the rounding drift; u is also recomputed whenever a post left or
+/// entered the contact set, and before convergence is declared). Default 25.
+const MAX_UPDATED_U: usize = 25;
 
 fn phi(arm: (f64, f64)) -> Vector3<f64> {
     Vector3::new(1.0, arm.0, arm.1)
@@ -63,6 +80,14 @@ fn balance_residual(f: &[f64], arms: &[(f64, f64)]) -> f64 {
         .zip(arms)
         .fold(Vector3::zeros(), |acc, (x, a)| acc + phi(*a) * *x);
     (s - Vector3::new(n, 0.0, 0.0)).abs().max() / n
+}
+
+/// Scaled residual: max_i |min(f̃_i, g̃_i)| and the balance residual.
+fn complementarity(f: &[f64], g: &[f64], arms: &[(f64, f64)]) -> f64 {
+    f.iter()
+        .zip(g)
+        .map(|(a, b)| a.min(*b).abs())
+        .fold(balance_residual(f, arms), f64::max)
 }
 
 /// Multiplicative correction f_i ← f_i (a·φ_i) to Σ f φ = (n, 0, 0); false if impossible.
@@ -172,8 +197,13 @@ impl BalancedCg {
         let (mut delta, mut g_old) = (0.0, 1.0);
         let mut previous_contact: Vec<bool> = Vec::new();
         let mut history = Vec::new();
+        // Iterations since u was last computed from f (None: stale, recompute now).
+        let mut updated_for: Option<usize> = None;
         for iteration in 0..=self.options.max_iterations {
-            op.apply(&f, &mut u);
+            if updated_for.is_none() {
+                op.apply(&f, &mut u);
+                updated_for = Some(0);
+            }
             let contact: Vec<bool> = f.iter().map(|&x| x > 0.0).collect();
             // A preconditioner that changes with the contact set breaks the conjugacy of the
             // old direction: restart (steepest descent in the new metric) when the set changed.
@@ -187,11 +217,20 @@ impl BalancedCg {
             for (gi, a) in g.iter_mut().zip(arms) {
                 *gi -= c.dot(&phi(*a));
             }
-            let residual = f
-                .iter()
-                .zip(&g)
-                .map(|(a, b)| a.min(*b).abs())
-                .fold(balance_residual(&f, arms), f64::max);
+            let mut residual = complementarity(&f, &g, arms);
+            if residual <= self.options.tolerance && updated_for != Some(0) {
+                // Converged on the updated u: confirm on u recomputed from f.
+                op.apply(&f, &mut u);
+                updated_for = Some(0);
+                for i in 0..n {
+                    g[i] = s * u[i] - h[i];
+                }
+                let c = fit_modes(&g, &contact, arms);
+                for (gi, a) in g.iter_mut().zip(arms) {
+                    *gi -= c.dot(&phi(*a));
+                }
+                residual = complementarity(&f, &g, arms);
+            }
             history.push(residual);
             if residual <= self.options.tolerance {
                 return Ok(CgSolution {
@@ -237,21 +276,49 @@ impl BalancedCg {
                 gt += g[i] * t[i];
                 rt += s * r[i] * t[i];
             }
+            if gt <= 0.0 && delta != 0.0 {
+                // Not a descent direction (the kept conjugacy failed): steepest descent.
+                delta = 0.0;
+                for i in 0..n {
+                    t[i] = if contact[i] { z[i] } else { 0.0 };
+                }
+                let ct = fit_modes(&t, &contact, arms);
+                for i in (0..n).filter(|&i| contact[i]) {
+                    t[i] -= ct.dot(&phi(arms[i]));
+                }
+                op.apply(&t, &mut r);
+                (gt, rt) = (0.0, 0.0);
+                for i in (0..n).filter(|&i| contact[i]) {
+                    gt += g[i] * t[i];
+                    rt += s * r[i] * t[i];
+                }
+            } else {
+                delta = 1.0;
+            }
             let tau = if rt > 0.0 { gt / rt } else { 0.0 };
 
-            let mut overlap = false;
+            let mut set_changed = false;
             for i in 0..n {
                 if contact[i] {
-                    f[i] = (f[i] - tau * t[i]).max(0.0);
+                    let fi = f[i] - tau * t[i];
+                    set_changed |= fi <= 0.0;
+                    f[i] = fi.max(0.0);
                 }
                 if f[i] == 0.0 && g[i] < 0.0 {
+                    // Penetrating post outside the contact set re-enters (Polonsky & Keer step 7).
                     f[i] = -tau.max(f64::MIN_POSITIVE) * g[i];
-                    overlap = true;
+                    set_changed = true;
                 }
             }
-            delta = if overlap { 0.0 } else { 1.0 };
             previous_contact = contact;
-            if !rebalance(&mut f, arms) {
+            updated_for = match updated_for {
+                Some(k) if !set_changed && k < MAX_UPDATED_U => {
+                    u.iter_mut().zip(&r).for_each(|(ui, ri)| *ui -= tau * ri);
+                    Some(k + 1)
+                }
+                _ => None,
+            };
+            if updated_for.is_none() && !rebalance(&mut f, arms) {
                 f.iter_mut().for_each(|x| *x = 1.0);
                 rebalance(&mut f, arms);
                 delta = 0.0;

@@ -163,17 +163,17 @@ impl ImperfectionsExt for Imperfections {
                 return Err(invalid(field, v, "must be finite"));
             }
         }
-        if let Some(map) = &self.height_map {
-            if map.height_m.len() != geometry.len() {
-                return Err(SliderError::HeightMap {
-                    file: map.file.clone(),
-                    detail: format!(
-                        "{} heights for a lattice of {} posts",
-                        map.height_m.len(),
-                        geometry.len()
-                    ),
-                });
-            }
+        if let Some(map) = &self.height_map
+            && map.height_m.len() != geometry.len()
+        {
+            return Err(SliderError::HeightMap {
+                file: map.file.clone(),
+                detail: format!(
+                    "{} heights for a lattice of {} posts",
+                    map.height_m.len(),
+                    geometry.len()
+                ),
+            });
         }
         Ok(())
     }

@@ -512,11 +512,13 @@ impl SliderModel {
                     lattice: &self.operator,
                     plate: &back.plate,
                 };
-                let mut pre =
-                    PlatePreconditioner::new(&back.plate, self.operator.parts().total_m_per_n());
                 let use_pre = self.precondition_free_back
                     && matches!(self.params.mechanism, Mechanism::Point { .. });
-                let pre = use_pre.then_some(&mut pre as &mut dyn ContactPreconditioner);
+                // Built only when used: it indexes K for every post (10 000 × 136 entries).
+                let mut pre = use_pre.then(|| {
+                    PlatePreconditioner::new(&back.plate, self.operator.parts().total_m_per_n())
+                });
+                let pre = pre.as_mut().map(|p| p as &mut dyn ContactPreconditioner);
                 BalancedCg::new(self.params.solver)
                     .solve_preconditioned(&op, pre, &shifted, preload_n, scale, &back.arms)
             }

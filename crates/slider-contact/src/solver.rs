@@ -15,6 +15,13 @@
 //! Scaled units: forces by the mean post force P/N, lengths by `length_scale_m` (the wave
 //! amplitude, or P/N × C_ii on a flat stator). Converged when the natural complementarity
 //! residual max_i |min(f̃_i, g̃_i)| is below the tolerance (Σf = P holds to rounding).
+//!
+//! **Departures from Polonsky & Keer that only change the speed** (as in [`crate::balanced`]):
+//! the conjugacy is kept when posts re-enter (re-entered posts start with t_i = 0; a direction that
+//! is not a descent one falls back to the steepest descent), and when a step moves no post out of
+//! or into the contact set, u = Cf is carried as (u − τ·Ct)·(N/Σf) (the rescaling is linear)
+//! instead of recomputed: one operator application per iteration instead of two (recomputed every
+//! [`MAX_UPDATED_U`] iterations, after a change of the set and before convergence is declared).
 
 use serde::Serialize;
 
@@ -25,6 +32,10 @@ use crate::lattice::ComplianceOperator;
 pub const DEFAULT_TOLERANCE: f64 = 1e-9;
 /// Default iteration limit. Default 5000.
 pub const DEFAULT_MAX_ITERATIONS: usize = 5000;
+
+/// Most iterations u = Cf is carried by updates before it is recomputed from f (bounds the
+/// rounding drift). Default 25.
+pub const MAX_UPDATED_U: usize = 25;
 
 /// Options of [`ConstrainedCg`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -86,10 +97,56 @@ fn mean_on(v: &[f64], mask: &[bool]) -> f64 {
     if n == 0 { 0.0 } else { s / n as f64 }
 }
 
+/// Gap g = s·u − h with its mean on the contact set removed (returned) and the scaled residual.
+fn gap_and_residual(
+    f: &[f64],
+    u: &[f64],
+    h: &[f64],
+    s: f64,
+    contact: &[bool],
+    g: &mut [f64],
+) -> (f64, f64) {
+    for i in 0..g.len() {
+        g[i] = s * u[i] - h[i];
+    }
+    let g_mean = mean_on(g, contact);
+    g.iter_mut().for_each(|x| *x -= g_mean);
+    let sum_f: f64 = f.iter().sum();
+    let residual = f
+        .iter()
+        .zip(g.iter())
+        .map(|(a, b)| a.min(*b).abs())
+        .fold((sum_f / f.len() as f64 - 1.0).abs(), f64::max);
+    (g_mean, residual)
+}
+
 impl ConstrainedCg {
     /// A solver with these options.
     pub fn new(options: CgOptions) -> Self {
         Self { options }
+    }
+
+    /// Steepest-descent direction t = g on the contact set, r = s·Ct; returns (g·t, (r − r̄)·t).
+    fn steepest(
+        op: &dyn ComplianceOperator,
+        s: f64,
+        contact: &[bool],
+        g: &[f64],
+        t: &mut [f64],
+        r: &mut [f64],
+    ) -> (f64, f64) {
+        for i in 0..t.len() {
+            t[i] = if contact[i] { g[i] } else { 0.0 };
+        }
+        op.apply(t, r);
+        r.iter_mut().for_each(|x| *x *= s);
+        let r_mean = mean_on(r, contact);
+        let (mut gt, mut rt) = (0.0, 0.0);
+        for i in (0..t.len()).filter(|&i| contact[i]) {
+            gt += g[i] * t[i];
+            rt += (r[i] - r_mean) * t[i];
+        }
+        (gt, rt)
     }
 
     fn validate(n: usize, height_m: &[f64], preload_n: f64, length_scale_m: f64) -> Result<()> {
@@ -145,20 +202,21 @@ impl ConstrainedCg {
         let mut delta = 0.0;
         let mut g_old = 1.0;
         let mut history = Vec::new();
+        // Iterations since u was last computed from f (None: stale, recompute now).
+        let mut updated_for: Option<usize> = None;
         for iteration in 0..=self.options.max_iterations {
-            op.apply(&f, &mut u);
-            let contact: Vec<bool> = f.iter().map(|&x| x > 0.0).collect();
-            for i in 0..n {
-                g[i] = s * u[i] - h[i];
+            if updated_for.is_none() {
+                op.apply(&f, &mut u);
+                updated_for = Some(0);
             }
-            let g_mean = mean_on(&g, &contact);
-            g.iter_mut().for_each(|x| *x -= g_mean);
-            let sum_f: f64 = f.iter().sum();
-            let residual = f
-                .iter()
-                .zip(&g)
-                .map(|(a, b)| a.min(*b).abs())
-                .fold((sum_f / n as f64 - 1.0).abs(), f64::max);
+            let contact: Vec<bool> = f.iter().map(|&x| x > 0.0).collect();
+            let (mut g_mean, mut residual) = gap_and_residual(&f, &u, &h, s, &contact, &mut g);
+            if residual <= self.options.tolerance && updated_for != Some(0) {
+                // Converged on the updated u: confirm on u recomputed from f.
+                op.apply(&f, &mut u);
+                updated_for = Some(0);
+                (g_mean, residual) = gap_and_residual(&f, &u, &h, s, &contact, &mut g);
+            }
             history.push(residual);
             if residual <= self.options.tolerance {
                 return Ok(CgSolution {
@@ -191,25 +249,45 @@ impl ConstrainedCg {
                 gt += g[i] * t[i];
                 rt += (r[i] - r_mean) * t[i];
             }
+            if gt <= 0.0 && delta != 0.0 {
+                // Not a descent direction (the kept conjugacy failed): steepest descent.
+                delta = 0.0;
+                (gt, rt) = Self::steepest(op, s, &contact, &g, &mut t, &mut r);
+            } else {
+                delta = 1.0;
+            }
             let tau = if rt > 0.0 { gt / rt } else { 0.0 };
-            let mut overlap = false;
+            let mut set_changed = false;
             for i in 0..n {
                 if contact[i] {
-                    f[i] = (f[i] - tau * t[i]).max(0.0);
+                    let fi = f[i] - tau * t[i];
+                    set_changed |= fi <= 0.0;
+                    f[i] = fi.max(0.0);
                 }
                 if f[i] == 0.0 && g[i] < 0.0 {
                     // Penetrating post outside the contact set re-enters (Polonsky & Keer step 7).
                     f[i] = -tau.max(f64::MIN_POSITIVE) * g[i];
-                    overlap = true;
+                    set_changed = true;
                 }
             }
-            delta = if overlap { 0.0 } else { 1.0 };
             let sum: f64 = f.iter().sum();
             if sum <= 0.0 {
                 f.iter_mut().for_each(|x| *x = 1.0);
                 delta = 0.0;
+                updated_for = None;
             } else {
-                f.iter_mut().for_each(|x| *x *= n as f64 / sum);
+                let scale = n as f64 / sum;
+                f.iter_mut().for_each(|x| *x *= scale);
+                updated_for = match updated_for {
+                    Some(k) if !set_changed && k < MAX_UPDATED_U => {
+                        // r = s·Ct here.
+                        for (ui, ri) in u.iter_mut().zip(&r) {
+                            *ui = (*ui - tau * ri / s) * scale;
+                        }
+                        Some(k + 1)
+                    }
+                    _ => None,
+                };
             }
         }
         let last = history.last().copied().unwrap_or(f64::NAN);
