@@ -41,7 +41,7 @@ pub fn run(args: &DesignArgs) -> anyhow::Result<()> {
     }
     if report.resumed_evaluations > 0 {
         println!(
-            "  {} evaluations reused from an earlier run",
+            "  {} evaluations reused from saved results (an earlier run, or a design met twice)",
             report.resumed_evaluations
         );
     }

@@ -617,7 +617,8 @@ pub struct DesignReport {
     /// Evaluations computed in this run and their mean wall time (s, measured per evaluation;
     /// parallel evaluations overlap) by fidelity.
     pub cost: Vec<(String, usize, f64)>,
-    /// Evaluations reused from an earlier, interrupted run (`OUT/.design-evaluations/`).
+    /// Evaluations reused from the saved results (`OUT/.design-evaluations/`): an earlier,
+    /// interrupted run's, or a design this run met twice (e.g. a sensitivity neighbour).
     pub resumed_evaluations: usize,
     /// Wall time (s).
     pub wall_time_s: f64,
