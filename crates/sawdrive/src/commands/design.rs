@@ -18,10 +18,11 @@ pub fn run(args: &DesignArgs) -> anyhow::Result<()> {
         describe_variables(&o.variables)
     );
     println!(
-        "  {} = {:.6} ({}{})",
+        "  {} = {:.6} ({}, stage {}{})",
         o.objective,
         o.objective_value,
         o.fidelity,
+        o.stage,
         report
             .quantile
             .map_or(String::new(), |q| format!(", quantile {q}"))
@@ -37,6 +38,12 @@ pub fn run(args: &DesignArgs) -> anyhow::Result<()> {
     }
     for (fidelity, n, s) in &report.cost {
         println!("  {n} evaluations at {fidelity}, {s:.2} s each");
+    }
+    if report.resumed_evaluations > 0 {
+        println!(
+            "  {} evaluations reused from saved results (an earlier run, or a design met twice)",
+            report.resumed_evaluations
+        );
     }
     println!(
         "  {:.1} s; results in {}",

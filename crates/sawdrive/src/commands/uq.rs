@@ -82,6 +82,13 @@ pub fn run(args: &UqArgs) -> anyhow::Result<()> {
             report.deterministic[k].1, b.mean, b.p5, b.p50, b.p95
         );
     }
+    let c = &report.cost;
+    println!(
+        "cost: operator {:.3} s once; per sample {:.3} s static + {:.3} s dynamic ({} computed, {} \
+         built their own operator)",
+        c.operator_s, c.static_s, c.dynamic_s, c.computed_samples, c.operators_built
+    );
+    println!("{} samples failed", report.failed_samples.len());
     for (k, e) in &report.failed_samples {
         println!("sample {k} failed (left out of the bands): {e}");
     }

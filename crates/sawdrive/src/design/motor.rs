@@ -11,7 +11,9 @@
 //! no static solve runs and height scatter, tilt and bow are refused (they could not act).
 
 use contact_springs::PostSprings;
-use serde::Serialize;
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
 use slider_contact::{Imperfections, SliderModel, SliderParams};
 use stick_slip::CurvePoint;
 
@@ -108,6 +110,8 @@ pub struct MotorOutputs {
     pub contact_fraction: Option<f64>,
     /// The speed–thrust curve.
     pub curve: Vec<CurvePoint>,
+    /// Where the evaluation's time went.
+    pub cost: EvaluationCost,
 }
 
 /// Output names (with units) in the order of [`MotorOutputs::values`].
@@ -163,74 +167,170 @@ fn patch_params(mut params: SliderParams) -> SliderParams {
     params
 }
 
-/// η and the contact fraction of `scene` perturbed by `sample` at `fidelity`.
-fn static_eta(
-    scene: &Scene,
-    s: &MotorSample,
+/// The static model of one scene at one fidelity, built once and shared by every sample and
+/// evaluation of that scene: the lattice operator C (the FFT spectrum of the kernel, docs/physics.md
+/// §5) depends only on the lattice, the materials and the post diameter, so a sample that keeps
+/// them (height scatter, tilt, bow, preload, μ) costs only its post offsets, the contact solves
+/// of its phases and the η fit. A sample with another post diameter (the diameter tolerance)
+/// changes C and builds its own operator (counted in [`EvaluationCost::operator_built`]).
+#[derive(Debug)]
+pub struct StaticModel {
     fidelity: Fidelity,
-) -> Result<(f64, Option<f64>), PipelineError> {
-    if let Some(eta) = scene.contact.effective_ratio {
-        if s.has_shape() {
-            return Err(PipelineError::Unsupported {
-                stage: "static",
-                message: format!(
-                    "height scatter, tilt and bow act through the whole-slider static model, but \
-                     contact.effective_ratio = {eta} is given: set effective_ratio = \"fem\" or \
-                     drop the [scatter] height/tilt/bow keys"
-                ),
+    /// The nominal scene's whole-slider model (`None`: η given by the scene).
+    nominal: Option<SliderModel>,
+}
+
+impl StaticModel {
+    /// Builds the operator of `scene` at `fidelity` (nothing when the scene gives η).
+    pub fn build(scene: &Scene, fidelity: Fidelity) -> Result<Self, PipelineError> {
+        if scene.contact.effective_ratio.is_some() {
+            return Ok(Self {
+                fidelity: Fidelity::Given,
+                nominal: None,
             });
         }
-        return Ok((eta, None));
+        let params = fidelity_params(slider_params(scene, Imperfections::default()), fidelity);
+        let nominal = SliderModel::build(&params).map_err(unsupported)?;
+        Ok(Self {
+            fidelity,
+            nominal: Some(nominal),
+        })
     }
-    let imperfections = Imperfections {
-        height_scatter_m: s.height_scatter_m,
-        scatter_seed: s.scatter_seed,
-        height_map: None,
-        tilt_x_m: s.tilt_x_m,
-        tilt_y_m: s.tilt_y_m,
-        bow_m: s.bow_m,
-    };
-    let mut params = slider_params(scene, imperfections);
-    if fidelity == Fidelity::Patch {
-        params = patch_params(params);
+
+    /// The fidelity its numbers carry.
+    pub fn fidelity(&self) -> Fidelity {
+        self.fidelity
     }
-    let unsupported = |e: slider_contact::SliderError| PipelineError::Unsupported {
+
+    /// The model of `params`: the shared operator when `params` has the nominal operator's
+    /// inputs and a rigid back, else a fresh build. The checks are `SliderModel::build`'s.
+    fn model_for(&self, params: SliderParams) -> Result<(SliderModel, bool), PipelineError> {
+        let shared = self.nominal.as_ref().filter(|m| {
+            !params.mechanism.is_free()
+                && !m.params.mechanism.is_free()
+                && m.params.operator_spec() == params.operator_spec()
+        });
+        let Some(shared) = shared else {
+            return Ok((SliderModel::build(&params).map_err(unsupported)?, true));
+        };
+        params.validate().map_err(unsupported)?;
+        let g = params.geometry();
+        let post_offset_m = params
+            .imperfections
+            .post_offsets_m(&g)
+            .map_err(unsupported)?;
+        params
+            .imperfections
+            .check_body_clearance(&g, params.post_height_m, &post_offset_m)
+            .map_err(unsupported)?;
+        let model = SliderModel {
+            params,
+            operator: shared.operator.clone(),
+            post_offset_m,
+            free_back: None,
+            build_s: 0.0,
+        };
+        Ok((model, false))
+    }
+
+    /// η, the contact fraction and whether an operator was built, for `scene` (already carrying
+    /// the sample's preload, diameter and μ) with the sample's shape.
+    fn eta(
+        &self,
+        scene: &Scene,
+        s: &MotorSample,
+    ) -> Result<(f64, Option<f64>, bool), PipelineError> {
+        if let Some(eta) = scene.contact.effective_ratio {
+            if s.has_shape() {
+                return Err(PipelineError::Unsupported {
+                    stage: "static",
+                    message: format!(
+                        "height scatter, tilt and bow act through the whole-slider static model, \
+                         but contact.effective_ratio = {eta} is given: set effective_ratio = \
+                         \"fem\" or drop the [scatter] height/tilt/bow keys"
+                    ),
+                });
+            }
+            return Ok((eta, None, false));
+        }
+        let imperfections = Imperfections {
+            height_scatter_m: s.height_scatter_m,
+            scatter_seed: s.scatter_seed,
+            height_map: None,
+            tilt_x_m: s.tilt_x_m,
+            tilt_y_m: s.tilt_y_m,
+            bow_m: s.bow_m,
+        };
+        let params = fidelity_params(slider_params(scene, imperfections), self.fidelity);
+        let (model, built) = self.model_for(params)?;
+        let report = model.analyse(model.params.preload_n).map_err(unsupported)?;
+        let eta = report
+            .effective_contact_ratio
+            .ok_or_else(|| PipelineError::Unsupported {
+                stage: "static (whole slider)",
+                message: format!(
+                    "η not identifiable ({})",
+                    report
+                        .eta_fit
+                        .reason
+                        .as_deref()
+                        .unwrap_or("no reason given")
+                ),
+            })?;
+        Ok((eta, Some(report.contact_fraction), built))
+    }
+}
+
+fn unsupported(e: slider_contact::SliderError) -> PipelineError {
+    PipelineError::Unsupported {
         stage: "static (whole slider)",
         message: e.to_string(),
-    };
-    let report = SliderModel::build(&params)
-        .and_then(|m| m.analyse(params.preload_n))
-        .map_err(unsupported)?;
-    let eta = report
-        .effective_contact_ratio
-        .ok_or_else(|| PipelineError::Unsupported {
-            stage: "static (whole slider)",
-            message: format!(
-                "η not identifiable ({})",
-                report
-                    .eta_fit
-                    .reason
-                    .as_deref()
-                    .unwrap_or("no reason given")
-            ),
-        })?;
-    Ok((eta, Some(report.contact_fraction)))
+    }
+}
+
+/// `params` at `fidelity` (the patch's rows for [`Fidelity::Patch`]).
+fn fidelity_params(params: SliderParams, fidelity: Fidelity) -> SliderParams {
+    if fidelity == Fidelity::Patch {
+        patch_params(params)
+    } else {
+        params
+    }
+}
+
+/// Where one evaluation's time went (s), measured on its own thread.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct EvaluationCost {
+    /// Post offsets, operator (when built), contact solves of every phase and the η fit.
+    pub static_s: f64,
+    /// Springs and the dynamic speed–thrust curve.
+    pub dynamic_s: f64,
+    /// Whether this evaluation built its own lattice operator (another post diameter).
+    pub operator_built: bool,
 }
 
 /// Evaluates `scene` perturbed by `sample`: η at `fidelity` (or the scene's given η), springs,
-/// dynamic curve. Deterministic: the same inputs give bitwise the same outputs.
+/// dynamic curve. Deterministic: the same inputs give bitwise the same outputs. Builds the
+/// static model for this one call; many samples of one scene share it through
+/// [`evaluate_with`].
 pub fn evaluate(
     scene: &Scene,
     sample: &MotorSample,
     fidelity: Fidelity,
 ) -> Result<MotorOutputs, PipelineError> {
+    evaluate_with(&StaticModel::build(scene, fidelity)?, scene, sample)
+}
+
+/// Evaluates `scene` perturbed by `sample` with the prepared static model of `scene`
+/// (bitwise the same as [`evaluate`]).
+pub fn evaluate_with(
+    model: &StaticModel,
+    scene: &Scene,
+    sample: &MotorSample,
+) -> Result<MotorOutputs, PipelineError> {
+    let start = Instant::now();
     let scene = perturbed_scene(scene, sample);
-    let fidelity = if scene.contact.effective_ratio.is_some() {
-        Fidelity::Given
-    } else {
-        fidelity
-    };
-    let (eta, contact_fraction) = static_eta(&scene, sample, fidelity)?;
+    let (eta, contact_fraction, operator_built) = model.eta(&scene, sample)?;
+    let static_s = start.elapsed().as_secs_f64();
     let springs: PostSprings = scene_springs(&scene)?;
     let dynamic = dynamic_scene(&scene, &springs, eta)?;
     let result = stick_slip::solve(&dynamic)?;
@@ -247,5 +347,10 @@ pub fn evaluate(
         efficiency: result.efficiency,
         contact_fraction,
         curve: result.curve,
+        cost: EvaluationCost {
+            static_s,
+            dynamic_s: start.elapsed().as_secs_f64() - static_s,
+            operator_built,
+        },
     })
 }

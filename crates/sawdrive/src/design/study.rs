@@ -35,6 +35,7 @@
 //! max_evaluations_per_start = 30
 //! x_tolerance = 0.01
 //! finalists = 3
+//! refine_evaluations = 20           # full-fidelity compass search from the best finalist (0: off)
 //! ```
 
 use std::collections::BTreeMap;
@@ -47,14 +48,18 @@ use design::{
 };
 use rayon::prelude::*;
 use serde::Serialize;
+use sha2::{Digest, Sha256};
 
-use super::motor::{Fidelity, MotorSample, OUTPUT_NAMES, evaluate};
+use super::motor::{Fidelity, MotorSample, OUTPUT_NAMES, StaticModel, evaluate_with};
 use super::scatter::ScatterSpec;
 use super::uq::design_error;
 use crate::output::{StagedDir, write_atomically};
 use crate::pipeline::PipelineError;
 use crate::scene::{Scene, load_scene};
 use crate::units::{Dimension, format_quantity, parse_quantity};
+
+/// Version of the saved evaluations' layout (part of their key).
+const EVALUATION_FORMAT: u32 = 1;
 
 /// Relative step of the optimum's sensitivity (fraction of each variable's range).
 const SENSITIVITY_STEP: f64 = 0.05;
@@ -234,6 +239,7 @@ fn parse_optimiser(t: &Table) -> Result<OptimiserSettings, String> {
                 s.max_evaluations_per_start = count(value, &full)? as usize
             }
             "finalists" => s.finalists = count(value, &full)? as usize,
+            "refine_evaluations" => s.refine_evaluations = count(value, &full)? as usize,
             "seed" => s.seed = count(value, &full)?,
             "x_tolerance" => s.x_tolerance = number(value, &full)?,
             _ => return Err(err(&full, "unknown setting")),
@@ -444,9 +450,11 @@ impl DesignSpec {
             .iter()
             .position(|n| *n == self.objective.output)
             .unwrap_or(3);
+        // One operator per design and fidelity, shared by its scatter samples.
+        let model = StaticModel::build(&scene, fidelity).map_err(|e| e.to_string())?;
         let runs: Vec<[f64; 5]> = match self.quantile {
             None => vec![
-                evaluate(&scene, &MotorSample::nominal(&scene), fidelity)
+                evaluate_with(&model, &scene, &MotorSample::nominal(&scene))
                     .map_err(|e| e.to_string())?
                     .values(),
             ],
@@ -456,7 +464,7 @@ impl DesignSpec {
                     .into_par_iter()
                     .map(|i| {
                         let (values, field_seed) = draw_inputs(&inputs, self.seed, i);
-                        evaluate(&scene, &self.scatter.sample(&values, field_seed), fidelity)
+                        evaluate_with(&model, &scene, &self.scatter.sample(&values, field_seed))
                             .map(|o| o.values())
                             .map_err(|e| e.to_string())
                     })
@@ -477,6 +485,81 @@ impl DesignSpec {
             violations: Vec::new(),
             outputs,
         })
+    }
+}
+
+impl DesignSpec {
+    /// The resume key of design `x` at `fidelity`: a hash of everything its outcome depends on
+    /// (the resolved scene, the fidelity, the samples, quantile, scatter and seed, the objective,
+    /// the constraints and the model versions), not of the optimiser's path.
+    fn evaluation_key(
+        &self,
+        x: &[f64],
+        fidelity: Fidelity,
+        samples: usize,
+    ) -> Result<String, String> {
+        let scene = self.scene_at(x)?;
+        let mut h = Sha256::new();
+        h.update(serde_json::to_vec(&scene).map_err(|e| e.to_string())?);
+        h.update(fidelity.label().as_bytes());
+        h.update(samples.to_le_bytes());
+        h.update(format!("{:?}", self.quantile).as_bytes());
+        h.update(serde_json::to_vec(&self.scatter).map_err(|e| e.to_string())?);
+        h.update(self.seed.to_le_bytes());
+        h.update(serde_json::to_vec(&self.objective).map_err(|e| e.to_string())?);
+        h.update(serde_json::to_vec(&self.constraints).map_err(|e| e.to_string())?);
+        h.update(crate::DYNAMIC_MODEL_VERSION.to_le_bytes());
+        h.update(static_contact::params::MODEL_VERSION.to_le_bytes());
+        h.update(EVALUATION_FORMAT.to_le_bytes());
+        Ok(h.finalize()
+            .iter()
+            .take(16)
+            .map(|b| format!("{b:02x}"))
+            .collect())
+    }
+}
+
+/// The design model at one fidelity with resume: each finished evaluation is saved atomically to
+/// `cache/<key>.json`, and one found there (from an interrupted run) is reused instead of
+/// recomputed. The optimiser is deterministic, so a rerun retraces the interrupted run's path
+/// through the saved evaluations and loses only those in flight. An infeasible outcome (NaN
+/// objective) is not saved: it costs only the constraint check.
+struct ResumableModel<'a> {
+    spec: &'a DesignSpec,
+    fidelity: Fidelity,
+    samples: usize,
+    cache: &'a Path,
+    /// Evaluations (count, summed seconds) computed, by fidelity label; and reused.
+    timing: &'a std::sync::Mutex<BTreeMap<String, (usize, f64)>>,
+    resumed: &'a std::sync::atomic::AtomicUsize,
+}
+
+impl ResumableModel<'_> {
+    fn call(&self, x: &[f64]) -> Result<Outcome, String> {
+        let path = self.cache.join(format!(
+            "{}.json",
+            self.spec.evaluation_key(x, self.fidelity, self.samples)?
+        ));
+        let saved = std::fs::read(&path)
+            .ok()
+            .and_then(|b| serde_json::from_slice::<Outcome>(&b).ok());
+        if let Some(o) = saved {
+            self.resumed
+                .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            return Ok(o);
+        }
+        let t = Instant::now();
+        let outcome = self.spec.model(x, self.fidelity, self.samples)?;
+        if let Ok(mut m) = self.timing.lock() {
+            let e = m.entry(self.fidelity.label().to_owned()).or_default();
+            e.0 += 1;
+            e.1 += t.elapsed().as_secs_f64();
+        }
+        if outcome.objective.is_finite() {
+            let bytes = serde_json::to_vec(&outcome).map_err(|e| e.to_string())?;
+            write_atomically(&path, bytes).map_err(|e| e.to_string())?;
+        }
+        Ok(outcome)
     }
 }
 
@@ -510,6 +593,8 @@ pub struct Optimum {
     pub objective_value: f64,
     /// Model that computed it.
     pub fidelity: String,
+    /// Search stage that found it (`confirm`: a finalist; `refine`: the full-fidelity refinement).
+    pub stage: &'static str,
     /// Every output at the optimum, same fidelity.
     pub outputs: BTreeMap<String, f64>,
 }
@@ -529,8 +614,12 @@ pub struct DesignReport {
     pub sensitivity: Vec<VariableSensitivity>,
     /// Every evaluation.
     pub evaluations: Vec<EvaluationRow>,
-    /// Evaluations and mean wall time per evaluation by fidelity.
+    /// Evaluations computed in this run and their mean wall time (s, measured per evaluation;
+    /// parallel evaluations overlap) by fidelity.
     pub cost: Vec<(String, usize, f64)>,
+    /// Evaluations reused from the saved results (`OUT/.design-evaluations/`): an earlier,
+    /// interrupted run's, or a design this run met twice (e.g. a sensitivity neighbour).
+    pub resumed_evaluations: usize,
     /// Wall time (s).
     pub wall_time_s: f64,
     /// Files written.
@@ -573,18 +662,18 @@ pub fn run_design(
         .map_err(bad)?;
     let staged = StagedDir::create(&out_dir.join(&spec.name))?;
     let timing = std::sync::Mutex::new(BTreeMap::<String, (usize, f64)>::new());
+    let resumed = std::sync::atomic::AtomicUsize::new(0);
+    let cache = out_dir.join(".design-evaluations");
     let timed = |fidelity: Fidelity, samples: usize| {
-        let timing = &timing;
-        move |x: &[f64]| {
-            let t = Instant::now();
-            let r = spec.model(x, fidelity, samples);
-            if let Ok(mut m) = timing.lock() {
-                let e = m.entry(fidelity.label().to_owned()).or_default();
-                e.0 += 1;
-                e.1 += t.elapsed().as_secs_f64();
-            }
-            r
-        }
+        let m = ResumableModel {
+            spec,
+            fidelity,
+            samples,
+            cache: &cache,
+            timing: &timing,
+            resumed: &resumed,
+        };
+        move |x: &[f64]| m.call(x)
     };
     let cheap = timed(Fidelity::Patch, spec.cheap_samples);
     let full = timed(Fidelity::Slider, spec.samples);
@@ -624,6 +713,7 @@ pub fn run_design(
             objective: spec.objective.output.clone(),
             objective_value: best.outcome.objective,
             fidelity: best.fidelity.clone(),
+            stage: best.stage,
             outputs: best.outcome.outputs.clone(),
         },
         baseline,
@@ -631,6 +721,7 @@ pub fn run_design(
         sensitivity,
         evaluations: result.evaluations.iter().map(|e| row(spec, e)).collect(),
         cost,
+        resumed_evaluations: resumed.into_inner(),
         wall_time_s: 0.0,
         files: Vec::new(),
     };
@@ -828,6 +919,47 @@ finalists = 1
         );
         assert!(r.optimum.objective_value > 0.0, "maximum output power");
         assert!(folder.join("summary.json").exists());
+    }
+
+    #[test]
+    fn an_interrupted_design_run_resumes_from_its_saved_evaluations_and_loses_nothing() {
+        let (a, b) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+        let spec = parse(SMALL).unwrap();
+        run_design(&spec, a.path(), false).unwrap();
+        let mut saved: Vec<PathBuf> = std::fs::read_dir(a.path().join(".design-evaluations"))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect();
+        saved.sort();
+        assert!(saved.len() >= 4, "evaluations saved: {}", saved.len());
+        // Simulate an interruption: one saved evaluation lost, one damaged.
+        std::fs::remove_file(&saved[0]).unwrap();
+        std::fs::write(&saved[1], "{half").unwrap();
+        let (resumed, _) = run_design(&spec, a.path(), false).unwrap();
+        let recomputed: usize = resumed.cost.iter().map(|c| c.1).sum();
+        assert_eq!(
+            recomputed, 2,
+            "evaluations recomputed after the interruption"
+        );
+        assert!(
+            resumed.resumed_evaluations >= saved.len() - 2,
+            "evaluations reused"
+        );
+        let (fresh, _) = run_design(&spec, b.path(), false).unwrap();
+        assert_eq!(
+            resumed.optimum.objective_value.to_bits(),
+            fresh.optimum.objective_value.to_bits(),
+            "resumed and fresh optimal output power"
+        );
+        assert_eq!(
+            resumed.optimum.variables, fresh.optimum.variables,
+            "resumed and fresh optimal design"
+        );
+        assert_eq!(
+            resumed.evaluations.len(),
+            fresh.evaluations.len(),
+            "resumed and fresh evaluation logs"
+        );
     }
 
     #[test]

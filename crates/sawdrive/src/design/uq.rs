@@ -17,7 +17,9 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use super::motor::{Fidelity, MotorOutputs, MotorSample, OUTPUT_NAMES, evaluate};
+use super::motor::{
+    EvaluationCost, Fidelity, MotorOutputs, MotorSample, OUTPUT_NAMES, StaticModel, evaluate_with,
+};
 use super::scatter::ScatterSpec;
 use crate::output::{StagedDir, write_atomically};
 use crate::pipeline::PipelineError;
@@ -28,7 +30,7 @@ const BAND_SPEEDS: usize = 41;
 /// Bins of each histogram.
 const HISTOGRAM_BINS: usize = 20;
 /// Version of the sample files' layout (part of the inputs hash).
-const SAMPLE_FORMAT: u32 = 2;
+const SAMPLE_FORMAT: u32 = 3;
 
 /// How to run a UQ.
 #[derive(Debug, Clone)]
@@ -60,6 +62,24 @@ pub struct SampleRecord {
     pub curve: Vec<(f64, f64)>,
     /// Wall time (s).
     pub wall_time_s: f64,
+    /// Where its time went.
+    pub cost: EvaluationCost,
+}
+
+/// Where the samples' time went (means over the samples computed in this run, each measured on
+/// its own thread, so they add up to CPU time, not wall time).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Default)]
+pub struct UqCost {
+    /// Building the nominal scene's lattice operator, once (s).
+    pub operator_s: f64,
+    /// Samples computed in this run (not resumed).
+    pub computed_samples: usize,
+    /// Mean static part of a sample: post offsets, contact solves of every phase, η fit (s).
+    pub static_s: f64,
+    /// Mean dynamic part of a sample: springs and the speed–thrust curve (s).
+    pub dynamic_s: f64,
+    /// Samples that built their own operator (another post diameter).
+    pub operators_built: usize,
 }
 
 /// P5/P50/P95 of thrust on a speed grid.
@@ -112,6 +132,8 @@ pub struct UqReport {
     pub failed_samples: Vec<(u64, String)>,
     /// Mean wall time of one computed sample (s), as measured per sample (threads overlap).
     pub sample_cost_s: f64,
+    /// The samples' cost by part.
+    pub cost: UqCost,
     /// Wall time of the whole run (s).
     pub wall_time_s: f64,
     /// Files written, relative to the results folder.
@@ -158,6 +180,7 @@ fn record(
             .map(|p| (p.speed_m_per_s, p.thrust_n))
             .collect(),
         wall_time_s: wall,
+        cost: out.cost,
     }
 }
 
@@ -237,7 +260,11 @@ pub fn run_uq(
         options.seed,
         options.fidelity,
     )?);
-    let nominal = evaluate(scene, &MotorSample::nominal(scene), options.fidelity)?;
+    // The operator is built once here; every sample with the nominal post diameter reuses it.
+    let built = Instant::now();
+    let model = StaticModel::build(scene, options.fidelity)?;
+    let operator_s = built.elapsed().as_secs_f64();
+    let nominal = evaluate_with(&model, scene, &MotorSample::nominal(scene))?;
     let outcomes: Vec<Result<(SampleRecord, bool), PipelineError>> = (0..options.samples as u64)
         .into_par_iter()
         .map(|k| {
@@ -258,10 +285,20 @@ pub fn run_uq(
                 sample.tilt_y_m,
                 sample.bow_m,
             ];
-            let out = evaluate(scene, &sample, options.fidelity).map_err(|e| {
+            let out = evaluate_with(&model, scene, &sample).map_err(|e| {
+                // The sample's inputs, so that the failure can be reproduced with `run --set`.
+                let drawn: Vec<String> = inputs
+                    .iter()
+                    .zip(&values)
+                    .map(|(i, v)| format!("{} = {v:e}", i.name))
+                    .collect();
                 PipelineError::Unsupported {
                     stage: "uq",
-                    message: format!("sample {k} (seed {}): {e}", options.seed),
+                    message: format!(
+                        "sample {k} (seed {}, post-height seed {field_seed}; {}): {e}",
+                        options.seed,
+                        drawn.join(", ")
+                    ),
                 }
             })?;
             let r = record(k, values, &sample, &out, t.elapsed().as_secs_f64());
@@ -286,8 +323,19 @@ pub fn run_uq(
         });
     }
     let resumed_samples = results.iter().filter(|r| r.1).count();
+    let fresh: Vec<&SampleRecord> = results.iter().filter(|r| !r.1).map(|r| &r.0).collect();
+    let computed: Vec<f64> = fresh.iter().map(|r| r.wall_time_s).collect();
+    let mean = |f: &dyn Fn(&SampleRecord) -> f64| {
+        fresh.iter().map(|r| f(r)).sum::<f64>() / fresh.len().max(1) as f64
+    };
+    let cost = UqCost {
+        operator_s,
+        computed_samples: fresh.len(),
+        static_s: mean(&|r| r.cost.static_s),
+        dynamic_s: mean(&|r| r.cost.dynamic_s),
+        operators_built: fresh.iter().filter(|r| r.cost.operator_built).count(),
+    };
     let records: Vec<SampleRecord> = results.into_iter().map(|r| r.0).collect();
-    let computed: Vec<f64> = records.iter().map(|r| r.wall_time_s).collect();
     let column = |k: usize| records.iter().map(|r| r.outputs[k]).collect::<Vec<f64>>();
     let bands: Vec<Band> = (0..OUTPUT_NAMES.len())
         .map(|k| band(&column(k), OUTPUT_NAMES[k]).map_err(design_error))
@@ -314,11 +362,7 @@ pub fn run_uq(
         scene: scene.name.clone(),
         samples: records.len(),
         seed: options.seed,
-        fidelity: if scene.contact.effective_ratio.is_some() {
-            Fidelity::Given.label()
-        } else {
-            options.fidelity.label()
-        },
+        fidelity: model.fidelity().label(),
         scatter: scatter.clone(),
         input_names: inputs.iter().map(|i| i.name.clone()).collect(),
         effective_contact_ratio: bands[0],
@@ -340,6 +384,7 @@ pub fn run_uq(
         } else {
             computed.iter().sum::<f64>() / computed.len() as f64
         },
+        cost,
         wall_time_s: 0.0,
         files: Vec::new(),
     };
