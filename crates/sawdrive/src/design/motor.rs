@@ -14,7 +14,7 @@ use contact_springs::PostSprings;
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
-use slider_contact::{Imperfections, SliderModel, SliderParams};
+use slider_contact::{Imperfections, ImperfectionsExt, SliderModel, SliderParams};
 use stick_slip::CurvePoint;
 
 use crate::pipeline::{PipelineError, dynamic_scene, scene_springs};
@@ -229,6 +229,7 @@ impl StaticModel {
             post_offset_m,
             free_back: None,
             build_s: 0.0,
+            precondition_free_back: false,
         };
         Ok((model, false))
     }
