@@ -24,12 +24,10 @@ use serde::{Deserialize, Serialize};
 use static_contact::StripModel;
 use stick_slip::{CurvePoint, DynamicResult, ModelKind, VerticalModel};
 
-use super::statics::{
-    StaticDetails, StaticOutcome, geometry_key, sha256_hex, static_params,
-};
-use crate::scene::StaticModel;
+use super::statics::{StaticDetails, StaticOutcome, geometry_key, sha256_hex, static_params};
 use super::{DynamicRun, PipelineError, run_dynamic, write_dynamic_files};
 use crate::output::io;
+use crate::scene::StaticModel;
 use crate::scene::{DEFAULT_COUPLED_STEPS_PER_PERIOD, Dynamics, Scene};
 
 /// What the dynamic stage produced.
@@ -329,11 +327,9 @@ fn evidence(
     crest_speed_m_per_s: f64,
 ) -> Option<LumpedEvidence> {
     match &statics.report.details {
-        StaticDetails::Strip(report) => LumpedEvidence::from_report(
-            report,
-            lumped_no_load_speed_m_per_s,
-            crest_speed_m_per_s,
-        ),
+        StaticDetails::Strip(report) => {
+            LumpedEvidence::from_report(report, lumped_no_load_speed_m_per_s, crest_speed_m_per_s)
+        }
         StaticDetails::Slider(slider) => {
             let fit = &slider.report.eta_fit;
             fit.eta.map(|_| LumpedEvidence {
