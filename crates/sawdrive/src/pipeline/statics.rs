@@ -171,8 +171,9 @@ pub struct StaticOutcome {
     pub notes: Vec<String>,
 }
 
-/// Layout version of a static cache entry (the physics is in the content hash, not here).
-const CACHE_FORMAT: u32 = 1;
+/// Layout version of a static cache entry (the physics is in the content hash, not here); 2: the
+/// report gained the FEM ordering flag and the stage report of issue 13.
+const CACHE_FORMAT: u32 = 2;
 
 /// A static cache entry, `static-<content hash>.json`: the typed report and what verifies it.
 #[derive(Debug, Serialize, Deserialize)]
