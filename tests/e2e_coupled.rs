@@ -61,6 +61,11 @@ fn coupled_dynamics_reports_the_contract_keys_and_balances_energy() {
         number(&json, "lumped_error_estimate") >= 0.0,
         "the lumped model's estimated error is reported"
     );
+    let step_error = number(&json, "model_error_estimate");
+    assert!(
+        step_error > 0.0 && step_error < 0.05,
+        "the coupled run's step error estimate {step_error} is reported and small at T/64"
+    );
     let curve = json["curve"].as_array().expect("curve is an array");
     assert_eq!(curve.len(), 50, "default curve points of the coupled model");
     assert_eq!(
@@ -199,6 +204,10 @@ fn every_run_summary_carries_the_lumped_error_estimate() {
     assert!(
         number(&summary, "lumped_error_estimate") >= 0.0,
         "summary.json has lumped_error_estimate: {summary}"
+    );
+    assert_eq!(
+        summary["model_error_estimate"], summary["lumped_error_estimate"],
+        "the lumped run's model error is the lumped estimate"
     );
     assert_eq!(summary["model"], "periodic-average");
     assert!(

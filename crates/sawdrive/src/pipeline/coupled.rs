@@ -40,6 +40,8 @@ pub struct DynamicStage {
     /// Every strip post's forces and contact mode over one steady period of the coupled model,
     /// at half its no-load speed (with the coupled run).
     pub coupled_histories: Option<PostHistories>,
+    /// Estimated relative error of the coupled run's time step ([`step_error_estimate`]).
+    pub coupled_step_error_estimate: Option<f64>,
     /// Why this model runs (the `auto` decision, or the scene's choice).
     pub dynamics_reason: String,
     /// Estimated relative error of the lumped model at the static η against the coupled one
@@ -117,6 +119,15 @@ impl DynamicStage {
         }
     }
 
+    /// Estimated relative error of the model whose numbers are reported: the lumped model's
+    /// against the coupled one, or the coupled run's time-step error.
+    pub fn model_error_estimate(&self) -> Option<f64> {
+        match &self.coupled {
+            Some(_) => self.coupled_step_error_estimate,
+            None => self.lumped_error_estimate,
+        }
+    }
+
     /// The JSON of `sawdrive dynamic --json`: the reported model's result with the choice.
     pub fn json(&self) -> DynamicJson<'_> {
         DynamicJson {
@@ -127,6 +138,7 @@ impl DynamicStage {
             model_reason: self.coupled.as_ref().map(|_| self.dynamics_reason.as_str()),
             dynamics_reason: &self.dynamics_reason,
             lumped_error_estimate: self.lumped_error_estimate,
+            model_error_estimate: self.model_error_estimate(),
             lumped: self
                 .coupled
                 .as_ref()
@@ -147,6 +159,8 @@ pub struct DynamicJson<'a> {
     model_reason: Option<&'a str>,
     dynamics_reason: &'a str,
     lumped_error_estimate: Option<f64>,
+    /// [`DynamicStage::model_error_estimate`].
+    model_error_estimate: Option<f64>,
     /// The lumped model's figures beside a coupled run.
     #[serde(skip_serializing_if = "Option::is_none")]
     lumped: Option<LumpedFigures>,
@@ -303,17 +317,19 @@ pub fn run_dynamic_stage(
     });
     let estimate = evidence.as_ref().map(lumped_error_estimate);
     let (run_coupled, reason) = decide(scene, statics, evidence.as_ref())?;
-    let (coupled, coupled_histories) = match (run_coupled, statics) {
+    let (coupled, coupled_histories, coupled_step_error_estimate) = match (run_coupled, statics) {
         (true, Some(statics)) => {
-            let (result, histories) = run_coupled_model(scene, statics, &lumped, cache_dir)?;
-            (Some(result), Some(histories))
+            let (result, histories, step_error) =
+                run_coupled_model(scene, statics, &lumped, cache_dir)?;
+            (Some(result), Some(histories), step_error)
         }
-        _ => (None, None),
+        _ => (None, None, None),
     };
     Ok(DynamicStage {
         lumped,
         coupled,
         coupled_histories,
+        coupled_step_error_estimate,
         dynamics_reason: reason,
         lumped_error_estimate: estimate,
     })
@@ -406,7 +422,7 @@ fn run_coupled_model(
     statics: &StaticOutcome,
     lumped: &DynamicRun,
     cache_dir: Option<&Path>,
-) -> Result<(CoupledResult, PostHistories), PipelineError> {
+) -> Result<(CoupledResult, PostHistories, Option<f64>), PipelineError> {
     if let VerticalModel::Dynamic { .. } = scene.model.vertical {
         return Err(PipelineError::Unsupported {
             stage: "dynamic",
@@ -442,7 +458,39 @@ fn run_coupled_model(
     let model = CoupledModel::new(&coupled)?;
     let result = coupled_dynamics::solve(&model, Some(&lumped.scene))?;
     let histories = model.post_histories(HISTORY_SPEED_FRACTION * result.no_load_speed_m_per_s)?;
-    Ok((result, histories))
+    let step_error = step_error_estimate(&coupled, &model, &result)?;
+    Ok((result, histories, step_error))
+}
+
+/// Observed order p of the coupled model's step error (validation/coupled-dynamics,
+/// work-precision: ≈ 1.8 from T/32 to T/512 on the default slider).
+const COUPLED_STEP_ORDER: f64 = 1.8;
+
+/// Richardson estimate of the coupled run's relative step error: the thrust at stall and at half
+/// the no-load speed again with twice the step, |F_h − F_2h| / (2^p − 1), the larger of the two
+/// relative to the stall thrust. `None` when half the steps would not resolve a contact arc or the
+/// slider is locked.
+fn step_error_estimate(
+    scene: &CoupledScene,
+    fine: &CoupledModel,
+    result: &CoupledResult,
+) -> Result<Option<f64>, PipelineError> {
+    let half = scene.steps_per_period / 2;
+    if half < coupled_dynamics::scene::MIN_STEPS_PER_PERIOD || result.stall_thrust_n <= 0.0 {
+        return Ok(None);
+    }
+    let mut coarse_scene = scene.clone();
+    coarse_scene.steps_per_period = half;
+    let coarse = CoupledModel::new(&coarse_scene)?;
+    let speed = HISTORY_SPEED_FRACTION * result.no_load_speed_m_per_s;
+    let differences = [
+        (result.stall_thrust_n - coarse.at_speed(0.0)?.thrust_n).abs(),
+        (fine.at_speed(speed)?.thrust_n - coarse.at_speed(speed)?.thrust_n).abs(),
+    ];
+    let largest = differences.into_iter().fold(0.0, f64::max);
+    Ok(Some(
+        largest / (2f64.powf(COUPLED_STEP_ORDER) - 1.0) / result.stall_thrust_n,
+    ))
 }
 
 /// Layout version of a compliance cache entry.

@@ -77,6 +77,9 @@ pub struct RunSummary {
     /// Estimated relative error of the lumped model at the static η against the coupled model
     /// (`coupled_dynamics::lumped_error_estimate`); `None` when η was given.
     pub lumped_error_estimate: Option<f64>,
+    /// Estimated relative error of the model that ran: `lumped_error_estimate` for a lumped
+    /// model, the time-step error (Richardson, step halved) for the coupled one.
+    pub model_error_estimate: Option<f64>,
     /// The coupled model's own figures, when it ran.
     pub coupled: Option<CoupledFigures>,
     pub curve: Vec<stick_slip::CurvePoint>,
@@ -226,6 +229,7 @@ pub fn run_pipeline(
         model: stage.model_name().to_owned(),
         model_reason: stage.model_reason(),
         lumped_error_estimate: stage.lumped_error_estimate,
+        model_error_estimate: stage.model_error_estimate(),
         coupled: CoupledFigures::of(&stage),
         curve: stage.curve(),
         timings,
