@@ -74,6 +74,7 @@ class DynamicResult(_CurveResult):
     model_reason: str  # lumped runs: why this lumped model
     dynamics_reason: str  # why the lumped or the coupled model ran (model.dynamics, auto's criterion)
     lumped_error_estimate: Optional[float]  # relative; None when η is given
+    model_error_estimate: Optional[float]  # relative error of the model that ran
     warnings: List[Any]
     wall_time_s: float
     effective_ratio: float

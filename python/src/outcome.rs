@@ -63,6 +63,11 @@ impl Fields {
                     "lumped_error_estimate".into(),
                     serde_json::to_value(lumped_error_estimate)?,
                 );
+                // The lumped model ran: its error estimate is the model's.
+                map.insert(
+                    "model_error_estimate".into(),
+                    serde_json::to_value(lumped_error_estimate)?,
+                );
                 map.insert("effective_ratio".into(), Value::from(*effective_ratio));
                 map.insert("effective_ratio_source".into(), Value::from(*source));
                 Ok(map)
