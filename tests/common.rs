@@ -41,3 +41,12 @@ pub fn sawdrive_err(args: &[&str], needle: &str) -> String {
     assert!(!stderr.contains("panicked"), "no panic: {stderr}");
     stderr
 }
+
+/// The small end-to-end scene (10 × 10 posts, committed 10-post strip mesh).
+pub fn small_scene() -> String {
+    concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/scenes/small-strip.toml"
+    )
+    .to_owned()
+}

@@ -6,16 +6,7 @@ mod common;
 
 use std::path::Path;
 
-use common::{sawdrive_err, sawdrive_ok};
-
-/// The small end-to-end scene (10 × 10 posts, committed 10-post strip mesh).
-fn small_scene() -> String {
-    concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../tests/scenes/small-strip.toml"
-    )
-    .to_owned()
-}
+use common::{sawdrive_err, sawdrive_ok, small_scene};
 
 fn dynamic_json(out: &Path, sets: &[&str]) -> serde_json::Value {
     let scene = small_scene();

@@ -6,20 +6,12 @@ mod common;
 
 use std::path::Path;
 
-use common::{sawdrive_err, sawdrive_ok};
+use common::{sawdrive_err, sawdrive_ok, small_scene};
 
 /// A slider light enough (0.04 mg) that the post phases of the small scene ripple its speed by
 /// ≈ 1.3e-2 of A_t ω: `auto` runs the transient, whose settings these tests exercise (with the
 /// scene's own mass the ripple is 4.5e-4 and `auto` rightly runs the period average).
 const LIGHT_SLIDER: &str = "slider.mass=0.04mg";
-
-fn small_scene() -> String {
-    concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../tests/scenes/small-strip.toml"
-    )
-    .to_owned()
-}
 
 /// `sawdrive dynamic` on the small scene with η = 0.36 and `sets`; returns the parsed JSON result.
 fn dynamic_json(out: &Path, sets: &[&str]) -> serde_json::Value {

@@ -4,15 +4,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{sawdrive_err, sawdrive_ok};
-
-fn small_scene() -> String {
-    concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../tests/scenes/small-strip.toml"
-    )
-    .to_owned()
-}
+use common::{sawdrive_err, sawdrive_ok, small_scene};
 
 fn read_json(path: &Path) -> serde_json::Value {
     serde_json::from_slice(

@@ -10,15 +10,7 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-use common::{sawdrive, sawdrive_err, sawdrive_ok};
-
-fn small_scene() -> String {
-    concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../tests/scenes/small-strip.toml"
-    )
-    .to_owned()
-}
+use common::{sawdrive, sawdrive_err, sawdrive_ok, small_scene};
 
 fn committed_mesh() -> String {
     concat!(
