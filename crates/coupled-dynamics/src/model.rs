@@ -526,9 +526,10 @@ impl CoupledModel {
     }
 
     /// Every post's normal and tangential force and contact mode over one steady period at
-    /// `speed_m_per_s` (one sample per step, at the step's end).
-    pub fn post_histories(&self, speed_m_per_s: f64) -> Result<PostHistories> {
-        let (_, mut state, v, s, h) = self.steady(speed_m_per_s)?;
+    /// `speed_m_per_s` (one sample per step, at the step's end), with the steady point itself
+    /// (the [`Self::at_speed`] result, which the histories' solve has already found).
+    pub fn post_histories(&self, speed_m_per_s: f64) -> Result<(CoupledPoint, PostHistories)> {
+        let (point, mut state, v, s, h) = self.steady(speed_m_per_s)?;
         let m = self.normals.len();
         let mut ints = Integrals::default();
         let mut stats = SolverStats::default();
@@ -555,7 +556,7 @@ impl CoupledModel {
             );
             out.mode.push(state.mode.clone());
         }
-        Ok(out)
+        Ok((point, out))
     }
 
     /// The steady state at a speed: the period average, the state at a period start, the

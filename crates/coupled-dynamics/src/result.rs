@@ -4,6 +4,7 @@
 
 use std::time::Instant;
 
+use rayon::prelude::*;
 use serde::Serialize;
 use stick_slip::{DynamicScene, PeriodicAverageModel};
 
@@ -69,10 +70,15 @@ pub fn solve(model: &CoupledModel, lumped: Option<&DynamicScene>) -> Result<Coup
     let stall = stall_point.thrust_n;
     let no_load = model.no_load_speed_m_per_s(stall)?;
     let points = scene.curve_points;
+    // The points are independent periodic steady states: solved in parallel, collected in order
+    // (the result does not depend on the number of threads).
     let mut curve = vec![stall_point];
-    for k in 1..points {
-        curve.push(model.at_speed(no_load * k as f64 / (points - 1) as f64)?);
-    }
+    curve.extend(
+        (1..points)
+            .into_par_iter()
+            .map(|k| model.at_speed(no_load * k as f64 / (points - 1) as f64))
+            .collect::<Result<Vec<_>>>()?,
+    );
     if stall <= 0.0 {
         warnings.push(format!(
             "the slider is locked: F(0⁺) = {stall:.4} N ≤ 0; stall thrust and no-load speed reported as 0"

@@ -202,7 +202,7 @@ fn post_histories_respect_contact_and_the_friction_cone() {
     let preload = preload_for(n);
     let model = CoupledModel::new(&interacting_scene(n, preload)).unwrap();
     let v0 = solve(&model, None).unwrap().no_load_speed_m_per_s;
-    let h = model.post_histories(0.5 * v0).unwrap();
+    let (_, h) = model.post_histories(0.5 * v0).unwrap();
     assert_eq!(h.time_s.len(), 64, "one sample per step of the period");
     let mut mean_thrust = 0.0;
     for k in 0..h.time_s.len() {

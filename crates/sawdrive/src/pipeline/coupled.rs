@@ -25,7 +25,7 @@ use static_contact::StripModel;
 use stick_slip::{CurvePoint, DynamicResult, ModelKind, VerticalModel};
 
 use super::statics::{StaticDetails, StaticOutcome, geometry_key, sha256_hex, static_params};
-use super::{DynamicRun, PipelineError, run_dynamic, write_dynamic_files};
+use super::{DynamicRun, PipelineError, run_dynamic, write_history_charts};
 use crate::output::io;
 use crate::scene::StaticModel;
 use crate::scene::{DEFAULT_COUPLED_STEPS_PER_PERIOD, Dynamics, Scene};
@@ -193,40 +193,29 @@ impl LumpedFigures {
     }
 }
 
-/// Write the dynamic stage's files into `dir`: the lumped model's ([`write_dynamic_files`]);
-/// after a coupled run, `dynamic.json` and `curve.csv` hold the coupled result instead, and
-/// `speed_thrust` draws the coupled curve over the lumped one.
+/// Write the dynamic stage's files into `dir`, each once: `dynamic.json` ([`DynamicStage::json`])
+/// and `curve.csv` of the model that ran, the speed–thrust chart (after a coupled run, the
+/// coupled curve over the lumped one), the lumped run's history charts
+/// ([`write_history_charts`]) and, after a coupled run, the coupled post histories.
 pub fn write_dynamic_stage_files(
     title: &str,
     stage: &DynamicStage,
     dir: &Path,
 ) -> Result<Vec<PathBuf>, PipelineError> {
-    let mut files = write_dynamic_files(title, &stage.lumped, dir)?;
-    std::fs::write(
-        dir.join("dynamic.json"),
-        serde_json::to_vec_pretty(&stage.json())?,
-    )
-    .map_err(io("write", &dir.join("dynamic.json")))?;
-    let Some(coupled) = &stage.coupled else {
-        return Ok(files);
-    };
+    let json = dir.join("dynamic.json");
+    std::fs::write(&json, serde_json::to_vec_pretty(&stage.json())?).map_err(io("write", &json))?;
     let csv = dir.join("curve.csv");
     std::fs::write(&csv, stick_slip::curve_csv(&stage.curve())).map_err(io("write", &csv))?;
-    let mut chart = stick_slip::plots::speed_thrust_chart(
-        &format!("speed–thrust of {title}: coupled and lumped models"),
-        &[("lumped, static η", &stage.lumped.result)],
-    );
-    let points = coupled
-        .curve
-        .iter()
-        .map(|p| (p.speed_m_per_s, p.thrust_n))
-        .collect();
-    chart
-        .series
-        .insert(0, Series::new("coupled", points, Style::LineMarkers));
+    let mut files = vec![json, csv];
     let stem = dir.join("speed_thrust");
-    files.retain(|f| f.file_stem() != stem.file_name());
-    files.extend(charts::write_chart(&chart, &stem)?);
+    files.extend(match &stage.coupled {
+        None => stick_slip::plots::write_speed_thrust_chart(&stage.lumped.result, &stem)?,
+        Some(coupled) => charts::write_chart(
+            &coupled_speed_thrust_chart(title, &stage.lumped.result, coupled),
+            &stem,
+        )?,
+    });
+    files.extend(write_history_charts(title, &stage.lumped, dir)?);
     if let Some(histories) = &stage.coupled_histories {
         let csv = dir.join("coupled_post_histories.csv");
         std::fs::write(&csv, histories_csv(histories)).map_err(io("write", &csv))?;
@@ -237,6 +226,27 @@ pub fn write_dynamic_stage_files(
         )?);
     }
     Ok(files)
+}
+
+/// The speed–thrust chart after a coupled run: the coupled curve over the lumped one.
+fn coupled_speed_thrust_chart(
+    title: &str,
+    lumped: &DynamicResult,
+    coupled: &CoupledResult,
+) -> Chart {
+    let mut chart = stick_slip::plots::speed_thrust_chart(
+        &format!("speed–thrust of {title}: coupled and lumped models"),
+        &[("lumped, static η", lumped)],
+    );
+    let points = coupled
+        .curve
+        .iter()
+        .map(|p| (p.speed_m_per_s, p.thrust_n))
+        .collect();
+    chart
+        .series
+        .insert(0, Series::new("coupled", points, Style::LineMarkers));
+    chart
 }
 
 /// Posts drawn in the history charts: this many, spread along the strip.
@@ -457,8 +467,20 @@ fn run_coupled_model(
     coupled.validate()?;
     let model = CoupledModel::new(&coupled)?;
     let result = coupled_dynamics::solve(&model, Some(&lumped.scene))?;
-    let histories = model.post_histories(HISTORY_SPEED_FRACTION * result.no_load_speed_m_per_s)?;
-    let step_error = step_error_estimate(&coupled, &model, &result)?;
+    let speed = HISTORY_SPEED_FRACTION * result.no_load_speed_m_per_s;
+    // The histories' steady solve and the coarse-step solves are independent: run side by side.
+    let (histories, coarse) = rayon::join(
+        || model.post_histories(speed),
+        || coarse_step_thrusts(&coupled, &result, speed),
+    );
+    let (fine_at_speed, histories) = histories?;
+    let step_error = coarse?.map(|[stall_2h, at_speed_2h]| {
+        step_error_estimate(
+            [result.stall_thrust_n, fine_at_speed.thrust_n],
+            [stall_2h, at_speed_2h],
+            result.stall_thrust_n,
+        )
+    });
     Ok((result, histories, step_error))
 }
 
@@ -466,15 +488,13 @@ fn run_coupled_model(
 /// work-precision: ≈ 1.8 from T/32 to T/512 on the default slider).
 const COUPLED_STEP_ORDER: f64 = 1.8;
 
-/// Richardson estimate of the coupled run's relative step error: the thrust at stall and at half
-/// the no-load speed again with twice the step, |F_h − F_2h| / (2^p − 1), the larger of the two
-/// relative to the stall thrust. `None` when half the steps would not resolve a contact arc or the
-/// slider is locked.
-fn step_error_estimate(
+/// The thrust at stall and at `speed` with twice the step of `scene`; `None` when half the
+/// steps would not resolve a contact arc or the slider is locked.
+fn coarse_step_thrusts(
     scene: &CoupledScene,
-    fine: &CoupledModel,
     result: &CoupledResult,
-) -> Result<Option<f64>, PipelineError> {
+    speed: f64,
+) -> Result<Option<[f64; 2]>, PipelineError> {
     let half = scene.steps_per_period / 2;
     if half < coupled_dynamics::scene::MIN_STEPS_PER_PERIOD || result.stall_thrust_n <= 0.0 {
         return Ok(None);
@@ -482,15 +502,18 @@ fn step_error_estimate(
     let mut coarse_scene = scene.clone();
     coarse_scene.steps_per_period = half;
     let coarse = CoupledModel::new(&coarse_scene)?;
-    let speed = HISTORY_SPEED_FRACTION * result.no_load_speed_m_per_s;
-    let differences = [
-        (result.stall_thrust_n - coarse.at_speed(0.0)?.thrust_n).abs(),
-        (fine.at_speed(speed)?.thrust_n - coarse.at_speed(speed)?.thrust_n).abs(),
-    ];
-    let largest = differences.into_iter().fold(0.0, f64::max);
-    Ok(Some(
-        largest / (2f64.powf(COUPLED_STEP_ORDER) - 1.0) / result.stall_thrust_n,
-    ))
+    let (stall, at_speed) = rayon::join(|| coarse.at_speed(0.0), || coarse.at_speed(speed));
+    Ok(Some([stall?.thrust_n, at_speed?.thrust_n]))
+}
+
+/// Richardson estimate of the coupled run's relative step error from the thrusts at stall and at
+/// half the no-load speed with the run's step h (`fine`) and with 2h (`coarse`):
+/// |F_h − F_2h| / (2^p − 1), the larger of the two, relative to the stall thrust.
+fn step_error_estimate(fine: [f64; 2], coarse: [f64; 2], stall_thrust_n: f64) -> f64 {
+    let largest = (0..2)
+        .map(|i| (fine[i] - coarse[i]).abs())
+        .fold(0.0, f64::max);
+    largest / (2f64.powf(COUPLED_STEP_ORDER) - 1.0) / stall_thrust_n
 }
 
 /// Layout version of a compliance cache entry.

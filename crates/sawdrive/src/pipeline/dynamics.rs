@@ -10,7 +10,6 @@ use stick_slip::{
 };
 
 use super::PipelineError;
-use crate::output::io;
 use crate::scene::{DEFAULT_CURVE_POINTS, DEFAULT_TRANSIENT_PERIODS, Model, Scene};
 
 /// Steps per wave period of a fixed-step integrator when the scene says `time_step = "auto"`.
@@ -222,29 +221,21 @@ fn name_scene_keys(error: StickSlipError) -> PipelineError {
     }
 }
 
-/// Write `dynamic.json`, `curve.csv`, the speed–thrust chart, a Fig. 6-style time history of
-/// one post (at the operating point, or at half the no-load speed when the load stalls the
-/// slider) and, for the transient, the slider's history into `dir`. `title` heads the charts.
-pub fn write_dynamic_files(
+/// Write the lumped run's time-history charts into `dir`: a Fig. 6-style history of one post
+/// (at the operating point, or at half the no-load speed when the load stalls the slider) and,
+/// for the transient, the slider's history. `title` heads the charts. The result files
+/// (`dynamic.json`, `curve.csv`, `speed_thrust`) are the dynamic stage's
+/// ([`super::write_dynamic_stage_files`]).
+pub fn write_history_charts(
     title: &str,
     run: &DynamicRun,
     dir: &Path,
 ) -> Result<Vec<PathBuf>, PipelineError> {
-    let result = &run.result;
-    let mut files = vec![dir.join("dynamic.json"), dir.join("curve.csv")];
-    std::fs::write(&files[0], serde_json::to_vec_pretty(result)?)
-        .map_err(io("write", &files[0]))?;
-    std::fs::write(&files[1], stick_slip::curve_csv(&result.curve))
-        .map_err(io("write", &files[1]))?;
-    files.extend(stick_slip::plots::write_speed_thrust_chart(
-        result,
-        &dir.join("speed_thrust"),
-    )?);
-    files.extend(stick_slip::plots::write_post_history_chart(
+    let mut files = stick_slip::plots::write_post_history_chart(
         title,
         &run.histories.post,
         &dir.join("post_history"),
-    )?);
+    )?;
     if let Some(slider) = &run.histories.slider {
         files.extend(stick_slip::plots::write_slider_history_chart(
             title,

@@ -15,7 +15,7 @@ mod statics;
 pub use coupled::{
     DynamicJson, DynamicStage, LumpedFigures, run_dynamic_stage, write_dynamic_stage_files,
 };
-pub use dynamics::{DynamicRun, dynamic_scene, run_dynamic, write_dynamic_files};
+pub use dynamics::{DynamicRun, dynamic_scene, run_dynamic, write_history_charts};
 pub use error::PipelineError;
 pub use run::{RunOptions, RunSummary, StageTimings, run_pipeline};
 pub use slider_static::{
