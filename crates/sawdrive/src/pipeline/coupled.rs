@@ -280,12 +280,12 @@ fn histories_charts(title: &str, h: &PostHistories) -> [Chart; 2] {
         .collect();
     let panel = |what: &str, values: &[Vec<f64>]| {
         let mut chart = Chart::new(
-            &format!(
+            format!(
                 "{title}: coupled model, {what} at {:.3} m/s",
                 h.speed_m_per_s
             ),
             "time (ns)",
-            &format!("{what} (N)"),
+            format!("{what} (N)"),
         );
         for &i in &shown {
             let points = h
