@@ -248,3 +248,26 @@ fn coupled_settings_that_cannot_apply_are_refused_by_name() {
         "a refused run writes no results"
     );
 }
+
+#[test]
+fn a_sweep_cache_fill_stores_the_tip_compliances_so_coupled_points_need_no_second_fem() {
+    let cache = tempfile::tempdir().expect("temp dir");
+    let scene = small_scene();
+    let scene = sawdrive::scene::load_scene(
+        Some(Path::new(&scene)),
+        &["model.dynamics=coupled".to_owned()],
+    )
+    .expect("the small scene loads");
+    let (built, failures) = sawdrive::pipeline::fill_static_cache(&[scene], cache.path());
+    assert_eq!((built, failures.len()), (1, 0), "one geometry condensed");
+    let compliances: Vec<_> = std::fs::read_dir(cache.path())
+        .expect("cache folder")
+        .filter_map(Result::ok)
+        .filter(|e| e.file_name().to_string_lossy().starts_with("compliance-"))
+        .collect();
+    assert_eq!(
+        compliances.len(),
+        1,
+        "the fill stored the strip's tip compliances beside its static report"
+    );
+}

@@ -21,7 +21,7 @@ use coupled_dynamics::{
 };
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
-use static_contact::StripModel;
+use static_contact::{StaticParams, StripModel};
 use stick_slip::{CurvePoint, DynamicResult, ModelKind, VerticalModel};
 
 use super::statics::{StaticDetails, StaticOutcome, geometry_key, sha256_hex, static_params};
@@ -547,6 +547,22 @@ impl StripTips {
             strip_share,
         })
     }
+}
+
+/// Store the tip compliances of a freshly condensed strip in the compliance cache of
+/// `cache_dir`, so that coupled runs of its geometry (a sweep's points) need no second FEM.
+pub(crate) fn cache_strip_tips(
+    model: &StripModel,
+    params: &StaticParams,
+    cache_dir: &Path,
+) -> Result<(), PipelineError> {
+    let key = geometry_key(params)?;
+    let tips = StripTips::of(model, params.strip_share())?;
+    store(
+        Some(&cache_dir.join(format!("compliance-{key}.json"))),
+        &key,
+        &tips,
+    )
 }
 
 /// The strip's tips: from the fresh static analysis, else from the verified cache, else from

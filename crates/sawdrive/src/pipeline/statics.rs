@@ -490,6 +490,7 @@ fn condense_and_cache(
 ) -> Result<(), PipelineError> {
     let prepared = static_contact::prepare_strip(&members[0].0)?;
     announce(&prepared.notes);
+    super::coupled::cache_strip_tips(&prepared.model, &members[0].0, cache_dir)?;
     for (params, hash) in members {
         let report = static_contact::analysis::report_for_model(
             &prepared.model,
