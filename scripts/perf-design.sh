@@ -64,7 +64,8 @@ d = pathlib.Path(sys.argv[1])
 u = json.loads((d / "uq.json").read_text())
 c = u["cost"]
 print(f"cost uq fidelity={u['fidelity']} samples={u['samples']} failed={len(u['failed_samples'])} "
-      f"operator_s={c['operator_s']:.3f} static_s={c['static_s']:.3f} dynamic_s={c['dynamic_s']:.3f} "
+      f"operator_s={c['operator_s']:.3f} static_s={c['static_s']:.3f} "
+      f"(own_operator_s={c['sample_operator_s']:.3f}) dynamic_s={c['dynamic_s']:.4f} "
       f"sample_s={u['sample_cost_s']:.3f} operators_built={c['operators_built']} wall_s={u['wall_time_s']:.1f}")
 for p in sorted(d.glob("design-*.json")):
     r = json.loads(p.read_text())

@@ -234,13 +234,14 @@ impl StaticModel {
         Ok((model, false))
     }
 
-    /// η, the contact fraction and whether an operator was built, for `scene` (already carrying
-    /// the sample's preload, diameter and μ) with the sample's shape.
+    /// η, the contact fraction and the time spent building an operator (`None`: the shared one
+    /// was used), for `scene` (already carrying the sample's preload, diameter and μ) with the
+    /// sample's shape.
     fn eta(
         &self,
         scene: &Scene,
         s: &MotorSample,
-    ) -> Result<(f64, Option<f64>, bool), PipelineError> {
+    ) -> Result<(f64, Option<f64>, Option<f64>), PipelineError> {
         if let Some(eta) = scene.contact.effective_ratio {
             if s.has_shape() {
                 return Err(PipelineError::Unsupported {
@@ -252,7 +253,7 @@ impl StaticModel {
                     ),
                 });
             }
-            return Ok((eta, None, false));
+            return Ok((eta, None, None));
         }
         let imperfections = Imperfections {
             height_scatter_m: s.height_scatter_m,
@@ -263,7 +264,9 @@ impl StaticModel {
             bow_m: s.bow_m,
         };
         let params = fidelity_params(slider_params(scene, imperfections), self.fidelity);
+        let setup = Instant::now();
         let (model, built) = self.model_for(params)?;
+        let operator_s = built.then(|| setup.elapsed().as_secs_f64());
         let report = model.analyse(model.params.preload_n).map_err(unsupported)?;
         let eta = report
             .effective_contact_ratio
@@ -278,7 +281,7 @@ impl StaticModel {
                         .unwrap_or("no reason given")
                 ),
             })?;
-        Ok((eta, Some(report.contact_fraction), built))
+        Ok((eta, Some(report.contact_fraction), operator_s))
     }
 }
 
@@ -345,6 +348,9 @@ pub fn check_dynamics(scene: &Scene) -> Result<(), PipelineError> {
 pub struct EvaluationCost {
     /// Post offsets, operator (when built), contact solves of every phase and the η fit.
     pub static_s: f64,
+    /// The part of `static_s` that built this evaluation's own operator (0: shared).
+    #[serde(default)]
+    pub operator_s: f64,
     /// Springs and the dynamic speed–thrust curve.
     pub dynamic_s: f64,
     /// Whether this evaluation built its own lattice operator (another post diameter).
@@ -372,7 +378,7 @@ pub fn evaluate_with(
 ) -> Result<MotorOutputs, PipelineError> {
     let start = Instant::now();
     let scene = perturbed_scene(scene, sample);
-    let (eta, contact_fraction, operator_built) = model.eta(&scene, sample)?;
+    let (eta, contact_fraction, operator_s) = model.eta(&scene, sample)?;
     let static_s = start.elapsed().as_secs_f64();
     let springs: PostSprings = scene_springs(&scene)?;
     let dynamic = dynamic_scene(&scene, &springs, eta)?;
@@ -392,8 +398,9 @@ pub fn evaluate_with(
         curve: result.curve,
         cost: EvaluationCost {
             static_s,
+            operator_s: operator_s.unwrap_or(0.0),
             dynamic_s: start.elapsed().as_secs_f64() - static_s,
-            operator_built,
+            operator_built: operator_s.is_some(),
         },
     })
 }

@@ -77,6 +77,9 @@ pub struct UqCost {
     pub computed_samples: usize,
     /// Mean static part of a sample: post offsets, contact solves of every phase, η fit (s).
     pub static_s: f64,
+    /// Mean part of `static_s` spent building a sample's own operator (another post diameter;
+    /// 0 for samples sharing the nominal one) (s).
+    pub sample_operator_s: f64,
     /// Mean dynamic part of a sample: springs and the speed–thrust curve (s).
     pub dynamic_s: f64,
     /// Samples that built their own operator (another post diameter).
@@ -334,6 +337,7 @@ pub fn run_uq(
         operator_s,
         computed_samples: fresh.len(),
         static_s: mean(&|r| r.cost.static_s),
+        sample_operator_s: mean(&|r| r.cost.operator_s),
         dynamic_s: mean(&|r| r.cost.dynamic_s),
         operators_built: fresh.iter().filter(|r| r.cost.operator_built).count(),
     };
