@@ -8,7 +8,8 @@
 #
 # then the per-sample cost split (operator once, static and dynamic parts of a sample) from the
 # UQ's summary.json, and the per-evaluation cost by fidelity from each design's summary.json.
-# Numbers go to stdout as `name wall_s user_s sys_s max_rss_kb` lines, then `cost …` lines.
+# Numbers go to stdout as `name wall_s user_s sys_s max_rss_kb` lines, the UQ's samples/s and CPU
+# per sample, the load average before and after, then `cost …` lines.
 #
 #   scripts/perf-design.sh [--samples N] [--no-design]
 #
@@ -44,8 +45,13 @@ timed() {
 
 echo "# name wall_s user_s sys_s max_rss_kb   ($(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg))"
 timed "uq-$samples" "$bin" uq validation/design/scatter.toml --samples "$samples" --seed 1 \
-  --out "$scratch/uq" --json
+  --out "$scratch/uq" --json | tee "$scratch/uq.time"
 cp "$scratch/stdout" "$scratch/uq.json"
+read -r _ wall user sys _ <"$scratch/uq.time"
+python3 -c "import sys; n, w, u, s = int(sys.argv[1]), *map(float, sys.argv[2:5]); \
+print(f'uq-{n} samples_per_s={n / w:.2f} cpu_per_sample_s={(u + s) / n:.3f} (wall {w:.1f} s, cpu {u + s:.1f} s)')" \
+  "$samples" "$wall" "$user" "$sys"
+echo "# load after uq-$samples: $(cut -d' ' -f1-3 /proc/loadavg)"
 if [[ $design == 1 ]]; then
   for x in ideal robust; do
     timed "design-$x" "$bin" design "validation/design/$x.toml" --out "$scratch/design" --json
@@ -58,7 +64,8 @@ d = pathlib.Path(sys.argv[1])
 u = json.loads((d / "uq.json").read_text())
 c = u["cost"]
 print(f"cost uq fidelity={u['fidelity']} samples={u['samples']} failed={len(u['failed_samples'])} "
-      f"operator_s={c['operator_s']:.3f} static_s={c['static_s']:.3f} dynamic_s={c['dynamic_s']:.3f} "
+      f"operator_s={c['operator_s']:.3f} static_s={c['static_s']:.3f} "
+      f"(own_operator_s={c['sample_operator_s']:.3f}) dynamic_s={c['dynamic_s']:.4f} "
       f"sample_s={u['sample_cost_s']:.3f} operators_built={c['operators_built']} wall_s={u['wall_time_s']:.1f}")
 for p in sorted(d.glob("design-*.json")):
     r = json.loads(p.read_text())

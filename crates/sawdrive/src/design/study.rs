@@ -50,7 +50,9 @@ use rayon::prelude::*;
 use serde::Serialize;
 use sha2::{Digest, Sha256};
 
-use super::motor::{Fidelity, MotorSample, OUTPUT_NAMES, StaticModel, evaluate_with};
+use super::motor::{
+    Fidelity, MotorSample, OUTPUT_NAMES, StaticModel, check_dynamics, evaluate_with,
+};
 use super::scatter::ScatterSpec;
 use super::uq::design_error;
 use crate::output::{StagedDir, write_atomically};
@@ -658,8 +660,10 @@ pub fn run_design(
         stage: "design",
         message,
     };
-    spec.scene_at(&spec.variables.iter().map(|v| v.at(0.5)).collect::<Vec<_>>())
+    let scene = spec
+        .scene_at(&spec.variables.iter().map(|v| v.at(0.5)).collect::<Vec<_>>())
         .map_err(bad)?;
+    check_dynamics(&scene)?;
     let staged = StagedDir::create(&out_dir.join(&spec.name))?;
     let timing = std::sync::Mutex::new(BTreeMap::<String, (usize, f64)>::new());
     let resumed = std::sync::atomic::AtomicUsize::new(0);
@@ -975,6 +979,23 @@ finalists = 1
         assert!(e.starts_with("scatter:"), "{e}");
         let e = parse(&SMALL.replace("[variables]", "samples = 0\n[variables]")).unwrap_err();
         assert!(e.starts_with("samples: must be ≥ 1"), "{e}");
+    }
+
+    #[test]
+    fn a_coupled_dynamics_setting_is_refused_naming_the_key() {
+        let text = SMALL.replace(
+            "\"posts.array=0.4mm\"]",
+            "\"posts.array=0.4mm\", \"model.dynamics=coupled\"]",
+        );
+        let dir = tempfile::tempdir().unwrap();
+        let e = run_design(&parse(&text).unwrap(), dir.path(), false)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("model.dynamics"), "{e}");
+        assert!(
+            !dir.path().join("small").exists(),
+            "a refused design run wrote no results"
+        );
     }
 
     #[test]

@@ -18,7 +18,8 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
 use super::motor::{
-    EvaluationCost, Fidelity, MotorOutputs, MotorSample, OUTPUT_NAMES, StaticModel, evaluate_with,
+    EvaluationCost, Fidelity, MotorOutputs, MotorSample, OUTPUT_NAMES, StaticModel, check_dynamics,
+    evaluate_with,
 };
 use super::scatter::ScatterSpec;
 use crate::output::{StagedDir, write_atomically};
@@ -76,6 +77,9 @@ pub struct UqCost {
     pub computed_samples: usize,
     /// Mean static part of a sample: post offsets, contact solves of every phase, η fit (s).
     pub static_s: f64,
+    /// Mean part of `static_s` spent building a sample's own operator (another post diameter;
+    /// 0 for samples sharing the nominal one) (s).
+    pub sample_operator_s: f64,
     /// Mean dynamic part of a sample: springs and the speed–thrust curve (s).
     pub dynamic_s: f64,
     /// Samples that built their own operator (another post diameter).
@@ -246,6 +250,7 @@ pub fn run_uq(
             message: "--samples: must be ≥ 1".into(),
         });
     }
+    check_dynamics(scene)?;
     let inputs = scatter
         .inputs(scene)
         .map_err(|message| PipelineError::Unsupported {
@@ -332,6 +337,7 @@ pub fn run_uq(
         operator_s,
         computed_samples: fresh.len(),
         static_s: mean(&|r| r.cost.static_s),
+        sample_operator_s: mean(&|r| r.cost.operator_s),
         dynamic_s: mean(&|r| r.cost.dynamic_s),
         operators_built: fresh.iter().filter(|r| r.cost.operator_built).count(),
     };
@@ -621,6 +627,33 @@ mod tests {
             fresh.max_output_power_w.mean.to_bits(),
             "resumed and fresh mean output power"
         );
+    }
+
+    #[test]
+    fn coupled_model_settings_are_refused_naming_the_key() {
+        let dir = tempfile::tempdir().unwrap();
+        for (set, key) in [
+            ("model.dynamics=coupled", "model.dynamics"),
+            ("model.lumped_tolerance=0.01", "model.lumped_tolerance"),
+            ("model.steps_per_period=128", "model.steps_per_period"),
+        ] {
+            let scene = load_scene(
+                None,
+                &[
+                    "posts.count=10x10".into(),
+                    "posts.array=0.4mm".into(),
+                    "load.preload=4N".into(),
+                    set.into(),
+                ],
+            )
+            .unwrap();
+            let e = run_uq(&scene, &scattered(), &options(dir.path(), 2, 1)).unwrap_err();
+            assert!(e.to_string().contains(key), "uq with {set}: {e}");
+            assert!(
+                !dir.path().join(format!("{}-uq", scene.name)).exists(),
+                "uq with {set} wrote no results"
+            );
+        }
     }
 
     #[test]

@@ -10,6 +10,25 @@
 //! a cos θ + b sin θ + gθ + d, whose critical points are closed-form; the first crossing is found
 //! on a monotone bracket to machine precision ([`TrigLinear::first_crossing`]). The scheme is
 //! therefore exact up to round-off: no step size, no order.
+//!
+//! **Event hysteresis (no Zeno loop at the friction-cone apex).** The event functions are
+//! evaluated to an absolute accuracy of ≈ ε·(|a| + |b| + |gθ| + |d|) ≈ 1e-15, their O(1)
+//! terms cancelling. Where the normal force vanishes (N̂ → 0 at a separation, the apex of the
+//! friction cone), the static bound and the deflection of a post that re-sticks at the kinetic
+//! bound differ by (μ_s − μ_k)N̂/ρ, which falls below that accuracy: the re-stuck post is judged
+//! already past its static bound, the stick→slip event re-triggers at the same instant, and the
+//! event sequence never advances (UQ sample 957 of `validation/design/scatter.toml`, seed 1: a
+//! post that stays stuck through its contact and meets the lower bound 1 ulp before it
+//! separates; test `a_stick_event_at_the_friction_cone_apex_does_not_retrigger`). The remedy is
+//! the standard one of event location (L. F. Shampine & S. Thompson, "Event location for
+//! ordinary differential equations", Comput. Math. Appl. 39 (2000) 43–54: a root located at the
+//! start of a step, i.e. the event just handled, is not reported again): after an event that
+//! leaves the post stuck (a re-stick at the kinetic bound, or the end of a slip), the search for
+//! the next static-bound event starts [`AnalyticPost::x_tol`] (the tolerance every event is
+//! located to, ≈ 1e-14 rad) later. Two events closer than that cannot be told apart anyway; in
+//! exact arithmetic no such second event exists (a re-stuck post sits inside its static cone by
+//! (μ_s − μ_k)N̂/ρ, or, with μ_s = μ_k, moves inwards), so non-degenerate trajectories are
+//! unchanged, and every zero-progress cycle (stick → slip → stick at one θ) is broken.
 
 use std::f64::consts::PI;
 
@@ -146,6 +165,8 @@ impl AnalyticPost {
         let p = &self.p;
         let bound_s = p.mu_static / p.stiffness_ratio;
         let mut scratch = Vec::new();
+        // Phase of the last event that left the post stuck (the hysteresis of the module doc).
+        let mut restuck_at = None;
         let push = |segments: &mut Vec<Segment>, mode, start: f64, end: f64, e: f64| {
             if end > start {
                 segments.push(Segment {
@@ -211,10 +232,15 @@ impl AnalyticPost {
                         ..line
                     };
                     let tol = Self::x_tol(limit);
-                    let up =
-                        upper.first_crossing(theta, limit, Crossing::Upward, tol, &mut scratch);
+                    // Just re-stuck here: the event just handled is not reported again.
+                    let from = if restuck_at == Some(theta) {
+                        (theta + Self::x_tol(theta)).min(limit)
+                    } else {
+                        theta
+                    };
+                    let up = upper.first_crossing(from, limit, Crossing::Upward, tol, &mut scratch);
                     let down =
-                        lower.first_crossing(theta, limit, Crossing::Downward, tol, &mut scratch);
+                        lower.first_crossing(from, limit, Crossing::Downward, tol, &mut scratch);
                     let event = match (up, down) {
                         (Some(u), Some(d)) => Some(if u <= d { (u, 1.0) } else { (d, -1.0) }),
                         (Some(u), None) => Some((u, 1.0)),
@@ -226,6 +252,7 @@ impl AnalyticPost {
                             push(segments, Mode::Stick, theta, at, state.deflection);
                             state = self.enter_slip(at, sign, line.value(at), dissipated);
                             theta = at;
+                            restuck_at = (state.mode == Mode::Stick).then_some(at);
                         }
                         None => {
                             push(segments, Mode::Stick, theta, limit, state.deflection);
@@ -258,6 +285,7 @@ impl AnalyticPost {
                                 tip_velocity: 0.0,
                             };
                             theta = at;
+                            restuck_at = Some(at);
                         }
                         None => {
                             push(segments, Mode::Slip(sign), theta, limit, state.deflection);
@@ -565,5 +593,92 @@ impl AnalyticPost {
                 residual: last_change,
             }),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mean_normal::TipHeight;
+    use crate::post::stepping::{StepScheme, SteppedPost};
+
+    /// The post of UQ sample 957 (`sawdrive uq validation/design/scatter.toml --seed 1`: η =
+    /// 0.906, μ_s = 0.3076, μ_k = 0.2610; a separating post, c = 0.490) at 0.75 of the crest
+    /// speed: stuck through its contact, it meets its lower static bound 1 ulp before it
+    /// separates, where N̂ ≈ 1.5e-15.
+    fn sample_957_post() -> AnalyticPost {
+        let p = PostParams {
+            tangential_ratio: 0.9108763652501815,
+            stiffness_ratio: 0.8555870355581267,
+            mu_static: 0.30759751091833776,
+            mu_kinetic: 0.26100453644989396,
+            doppler: 0.0003035004312741685,
+            height: TipHeight {
+                c: 0.490116217649261,
+                half_arc: Some(1.0585732493067366),
+            },
+            mass: None,
+        };
+        AnalyticPost::new(p, -0.7500395914673577)
+    }
+
+    #[test]
+    fn a_stick_event_at_the_friction_cone_apex_does_not_retrigger() {
+        let post = sample_957_post();
+        let phi = post.p.height.half_arc.unwrap();
+        let (theta0, separation) = (0.5 * PI - phi, 0.5 * PI + phi);
+        let mut segments = Vec::new();
+        let mut dropped = 0.0;
+        post.advance(
+            theta0,
+            theta0 + 2.0 * PI,
+            PostState::separated(),
+            &mut segments,
+            &mut dropped,
+        )
+        .expect("one period of the sample-957 post");
+        let flight = segments
+            .iter()
+            .find(|s| s.mode == Mode::Separated)
+            .expect("a separated segment");
+        assert!(
+            (flight.start - separation).abs() < 1e-12,
+            "contact ends at the separation phase {separation}, not {}",
+            flight.start
+        );
+        assert!(
+            (segments.last().unwrap().end - (theta0 + 2.0 * PI)).abs() < 1e-12,
+            "the segments cover the period"
+        );
+        assert!(
+            dropped.abs() < 1e-25,
+            "energy released by the apex event (solver units): {dropped:e}"
+        );
+    }
+
+    #[test]
+    fn the_sample_957_post_agrees_with_the_return_mapping_scheme() {
+        let post = sample_957_post();
+        let steady = post.steady().expect("steady state of the sample-957 post");
+        let ints = steady.integrals;
+        assert!(
+            ints.energy_balance_residual().abs() < 1e-10,
+            "energy balance residual {:e}",
+            ints.energy_balance_residual()
+        );
+        let step = 2.0 * PI / 20_000.0;
+        let stepped = SteppedPost::new(post.p, post.v, StepScheme::ReturnMapping { step })
+            .unwrap()
+            .steady(
+                0.5 * PI - post.p.height.half_arc.unwrap(),
+                PostState::separated(),
+            )
+            .unwrap();
+        let (exact, fixed) = (ints.mean_force(), stepped.integrals.mean_force());
+        let scale = post.p.mu_static * post.p.height.c.abs().max(1.0);
+        assert!(
+            (exact - fixed).abs() < 1e-3 * scale,
+            "mean post force, event-driven {exact:e} vs return mapping {fixed:e}"
+        );
     }
 }
