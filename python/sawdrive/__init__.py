@@ -15,11 +15,13 @@ human units as text (``"20 um"``, ``"9.61 MHz"``, ``"40 N"``). Signs and definit
 Long calls (:func:`static`, :func:`dynamic`, :func:`run`, :func:`sweep`, :func:`uq`,
 :func:`design`) run without holding the GIL, show a progress line where a terminal or notebook
 is attached, and raise ``KeyboardInterrupt`` on Ctrl-C without writing half a result. What stops
-on Ctrl-C: a sweep starts no further point (the points it saved are kept for a rerun, as the
-command line's); :func:`dynamic` with η from the FEM skips the dynamic stage. Stages have no
-cancellation point inside yet: a static FEM, a dynamic model or a whole :func:`run` already
-running finishes in the background and its result is discarded; :func:`uq` and :func:`design`
-finish in the background and commit their complete results folder. Errors are
+on Ctrl-C: a sweep starts no further point and its running points stop inside their stages (the
+points it saved are kept for a rerun, as the command line's); :func:`static`, :func:`dynamic`
+and :func:`run` stop before their next contact solve or speed–thrust curve point (transient
+run). Not interrupted, and finished in the background first: an FEM factorisation (seconds for
+the default strip), a gmsh mesh generation, the whole slider's static solve, the coupled dynamic
+model; :func:`uq` and :func:`design` finish in the background and commit their complete results
+folder. Errors are
 :mod:`sawdrive.errors` exceptions with the command line's one-line messages.
 """
 
@@ -384,8 +386,9 @@ def static(
     phase, and η. With ``out``, writes ``out/<scene>/static/`` (static.json, force chart, VTU)
     atomically; ``cache``: the FEM cache folder (default ``<out>/.cache``, none without ``out``;
     ``False``: none). ``progress``: ``None`` auto, ``True``/``False``, or a callable
-    ``(elapsed_s, done, total)``. Ctrl-C: the FEM has no cancellation point; it finishes in the
-    background and nothing is written."""
+    ``(elapsed_s, done, total)``. Ctrl-C: the strip stops before its next contact solve (an FEM
+    factorisation or mesh generation already running finishes first, in the background; the
+    whole slider's solve is not interrupted) and nothing is written."""
     out_text, cache_text = _folders(out, cache)
     return StaticResult(_call("static", progress, _native.static_stage, _as_scene(scene)._native, out_text, cache_text))
 
@@ -402,10 +405,9 @@ def dynamic(
     --json`` to the last bit. With ``out``, writes ``out/<scene>/dynamic/`` atomically;
     ``cache`` and ``progress`` as for :func:`static`.
 
-    Ctrl-C: with η from the FEM, an interrupt during the static stage skips the dynamic one; a
-    stage already running has no cancellation point and finishes in the background, its result
-    discarded. The period average with η given and no ``out`` (milliseconds) runs on the calling
-    thread, and Ctrl-C is raised when it returns."""
+    Ctrl-C: the static stage stops before its next contact solve, the dynamic one before its
+    next curve point (transient run); nothing is written. The period average with η given and no
+    ``out`` (milliseconds) runs on the calling thread, and Ctrl-C is raised when it returns."""
     native = scene._native if type(scene) is Scene else _as_scene(scene)._native
     if out is None and cache is None and (progress is False or (progress is None and not _attached())):
         # The common call (nothing to write, no progress line): straight to the extension.
@@ -424,8 +426,8 @@ def run(
     """The whole pipeline (``sawdrive run``): springs → static (η) → dynamic. Writes
     ``out/<scene>/`` (default ``out``, as the command line), replacing earlier results only when
     every stage succeeded and the call was not interrupted; ``out=None`` writes nothing.
-    ``cache`` and ``progress`` as for :func:`static`. Ctrl-C: the pipeline has no cancellation
-    point; it finishes in the background and its results are discarded."""
+    ``cache`` and ``progress`` as for :func:`static`. Ctrl-C: the pipeline stops before its next
+    contact solve or curve point and its results are discarded."""
     out_text, cache_text = _folders(out, cache)
     return _call("run", progress, _native.run, _as_scene(scene)._native, out_text, cache_text)
 
@@ -442,8 +444,9 @@ def sweep(
     resumes), then ``results.csv`` and the charts. ``jobs``: worker threads, 1–256 (default:
     all cores). Raises :class:`~sawdrive.errors.SweepPointsFailed` (with ``.result``) when
     points failed. ``SweepResult.frame()`` gives the table as a DataFrame. Ctrl-C: no further
-    point starts, the running ones finish and are saved in the background; ``results.csv`` and
-    the charts are not written (a rerun resumes from the saved points)."""
+    point starts, the running ones stop before their next contact solve or curve point and are
+    not saved; ``results.csv`` and the charts are not written (a rerun resumes from the saved
+    points)."""
     if jobs is not None and (isinstance(jobs, bool) or not isinstance(jobs, numbers.Integral) or jobs < 0):
         raise ArgumentError(f"--jobs {jobs!r}: must be between 1 and 256 worker threads")
     data = _call("sweep", progress, _native.sweep, os.fspath(file), os.fspath(out), None if jobs is None else int(jobs))

@@ -21,6 +21,10 @@ class _CurveResult:
     data: Dict[str, Any]
     curve: Any  # numpy (n, 2): speed m/s, thrust N
     curve_points: List[Dict[str, float]]
+    stall_thrust_n: float  # N
+    no_load_speed_m_per_s: float  # m/s
+    efficiency: float
+    stick_fraction: float
     def __getattr__(self, name: str) -> Any: ...
     def to_dict(self) -> Dict[str, Any]: ...
     def curve_frame(self) -> Any: ...

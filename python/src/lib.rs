@@ -26,8 +26,9 @@ use std::time::Instant;
 use pyo3::prelude::*;
 use sawdrive::output::StagedDir;
 use sawdrive::pipeline::{
-    RunOptions, StaticOutcome, run_dynamic_stage, run_pipeline, run_static, scene_springs,
-    write_dynamic_stage_files, write_static_files,
+    RunOptions, ShouldStop, StaticOutcome, run_dynamic_stage, run_dynamic_stage_cancellable,
+    run_pipeline_cancellable, run_static_cancellable, scene_springs, write_dynamic_stage_files,
+    write_static_files,
 };
 use sawdrive::scene::{DEFAULT_SCENE_TOML, Scene, load_scene};
 use sawdrive::sweep::Cancel;
@@ -167,9 +168,9 @@ fn commit(staged: Option<StagedDir>) -> Result<Option<String>, Failure> {
 }
 
 /// `sawdrive static`: post forces and η, as a dict `{report, effective_ratio, content_hash,
-/// cached, notes, folder}`; with `out`, writes `out/<scene>/static/` like the command. The FEM
-/// has no cancellation point: after an interrupt it finishes in the background and writes
-/// nothing.
+/// cached, notes, folder}`; with `out`, writes `out/<scene>/static/` like the command. After an
+/// interrupt the strip stops before its next contact solve (an FEM factorisation or the whole
+/// slider's solve already running finishes first) and writes nothing.
 #[pyfunction]
 #[pyo3(signature = (scene, out=None, cache=None, progress=None))]
 fn static_stage<'py>(
@@ -183,7 +184,14 @@ fn static_stage<'py>(
     let (out, cache) = folders(out, cache);
     let (mut value, staged) = worker::run(py, progress, None, move |cancel| {
         let springs = springs_of(&scene)?;
-        let outcome = run_static(&scene, &springs, cache.as_deref(), out.is_some())?;
+        let should_stop = cancel.should_stop();
+        let outcome = run_static_cancellable(
+            &scene,
+            &springs,
+            cache.as_deref(),
+            out.is_some(),
+            &should_stop,
+        )?;
         worker::check(cancel)?;
         let staged = match &out {
             Some(out) => {
@@ -211,11 +219,12 @@ fn static_stage<'py>(
 fn scene_eta(
     scene: &Scene,
     cache: Option<&Path>,
+    should_stop: ShouldStop<'_>,
 ) -> Result<(f64, &'static str, Option<StaticOutcome>), Failure> {
     if let Some(eta) = scene.contact.effective_ratio {
         return Ok((eta, "given", None));
     }
-    let outcome = run_static(scene, &springs_of(scene)?, cache, false)?;
+    let outcome = run_static_cancellable(scene, &springs_of(scene)?, cache, false, should_stop)?;
     let eta = outcome.effective_ratio.ok_or_else(|| {
         Failure::text(
             Kind::Pipeline,
@@ -242,8 +251,9 @@ fn quick_dynamic(scene: &Scene) -> bool {
 
 /// `sawdrive dynamic`: a [`DynamicResult`] whose fields are what `sawdrive dynamic --json` prints
 /// (without its curve) plus `effective_ratio`, `effective_ratio_source` and `folder`; with
-/// `out`, writes `out/<scene>/dynamic/`. With η from the FEM, an interrupt between the static
-/// and the dynamic stage skips the latter; a stage already running finishes in the background.
+/// `out`, writes `out/<scene>/dynamic/`. An interrupt stops the static stage before its next
+/// contact solve and the dynamic stage before its next curve point (transient run), and writes
+/// nothing.
 #[pyfunction]
 #[pyo3(signature = (scene, out=None, cache=None, progress=None))]
 fn dynamic_stage<'py>(
@@ -259,10 +269,17 @@ fn dynamic_stage<'py>(
     let inline = out.is_none() && *native.quick_dynamic.get_or_init(|| quick_dynamic(&scene));
     let (out, cache) = folders(out, cache);
     let job = move |cancel: &Cancel| {
-        let (eta, source, statics) = scene_eta(&scene, cache.as_deref())?;
-        worker::check(cancel)?;
+        let should_stop = cancel.should_stop();
+        let (eta, source, statics) = scene_eta(&scene, cache.as_deref(), &should_stop)?;
         let springs = springs_of(&scene)?;
-        let stage = run_dynamic_stage(&scene, &springs, eta, statics.as_ref(), cache.as_deref())?;
+        let stage = run_dynamic_stage_cancellable(
+            &scene,
+            &springs,
+            eta,
+            statics.as_ref(),
+            cache.as_deref(),
+            &should_stop,
+        )?;
         worker::check(cancel)?;
         let staged = match &out {
             Some(out) => {
@@ -287,8 +304,8 @@ fn dynamic_stage<'py>(
 /// `sawdrive run`: a [`RunResult`] whose fields are `summary.json` without its curve, plus
 /// `folder`. With `out`, the results replace `out/<scene>/` only when every stage succeeded and
 /// the call was not interrupted; without, they are computed in a temporary folder and
-/// discarded. The pipeline has no cancellation point: after an interrupt it finishes in the
-/// background and its results are removed.
+/// discarded. After an interrupt the pipeline stops before its next contact solve or curve
+/// point (an FEM factorisation already running finishes first) and its results are removed.
 #[pyfunction]
 #[pyo3(signature = (scene, out=None, cache=None, progress=None))]
 fn run<'py>(
@@ -308,8 +325,8 @@ fn run<'py>(
         progress: false,
         write_files: true,
     };
-    let (summary, curve, scratch) = worker::run(py, progress, None, move |_| {
-        let (mut summary, _) = run_pipeline(&scene, &options)?;
+    let (summary, curve, scratch) = worker::run(py, progress, None, move |cancel| {
+        let (mut summary, _) = run_pipeline_cancellable(&scene, &options, &cancel.should_stop())?;
         let curve = std::mem::take(&mut summary.curve);
         let fields = match serde_json::to_value(&summary)? {
             serde_json::Value::Object(mut map) => {

@@ -77,6 +77,38 @@ impl Fields {
 }
 
 impl Fields {
+    /// A number field of the lumped result read straight from it, without serialising the
+    /// result: the common reads (`r.stall_thrust_n`, …) then create one Python float. `None`:
+    /// not such a field, or not finite (serde writes those as null): the caller takes the JSON
+    /// path, which gives the same value otherwise (the fields carry no serde renames).
+    fn number(&self, name: &str) -> Option<f64> {
+        let Fields::Dynamic {
+            result,
+            effective_ratio,
+            ..
+        } = self
+        else {
+            return None;
+        };
+        let value = match name {
+            "stall_thrust_n" => result.stall_thrust_n,
+            "no_load_speed_m_per_s" => result.no_load_speed_m_per_s,
+            "efficiency" => result.efficiency,
+            "stick_fraction" => result.stick_fraction,
+            "contact_fraction" => result.contact_fraction,
+            "max_output_power_w" => result.max_output_power_w,
+            "effective_post_count" => result.effective_post_count,
+            "mean_normal_force_per_post_n" => result.mean_normal_force_per_post_n,
+            "tip_height_m" => result.tip_height_m,
+            "friction_limit_n" => result.friction_limit_n,
+            "crest_speed_m_per_s" => result.crest_speed_m_per_s,
+            "wall_time_s" => result.wall_time_s,
+            "effective_ratio" => *effective_ratio,
+            _ => return None,
+        };
+        value.is_finite().then_some(value)
+    }
+
     /// The fields and the curve of a dynamic stage run at η = `effective_ratio` (from `source`):
     /// the lumped result as it is (converted when read), or a coupled run's JSON (that of
     /// `sawdrive dynamic --json`: the coupled result, the lumped figures, the choice) with its
@@ -124,6 +156,8 @@ pub struct Outcome {
 
 /// `numpy.ndarray`, imported once.
 static NDARRAY: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
+/// `numpy.dtype("<f8")`, made once (a dtype object is not parsed again at each array).
+static FLOAT64: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
 
 impl Outcome {
     /// `fields`, the results folder written (if any) and the curve.
@@ -150,6 +184,9 @@ impl Outcome {
         if name == "folder" {
             return Ok(self.folder.as_deref().into_pyobject(py)?.into_any());
         }
+        if let Some(value) = self.fields.number(name) {
+            return Ok(value.into_pyobject(py)?.into_any());
+        }
         match self.json(py)?.get(name) {
             Some(value) => convert::to_py(py, value),
             None => Err(PyAttributeError::new_err(format!(
@@ -165,22 +202,28 @@ impl Outcome {
         Ok(dict)
     }
 
-    /// A numpy array (rows, `columns`) over little-endian f64 bytes of `values`.
+    /// A numpy array (rows, `columns`) over little-endian f64 bytes of `values`, written
+    /// straight into the one Python buffer the array keeps.
     fn numpy<'py>(
         &self,
         py: Python<'py>,
         columns: usize,
         values: impl Fn(&CurvePoint) -> Vec<f64>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let mut bytes = Vec::with_capacity(8 * columns * self.curve.len());
-        for p in &self.curve {
-            for v in values(p) {
-                bytes.extend_from_slice(&v.to_le_bytes());
+        let bytes = PyByteArray::new_with(py, 8 * columns * self.curve.len(), |buffer| {
+            let numbers = self.curve.iter().flat_map(values);
+            for (chunk, v) in buffer.chunks_exact_mut(8).zip(numbers) {
+                chunk.copy_from_slice(&v.to_le_bytes());
             }
-        }
+            Ok(())
+        })?;
         let ndarray = NDARRAY.import(py, "numpy", "ndarray")?;
+        let float64 = FLOAT64.get_or_try_init(py, || {
+            let dtype = py.import("numpy")?.getattr("dtype")?.call1(("<f8",))?;
+            PyResult::Ok(dtype.unbind())
+        })?;
         let shape = (self.curve.len(), columns);
-        ndarray.call1((shape, "<f8", PyByteArray::new(py, &bytes)))
+        ndarray.call1((shape, float64.bind(py), bytes))
     }
 
     /// The speed–thrust curve, numpy (n, 2): speed (m/s), thrust (N). Made once.
@@ -276,6 +319,18 @@ macro_rules! curve_result {
 
         #[pymethods]
         impl $name {
+            /// Stall thrust (N): the v → 0⁺ limit of the thrust.
+            #[getter]
+            fn stall_thrust_n<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+                self.0.field(py, "stall_thrust_n", stringify!($name))
+            }
+
+            /// No-load speed (m/s): where the thrust falls to zero.
+            #[getter]
+            fn no_load_speed_m_per_s<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+                self.0.field(py, "no_load_speed_m_per_s", stringify!($name))
+            }
+
             /// A field of the result (SI units, as the command line's JSON names it).
             fn __getattr__<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
                 self.0.field(py, name, stringify!($name))

@@ -7,11 +7,13 @@
 //! After an interrupt the receiver is gone, so the result is dropped when the work ends, and a
 //! staged folder with it (`StagedDir` removes itself when dropped uncommitted).
 //!
-//! Cancellation: an interrupt also sets the job's [`Cancel`] token. Jobs check it where the
-//! library lets them (between the points of a sweep and the geometries of its FEM fill, between
-//! the static and the dynamic stage); the stages themselves (FEM, contact solve, dynamic model)
-//! have no cancellation point yet, so a stage already running finishes in the background and
-//! its result is dropped.
+//! Cancellation: an interrupt also sets the job's [`Cancel`] token, which the jobs hand to the
+//! library as its stop hook ([`Cancel::should_stop`]): the pipeline asks it between the stages,
+//! before each static contact solve and each dynamic curve point (transient run); a sweep before
+//! each point and inside the running ones. A stopped job ends with the library's `Cancelled`
+//! error, which nobody reads. Not interrupted (the job ends after them): an FEM factorisation
+//! (seconds for the default strip), a gmsh mesh generation, the whole slider's static solve,
+//! the coupled dynamic model, and UQ/design runs.
 
 use std::path::PathBuf;
 use std::sync::Mutex;

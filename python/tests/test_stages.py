@@ -56,6 +56,7 @@ def test_dynamic_equals_the_cli_json_to_the_last_bit(cli, tmp_path):
     for key, value in expected.items():
         if key not in ("wall_time_s", "curve"):
             assert r.data[key] == value, f"field {key} as the CLI prints it"
+            assert getattr(r, key) == value, f"field {key} read as an attribute, bit for bit"
     assert r.effective_ratio == ETA and r.effective_ratio_source == "given"
     assert r.folder is None, "nothing written without out="
 
@@ -144,6 +145,26 @@ def test_interrupted_run_keeps_the_earlier_results(tmp_path):
     wait_for_scratch_to_go(out)
     assert Path(first.folder, "summary.json").read_bytes() == before, "earlier results untouched"
     assert sorted(p.name for p in out.iterdir()) == ["small-strip"], "no half-written folder"
+
+
+def test_an_interrupt_stops_the_dynamic_stage_instead_of_finishing_it_in_the_background(tmp_path):
+    # 16 transient runs of 20000 periods: ≈ 21 s of CPU uninterrupted, ≈ 1.3 s per run (small
+    # scene, η given). The interrupt (first progress tick) cancels the stage, which stops before
+    # its next run. CPU time (all threads of this process) is what load from other processes
+    # does not inflate; the bound leaves room for the run in progress and a few more.
+    out = tmp_path / "out"
+    scene = long_scene().set("model.periods", 20000)
+
+    def interrupt(elapsed_s, done, total):
+        raise KeyboardInterrupt
+
+    cpu = time.process_time()
+    with pytest.raises(KeyboardInterrupt):
+        sawdrive.run(scene, out=out, cache=False, progress=interrupt)
+    wait_for_scratch_to_go(out)  # the scratch folder goes when the background job ends
+    spent_s = time.process_time() - cpu
+    assert spent_s < 8.0, f"the cancelled stage stopped early: {spent_s:.1f} s of CPU of ≈ 21 s"
+    assert not (out / "small-strip").exists(), "a cancelled run writes no results"
 
 
 def test_ctrl_c_raises_keyboard_interrupt_during_a_long_call(tmp_path):

@@ -101,7 +101,7 @@ def test_an_interrupted_sweep_starts_no_further_point_and_a_rerun_completes_it(t
 
     with pytest.raises(KeyboardInterrupt):
         sawdrive.sweep(file, out=out, jobs=1, progress=interrupt)
-    # The point running at the interrupt finishes in the background; then nothing moves.
+    # The point running at the interrupt stops inside its stages (not saved); then nothing moves.
     seen, still_since = saved_points(points), time.monotonic()
     while time.monotonic() - still_since < 2.0:
         time.sleep(0.1)

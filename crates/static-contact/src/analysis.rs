@@ -239,6 +239,20 @@ fn with_context(e: ContactError, preload_n: f64, phase: Option<f64>) -> ContactE
     }
 }
 
+/// The caller's stop request: `should_stop()` is asked before each contact solve (each phase of
+/// each preload, and the flat stator) and before the strip's condensation; once it returns true
+/// the run ends with [`ContactError::Cancelled`] and returns nothing. The FEM factorisation
+/// inside the condensation is not interrupted.
+pub type ShouldStop<'a> = &'a (dyn Fn() -> bool + Sync);
+
+/// `Err(Cancelled)` naming the step `before` if the caller asked to stop.
+fn stop_check(should_stop: ShouldStop<'_>, before: impl FnOnce() -> String) -> Result<()> {
+    match should_stop() {
+        true => Err(ContactError::Cancelled { before: before() }),
+        false => Ok(()),
+    }
+}
+
 /// Solves every snapshot of one preload on a built model and fits η.
 pub fn analyse_preload(
     model: &StripModel,
@@ -247,12 +261,31 @@ pub fn analyse_preload(
     k_n_n_per_m: f64,
     options: ActiveSetOptions,
 ) -> Result<PreloadResult> {
+    analyse_preload_cancellable(model, params, preload_n, k_n_n_per_m, options, &|| false)
+}
+
+/// [`analyse_preload`] that asks `should_stop` before each contact solve.
+pub fn analyse_preload_cancellable(
+    model: &StripModel,
+    params: &StaticParams,
+    preload_n: f64,
+    k_n_n_per_m: f64,
+    options: ActiveSetOptions,
+    should_stop: ShouldStop<'_>,
+) -> Result<PreloadResult> {
     let preload_strip_n = preload_n * params.strip_share();
     let scale = (params.wave_amplitude_m > 0.0).then_some(params.wave_amplitude_m);
     let mut snapshots = Vec::with_capacity(params.phases);
     let mut samples = Vec::with_capacity(params.phases);
     for k in 0..params.phases {
         let phase = 2.0 * PI * k as f64 / params.phases as f64;
+        stop_check(should_stop, || {
+            format!(
+                "the contact solve at preload {preload_n} N, phase {} of {}",
+                k + 1,
+                params.phases
+            )
+        })?;
         let heights = wave_heights(model, params.wave_amplitude_m, params.wavelength_m, phase);
         let solution = model
             .solve(preload_strip_n, heights.clone(), scale, options)
@@ -264,6 +297,9 @@ pub fn analyse_preload(
         });
         snapshots.push(snapshot(model, heights, Some(phase), solution));
     }
+    stop_check(should_stop, || {
+        format!("the flat-stator solve at preload {preload_n} N")
+    })?;
     let flat_heights = vec![0.0; model.post_count()];
     let flat = model
         .solve(preload_strip_n, flat_heights.clone(), None, options)
@@ -381,11 +417,23 @@ pub fn run_with_springs(
     springs: &PostSprings,
     options: ActiveSetOptions,
 ) -> Result<StaticAnalysis> {
+    run_with_springs_cancellable(params, springs, options, &|| false)
+}
+
+/// [`run_with_springs`] that asks `should_stop` before the mesh and condensation, after it,
+/// and before each contact solve ([`ShouldStop`]).
+pub fn run_with_springs_cancellable(
+    params: &StaticParams,
+    springs: &PostSprings,
+    options: ActiveSetOptions,
+    should_stop: ShouldStop<'_>,
+) -> Result<StaticAnalysis> {
     let start = Instant::now();
     params.validate()?;
     let content_hash = params.content_hash()?;
+    stop_check(should_stop, || "the strip's mesh and condensation".into())?;
     let prepared = prepare_strip(params)?;
-    let report = report_for_model(
+    let report = report_for_model_cancellable(
         &prepared.model,
         params,
         springs,
@@ -395,6 +443,7 @@ pub fn run_with_springs(
         prepared.mesh_s,
         prepared.condensation_s,
         start,
+        should_stop,
     )?;
     Ok(StaticAnalysis {
         params: params.clone(),
@@ -417,12 +466,40 @@ pub fn report_for_model(
     condensation_s: f64,
     start: Instant,
 ) -> Result<StaticReport> {
+    report_for_model_cancellable(
+        model,
+        params,
+        springs,
+        content_hash,
+        mesh_file,
+        options,
+        mesh_s,
+        condensation_s,
+        start,
+        &|| false,
+    )
+}
+
+/// [`report_for_model`] that asks `should_stop` before each contact solve.
+#[allow(clippy::too_many_arguments)]
+pub fn report_for_model_cancellable(
+    model: &StripModel,
+    params: &StaticParams,
+    springs: &PostSprings,
+    content_hash: String,
+    mesh_file: String,
+    options: ActiveSetOptions,
+    mesh_s: f64,
+    condensation_s: f64,
+    start: Instant,
+    should_stop: ShouldStop<'_>,
+) -> Result<StaticReport> {
     let t = Instant::now();
     let k_n = springs.k_n_n_per_m;
     let preloads = params
         .all_preloads_n()
         .into_iter()
-        .map(|p| analyse_preload(model, params, p, k_n, options))
+        .map(|p| analyse_preload_cancellable(model, params, p, k_n, options, should_stop))
         .collect::<Result<Vec<_>>>()?;
     let contact_s = t.elapsed().as_secs_f64();
     let main = &preloads[0];

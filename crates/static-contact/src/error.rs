@@ -108,6 +108,12 @@ pub enum ContactError {
         /// What failed.
         detail: String,
     },
+    /// The caller asked the run to stop (its `should_stop` hook returned true) before `before`.
+    #[error("cancelled before {before}")]
+    Cancelled {
+        /// The step that did not start, e.g. `the contact solve at preload 20 N, phase 3 of 8`.
+        before: String,
+    },
     /// Writing an output file failed.
     #[error("writing {path}: {detail}")]
     Output {

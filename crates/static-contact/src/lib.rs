@@ -39,8 +39,8 @@ pub mod posts;
 pub mod scene;
 
 pub use analysis::{
-    PostResult, PreloadResult, PreparedStrip, SnapshotResult, StaticAnalysis, StaticReport,
-    prepare_strip, run, run_with, run_with_springs,
+    PostResult, PreloadResult, PreparedStrip, ShouldStop, SnapshotResult, StaticAnalysis,
+    StaticReport, prepare_strip, run, run_with, run_with_springs, run_with_springs_cancellable,
 };
 pub use body::{BodyCompliance, BodySpec, Disk, FemStats, TangentialCompliance, TipLateral};
 pub use error::{ContactError, Result};

@@ -19,6 +19,7 @@ use crate::post::stepping::{StepScheme, SteppedPost};
 use crate::post::{Mode, PostParams, PostState, SteadyPost};
 use crate::result::{CurvePoint, DynamicResult, OperatingPoint};
 use crate::scene::{DynamicScene, ModelChoice, ModelKind};
+use crate::solve::{ShouldStop, stop_check};
 
 /// Relative tolerance (of the crest speed) of the no-load speed and load-speed roots.
 const SPEED_TOLERANCE: f64 = 1e-12;
@@ -350,10 +351,22 @@ impl PeriodicAverageModel {
 
     /// The speed–thrust curve: `points` speeds evenly from 0⁺ to the no-load speed.
     pub fn curve(&self, points: usize) -> Result<Vec<SpeedSample>> {
+        self.curve_cancellable(points, &|| false)
+    }
+
+    /// [`curve`](Self::curve) that asks `should_stop` before each point.
+    pub fn curve_cancellable(
+        &self,
+        points: usize,
+        should_stop: ShouldStop<'_>,
+    ) -> Result<Vec<SpeedSample>> {
         let v0 = self.no_load_speed_m_per_s()?;
         let n = points.max(2);
         (0..n)
-            .map(|i| self.at_speed(v0 * i as f64 / (n - 1) as f64))
+            .map(|i| {
+                stop_check(should_stop, || format!("curve point {} of {n}", i + 1))?;
+                self.at_speed(v0 * i as f64 / (n - 1) as f64)
+            })
             .collect()
     }
 
@@ -458,11 +471,17 @@ impl PeriodicAverageModel {
 
     /// The full result: curve, stall, no-load speed, operating point, efficiency.
     pub fn solve(&self) -> Result<DynamicResult> {
+        self.solve_cancellable(&|| false)
+    }
+
+    /// [`solve`](Self::solve) that asks `should_stop` before each curve point and before the
+    /// operating point.
+    pub fn solve_cancellable(&self, should_stop: ShouldStop<'_>) -> Result<DynamicResult> {
         let started = Instant::now();
         let mut warnings = self.warnings.clone();
         let stall_sample = self.at_speed(0.0)?;
         let samples = if stall_sample.thrust_n > 0.0 {
-            self.curve(self.scene.options.curve_points)?
+            self.curve_cancellable(self.scene.options.curve_points, should_stop)?
         } else {
             warnings.push(Warning::new(
                 "slider.preload_n",
@@ -488,6 +507,7 @@ impl PeriodicAverageModel {
         } else if load == 0.0 {
             samples.last().copied()
         } else {
+            stop_check(should_stop, || "the operating point".into())?;
             self.at_load(load)?
         };
         if samples.iter().chain(operating.iter()).any(|s| !s.converged) {

@@ -1,5 +1,5 @@
 //! Dynamic stage with the model choice of issue 14: the lumped model of N_eff = η·N independent
-//! posts ([`run_dynamic`]), the coupled model of the static strip's posts with their elastic
+//! posts ([`run_dynamic`](super::run_dynamic)), the coupled model of the static strip's posts with their elastic
 //! interaction (`coupled_dynamics`), and `model.dynamics = "auto"` between them by the
 //! criterion of validation/coupled-dynamics (`coupled_dynamics::choose_model`).
 //!
@@ -25,7 +25,7 @@ use static_contact::{StaticParams, StripModel};
 use stick_slip::{CurvePoint, DynamicResult, ModelKind, VerticalModel};
 
 use super::statics::{StaticDetails, StaticOutcome, geometry_key, sha256_hex, static_params};
-use super::{DynamicRun, PipelineError, run_dynamic, write_history_charts};
+use super::{DynamicRun, PipelineError, run_dynamic_cancellable, write_history_charts};
 use crate::output::io;
 use crate::scene::StaticModel;
 use crate::scene::{DEFAULT_COUPLED_STEPS_PER_PERIOD, Dynamics, Scene};
@@ -317,7 +317,22 @@ pub fn run_dynamic_stage(
     statics: Option<&StaticOutcome>,
     cache_dir: Option<&Path>,
 ) -> Result<DynamicStage, PipelineError> {
-    let lumped = run_dynamic(scene, springs, effective_ratio)?;
+    run_dynamic_stage_cancellable(scene, springs, effective_ratio, statics, cache_dir, &|| {
+        false
+    })
+}
+
+/// [`run_dynamic_stage`] that asks `should_stop` before each point of the lumped curve and
+/// before the coupled model (which itself is not interrupted).
+pub fn run_dynamic_stage_cancellable(
+    scene: &Scene,
+    springs: &PostSprings,
+    effective_ratio: f64,
+    statics: Option<&StaticOutcome>,
+    cache_dir: Option<&Path>,
+    should_stop: super::ShouldStop<'_>,
+) -> Result<DynamicStage, PipelineError> {
+    let lumped = run_dynamic_cancellable(scene, springs, effective_ratio, should_stop)?;
     let evidence = statics.and_then(|s| {
         evidence(
             s,
@@ -329,6 +344,7 @@ pub fn run_dynamic_stage(
     let (run_coupled, reason) = decide(scene, statics, evidence.as_ref())?;
     let (coupled, coupled_histories, coupled_step_error_estimate) = match (run_coupled, statics) {
         (true, Some(statics)) => {
+            PipelineError::check(should_stop, "dynamic (coupled model)")?;
             let (result, histories, step_error) =
                 run_coupled_model(scene, statics, &lumped, cache_dir)?;
             (Some(result), Some(histories), step_error)

@@ -190,9 +190,19 @@ pub fn run_dynamic(
     springs: &PostSprings,
     effective_ratio: f64,
 ) -> Result<DynamicRun, PipelineError> {
+    run_dynamic_cancellable(scene, springs, effective_ratio, &|| false)
+}
+
+/// [`run_dynamic`] that asks `should_stop` before each point of the curve (each transient run).
+pub fn run_dynamic_cancellable(
+    scene: &Scene,
+    springs: &PostSprings,
+    effective_ratio: f64,
+    should_stop: super::ShouldStop<'_>,
+) -> Result<DynamicRun, PipelineError> {
     let dynamic = dynamic_scene(scene, springs, effective_ratio)?;
-    let (result, histories) =
-        stick_slip::solve_with_histories(&dynamic).map_err(name_scene_keys)?;
+    let (result, histories) = stick_slip::solve_with_histories_cancellable(&dynamic, should_stop)
+        .map_err(name_scene_keys)?;
     Ok(DynamicRun {
         scene: dynamic,
         result,

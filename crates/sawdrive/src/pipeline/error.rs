@@ -44,4 +44,36 @@ pub enum PipelineError {
     /// JSON.
     #[error("json: {0}")]
     Json(#[from] serde_json::Error),
+    /// The caller asked the run to stop (its `should_stop` hook) before the stage started.
+    #[error("{stage} stage: cancelled")]
+    Cancelled {
+        /// The stage that did not start.
+        stage: &'static str,
+    },
 }
+
+impl PipelineError {
+    /// Whether the run stopped because its caller asked it to (between stages, or inside the
+    /// static contact solves or the dynamic curve), not because of bad input or a failure.
+    pub fn is_cancelled(&self) -> bool {
+        matches!(
+            self,
+            PipelineError::Cancelled { .. }
+                | PipelineError::Static(static_contact::ContactError::Cancelled { .. })
+                | PipelineError::Dynamic(stick_slip::StickSlipError::Cancelled { .. })
+        )
+    }
+
+    /// `Err(Cancelled { stage })` if `should_stop()` says so.
+    pub(crate) fn check(should_stop: ShouldStop<'_>, stage: &'static str) -> Result<(), Self> {
+        match should_stop() {
+            true => Err(PipelineError::Cancelled { stage }),
+            false => Ok(()),
+        }
+    }
+}
+
+/// The caller's stop request, asked between the stages and inside them (before each static
+/// contact solve, each dynamic curve point): the library crates' hook
+/// ([`stick_slip::ShouldStop`], [`static_contact::ShouldStop`]).
+pub type ShouldStop<'a> = &'a (dyn Fn() -> bool + Sync);

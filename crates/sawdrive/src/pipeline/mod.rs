@@ -13,16 +13,19 @@ mod springs;
 mod statics;
 
 pub use coupled::{
-    DynamicJson, DynamicStage, LumpedFigures, run_dynamic_stage, write_dynamic_stage_files,
+    DynamicJson, DynamicStage, LumpedFigures, run_dynamic_stage, run_dynamic_stage_cancellable,
+    write_dynamic_stage_files,
 };
-pub use dynamics::{DynamicRun, dynamic_scene, run_dynamic, write_history_charts};
-pub use error::PipelineError;
-pub use run::{RunOptions, RunSummary, StageTimings, run_pipeline};
+pub use dynamics::{
+    DynamicRun, dynamic_scene, run_dynamic, run_dynamic_cancellable, write_history_charts,
+};
+pub use error::{PipelineError, ShouldStop};
+pub use run::{RunOptions, RunSummary, StageTimings, run_pipeline, run_pipeline_cancellable};
 pub use slider_static::{
     SliderStage, run_slider_static, slider_content_hash, slider_params, write_slider_maps,
 };
 pub use springs::scene_springs;
 pub use statics::{
     StaticDetails, StaticOutcome, StaticStageReport, fill_static_cache, geometry_key, run_static,
-    static_params, write_static_files,
+    run_static_cancellable, static_params, write_static_files,
 };

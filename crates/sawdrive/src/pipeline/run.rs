@@ -9,8 +9,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 
 use super::{
-    DynamicStage, PipelineError, run_dynamic_stage, run_static, scene_springs,
-    write_dynamic_stage_files, write_static_files,
+    DynamicStage, PipelineError, run_dynamic_stage_cancellable, run_static_cancellable,
+    scene_springs, write_dynamic_stage_files, write_static_files,
 };
 use crate::output::StagedDir;
 use crate::scene::Scene;
@@ -135,6 +135,16 @@ pub fn run_pipeline(
     scene: &Scene,
     options: &RunOptions,
 ) -> Result<(RunSummary, PathBuf), PipelineError> {
+    run_pipeline_cancellable(scene, options, &|| false)
+}
+
+/// [`run_pipeline`] that asks `should_stop` between the stages and inside them (each static
+/// contact solve, each dynamic curve point); a cancelled run leaves `OUT/<name>/` as it was.
+pub fn run_pipeline_cancellable(
+    scene: &Scene,
+    options: &RunOptions,
+    should_stop: super::ShouldStop<'_>,
+) -> Result<(RunSummary, PathBuf), PipelineError> {
     let start = Instant::now();
     let destination = options.out_dir.join(&scene.name);
     let staged = StagedDir::create(&destination)?;
@@ -152,11 +162,12 @@ pub fn run_pipeline(
             Some(eta) => (eta, "given", None, None),
             None => {
                 bar.set_message("static FEM contact (η)");
-                let outcome = run_static(
+                let outcome = run_static_cancellable(
                     scene,
                     &springs,
                     options.cache_dir.as_deref(),
                     options.write_files,
+                    should_stop,
                 )?;
                 let eta = outcome.effective_ratio.ok_or_else(|| PipelineError::Unsupported {
                 stage: "static",
@@ -185,13 +196,15 @@ pub fn run_pipeline(
 
     bar.set_message("stick/slip dynamics");
     let t = Instant::now();
-    let stage = run_dynamic_stage(
+    let stage = run_dynamic_stage_cancellable(
         scene,
         &springs,
         effective_ratio,
         static_outcome.as_ref(),
         options.cache_dir.as_deref(),
+        should_stop,
     )?;
+    PipelineError::check(should_stop, "output")?;
     timings.dynamic_s = t.elapsed().as_secs_f64();
 
     bar.set_message("writing results");

@@ -13,8 +13,8 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use static_contact::{ContactError, MeshChoice, StaticAnalysis, StaticParams, StaticReport};
 
-use super::PipelineError;
 use super::slider_static::{SliderStage, announce, run_slider_static, write_slider_maps};
+use super::{PipelineError, ShouldStop};
 use crate::output::{StagedDir, io};
 use crate::scene::{Scene, StaticModel};
 
@@ -299,6 +299,20 @@ pub fn run_static(
     cache_dir: Option<&Path>,
     with_fields: bool,
 ) -> Result<StaticOutcome, PipelineError> {
+    run_static_cancellable(scene, springs, cache_dir, with_fields, &|| false)
+}
+
+/// [`run_static`] that asks `should_stop` before the stage and, for the strip, before its
+/// condensation and each contact solve; a cancelled run writes nothing to the cache. The whole
+/// slider's solve and the FEM factorisation are not interrupted.
+pub fn run_static_cancellable(
+    scene: &Scene,
+    springs: &PostSprings,
+    cache_dir: Option<&Path>,
+    with_fields: bool,
+    should_stop: ShouldStop<'_>,
+) -> Result<StaticOutcome, PipelineError> {
+    PipelineError::check(should_stop, "static")?;
     let (model, reason) = scene.static_fem.model.choose(&scene.motor);
     if model == StaticModel::Slider {
         let (stage, cell_fem_s, cached, mut notes) = run_slider_static(scene, cache_dir)?;
@@ -347,8 +361,10 @@ pub fn run_static(
         }
     }
     announce(&notes);
-    let analysis = static_contact::run_with_springs(&params, springs, params.solver_options())
-        .map_err(|e| static_error(e, &params))?;
+    let options = params.solver_options();
+    let analysis =
+        static_contact::run_with_springs_cancellable(&params, springs, options, should_stop)
+            .map_err(|e| static_error(e, &params))?;
     announce(&analysis.notes);
     notes.extend(analysis.notes.iter().cloned());
     if let Some(dir) = &fields_dir {

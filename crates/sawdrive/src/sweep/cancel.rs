@@ -1,11 +1,15 @@
-//! Cancelling a running sweep from another thread (the Python binding's Ctrl-C).
+//! Cancelling a running sweep or stage from another thread (the Python binding's Ctrl-C).
 //!
 //! A [`Cancel`] token is a shared flag. The sweep checks it before each point it has not started
-//! and before each geometry of the static-cache fill: once set, no new point or FEM condensation
-//! starts, the points already running finish and are saved (a rerun resumes them), and the sweep
-//! returns [`super::SweepRunError::Cancelled`] without writing `results.csv` or the charts. Points
-//! in flight are not interrupted: the stages inside a point have no cancellation point, so a
-//! cancel takes effect within one point's wall time.
+//! and before each geometry of the static-cache fill; the points already running see it through
+//! the pipeline's stop hook ([`Cancel::should_stop`], the library crates' `ShouldStop`), which
+//! is asked before each static contact solve and each point of the dynamic curve. Once set, no
+//! new point or FEM condensation starts, the running points stop within one solve or curve
+//! point and save nothing (a rerun computes them), and the sweep returns
+//! [`super::SweepRunError::Cancelled`] without writing `results.csv` or the charts. Not
+//! interrupted: an FEM factorisation (seconds for the default strip), a mesh generation (gmsh),
+//! the whole slider's static solve and the coupled dynamic model; a cancel takes effect after
+//! the one of these that is running.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -30,6 +34,12 @@ impl Cancel {
     /// Whether [`Cancel::cancel`] was called on this token or a clone.
     pub fn is_cancelled(&self) -> bool {
         self.0.load(Ordering::Relaxed)
+    }
+
+    /// The token as the pipeline's stop hook ([`crate::pipeline::ShouldStop`]):
+    /// `run_pipeline_cancellable(scene, options, &cancel.should_stop())`.
+    pub fn should_stop(&self) -> impl Fn() -> bool + Sync + '_ {
+        || self.is_cancelled()
     }
 }
 

@@ -11,7 +11,7 @@ use sha2::{Digest, Sha256};
 
 use super::{Cancel, SweepFile, SweepPoint};
 use crate::output::write_atomically;
-use crate::pipeline::{RunOptions, run_pipeline};
+use crate::pipeline::{RunOptions, run_pipeline_cancellable};
 use crate::scene::load_scene;
 
 /// Numeric result columns a chart may use.
@@ -198,21 +198,38 @@ fn point_hash(scene_text: &str, point: &SweepPoint, models: ModelVersions) -> St
         .collect()
 }
 
+/// Why a point gave no row.
+enum PointFailure {
+    /// The sweep was cancelled while the point ran (its stages stopped; nothing was saved).
+    Cancelled,
+    /// The point failed: the one-line error.
+    Failed(String),
+}
+
+/// Run `point` through the pipeline, which stops inside its stages once `cancel` is set.
 fn run_point(
     sweep: &SweepFile,
     point: &SweepPoint,
     hash: &str,
     folder: &Path,
     cache: &Path,
-) -> Result<PointRow, String> {
-    let scene = load_scene(sweep.scene.as_deref(), &point.overrides).map_err(|e| e.to_string())?;
+    cancel: &Cancel,
+) -> Result<PointRow, PointFailure> {
+    let failed = |e: &dyn std::fmt::Display| PointFailure::Failed(e.to_string());
+    let scene = load_scene(sweep.scene.as_deref(), &point.overrides).map_err(|e| failed(&e))?;
     let options = RunOptions {
         out_dir: folder.join("runs").join(hash),
         cache_dir: Some(cache.to_owned()),
         progress: false,
         write_files: false,
     };
-    let (summary, _) = run_pipeline(&scene, &options).map_err(|e| e.to_string())?;
+    let (summary, _) =
+        run_pipeline_cancellable(&scene, &options, &cancel.should_stop()).map_err(|e| {
+            match e.is_cancelled() {
+                true => PointFailure::Cancelled,
+                false => failed(&e),
+            }
+        })?;
     let values = BTreeMap::from([
         ("preload_n".to_owned(), scene.motor.load.preload_n),
         ("post_count".to_owned(), scene.motor.posts.count() as f64),
@@ -354,7 +371,7 @@ impl Prepared<'_> {
                 .map(|(&i, saved)| match saved {
                     Some(row) => Some(Ok(row)),
                     None if cancel.is_cancelled() => None,
-                    None => Some(self.compute_and_save(i)),
+                    None => self.compute_and_save(i, cancel),
                 })
                 .collect()
         });
@@ -424,15 +441,27 @@ impl Prepared<'_> {
         }
     }
 
-    /// Run point `i` through the pipeline and save its row atomically.
-    fn compute_and_save(&self, i: usize) -> Result<PointRow, (String, String)> {
+    /// Run point `i` through the pipeline and save its row atomically; `None` if `cancel`
+    /// stopped it (nothing saved), else its row or (overrides, error).
+    fn compute_and_save(
+        &self,
+        i: usize,
+        cancel: &Cancel,
+    ) -> Option<Result<PointRow, (String, String)>> {
         let (point, hash) = (&self.points[i], &self.hashes[i]);
         let failed = |e: String| (point.overrides.join(" "), e);
-        let row = run_point(self.sweep, point, hash, &self.folder, &self.cache).map_err(failed)?;
-        let bytes = serde_json::to_vec_pretty(&row).map_err(|e| failed(e.to_string()))?;
-        write_atomically(&self.points_dir.join(format!("{hash}.json")), bytes)
-            .map_err(|e| failed(e.to_string()))?;
-        Ok(row)
+        let row = match run_point(self.sweep, point, hash, &self.folder, &self.cache, cancel) {
+            Ok(row) => row,
+            Err(PointFailure::Cancelled) => return None,
+            Err(PointFailure::Failed(e)) => return Some(Err(failed(e))),
+        };
+        let saved = serde_json::to_vec_pretty(&row)
+            .map_err(|e| failed(e.to_string()))
+            .and_then(|bytes| {
+                write_atomically(&self.points_dir.join(format!("{hash}.json")), bytes)
+                    .map_err(|e| failed(e.to_string()))
+            });
+        Some(saved.map(|()| row))
     }
 
     /// Write `results.csv` and the charts of `rows` (in point order); returns the files.
@@ -466,7 +495,7 @@ pub fn run_sweep(
 }
 
 /// [`run_sweep`] that stops when `cancel` is set: no point or FEM condensation starts after
-/// it, the running points finish and are saved, and the sweep returns
+/// it, the running points stop inside their stages and save nothing, and the sweep returns
 /// [`SweepRunError::Cancelled`] without writing `results.csv` or the charts ([`super::cancel`]).
 pub fn run_sweep_cancellable(
     sweep: &SweepFile,

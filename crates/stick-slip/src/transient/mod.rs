@@ -21,6 +21,7 @@ use crate::periodic::PeriodicAverageModel;
 use crate::result::{CurvePoint, DynamicResult, OperatingPoint, TransientSummary};
 use crate::scene::{DynamicScene, ModelChoice, ModelKind, TransientStart};
 use crate::slider::{PostLayout, VerticalModel};
+use crate::solve::{ShouldStop, stop_check};
 
 use event_driven::EventDriven;
 use massive::{MassivePosts, TipFriction};
@@ -442,6 +443,15 @@ impl TransientModel {
 
     /// As [`solve`](Self::solve), also returning the operating-point run (with histories).
     pub fn solve_with_runs(&self) -> Result<(DynamicResult, TransientRun)> {
+        self.solve_with_runs_cancellable(&|| false)
+    }
+
+    /// [`solve_with_runs`](Self::solve_with_runs) that asks `should_stop` before each run (the
+    /// operating point, each curve load, each step of the stall search).
+    pub fn solve_with_runs_cancellable(
+        &self,
+        should_stop: ShouldStop<'_>,
+    ) -> Result<(DynamicResult, TransientRun)> {
         let started = Instant::now();
         let scene = &self.scene;
         let options = &scene.options.transient;
@@ -462,6 +472,7 @@ impl TransientModel {
         } else {
             options.start
         };
+        stop_check(should_stop, || "the operating-point run".into())?;
         let operating = self.run(load, start, true)?;
         let mut runs = 1;
         // A locked estimate (F(0⁺) ≤ 0) still needs a positive load scale for the curve.
@@ -473,6 +484,7 @@ impl TransientModel {
         let mut points: Vec<TransientRun> = Vec::new();
         for i in 0..options.curve_loads.max(1) {
             let l = stall_estimate * i as f64 / options.curve_loads.max(1) as f64;
+            stop_check(should_stop, || format!("the curve run at load {l:e} N"))?;
             points.push(curve_model.run(l, options.start, false)?);
             runs += 1;
         }
@@ -487,6 +499,9 @@ impl TransientModel {
             let mut hi = stall_estimate.max(lo) * 1.1;
             let mut expansions = 0;
             loop {
+                stop_check(should_stop, || {
+                    format!("the stall-bracket run at load {hi:e} N")
+                })?;
                 let run = curve_model.run(hi, TransientStart::Estimate, false)?;
                 runs += 1;
                 if stalled(&run) {
@@ -508,6 +523,9 @@ impl TransientModel {
             let mut iterations = 0;
             while hi - lo > options.stall_tolerance * hi && iterations < MAX_STALL_RUNS {
                 let mid = 0.5 * (lo + hi);
+                stop_check(should_stop, || {
+                    format!("the stall-search run at load {mid:e} N")
+                })?;
                 let run = curve_model.run(mid, TransientStart::Estimate, false)?;
                 runs += 1;
                 iterations += 1;
