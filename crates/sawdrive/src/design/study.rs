@@ -838,7 +838,7 @@ fn write_design_files(report: &DesignReport, dir: &Path) -> Result<Vec<String>, 
             .iter()
             .filter(|r| {
                 r.objective
-                    .is_some_and(|o| o > lo && o <= hi || (lo == f64::NEG_INFINITY && o <= hi))
+                    .is_some_and(|o| (o > lo || lo == f64::NEG_INFINITY) && o <= hi)
             })
             .map(|r| point(r))
             .collect();
