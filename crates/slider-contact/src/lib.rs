@@ -1,4 +1,6 @@
-//! Whole-slider static contact on the post lattice (issue 13).
+//! Whole-slider static contact on the post lattice (issue 13). The physics — the two-scale split
+//! and the scale each part resolves, the preload mechanisms, the imperfections, the constrained CG
+//! and its stopping rule, the checks — is docs/physics.md §9.
 //!
 //! All N posts of the slider, frictionless and unilateral, under load control by the preload P:
 //! a two-scale compliance operator ([`lattice`]: each post's near field + the lattice far field
