@@ -2,9 +2,12 @@
 //! build, one phase, the whole stage; and one phase against the lattice size (1 000 → 40 000
 //! posts at the default pitch and per-post load).
 //!
-//! Free back (`pressure`, `point` at the centre): operator + plate build and one phase at 40 N.
+//! Free back (`pressure`, `point` at the centre): operator + plate build, one phase and the
+//! 4 phases + η at 40 N.
 //!
-//! `cargo bench -p slider-contact --bench default_slider [-- free_back]`
+//! `cargo bench -p slider-contact --bench default_slider [-- free_back]`. CPU time, iteration
+//! counts, the cost per extra phase and the growth exponent of every mechanism in one command:
+//! `cargo run -p slider-contact --profile test --example speed`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use slider_contact::{Mechanism, SliderModel, SliderParams, run};
@@ -74,6 +77,9 @@ fn free_back(c: &mut Criterion) {
         let model = SliderModel::build(&params).unwrap();
         group.bench_function(format!("{name}_one_phase_40n"), |b| {
             b.iter(|| model.solve_phase(40.0, Some(0.0)).unwrap())
+        });
+        group.bench_function(format!("{name}_four_phases_and_eta_40n"), |b| {
+            b.iter(|| model.analyse(40.0).unwrap())
         });
     }
     group.finish();

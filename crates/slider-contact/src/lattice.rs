@@ -342,7 +342,8 @@ pub struct LatticeOperator {
     ny: usize,
     px: usize,
     py: usize,
-    /// Real spectrum of the (even) kernel, column-major on the padded grid (index c·2n_x + r).
+    /// Real spectrum of the (even) kernel, column-major on the padded grid (index c·P_x + r),
+    /// columns c = 0 … P_y/2 only (the rest follow by symmetry).
     spectrum: Vec<f64>,
     diagonal_m_per_n: f64,
     fft_x: Arc<dyn Fft<f64>>,
@@ -407,7 +408,8 @@ impl LatticeOperator {
         op.fft_y.process(&mut a);
         let mut b = transpose(&a, px, py);
         op.fft_x.process(&mut b);
-        op.spectrum = b.iter().map(|z| z.re).collect();
+        // Only the non-negative y-wavenumbers are used (real data, `apply`).
+        op.spectrum = b[..(py / 2 + 1) * px].iter().map(|z| z.re).collect();
         op
     }
 
@@ -433,22 +435,35 @@ impl ComplianceOperator for LatticeOperator {
         self.nx * self.ny
     }
 
+    /// Real data, two x-rows per complex transform: rows 2m and 2m + 1 ride as the real and
+    /// imaginary parts of one y-transform (Z = F₂ₘ + i F₂ₘ₊₁, unpacked by the Hermitian symmetry
+    /// of a real row's spectrum), so only the P_y/2 + 1 non-negative y-wavenumbers are
+    /// transformed along x; the product with the real, even spectrum keeps every row's spectrum
+    /// Hermitian, and the inverse repacks two rows again. Half the transforms of a plain complex
+    /// 2D convolution, the same result to rounding.
     fn apply(&self, force_n: &[f64], out_m: &mut [f64]) {
         let (nx, ny, px, py) = (self.nx, self.ny, self.px, self.py);
         let zero = Complex::new(0.0, 0.0);
-        // Rows (x index) of length P_y; only the first n_x rows carry forces.
-        let mut a = vec![zero; nx * py];
-        for i in 0..nx {
+        let half = py / 2 + 1;
+        let pairs = nx.div_ceil(2);
+        let row = |i: usize, j: usize| if i < nx { force_n[i * ny + j] } else { 0.0 };
+        let mut a = vec![zero; pairs * py];
+        for m in 0..pairs {
             for j in 0..ny {
-                a[i * py + j] = Complex::new(force_n[i * ny + j], 0.0);
+                a[m * py + j] = Complex::new(row(2 * m, j), row(2 * m + 1, j));
             }
         }
         self.fft_y.process(&mut a);
-        // Columns of length P_x (rows n_x.. are zero).
-        let mut b = vec![zero; px * py];
-        for i in 0..nx {
-            for c in 0..py {
-                b[c * px + i] = a[i * py + c];
+        // Columns (non-negative y-wavenumbers k) of length P_x; rows n_x.. are zero.
+        let mut b = vec![zero; half * px];
+        for m in 0..pairs {
+            let z = &a[m * py..(m + 1) * py];
+            for k in 0..half {
+                let (zk, zc) = (z[k], z[(py - k) % py].conj());
+                b[k * px + 2 * m] = (zk + zc) * 0.5;
+                if 2 * m + 1 < nx {
+                    b[k * px + 2 * m + 1] = (zk - zc) * Complex::new(0.0, -0.5);
+                }
             }
         }
         self.fft_x.process(&mut b);
@@ -456,16 +471,30 @@ impl ComplianceOperator for LatticeOperator {
             *z *= *s;
         }
         self.ifft_x.process(&mut b);
-        for i in 0..nx {
-            for c in 0..py {
-                a[i * py + c] = b[c * px + i];
+        // Row i's y-spectrum G_i[k] = b[k·P_x + i] for k < P_y/2 + 1, G_i[P_y − k] = conj G_i[k].
+        let at = |k: usize, i: usize| {
+            if i >= nx {
+                zero
+            } else if k < half {
+                b[k * px + i]
+            } else {
+                b[(py - k) * px + i].conj()
+            }
+        };
+        for m in 0..pairs {
+            for k in 0..py {
+                a[m * py + k] = at(k, 2 * m) + Complex::new(0.0, 1.0) * at(k, 2 * m + 1);
             }
         }
         self.ifft_y.process(&mut a);
         let scale = 1.0 / (px * py) as f64;
-        for i in 0..nx {
+        for m in 0..pairs {
             for j in 0..ny {
-                out_m[i * ny + j] = a[i * py + j].re * scale;
+                let z = a[m * py + j] * scale;
+                out_m[2 * m * ny + j] = z.re;
+                if 2 * m + 1 < nx {
+                    out_m[(2 * m + 1) * ny + j] = z.im;
+                }
             }
         }
     }
@@ -498,24 +527,28 @@ mod tests {
 
     #[test]
     fn the_fft_convolution_equals_the_dense_product() {
-        let kernel = LatticeKernel::new(&small_spec(7, 5)).unwrap();
-        let op = LatticeOperator::from_kernel(&kernel);
-        let dense = kernel.to_dense();
-        let f: Vec<f64> = (0..35)
-            .map(|i| ((i * 37 % 11) as f64 - 3.0) * 1e-3)
-            .collect();
-        let mut u_fft = vec![0.0; 35];
-        op.apply(&f, &mut u_fft);
-        let mut u_dense = vec![0.0; 35];
-        dense.apply(&f, &mut u_dense);
-        let scale = u_dense.iter().map(|u| u.abs()).fold(0.0, f64::max);
-        for i in 0..35 {
-            assert!(
-                (u_fft[i] - u_dense[i]).abs() < 1e-12 * scale,
-                "displacement of post {i}: FFT {} vs dense {}",
-                u_fft[i],
-                u_dense[i]
-            );
+        // Odd and even row counts (the rows ride in pairs), a single row, a single column.
+        for (nx, ny) in [(7, 5), (6, 4), (1, 6), (5, 1)] {
+            let n = nx * ny;
+            let kernel = LatticeKernel::new(&small_spec(nx, ny)).unwrap();
+            let op = LatticeOperator::from_kernel(&kernel);
+            let dense = kernel.to_dense();
+            let f: Vec<f64> = (0..n)
+                .map(|i| ((i * 37 % 11) as f64 - 3.0) * 1e-3)
+                .collect();
+            let mut u_fft = vec![0.0; n];
+            op.apply(&f, &mut u_fft);
+            let mut u_dense = vec![0.0; n];
+            dense.apply(&f, &mut u_dense);
+            let scale = u_dense.iter().map(|u| u.abs()).fold(0.0, f64::max);
+            for i in 0..n {
+                assert!(
+                    (u_fft[i] - u_dense[i]).abs() < 1e-12 * scale,
+                    "displacement of post {i} of {nx} × {ny}: FFT {} vs dense {}",
+                    u_fft[i],
+                    u_dense[i]
+                );
+            }
         }
     }
 

@@ -1,4 +1,6 @@
-//! Whole-slider static contact on the post lattice (issue 13).
+//! Whole-slider static contact on the post lattice (issue 13). The physics — the two-scale split
+//! and the scale each part resolves, the preload mechanisms, the imperfections, the constrained CG
+//! and its stopping rule, the checks — is docs/physics.md §9.
 //!
 //! All N posts of the slider, frictionless and unilateral, under load control by the preload P:
 //! a two-scale compliance operator ([`lattice`]: each post's near field + the lattice far field
@@ -12,8 +14,8 @@
 //! balance the preload and its moments ([`balanced`]).
 //!
 //! ```
-//! use slider_contact::{SliderParams, run};
-//! // A 12 × 12 post corner of the default slider, 2 phases, 0.5 N.
+//! use slider_contact::{CgOptions, SliderParams, run};
+//! // A 12 × 12 post corner of the default slider, 2 phases, 0.5 N, solved to 1e-9.
 //! let params = SliderParams {
 //!     posts_x: 12,
 //!     posts_y: 12,
@@ -21,6 +23,7 @@
 //!     slider_width_m: 12.0 * 40e-6,
 //!     preload_n: 0.5,
 //!     phases: 2,
+//!     solver: CgOptions { tolerance: 1e-9, ..CgOptions::default() },
 //!     ..SliderParams::default()
 //! };
 //! let report = run(&params).unwrap();
@@ -55,4 +58,4 @@ pub use precondition::{ContactPreconditioner, PlatePreconditioner};
 pub use slider::{
     FreeBack, Mechanism, MechanismExt, SliderModel, SliderParams, SliderReport, SliderSnapshot, run,
 };
-pub use solver::{CgOptions, CgSolution, ConstrainedCg};
+pub use solver::{CgOptions, CgSolution, ConstrainedCg, DEFAULT_TOLERANCE};

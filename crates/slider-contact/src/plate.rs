@@ -114,6 +114,9 @@ pub struct FreePlate {
     stiffness: SymmetricMatrix,
     /// Per post: its 16 (reduced dof, shape value) pairs.
     post_weights: Vec<[(usize, f64); 16]>,
+    /// The same pairs with a fixed corner dof sent to a scratch slot (index = reduced dim):
+    /// the scatter and gather of every iteration without a branch.
+    post_slots: Vec<[(u32, f64); 16]>,
     /// Flexural rigidity D (N·m).
     pub flexural_rigidity_nm: f64,
 }
@@ -176,6 +179,7 @@ impl FreePlate {
             factor: placeholder_factor()?,
             stiffness: placeholder_matrix()?,
             post_weights: Vec::new(),
+            post_slots: Vec::new(),
             flexural_rigidity_nm: d,
         };
         let matrix = plate.stiffness(d, nu, next)?;
@@ -184,6 +188,12 @@ impl FreePlate {
             .map_err(|e| invalid("slider_thickness_m", thickness_m, format!("plate: {e}")))?;
         plate.stiffness = matrix;
         plate.post_weights = posts_m.iter().map(|&(x, y)| plate.weights(x, y)).collect();
+        let scratch = u32::try_from(next).expect("plate dofs fit in u32");
+        plate.post_slots = plate
+            .post_weights
+            .iter()
+            .map(|w| w.map(|(r, s)| (u32::try_from(r).unwrap_or(scratch), s)))
+            .collect();
         Ok(plate)
     }
 
@@ -304,27 +314,29 @@ impl FreePlate {
         self.factor.symbolic().dim()
     }
 
-    /// Deflection at the posts (m, up) of nodal loads `load` (reduced dofs, N).
+    /// Deflection at the posts (m, up) of nodal loads `load` (reduced dofs, N; one extra
+    /// scratch entry at the end, ignored).
     fn deflection_at_posts(&self, mut load: Vec<f64>, out_m: &mut [f64], add: bool) {
+        let dim = self.reduced_dim();
+        load.resize(dim + 1, 0.0);
         self.factor
-            .solve_in_place(&mut load)
+            .solve_in_place(&mut load[..dim])
             .expect("the plate factor solves finite loads");
-        for (o, w) in out_m.iter_mut().zip(&self.post_weights) {
-            let u: f64 = w
-                .iter()
-                .filter(|(r, _)| *r != usize::MAX)
-                .map(|&(r, s)| s * load[r])
-                .sum();
+        load[dim] = 0.0;
+        for (o, w) in out_m.iter_mut().zip(&self.post_slots) {
+            let u: f64 = w.iter().map(|&(r, s)| s * load[r as usize]).sum();
             *o = if add { *o + u } else { u };
         }
     }
 
     /// out += G f: the upward deflection at the posts (m) of upward post forces f (N).
     pub fn add_post_deflection(&self, force_n: &[f64], out_m: &mut [f64]) {
-        let mut load = vec![0.0; self.reduced_dim()];
-        for (f, w) in force_n.iter().zip(&self.post_weights) {
-            for &(r, s) in w.iter().filter(|(r, _)| *r != usize::MAX) {
-                load[r] += f * s;
+        let mut load = vec![0.0; self.reduced_dim() + 1];
+        for (f, w) in force_n.iter().zip(&self.post_slots) {
+            if *f != 0.0 {
+                for &(r, s) in w {
+                    load[r as usize] += f * s;
+                }
             }
         }
         self.deflection_at_posts(load, out_m, true);

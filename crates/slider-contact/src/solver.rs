@@ -28,8 +28,13 @@ use serde::Serialize;
 use crate::error::{Result, SliderError, invalid};
 use crate::lattice::ComplianceOperator;
 
-/// Default tolerance on the scaled complementarity residual. Dimensionless; default 1e-9.
-pub const DEFAULT_TOLERANCE: f64 = 1e-9;
+/// Default tolerance on the scaled complementarity residual max_i |min(f_i N/P, g_i/L)|.
+/// Dimensionless; default 1e-6. Chosen from the accuracy the stage needs: against a solve to
+/// 1e-11 on the default slider (4 phases, 10 and 40 N, rigid / ball / pressure) it moves η by
+/// ≤ 2.3e-7 relative and any post force by ≤ 3.6e-5 P/N, three decades below the two-scale
+/// model's own error against a direct FEM (0.03–0.13 P/N, validation/whole-slider/README.md)
+/// and below the four digits η is reported with; 1e-9 costs 1.3–1.5× the iterations.
+pub const DEFAULT_TOLERANCE: f64 = 1e-6;
 /// Default iteration limit. Default 5000.
 pub const DEFAULT_MAX_ITERATIONS: usize = 5000;
 
@@ -316,7 +321,13 @@ mod tests {
             .map(|i| 20e-9 * (1.0 - 2.0 * std::f64::consts::PI * i as f64 / 17.3).sin())
             .collect();
         let c = DMatrix::identity(n, n) / k;
-        let sol = ConstrainedCg::default().solve(&c, &h, 0.8, 20e-9).unwrap();
+        // Solved to 1e-9 (tighter than the default) to check the forces to 1e-8 of P/N.
+        let sol = ConstrainedCg::new(CgOptions {
+            tolerance: 1e-9,
+            ..CgOptions::default()
+        })
+        .solve(&c, &h, 0.8, 20e-9)
+        .unwrap();
         let (expected, _) = independent_posts(&h, k, 0.8);
         for (i, (f, e)) in sol.force_n.iter().zip(&expected).enumerate() {
             assert!(
@@ -324,10 +335,7 @@ mod tests {
                 "force on post {i}: CG {f} vs closed form {e}"
             );
         }
-        assert!(
-            sol.complementarity_residual <= DEFAULT_TOLERANCE,
-            "residual"
-        );
+        assert!(sol.complementarity_residual <= 1e-9, "residual");
     }
 
     #[test]

@@ -4,14 +4,22 @@
 
 use nalgebra::DMatrix;
 use slider_contact::{
-    ConstrainedCg, Imperfections, ImperfectionsExt, LatticeKernel, LatticeOperator, SliderModel,
-    SliderParams,
+    CgOptions, ConstrainedCg, Imperfections, ImperfectionsExt, LatticeKernel, LatticeOperator,
+    SliderModel, SliderParams,
 };
 use static_contact::{ActiveSetSolver, ContactProblem};
 
-/// A 10 × 10 corner of the default slider with the default per-post load (4 mN).
+/// The CG solved to 1e-9 (tighter than its default): these checks compare forces to 1e-7–1e-8
+/// of P/N.
+const TIGHT: CgOptions = CgOptions {
+    tolerance: 1e-9,
+    max_iterations: slider_contact::solver::DEFAULT_MAX_ITERATIONS,
+};
+
+/// A 10 × 10 corner of the default slider with the default per-post load (4 mN), solved to 1e-9.
 fn small_slider(scatter_m: f64) -> SliderParams {
     SliderParams {
+        solver: TIGHT,
         posts_x: 10,
         posts_y: 10,
         slider_length_m: 10.0 * 40e-6,
@@ -107,7 +115,7 @@ fn a_pure_tilt_on_independent_springs_gives_the_rigid_punch_load_distribution() 
         }
         .post_offsets_m(&g)
         .unwrap();
-        let sol = ConstrainedCg::default()
+        let sol = ConstrainedCg::new(TIGHT)
             .solve(&diag, &offsets, params.preload_n, tilt)
             .unwrap();
         let expected = rigid_punch_on_springs(&x, g.posts_y, k, tilt, l, params.preload_n);
