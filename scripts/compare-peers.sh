@@ -8,7 +8,8 @@
 #              target/sawdrive-meshes; level 0 ≈ 20k, 1 ≈ 55k, 2 ≈ 140k, 3 ≈ 350k, 4 ≈ 900k,
 #              5 ≈ 2.3M unknowns)
 #
-# Whole-process wall time and peak resident memory of each code (/usr/bin/time -v), one thread
+# Whole-process wall time, CPU time (user + sys), peak resident memory of each code (/usr/bin/time -v)
+# and the 1-minute load average before it started, one thread
 # by default (OMP/OpenBLAS/MKL/RAYON/ccx thread variables all set to N), and k_sn (frictionless
 # normal punch, clamped far field) of every code, which must agree to 1e-6 (same mesh, same
 # isoparametric Tet10, same boundary conditions). Ours runs the punch_scaling example, which
@@ -46,8 +47,10 @@ trap 'rm -rf "$out"' EXIT
 # Runs a command under /usr/bin/time -v; prints its stdout's last line with wall_s and peak_mb added.
 timed() {
   local name="$1"; shift
+  local load
+  load="$(cut -d' ' -f1 /proc/loadavg)"
   /usr/bin/time -v "$@" >"$out/$name.json" 2>"$out/$name.time"
-  python3 - "$out/$name.json" "$out/$name.time" "$name" <<'PY'
+  python3 - "$out/$name.json" "$out/$name.time" "$name" "$load" <<'PY'
 import json, re, sys
 line = open(sys.argv[1]).read().strip().splitlines()[-1]
 t = open(sys.argv[2]).read()
@@ -55,6 +58,8 @@ d = json.loads(line)
 m = re.search(r"Elapsed \(wall clock\) time \(h:mm:ss or m:ss\): (?:(\d+):)?(\d+):([\d.]+)", t)
 d["wall_s"] = (int(m.group(1) or 0) * 3600 + int(m.group(2)) * 60 + float(m.group(3)))
 d["peak_mb"] = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", t).group(1)) / 1024
+d["cpu_s"] = sum(float(re.search(rf"{k} time \(seconds\): ([\d.]+)", t).group(1)) for k in ("User", "System"))
+d["load_before"] = float(sys.argv[4])
 d["run"] = sys.argv[3]
 print(json.dumps(d))
 PY
@@ -81,12 +86,12 @@ import json, sys
 runs = {d["run"]: d for d in map(json.loads, open(sys.argv[1]))}
 ours = runs["ours-iterative"]
 k = ours["k_sn_clamped_n_per_m"]
-parts = [f'{ours["unknowns"]} unknowns, {sys.argv[2]} thread(s): ours iterative {ours["wall_s"]:.1f} s {ours["peak_mb"]:.0f} MB ({ours["iterations"]} it)']
+parts = [f'{ours["unknowns"]} unknowns, {sys.argv[2]} thread(s): ours iterative {ours["wall_s"]:.1f} s (CPU {ours["cpu_s"]:.1f} s) {ours["peak_mb"]:.0f} MB ({ours["iterations"]} it, load {ours["load_before"]})']
 for name, d in runs.items():
     if name == "ours-iterative":
         continue
     dk = d["k_sn_clamped_n_per_m"] / k - 1
-    parts.append(f'{name} {d["wall_s"]:.1f} s {d["peak_mb"]:.0f} MB (x{d["wall_s"] / ours["wall_s"]:.2f}, dk {dk:+.1e})')
+    parts.append(f'{name} {d["wall_s"]:.1f} s (CPU {d["cpu_s"]:.1f} s) {d["peak_mb"]:.0f} MB (wall x{d["wall_s"] / ours["wall_s"]:.2f}, CPU x{d["cpu_s"] / ours["cpu_s"]:.2f}, dk {dk:+.1e}, load {d["load_before"]})')
 print("SUMMARY " + "; ".join(parts))
 PY
 done

@@ -82,10 +82,11 @@ fn main() -> FemResult<()> {
         let t_solve = t.elapsed();
         let r = solver.report();
         println!(
-            "unknowns {} (reduced {}), elements {}, coarse {} ({}), AMG levels {} complexity {:.2}, solver MB {:.0}, PCG iterations {}",
+            "unknowns {} (reduced {}), elements {}, fine nnz {}, coarse {} ({}), AMG levels {} complexity {:.2}, solver MB {:.0}, PCG iterations {}",
             model.dof_count(),
             reduced.dim(),
             model.element_count(),
+            r.fine_nnz,
             r.coarse_unknowns,
             r.coarse_solver,
             r.amg_levels,
