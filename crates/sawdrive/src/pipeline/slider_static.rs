@@ -25,7 +25,7 @@ use slider_contact::{
 use super::PipelineError;
 use super::statics::{geometry_key, sha256_hex, static_params};
 use crate::output::io;
-use crate::scene::Scene;
+use crate::scene::{Scene, StaticModel};
 
 /// Layout version of the cache entries of this module (the physics is in the hashes).
 const CACHE_FORMAT: u32 = 1;
@@ -158,29 +158,13 @@ fn near_field(
 
 /// The whole-slider parameters of `scene` ([`SliderParams::for_motor`]: lattice, materials,
 /// wave, preload, imperfections, mechanism) with the scene's phases and complementarity
-/// tolerance ([`slider_tolerance`]) and the near field `cal`.
+/// tolerance ([`crate::scene::StaticSettings::tolerance_for`]) and the near field `cal`.
 pub fn slider_params(scene: &Scene, cal: &NearFieldCalibration) -> SliderParams {
     let mut params = SliderParams::for_motor(&scene.motor);
     params.phases = scene.static_fem.phases as usize;
-    params.solver.tolerance = slider_tolerance(scene.static_fem.tolerance);
+    params.solver.tolerance = scene.static_fem.tolerance_for(StaticModel::Slider);
     params.near_field = cal.near_field();
     params
-}
-
-/// The slider CG's complementarity tolerance for the scene's `static.tolerance`: the value
-/// given, except the embedded default (1e-10, chosen for the strip's exact active-set solver,
-/// where it costs nothing), which leaves the CG at its accuracy-derived default
-/// [`slider_contact::DEFAULT_TOLERANCE`] (1e-6: η within 2.3e-7 relative, post forces within
-/// 3.6e-5 P/N of a solve to 1e-11; 1e-10 costs 1.5–1.8× the iterations).
-pub fn slider_tolerance(scene_tolerance: f64) -> f64 {
-    let default = crate::scene::load_scene(None, &[])
-        .map(|s| s.static_fem.tolerance)
-        .unwrap_or(f64::NAN);
-    if scene_tolerance == default {
-        slider_contact::DEFAULT_TOLERANCE
-    } else {
-        scene_tolerance
-    }
 }
 
 /// SHA-256 of every input of the whole-slider run (the parameters' JSON: near field, lattice,

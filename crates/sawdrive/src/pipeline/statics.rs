@@ -50,7 +50,7 @@ pub fn static_params(
         strip_rows: settings.strip_rows as usize,
         stator: settings.stator,
         mesh,
-        contact_tolerance: settings.tolerance,
+        contact_tolerance: settings.tolerance_for(StaticModel::Strip),
         max_iterations: settings.max_iterations as usize,
         mesh_cache_dir: mesh_cache_dir.map(Path::to_owned),
         ..StaticParams::for_motor(&scene.motor)

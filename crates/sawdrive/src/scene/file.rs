@@ -169,8 +169,9 @@ pub struct StaticFile {
     pub stator: String,
     /// Rows of posts across the strip between its symmetry planes (1; 2+ to check the strip).
     pub strip_rows: u32,
-    /// Relative complementarity tolerance of the contact solver.
-    pub tolerance: f64,
+    /// Relative complementarity tolerance of the contact solver; `"auto"`: each static model's
+    /// own ([`super::StaticSettings::tolerance_for`]).
+    pub tolerance: AutoOr<f64>,
     /// Maximum active-set iterations.
     pub max_iterations: u32,
 }
