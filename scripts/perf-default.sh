@@ -5,6 +5,8 @@
 #           result cache;
 #   cached  the same with the mesh cached (the run above made it, with the fill-reducing ordering
 #           of its stiffness stored beside it: no METIS run), still no FEM result cache;
+#   static  `sawdrive static` of the default scene, cold and with the mesh cached: the static stage
+#           and its output alone (the dynamic stage the scene picks is not in these two lines);
 #   sweep   validation/paper-figures/fig7-8-post-count.toml (25 points, 5 geometries), empty mesh
 #           cache, fresh output folder (no resumed points);
 #
@@ -43,11 +45,14 @@ timed() {
   cat "$scratch/time"
 }
 
-echo "# name wall_s user_s sys_s max_rss_kb"
+echo "# name wall_s user_s sys_s max_rss_kb (load average: $(cut -d' ' -f1-3 /proc/loadavg))"
 for r in $(seq 1 "$runs"); do
   export SAWDRIVE_MESH_CACHE="$scratch/meshes-$r"
   timed "run_cold" "$bin" run --no-cache --out "$scratch/out-cold-$r"
   timed "run_cached_mesh" "$bin" run --no-cache --out "$scratch/out-cached-$r"
+  export SAWDRIVE_MESH_CACHE="$scratch/meshes-static-$r"
+  timed "static_cold" "$bin" static --no-cache --out "$scratch/out-static-cold-$r"
+  timed "static_cached_mesh" "$bin" static --no-cache --out "$scratch/out-static-cached-$r"
 done
 report="$(find "$scratch/out-cached-$runs" -name static.json | head -1)"
 if [[ -n "$report" ]]; then

@@ -435,13 +435,17 @@ impl BodyCompliance {
     /// would be slightly stiffer (the tip face of a post is nearly rigid in shear).
     ///
     /// Needs in-plane-free disks ([`TipLateral::Free`]: the x displacements are unknowns) and
-    /// whole disks (`disk_fraction` = 1: a symmetry cut through a disk has no x symmetry).
+    /// whole disks, or half disks cut by a mirror plane y = const (the half strip): an x load is
+    /// symmetric about that plane, so the half body carries half of each post's x force, as it
+    /// does of the normal force. A cut by a plane x = const has no such symmetry and is refused.
     pub fn tangential_compliance(&self) -> Result<TangentialCompliance> {
-        if self.disk_fraction != 1.0 {
+        if !(self.disk_fraction == 1.0 || (self.disk_fraction == 0.5 && self.disks_cut_along_x())) {
             return Err(ContactError::InvalidParameter {
                 parameter: "disk_fraction",
                 value: self.disk_fraction,
-                reason: "the tangential compliance needs whole contact disks (1)".into(),
+                reason: "the tangential compliance needs whole contact disks (1) or halves cut \
+                         by a plane y = const (0.5)"
+                    .into(),
             });
         }
         let dim = self.reduced.dim();
@@ -497,9 +501,26 @@ impl BodyCompliance {
                 }
             }
         }
+        // A post's force f puts disk_fraction · f on the disk of this body.
         Ok(TangentialCompliance {
-            tangential_m_per_n: (&tangential + tangential.transpose()) * 0.5,
-            normal_from_tangential_m_per_n: cross,
+            tangential_m_per_n: (&tangential + tangential.transpose()) * (0.5 * self.disk_fraction),
+            normal_from_tangential_m_per_n: cross * self.disk_fraction,
+        })
+    }
+
+    /// Whether every disk's nodes span (nearly) its whole diameter in x: a disk cut, if at all,
+    /// by a plane y = const.
+    fn disks_cut_along_x(&self) -> bool {
+        self.disk_nodes.iter().all(|nodes| {
+            let x = nodes.iter().map(|&n| self.model.nodes()[n][0]);
+            let (lo, hi) = x.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            });
+            let y = nodes.iter().map(|&n| self.model.nodes()[n][1]);
+            let (ylo, yhi) = y.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            });
+            hi - lo > 1.5 * (yhi - ylo)
         })
     }
 

@@ -2,7 +2,8 @@
 //! effective contact ratio η (docs/physics.md §6).
 //!
 //! Pipeline: a `slider-strip` mesh (one post pitch wide, symmetry planes in y, the whole post row
-//! along x) → [`StripModel`]: the slider strip's FEM stiffness factored once and condensed onto the
+//! along x; for one row only its half up to the mirror plane through the post axes, half tip
+//! disks carrying half of each post's force) → [`StripModel`]: the slider strip's FEM stiffness factored once and condensed onto the
 //! rigid post tips, plus the stator's compliance (elastic half-space or meshed block) → a dense
 //! post compliance C → per snapshot of the frozen wave w(x) = A_n sin(θ₀ − kx), the contact
 //! problem (f ≥ 0, g ≥ 0, f·g = 0, Σf = P) solved by a logged active-set method

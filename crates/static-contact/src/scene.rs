@@ -198,7 +198,10 @@ impl StripModel {
             file: file.clone(),
             detail,
         };
-        let disks = crate::posts::find_tip_disks(&mesh, "post_tips")?;
+        // Half disks: the one-row strip cut at its mirror plane y = W/2 (slider-strip.geo
+        // `half_y`); each body then carries half of each post's force.
+        let (disks, disk_fraction) =
+            crate::posts::find_tip_disks_with_fraction(&mesh, "post_tips")?;
         if let Some(n) = config.expected_strip_posts {
             if disks.len() != n {
                 return Err(mismatch(format!(
@@ -257,7 +260,7 @@ impl StripModel {
                 lateral: TipLateral::Free,
                 clamped_groups: vec!["slider_top".into()],
                 roller_groups: vec![("slider_sym_y0".into(), 1), ("slider_sym_y1".into(), 1)],
-                disk_fraction: 1.0,
+                disk_fraction,
                 force_sign: 1.0,
             },
             order_cache,
@@ -308,7 +311,7 @@ impl StripModel {
                             ("stator_x0".into(), 0),
                             ("stator_x1".into(), 0),
                         ],
-                        disk_fraction: 1.0,
+                        disk_fraction,
                         force_sign: -1.0,
                     },
                     order_cache,
