@@ -79,6 +79,7 @@ fn uq_inputs(path: Option<&str>, overrides: &[String]) -> Result<(Scene, Scatter
         (Some(path), Some(text)) => scene_without_scatter(Path::new(path), &text, &overrides)?,
         _ => load_scene(None, &overrides)?,
     };
+    let scatter = scatter.with_scene_keys(&scene).map_err(scene_error)?;
     Ok((scene, scatter))
 }
 

@@ -37,6 +37,9 @@ pub fn run(args: &UqArgs) -> anyhow::Result<()> {
         }
         _ => load_scene(None, &overrides)?,
     };
+    let scatter = scatter
+        .with_scene_keys(&scene)
+        .map_err(anyhow::Error::msg)?;
     if args.samples == 0 {
         anyhow::bail!("--samples: must be ≥ 1");
     }

@@ -235,6 +235,48 @@ impl ScatterSpec {
     }
 }
 
+impl ScatterSpec {
+    /// Takes the scene's own scatter keys into the spec: `posts.height_scatter` (σ of the post
+    /// heights; each sample then draws its own heights from `--seed`, so `posts.scatter_seed` is
+    /// not used) when `scatter.height_scatter` is not given. The scene's deterministic shape
+    /// (`slider.tilt_x`, `slider.tilt_y`, `slider.bow`, `posts.height_map`) is refused: the UQ
+    /// draws tilt and bow around zero from `scatter.*` spreads. Errors are one line naming the key.
+    pub fn with_scene_keys(mut self, scene: &Scene) -> Result<Self, String> {
+        let shape = &scene.motor.imperfections;
+        for (key, value) in [
+            ("slider.tilt_x", shape.tilt_x_m),
+            ("slider.tilt_y", shape.tilt_y_m),
+            ("slider.bow", shape.bow_m),
+        ] {
+            if value != 0.0 {
+                let short = key.trim_start_matches("slider.");
+                return Err(format!(
+                    "{key}: uq draws the slider's shape around zero; give its spread as \
+                     scatter.{short} instead of a fixed value"
+                ));
+            }
+        }
+        if shape.height_map.is_some() {
+            return Err(
+                "posts.height_map: uq draws the post heights (scatter.height_scatter or \
+                        posts.height_scatter); a measured map is not sampled"
+                    .into(),
+            );
+        }
+        if shape.height_scatter_m > 0.0 {
+            if self.height_scatter_m > 0.0 {
+                return Err(
+                    "posts.height_scatter and scatter.height_scatter both give the σ of \
+                            the post heights; keep one"
+                        .into(),
+                );
+            }
+            self.height_scatter_m = shape.height_scatter_m;
+        }
+        Ok(self)
+    }
+}
+
 /// Splits a scene file's text into the scene (without `[scatter]`) and the scatter table, and
 /// the `--set` overrides into scene overrides and `scatter.*` ones (applied to the table).
 pub fn split_scatter(
@@ -256,12 +298,31 @@ pub fn split_scatter(
                     .cloned()
                     .ok_or("scatter: must be a table ([scatter])")?;
             }
+            let friction_scatter = doc
+                .get_mut("friction")
+                .and_then(toml::Value::as_table_mut)
+                .and_then(|f| f.remove("scatter"));
+            if let Some(v) = friction_scatter {
+                if table.contains_key("friction") {
+                    return Err(
+                        "friction.scatter and scatter.friction both give the spread of μ; \
+                                keep one"
+                            .into(),
+                    );
+                }
+                table.insert("friction".into(), v);
+            }
             Some(toml::to_string(&doc).map_err(|e| format!("scene: {e}"))?)
         }
         None => None,
     };
     let mut rest = Vec::new();
     for o in overrides {
+        // `friction.scatter` is the scene-style name of `scatter.friction` (issue 15's contract).
+        let o = &match o.strip_prefix("friction.scatter") {
+            Some(rest) if rest.trim_start().starts_with('=') => format!("scatter.friction{rest}"),
+            _ => o.clone(),
+        };
         match o.strip_prefix("scatter.") {
             Some(kv) => {
                 let (k, v) = kv
@@ -278,4 +339,43 @@ pub fn split_scatter(
         }
     }
     Ok((scene, rest, table))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::load_scene;
+
+    fn spec(overrides: &[&str]) -> Result<ScatterSpec, String> {
+        let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+        let (_, rest, table) = split_scatter(None, &overrides)?;
+        let scene = load_scene(None, &rest).map_err(|e| e.to_string())?;
+        ScatterSpec::from_table(&table)?.with_scene_keys(&scene)
+    }
+
+    #[test]
+    fn friction_scatter_is_the_scene_style_name_of_scatter_friction() {
+        let s = spec(&["friction.scatter=0.03"]).unwrap();
+        assert_eq!(s.friction, 0.03, "spread of μ from friction.scatter");
+        let text = "[friction]\nstatic = 0.3\nscatter = 0.02\n[scatter]\nfriction = 0.01\n";
+        let e = split_scatter(Some(text), &[]).unwrap_err();
+        assert!(e.contains("friction.scatter and scatter.friction"), "{e}");
+    }
+
+    #[test]
+    fn the_scenes_post_height_scatter_is_the_uq_height_spread_and_a_fixed_tilt_is_refused() {
+        let s = spec(&["posts.height_scatter=5nm"]).unwrap();
+        assert!(
+            (s.height_scatter_m - 5e-9).abs() < 1e-20,
+            "σ of the post heights from posts.height_scatter: {}",
+            s.height_scatter_m
+        );
+        let e = spec(&["posts.height_scatter=5nm", "scatter.height_scatter=2nm"]).unwrap_err();
+        assert!(
+            e.contains("posts.height_scatter and scatter.height_scatter"),
+            "{e}"
+        );
+        let e = spec(&["slider.tilt_x=10nm"]).unwrap_err();
+        assert!(e.starts_with("slider.tilt_x:"), "{e}");
+    }
 }
