@@ -243,3 +243,30 @@ fn default_scene_resolves_into_motor_paper() {
         "default.toml vs Motor::paper()"
     );
 }
+
+#[test]
+fn static_tolerance_auto_gives_each_static_model_its_own_and_a_given_value_is_used_by_both() {
+    use sawdrive::scene::StaticModel;
+    let auto = load_scene(None, &[]).unwrap().static_fem;
+    assert_eq!(auto.tolerance, None, "the default static.tolerance is auto");
+    assert_eq!(auto.tolerance_for(StaticModel::Strip), 1e-10, "strip");
+    assert_eq!(
+        auto.tolerance_for(StaticModel::Slider),
+        slider_contact::DEFAULT_TOLERANCE,
+        "whole slider"
+    );
+    let given = load_scene(None, &["static.tolerance=1e-10".to_string()])
+        .unwrap()
+        .static_fem;
+    for model in [StaticModel::Strip, StaticModel::Slider] {
+        assert_eq!(
+            given.tolerance_for(model),
+            1e-10,
+            "a given tolerance for {model:?}"
+        );
+    }
+    let e = load_scene(None, &["static.tolerance=-1".to_string()])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("static.tolerance"), "{e}");
+}
