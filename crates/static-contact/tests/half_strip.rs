@@ -3,26 +3,16 @@
 //! compliances up to the two meshes' difference, with half disks found and their force halved.
 //! Needs gmsh (two 10-post Tet4 strips, a few seconds).
 
+mod common;
+
 use nalgebra::DMatrix;
 use static_contact::mesh_source::{generate_mesh, strip_mesh_parameters};
-use static_contact::params::{MeshChoice, MeshSizes, StaticParams};
+use static_contact::params::{MeshChoice, StaticParams};
 use static_contact::prepare_strip;
-
-fn ten_post_params() -> StaticParams {
-    StaticParams {
-        strip_posts: Some(10),
-        element_order: 1,
-        mesh_sizes: MeshSizes {
-            h_post_over_radius: 0.25,
-            ..MeshSizes::default()
-        },
-        ..StaticParams::default()
-    }
-}
 
 /// Meshes the 10-post strip whole (`half_y` 0) or half (1) into `dir`.
 fn mesh(dir: &std::path::Path, half_y: f64) -> std::path::PathBuf {
-    let mut setnumbers = strip_mesh_parameters(&ten_post_params());
+    let mut setnumbers = strip_mesh_parameters(&common::ten_post_tet4());
     for (name, value) in &mut setnumbers {
         if *name == "half_y" {
             *value = half_y;
@@ -43,7 +33,7 @@ fn the_half_strip_has_the_whole_strips_tip_compliances() {
     let run = |half_y: f64| {
         let params = StaticParams {
             mesh: MeshChoice::File(mesh(dir.path(), half_y)),
-            ..ten_post_params()
+            ..common::ten_post_tet4()
         };
         prepare_strip(&params).expect("strip model")
     };

@@ -2,21 +2,14 @@
 //! build of the same strip reads it instead of running METIS and condenses to the same
 //! compliance.
 
+mod common;
+
 use static_contact::analysis::strip_config;
-use static_contact::params::{MeshSizes, StaticParams};
 use static_contact::scene::StripModel;
 
 #[test]
 fn a_second_build_reuses_the_stored_ordering_and_gives_the_same_compliance() {
-    let params = StaticParams {
-        strip_posts: Some(10),
-        element_order: 1,
-        mesh_sizes: MeshSizes {
-            h_post_over_radius: 0.25,
-            ..MeshSizes::default()
-        },
-        ..StaticParams::default()
-    };
+    let params = common::ten_post_tet4();
     let mesh_file = static_contact::mesh_source::workspace_root()
         .join("meshes/slider-strip_p40um_d20um_n10_tet4_10k.msh");
     let cache = tempfile::tempdir().expect("temporary cache folder");

@@ -1,7 +1,9 @@
 //! An explicit mesh must fit the scene's post height, as it must fit the radius: a scene with
 //! 1 nm or 1 m posts on the committed 2 µm-post mesh is refused with both values named.
 
-use static_contact::params::{MeshSizes, StaticParams};
+mod common;
+
+use static_contact::params::StaticParams;
 use static_contact::scene::{GEOMETRY_MATCH_TOLERANCE, measured_post_height};
 use static_contact::{ContactError, MeshChoice, run};
 
@@ -12,15 +14,9 @@ fn committed_mesh() -> std::path::PathBuf {
 
 fn on_committed_mesh(post_height_m: f64) -> StaticParams {
     StaticParams {
-        strip_posts: Some(10),
-        element_order: 1,
-        mesh_sizes: MeshSizes {
-            h_post_over_radius: 0.25,
-            ..MeshSizes::default()
-        },
         mesh: MeshChoice::File(committed_mesh()),
         post_height_m,
-        ..StaticParams::default()
+        ..common::ten_post_tet4()
     }
 }
 

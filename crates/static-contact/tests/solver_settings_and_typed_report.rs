@@ -2,20 +2,16 @@
 //! report is a typed value that survives a JSON round trip unchanged (the application's cache
 //! stores it that way).
 
-use static_contact::params::{MeshSizes, StaticParams};
+mod common;
+
+use static_contact::params::StaticParams;
 use static_contact::{ContactError, MeshChoice, StaticReport, run};
 
 /// The default slider seen through the committed 10-post strip mesh (fast: Tet4, 10 k nodes).
 fn ten_post_params() -> StaticParams {
     StaticParams {
-        strip_posts: Some(10),
-        element_order: 1,
-        mesh_sizes: MeshSizes {
-            h_post_over_radius: 0.25,
-            ..MeshSizes::default()
-        },
         mesh: MeshChoice::Auto,
-        ..StaticParams::default()
+        ..common::ten_post_tet4()
     }
 }
 

@@ -1,6 +1,8 @@
 //! The condensed strip on the committed 10-post `slider-strip` mesh (Tet4, tips at a/4, 10 k
 //! nodes; one wavelength long): contact conditions, symmetry, η against preload, outputs, errors.
 
+mod common;
+
 use nalgebra::DVector;
 use static_contact::analysis::{StaticAnalysis, strip_config};
 use static_contact::output::{write_force_chart, write_snapshot_vtu};
@@ -17,15 +19,9 @@ fn committed(file: &str) -> std::path::PathBuf {
 /// The default 100 × 100 slider, seen through a 10-post strip (its share of the preload).
 fn ten_post_params(preload_sweep_n: Vec<f64>) -> StaticParams {
     StaticParams {
-        strip_posts: Some(10),
-        element_order: 1,
-        mesh_sizes: MeshSizes {
-            h_post_over_radius: 0.25,
-            ..MeshSizes::default()
-        },
         mesh: MeshChoice::Auto,
         preload_sweep_n,
-        ..StaticParams::default()
+        ..common::ten_post_tet4()
     }
 }
 
