@@ -74,7 +74,7 @@ fn coupled_dynamics_reports_the_contract_keys_and_balances_energy() {
     let posts = json["posts"].as_u64().expect("posts") as usize;
     let rows = histories.lines().count() - 1;
     assert!(
-        rows >= 16 * posts && rows % posts == 0,
+        rows >= 16 * posts && rows.is_multiple_of(posts),
         "one row per post and step over a period: {rows} rows for {posts} posts"
     );
     assert!(

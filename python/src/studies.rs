@@ -7,15 +7,14 @@
 //! background, and since `run_uq`/`run_design` commit their own results folder, that folder
 //! then appears complete (never half-written). UQ samples saved so far let a rerun resume.
 
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use pyo3::prelude::*;
 use sawdrive::design::motor::Fidelity;
-use sawdrive::design::scatter::{ScatterSpec, split_scatter};
+use sawdrive::design::scatter::{ScatterSpec, UqInputError, load_uq_inputs};
 use sawdrive::design::study::{DesignSpec, run_design};
 use sawdrive::design::uq::{UqOptions, run_uq};
-use sawdrive::scene::{Scene, load_scene};
+use sawdrive::scene::Scene;
 use sawdrive::sweep::{SweepFile, run_sweep_cancellable};
 use serde_json::json;
 
@@ -61,48 +60,11 @@ fn sweep_points<'py>(py: Python<'py>, file: &str) -> PyResult<Bound<'py, PyAny>>
     convert::to_py(py, &serde_json::Value::from(points))
 }
 
-/// The scene and scatter of `sawdrive uq [SCENE] --set …`: the scene file's `[scatter]`
-/// section and `scatter.*` overrides form the scatter, the rest the scene (as the command).
+/// The scene and scatter of `sawdrive uq [SCENE] --set …`, read as the command reads them.
 fn uq_inputs(path: Option<&str>, overrides: &[String]) -> Result<(Scene, ScatterSpec), Failure> {
-    let scene_error = |message: String| Failure::text(Kind::Scene, message);
-    let text = match path {
-        Some(p) => Some(
-            std::fs::read_to_string(p)
-                .map_err(|e| Failure::text(Kind::File, format!("cannot read scene {p}: {e}")))?,
-        ),
-        None => None,
-    };
-    let (scene_text, overrides, table) =
-        split_scatter(text.as_deref(), overrides).map_err(scene_error)?;
-    let scatter = ScatterSpec::from_table(&table).map_err(scene_error)?;
-    let scene = match (path, scene_text) {
-        (Some(path), Some(text)) => scene_without_scatter(Path::new(path), &text, &overrides)?,
-        _ => load_scene(None, &overrides)?,
-    };
-    let scatter = scatter.with_scene_keys(&scene).map_err(scene_error)?;
-    Ok((scene, scatter))
-}
-
-/// The scene file `path` whose text without `[scatter]` is `text`, through the one scene loader
-/// (a copy under the same name, so relative paths and messages name the file as given).
-fn scene_without_scatter(path: &Path, text: &str, overrides: &[String]) -> Result<Scene, Failure> {
-    let io = |e: std::io::Error| {
-        Failure::text(
-            Kind::File,
-            format!("cannot copy scene {}: {e}", path.display()),
-        )
-    };
-    let dir = tempfile::tempdir().map_err(io)?;
-    let copy = dir.path().join(path.file_name().unwrap_or_default());
-    std::fs::File::create(&copy)
-        .and_then(|mut f| f.write_all(text.as_bytes()))
-        .map_err(io)?;
-    load_scene(Some(&copy), overrides).map_err(|e| {
-        let mut failure = Failure::from(e);
-        failure.message = failure
-            .message
-            .replace(&copy.display().to_string(), &path.display().to_string());
-        failure
+    load_uq_inputs(path.map(Path::new), overrides).map_err(|e| match e {
+        UqInputError::Scene(e) => Failure::from(e),
+        UqInputError::Scatter(message) => Failure::text(Kind::Scene, message),
     })
 }
 

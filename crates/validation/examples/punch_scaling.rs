@@ -10,6 +10,8 @@
 //! `--method auto|direct|iterative` picks the linear solver (default auto, elastic-fem's cost
 //! model; the JSON carries the method, its reason and the PCG iterations);
 //! `--mesh-only` prints the mesh paths (after generating them) and stops;
+//! `--clamped-only` solves problem A only (the clamped far field, one right-hand side), the
+//! problem the peers of scripts/compare-peers.sh solve; `k_sn_n_per_m` is then null;
 //! `--discretisation-error E` sets the iterative stopping rule (CG tolerance 0.01 E).
 //! `--level L` takes the quarter Tet10 mesh of level L of the springs study family (generated
 //! into the mesh cache if missing). Used for the ≥ 300k-unknown point of the benchmark table and
@@ -47,6 +49,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .ok_or("--method needs auto, direct or iterative")?;
             options.method = SolverMethod::parse(&text)
                 .ok_or_else(|| format!("--method: `{text}` is not auto, direct or iterative"))?;
+        } else if arg == "--clamped-only" {
+            options.clamped_only = true;
         } else if arg == "--discretisation-error" {
             let e: f64 = args
                 .next()

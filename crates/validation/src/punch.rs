@@ -125,7 +125,8 @@ pub struct PunchStiffness {
     /// Why that solver (elastic-fem's cost model or "requested").
     #[serde(default)]
     pub method_reason: String,
-    /// PCG iterations of the two right-hand sides (0 for the direct method).
+    /// PCG iterations of the two right-hand sides (0 for the direct method, and for B when
+    /// only A is solved).
     #[serde(default)]
     pub iterations: [usize; 2],
 }
@@ -151,6 +152,10 @@ pub struct PunchSolveOptions {
     pub method: SolverMethod,
     /// Stopping rule of the iterative method (default: elastic-fem's default).
     pub iterative: IterativeOptions,
+    /// Solve problem A only (the clamped far field), as the peer codes of
+    /// `scripts/compare-peers.sh` do: one right-hand side, `stiffness_n_per_m` is NaN and
+    /// `clamped_stiffness_n_per_m` the result. Default false (both far fields).
+    pub clamped_only: bool,
 }
 
 impl Default for PunchSolveOptions {
@@ -160,11 +165,12 @@ impl Default for PunchSolveOptions {
             threads: 0,
             method: SolverMethod::Auto,
             iterative: IterativeOptions::default(),
+            clamped_only: false,
         }
     }
 }
 
-/// Solutions of the two reduced systems A and B with what the solve reports.
+/// Solutions of the reduced systems A and B (A only if clamped_only) with what the solve reports.
 struct TwoSolves {
     rhs: Vec<f64>,
     factor_nnz: usize,
@@ -288,7 +294,8 @@ impl<'m> AssembledPunch<'m> {
         }
     }
 
-    /// Solves `spring` and returns its stiffness with both far-field conditions.
+    /// Solves `spring` and returns its stiffness with both far-field conditions (the clamped
+    /// one only with [`PunchSolveOptions::clamped_only`]).
     pub fn solve(
         &self,
         spring: Spring,
@@ -320,10 +327,9 @@ impl<'m> AssembledPunch<'m> {
                 .map(|u| u.map(|v| v * reference_force_n))
                 .unwrap_or([0.0; 3])
         };
-        let constraints_b = self.constraints(spring, 0.0, &far_b);
         let n = mesh.node_count();
         let map_a = DofMap::new(n, &constraints_a).map_err(fem)?;
-        let map_b = DofMap::new(n, &constraints_b).map_err(fem)?;
+        let columns = if options.clamped_only { 1 } else { 2 };
         // No rigid-mode check here: the clamped far field (and the punch) remove every rigid
         // motion by construction, and elastic-fem's body detection (`check_rigid_body_modes`)
         // splits connected meshes into spurious bodies on some gmsh meshes (union-find bug,
@@ -333,28 +339,28 @@ impl<'m> AssembledPunch<'m> {
         let load_a = reduced
             .reduce_load(&self.stiffness, &vec![0.0; 3 * n])
             .map_err(fem)?;
-        // f_red(B) = −Tᵀ K u_p(B); T is the same for A and B (same constrained DOFs).
-        let mut k_up = vec![0.0; 3 * n];
-        self.stiffness
-            .mul_vec(&map_b.prescribed_vector(), &mut k_up);
-        let load_b: Vec<f64> = reduced
-            .dof_map()
-            .restrict(&k_up)
-            .map_err(fem)?
-            .into_iter()
-            .map(|v| -v)
-            .collect();
+        let m = reduced.dim();
+        let mut rhs = Vec::with_capacity(columns * m);
+        rhs.extend_from_slice(&load_a);
+        let map_b = if options.clamped_only {
+            None
+        } else {
+            // f_red(B) = −Tᵀ K u_p(B); T is the same for A and B (same constrained DOFs).
+            let map_b = DofMap::new(n, &self.constraints(spring, 0.0, &far_b)).map_err(fem)?;
+            let mut k_up = vec![0.0; 3 * n];
+            self.stiffness
+                .mul_vec(&map_b.prescribed_vector(), &mut k_up);
+            let restricted = reduced.dof_map().restrict(&k_up).map_err(fem)?;
+            rhs.extend(restricted.into_iter().map(|v| -v));
+            Some(map_b)
+        };
         let reduction_s = t.elapsed().as_secs_f64();
 
-        let m = reduced.dim();
-        let mut rhs = Vec::with_capacity(2 * m);
-        rhs.extend_from_slice(&load_a);
-        rhs.extend_from_slice(&load_b);
         let t = Instant::now();
         let (choice, analysed) = choose_method(
             options.method,
             &k_red,
-            2,
+            columns,
             self.model.connectivity(),
             options.ordering,
         )
@@ -377,12 +383,15 @@ impl<'m> AssembledPunch<'m> {
                 let numeric_s = setup.elapsed().as_secs_f64();
                 let solve = Instant::now();
                 let reports = solver
-                    .solve_columns_in_place(&mut rhs, 2, &mut solver.workspace())
+                    .solve_columns_in_place(&mut rhs, columns, &mut solver.workspace())
                     .map_err(fem)?;
                 TwoSolves {
                     rhs,
                     factor_nnz: solver.report().coarse_factor_nnz,
-                    iterations: [reports[0].iterations, reports[1].iterations],
+                    iterations: [
+                        reports[0].iterations,
+                        reports.get(1).map_or(0, |r| r.iterations),
+                    ],
                     symbolic_s: t.elapsed().as_secs_f64()
                         - solve.elapsed().as_secs_f64()
                         - numeric_s,
@@ -402,7 +411,9 @@ impl<'m> AssembledPunch<'m> {
                     .map_err(|e| fem(locate_factor_error(e, reduced.dof_map())))?;
                 let numeric_s = t.elapsed().as_secs_f64();
                 let t = Instant::now();
-                numeric.solve_columns_in_place(&mut rhs, 2).map_err(fem)?;
+                numeric
+                    .solve_columns_in_place(&mut rhs, columns)
+                    .map_err(fem)?;
                 TwoSolves {
                     rhs,
                     factor_nnz: symbolic.factor_nnz(),
@@ -416,20 +427,25 @@ impl<'m> AssembledPunch<'m> {
         let t = Instant::now();
         let rhs = &solved.rhs;
         let u_a = reduced.dof_map().expand(&rhs[..m]).map_err(fem)?;
-        let u_b = map_b.expand(&rhs[m..]).map_err(fem)?;
+        let u_b = match &map_b {
+            Some(map_b) => Some(map_b.expand(&rhs[m..]).map_err(fem)?),
+            None => None,
+        };
         // Variational punch forces (module docs): P = wᵀ K u with w = u_A / δ.
         let mut k_ua = vec![0.0; 3 * n];
         self.stiffness.mul_vec(&u_a, &mut k_ua);
         let dot = |u: &[f64]| u.iter().zip(&k_ua).map(|(a, b)| a * b).sum::<f64>();
         let multiplicity = mesh.symmetry.multiplicity();
         let force_a = dot(&u_a) / delta_m * multiplicity;
-        let force_b = dot(&u_b) / delta_m * multiplicity;
+        let force_b = u_b.map(|u_b| dot(&u_b) / delta_m * multiplicity);
         let solve_s = solved.solve_s + t.elapsed().as_secs_f64();
         // Direction of the punch displacement along the force direction: +1 for all four springs.
-        let force = force_a / (1.0 - force_b / reference_force_n);
-        let stiffness_n_per_m = force / delta_m;
+        let stiffness_n_per_m = force_b.map_or(f64::NAN, |f_b| {
+            force_a / (1.0 - f_b / reference_force_n) / delta_m
+        });
         let clamped_stiffness_n_per_m = force_a / delta_m;
-        if !stiffness_n_per_m.is_finite() || !clamped_stiffness_n_per_m.is_finite() {
+        let both = !options.clamped_only;
+        if (both && !stiffness_n_per_m.is_finite()) || !clamped_stiffness_n_per_m.is_finite() {
             return Err(fem(FemError::NonFiniteSolution { unknown: 0 }));
         }
         Ok(PunchStiffness {

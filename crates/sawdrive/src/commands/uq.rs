@@ -1,45 +1,13 @@
 //! `sawdrive uq`: Monte Carlo bands of a scene under its `[scatter]` section.
 
-use std::io::Write as _;
-
 use sawdrive::design::motor::Fidelity;
-use sawdrive::design::scatter::{ScatterSpec, split_scatter};
+use sawdrive::design::scatter::load_uq_inputs;
 use sawdrive::design::uq::{UqOptions, run_uq};
-use sawdrive::scene::load_scene;
 
 use crate::cli::UqArgs;
 
 pub fn run(args: &UqArgs) -> anyhow::Result<()> {
-    let text = match &args.input.scene {
-        Some(p) => Some(
-            std::fs::read_to_string(p)
-                .map_err(|e| anyhow::anyhow!("cannot read scene {}: {e}", p.display()))?,
-        ),
-        None => None,
-    };
-    let (scene_text, overrides, table) =
-        split_scatter(text.as_deref(), &args.input.overrides).map_err(anyhow::Error::msg)?;
-    let scatter = ScatterSpec::from_table(&table).map_err(anyhow::Error::msg)?;
-    // The scene without its [scatter] section, read through the one scene loader.
-    let scene = match (&args.input.scene, scene_text) {
-        (Some(path), Some(text)) => {
-            let dir = tempfile::tempdir()?;
-            let name = path.file_name().unwrap_or_default();
-            let copy = dir.path().join(name);
-            std::fs::File::create(&copy)?.write_all(text.as_bytes())?;
-            load_scene(Some(&copy), &overrides).map_err(|e| {
-                anyhow::anyhow!(
-                    "{}",
-                    e.to_string()
-                        .replace(&copy.display().to_string(), &path.display().to_string())
-                )
-            })?
-        }
-        _ => load_scene(None, &overrides)?,
-    };
-    let scatter = scatter
-        .with_scene_keys(&scene)
-        .map_err(anyhow::Error::msg)?;
+    let (scene, scatter) = load_uq_inputs(args.input.scene.as_deref(), &args.input.overrides)?;
     if args.samples == 0 {
         anyhow::bail!("--samples: must be ≥ 1");
     }

@@ -21,8 +21,10 @@ use serde::Serialize;
 
 use design::{Distribution, ScatterInput};
 
+use std::path::Path;
+
 use super::motor::MotorSample;
-use crate::scene::Scene;
+use crate::scene::{Scene, SceneError, load_scene_text};
 use crate::units::{Dimension, parse_quantity};
 
 /// Smallest friction coefficient a draw may take (the dynamic model needs μ > 0 to drive).
@@ -317,12 +319,27 @@ pub fn split_scatter(
         None => None,
     };
     let mut rest = Vec::new();
+    // Where μ's spread came from: the scene-style name or the scatter one (both is an error).
+    let mut friction_names = [false; 2];
     for o in overrides {
         // `friction.scatter` is the scene-style name of `scatter.friction` (issue 15's contract).
-        let o = &match o.strip_prefix("friction.scatter") {
-            Some(rest) if rest.trim_start().starts_with('=') => format!("scatter.friction{rest}"),
-            _ => o.clone(),
+        let alias = o
+            .strip_prefix("friction.scatter")
+            .filter(|rest| rest.trim_start().starts_with('='));
+        let o = &match alias {
+            Some(rest) => format!("scatter.friction{rest}"),
+            None => o.clone(),
         };
+        if o.starts_with("scatter.friction") {
+            friction_names[usize::from(alias.is_some())] = true;
+            if friction_names == [true, true] {
+                return Err(
+                    "--set friction.scatter and --set scatter.friction both give the \
+                            spread of μ; keep one"
+                        .into(),
+                );
+            }
+        }
         match o.strip_prefix("scatter.") {
             Some(kv) => {
                 let (k, v) = kv
@@ -339,6 +356,45 @@ pub fn split_scatter(
         }
     }
     Ok((scene, rest, table))
+}
+
+/// Why the inputs of `sawdrive uq` could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum UqInputError {
+    /// The scene file cannot be read, or its scene part is invalid.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// The scatter (`[scatter]`, `scatter.*`, `friction.scatter`) is invalid, or conflicts with
+    /// the scene.
+    #[error("{0}")]
+    Scatter(String),
+}
+
+/// The scene and scatter of `sawdrive uq [SCENE] --set …` (the command's and Python's one
+/// reader): the scene file's `[scatter]` section, `friction.scatter` and the `scatter.*`
+/// overrides form the scatter ([`split_scatter`]); the rest is the scene, read by the one scene
+/// loader from the file's own path (relative paths resolve against its folder); then the
+/// scene's own scatter keys join the scatter ([`ScatterSpec::with_scene_keys`]).
+pub fn load_uq_inputs(
+    path: Option<&Path>,
+    overrides: &[String],
+) -> Result<(Scene, ScatterSpec), UqInputError> {
+    let text = match path {
+        Some(p) => Some(std::fs::read_to_string(p).map_err(|source| SceneError::Io {
+            path: p.display().to_string(),
+            source,
+        })?),
+        None => None,
+    };
+    let (scene_text, overrides, table) =
+        split_scatter(text.as_deref(), overrides).map_err(UqInputError::Scatter)?;
+    let scatter = ScatterSpec::from_table(&table).map_err(UqInputError::Scatter)?;
+    let file = path.zip(scene_text.as_deref());
+    let scene = load_scene_text(file, &overrides)?;
+    let scatter = scatter
+        .with_scene_keys(&scene)
+        .map_err(UqInputError::Scatter)?;
+    Ok((scene, scatter))
 }
 
 #[cfg(test)]
@@ -377,5 +433,39 @@ mod tests {
         );
         let e = spec(&["slider.tilt_x=10nm"]).unwrap_err();
         assert!(e.starts_with("slider.tilt_x:"), "{e}");
+    }
+
+    #[test]
+    fn uq_inputs_resolve_relative_paths_against_the_scene_files_folder() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("scatter-scene.toml");
+        let text = "[static]\nmesh = \"strip.msh\"\n[scatter]\nfriction = 0.02\n";
+        std::fs::write(&path, text).unwrap();
+        let (scene, scatter) = load_uq_inputs(Some(&path), &[]).unwrap();
+        assert_eq!(
+            Path::new(&scene.static_fem.mesh),
+            dir.path().join("strip.msh"),
+            "static.mesh of a scene read by uq resolves against the scene's folder"
+        );
+        assert_eq!(
+            scatter.friction, 0.02,
+            "spread of μ from the file's [scatter]"
+        );
+        let e = load_uq_inputs(Some(&dir.path().join("missing.toml")), &[]).unwrap_err();
+        assert!(
+            matches!(e, UqInputError::Scene(SceneError::Io { .. })),
+            "an unreadable scene is a scene I/O error: {e}"
+        );
+    }
+
+    #[test]
+    fn both_names_of_the_friction_spread_on_the_command_line_are_refused() {
+        let e = spec(&["friction.scatter=0.02", "scatter.friction=0.01"]).unwrap_err();
+        assert!(
+            e.contains("friction.scatter and --set scatter.friction"),
+            "{e}"
+        );
+        let s = spec(&["scatter.friction=0.02", "scatter.friction=0.01"]).unwrap();
+        assert_eq!(s.friction, 0.01, "a repeated --set keeps the last value");
     }
 }

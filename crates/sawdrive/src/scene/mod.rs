@@ -78,16 +78,31 @@ fn parse_table(text: &str, origin: &str) -> Result<toml::Table, SceneError> {
 /// Load a scene: the default, overlaid with `path` (if any), overlaid with `overrides`
 /// (`key=value` each).
 pub fn load_scene(path: Option<&Path>, overrides: &[String]) -> Result<Scene, SceneError> {
-    let mut table = parse_table(DEFAULT_SCENE_TOML, "default scene")?;
-    let origin = match path {
+    match path {
         Some(path) => {
             let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
                 path: path.display().to_string(),
                 source,
             })?;
+            load_scene_text(Some((path, &text)), overrides)
+        }
+        None => load_scene_text(None, overrides),
+    }
+}
+
+/// [`load_scene`] on a scene file's text already read from its path (a caller may have edited
+/// it, e.g. taken out the `[scatter]` section): relative `static.mesh` and `posts.height_map`
+/// resolve against the path's folder, and messages name the path.
+pub fn load_scene_text(
+    file: Option<(&Path, &str)>,
+    overrides: &[String],
+) -> Result<Scene, SceneError> {
+    let mut table = parse_table(DEFAULT_SCENE_TOML, "default scene")?;
+    let origin = match file {
+        Some((path, text)) => {
             let origin = path.display().to_string();
-            check_decimal_integers(&text, &origin)?;
-            let mut user = parse_table(&text, &origin)?;
+            check_decimal_integers(text, &origin)?;
+            let mut user = parse_table(text, &origin)?;
             resolve_relative_mesh(&mut user, path);
             resolve_relative_height_map(&mut user, path);
             merge::deep_merge(&mut table, user);
