@@ -38,7 +38,7 @@ use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 use static_contact::{ActiveSetOptions, ActiveSetSolver, ContactProblem};
 
-use crate::boxqp::{self, Bound};
+use crate::boxqp::{self, ActiveSet};
 use crate::error::{CoupledError, Result};
 use crate::scene::{CoupledScene, PreloadBalance};
 
@@ -218,7 +218,7 @@ impl CoupledModel {
                             preload,
                             scene.tolerance,
                             j,
-                            &mut vec![Bound::Free; n],
+                            &mut ActiveSet::new(n),
                         )
                     })
                     .collect::<Result<Vec<_>>>()?;
@@ -292,7 +292,7 @@ fn normals_at_approach(
     preload: f64,
     tolerance: f64,
     j: usize,
-    sets: &mut [Bound],
+    active: &mut ActiveSet,
 ) -> Result<DVector<f64>> {
     let n = cn.nrows();
     let b = heights.add_scalar(-z);
@@ -301,7 +301,7 @@ fn normals_at_approach(
         &b,
         &vec![0.0; n],
         &vec![f64::INFINITY; n],
-        sets,
+        active,
         b.amax().max(preload),
         tolerance,
     )
@@ -326,7 +326,7 @@ fn period_mean_approach(
 ) -> Result<f64> {
     let n = cn.nrows();
     let all: Vec<DVector<f64>> = (0..m).map(heights).collect();
-    let mut sets: Vec<Vec<Bound>> = vec![vec![Bound::Free; n]; m];
+    let mut sets: Vec<ActiveSet> = vec![ActiveSet::new(n); m];
     let mut mean = |z: f64| -> Result<f64> {
         let mut total = 0.0;
         for j in 0..m {
@@ -397,8 +397,10 @@ impl std::ops::Sub for Integrals {
 #[derive(Debug, Clone)]
 struct TipState {
     force: DVector<f64>,
+    /// Ĉ_t · force, kept with it (one product per step instead of five).
+    compliance_force: DVector<f64>,
     mode: Vec<PostMode>,
-    sets: Vec<Bound>,
+    active: ActiveSet,
 }
 
 /// Solver statistics of a run.
@@ -439,7 +441,7 @@ impl CoupledModel {
         let du = DVector::from_fn(n, |i, _| {
             self.sigma * self.a_t * ((theta1 - self.kx[i]).cos() - (theta0 - self.kx[i]).cos()) / s
         });
-        let b = &self.ct * &state.force + &du - DVector::from_element(n, v * h);
+        let b = &state.compliance_force + &du - DVector::from_element(n, v * h);
         let mut mu: Vec<f64> = state
             .mode
             .iter()
@@ -454,17 +456,19 @@ impl CoupledModel {
             let hi: Vec<f64> = (0..n).map(|i| mu[i] * normal[i].max(0.0)).collect();
             let lo: Vec<f64> = hi.iter().map(|x| -x).collect();
             let scale = hi.iter().fold(b.amax(), |a, &x| a.max(x));
-            let solution = boxqp::solve(&self.ct, &b, &lo, &hi, &mut state.sets, scale, tolerance)
-                .map_err(|(iterations, residual)| CoupledError::NotConverged {
-                    what: "frictional contact step",
-                    iterations,
-                    residual,
-                    tolerance,
-                    context: format!(
-                        "at speed {:.6e} m/s, grid step {j}",
-                        -v * self.length_m * self.omega
-                    ),
-                })?;
+            let solution =
+                boxqp::solve(&self.ct, &b, &lo, &hi, &mut state.active, scale, tolerance).map_err(
+                    |(iterations, residual)| CoupledError::NotConverged {
+                        what: "frictional contact step",
+                        iterations,
+                        residual,
+                        tolerance,
+                        context: format!(
+                            "at speed {:.6e} m/s, grid step {j}",
+                            -v * self.length_m * self.omega
+                        ),
+                    },
+                )?;
             stats.max_residual = stats.max_residual.max(solution.residual);
             stats.iterations += solution.iterations;
             stats.fallback_steps += usize::from(solution.fallback);
@@ -485,8 +489,9 @@ impl CoupledModel {
         let force = solution.x;
         let slip = solution.lambda;
         let dforce = &force - &state.force;
-        let stored_old = 0.5 * state.force.dot(&(&self.ct * &state.force));
-        let stored_new = 0.5 * force.dot(&(&self.ct * &force));
+        let compliance_force = &self.ct * &force;
+        let stored_old = 0.5 * state.force.dot(&state.compliance_force);
+        let stored_new = 0.5 * force.dot(&compliance_force);
         // Discrete gradient of the stored energy ½TᵀĈ_tT (Gonzalez 1996): the midpoint force.
         let mid = 0.5 * (&force + &state.force);
         ints.time += h;
@@ -498,7 +503,7 @@ impl CoupledModel {
         ints.right_stator_work += force.dot(&du);
         ints.right_output_work += force.sum() * v * h;
         ints.right_friction += force.dot(&slip);
-        ints.numerical += 0.5 * dforce.dot(&(&self.ct * &dforce));
+        ints.numerical += 0.5 * dforce.dot(&(&compliance_force - &state.compliance_force));
         ints.stored_change += stored_new - stored_old;
         for i in 0..n {
             state.mode[i] = if normal[i] <= 0.0 {
@@ -516,6 +521,7 @@ impl CoupledModel {
             }
         }
         state.force = force;
+        state.compliance_force = compliance_force;
         Ok(())
     }
 
@@ -576,8 +582,9 @@ impl CoupledModel {
         let h = 2.0 * PI / (m as f64 * s);
         let mut state = TipState {
             force: DVector::zeros(n),
+            compliance_force: DVector::zeros(n),
             mode: vec![PostMode::Separated; n],
-            sets: vec![Bound::Free; n],
+            active: ActiveSet::new(n),
         };
         let friction_scale =
             self.scene.mu_static * self.normals.iter().map(|x| x.amax()).fold(0.0, f64::max);
