@@ -115,13 +115,9 @@ pub fn solve(
         let free: Vec<usize> = (0..n).filter(|&i| active.sets[i] == Bound::Free).collect();
         if !free.is_empty() {
             let m = free.len();
-            let rhs = DVector::from_fn(m, |r, _| {
-                let i = free[r];
-                b[i] - (0..n)
-                    .filter(|&j| active.sets[j] != Bound::Free)
-                    .map(|j| a[(i, j)] * x[j])
-                    .sum::<f64>()
-            });
+            // x is zero on the free unknowns here, so A x is the bound unknowns' pull on them.
+            let pull = a * &x;
+            let rhs = DVector::from_fn(m, |r, _| b[free[r]] - pull[free[r]]);
             let Some(chol) = active.factor_on(a, &free) else {
                 return Err((iteration, f64::INFINITY));
             };

@@ -148,6 +148,9 @@ pub struct CoupledModel {
     normals: Vec<DVector<f64>>,
     /// Rigid approach ẑ at grid phase j.
     approach: Vec<f64>,
+    /// cos(θ_j − σ k x_i) at grid phase j = 0..=M, `[j][i]`: the tangential wave motion of
+    /// every post on the grid, the same at every speed (made once, not twice per step).
+    wave_cos: Vec<DVector<f64>>,
     /// k_ref A_n (N).
     force_n: f64,
     length_m: f64,
@@ -225,6 +228,12 @@ impl CoupledModel {
                 (normals, vec![z; m])
             }
         };
+        let wave_cos = (0..=normals.len())
+            .map(|j| {
+                let theta = scene.start_phase_rad + 2.0 * PI * j as f64 / normals.len() as f64;
+                DVector::from_fn(kx.len(), |i, _| (theta - kx[i]).cos())
+            })
+            .collect();
         Ok(Self {
             scene: scene.clone(),
             ct,
@@ -232,6 +241,7 @@ impl CoupledModel {
             sigma,
             a_t: scene.wave.tangential_amplitude_m / length_m,
             doppler: k * length_m,
+            wave_cos,
             normals,
             approach,
             force_n,
@@ -435,12 +445,9 @@ impl CoupledModel {
     ) -> Result<()> {
         let m = self.normals.len();
         let n = self.kx.len();
-        let theta0 = self.scene.start_phase_rad + 2.0 * PI * j as f64 / m as f64;
-        let theta1 = self.scene.start_phase_rad + 2.0 * PI * (j + 1) as f64 / m as f64;
         let normal = &self.normals[(j + 1) % m];
-        let du = DVector::from_fn(n, |i, _| {
-            self.sigma * self.a_t * ((theta1 - self.kx[i]).cos() - (theta0 - self.kx[i]).cos()) / s
-        });
+        let (cos0, cos1) = (&self.wave_cos[j], &self.wave_cos[j + 1]);
+        let du = DVector::from_fn(n, |i, _| self.sigma * self.a_t * (cos1[i] - cos0[i]) / s);
         let b = &state.compliance_force + &du - DVector::from_element(n, v * h);
         let mut mu: Vec<f64> = state
             .mode
