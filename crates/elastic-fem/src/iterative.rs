@@ -41,7 +41,7 @@ use crate::model::{Connectivity, Model};
 use crate::reduction::{DofMap, DofTarget};
 use crate::shape::TET10_EDGES;
 use crate::sparse::csr::ROW_BLOCK;
-use crate::sparse::pcg::{DEFAULT_ERROR_DELAY, DEFAULT_MAX_ITERATIONS, PcgOptions};
+use crate::sparse::pcg::{DEFAULT_ERROR_DELAY, DEFAULT_MAX_ITERATIONS, PcgOptions, dot};
 use crate::sparse::{
     CsrMatrix, FactorOptions, NumericCholesky, Ordering, PcgReport, PcgWorkspace, RowSparse,
     SymbolicCholesky, SymmetricMatrix, pcg,
@@ -296,11 +296,11 @@ impl Chebyshev {
         let mut w = vec![0.0; n];
         let mut lambda = 1.0;
         for _ in 0..POWER_ITERATIONS {
-            let norm = v.par_iter().map(|x| x * x).sum::<f64>().sqrt();
+            let norm = dot(&v, &v).sqrt();
             v.par_iter_mut().for_each(|x| *x /= norm);
             a.mul_vec(&v, &mut w);
             w.par_iter_mut().zip(&inv_diag).for_each(|(x, d)| *x *= d);
-            lambda = w.par_iter().zip(&v).map(|(x, y)| x * y).sum::<f64>();
+            lambda = dot(&w, &v);
             std::mem::swap(&mut v, &mut w);
         }
         let lambda_max = CHEBYSHEV_UPPER_SAFETY * lambda;

@@ -6,6 +6,9 @@ use rayon::prelude::*;
 
 use crate::model::{Connectivity, Model};
 
+/// Nodes per rayon task when filling the row indices of the pattern. Dimensionless; default 256.
+pub const PATTERN_NODES_PER_TASK: usize = 256;
+
 /// Marker in the scatter map for node pairs stored through their transpose.
 pub(crate) const LOWER_PAIR: u32 = u32::MAX;
 
@@ -127,23 +130,35 @@ impl StiffnessPattern {
                 col_ptr.push(col_ptr.last().copied().unwrap_or(0) + 3 * lower + c + 1);
             }
         }
+        // Rows of the three columns of every node (nodes in parallel; contiguous in row_idx).
         let mut row_idx = vec![0usize; col_ptr[n_dofs]];
+        let mut per_node: Vec<&mut [usize]> = Vec::with_capacity(node_count);
+        let mut rest = row_idx.as_mut_slice();
         for b in 0..node_count {
-            let neighbours = &nidx[nptr[b]..nptr[b + 1]];
-            for c in 0..3 {
-                let col = 3 * b + c;
-                let mut p = col_ptr[col];
-                for &a in neighbours {
-                    let a = a as usize;
-                    let rows = if a == b { c + 1 } else { 3 };
-                    for r in 0..rows {
-                        row_idx[p] = 3 * a + r;
-                        p += 1;
+            let (block, tail) =
+                std::mem::take(&mut rest).split_at_mut(col_ptr[3 * b + 3] - col_ptr[3 * b]);
+            per_node.push(block);
+            rest = tail;
+        }
+        per_node
+            .into_par_iter()
+            .enumerate()
+            .with_min_len(PATTERN_NODES_PER_TASK)
+            .for_each(|(b, out)| {
+                let neighbours = &nidx[nptr[b]..nptr[b + 1]];
+                let mut p = 0usize;
+                for c in 0..3 {
+                    for &a in neighbours {
+                        let a = a as usize;
+                        let rows = if a == b { c + 1 } else { 3 };
+                        for r in 0..rows {
+                            out[p] = 3 * a + r;
+                            p += 1;
+                        }
                     }
                 }
-                debug_assert_eq!(p, col_ptr[col + 1]);
-            }
-        }
+                debug_assert_eq!(p, out.len());
+            });
 
         // Scatter map: rank of n_a among the lower neighbours of n_b.
         let element_count = connectivity.len();

@@ -7,6 +7,8 @@
 //! rigid-body modes. With a 0/1 selection matrix T, K_red is a pure scatter-add of K's entries,
 //! done through a precomputed map (pattern built once, numeric reduction per matrix).
 
+use rayon::prelude::*;
+
 use crate::constraints::{Constraints, RigidComponent};
 use crate::error::{FemError, FemResult};
 use crate::sparse::SymmetricMatrix;
@@ -328,6 +330,109 @@ impl DofMap {
 
 /// Scatter-map marker: entry couples a prescribed DOF and is dropped from K_red.
 const DROPPED: u32 = u32::MAX;
+
+/// Columns per rayon task when building the reduced pattern (pass 2) and scatter map (pass 3):
+/// enough to amortise scheduling over ≈ 30–80 entries per column. Dimensionless; default 512.
+pub const REDUCTION_COLUMNS_PER_TASK: usize = 512;
+
+/// Blocks of full columns bucketed in parallel when building the reduced pattern; the result
+/// does not depend on it. Dimensionless; default 16.
+const REDUCTION_BLOCKS: usize = 16;
+
+/// Candidate rows (reduced, upper: row ≤ column) of every reduced column contributed by the
+/// full columns `cols`, as CSC (pointers over all `m` reduced columns, rows in full order).
+fn column_buckets(
+    m: usize,
+    cp: &[usize],
+    ri: &[usize],
+    reduced_of: &(dyn Fn(usize) -> Option<usize> + Sync),
+    cols: std::ops::Range<usize>,
+) -> (Vec<usize>, Vec<u32>) {
+    let mut ptr = vec![0usize; m + 1];
+    let pairs = |k: usize| {
+        let rk = reduced_of(k);
+        ri[cp[k]..cp[k + 1]]
+            .iter()
+            .filter_map(move |&i| Some((rk?, reduced_of(i)?)))
+    };
+    for k in cols.clone() {
+        for (rk, rii) in pairs(k) {
+            ptr[rk.max(rii) + 1] += 1;
+        }
+    }
+    for j in 0..m {
+        ptr[j + 1] += ptr[j];
+    }
+    let mut fill = ptr[..m].to_vec();
+    let mut rows = vec![0u32; ptr[m]];
+    for k in cols {
+        for (rk, rii) in pairs(k) {
+            let col = rk.max(rii);
+            rows[fill[col]] = rk.min(rii) as u32;
+            fill[col] += 1;
+        }
+    }
+    (ptr, rows)
+}
+
+/// The pattern of K_red = Tᵀ K T (upper CSC, rows sorted and unique) for the full upper pattern
+/// (`cp`, `ri`). Full columns are bucketed by reduced column in [`REDUCTION_BLOCKS`] blocks (in
+/// parallel), then each reduced column gathers its buckets, sorts and deduplicates (columns in
+/// parallel). A pure index computation: the same result for any thread count.
+fn reduced_pattern(
+    m: usize,
+    cp: &[usize],
+    ri: &[usize],
+    reduced_of: &(dyn Fn(usize) -> Option<usize> + Sync),
+) -> FemResult<(Vec<usize>, Vec<usize>)> {
+    if m > u32::MAX as usize {
+        return Err(FemError::SparseBackend(format!(
+            "{m} reduced unknowns exceed 32-bit indices"
+        )));
+    }
+    let bounds = crate::sparse::csr::split_columns(cp, REDUCTION_BLOCKS);
+    let buckets: Vec<(Vec<usize>, Vec<u32>)> = bounds
+        .par_windows(2)
+        .map(|w| column_buckets(m, cp, ri, reduced_of, w[0]..w[1]))
+        .collect();
+    let chunks: Vec<(Vec<usize>, Vec<usize>)> = (0..m)
+        .into_par_iter()
+        .chunks(REDUCTION_COLUMNS_PER_TASK)
+        .map(|cols| {
+            let (mut lens, mut rows) = (Vec::with_capacity(cols.len()), Vec::new());
+            for j in cols {
+                let start = rows.len();
+                for (ptr, r) in &buckets {
+                    rows.extend(r[ptr[j]..ptr[j + 1]].iter().map(|&i| i as usize));
+                }
+                rows[start..].sort_unstable();
+                let mut len = start;
+                for q in start..rows.len() {
+                    if len == start || rows[q] != rows[len - 1] {
+                        rows[len] = rows[q];
+                        len += 1;
+                    }
+                }
+                rows.truncate(len);
+                lens.push(len - start);
+            }
+            (lens, rows)
+        })
+        .collect();
+    drop(buckets);
+    let mut col_ptr = Vec::with_capacity(m + 1);
+    col_ptr.push(0usize);
+    let total: usize = chunks.iter().map(|c| c.1.len()).sum();
+    let mut rows = Vec::with_capacity(total);
+    for (lens, r) in chunks {
+        for len in lens {
+            col_ptr.push(col_ptr.last().copied().unwrap_or(0) + len);
+        }
+        rows.extend(r);
+    }
+    Ok((col_ptr, rows))
+}
+
 /// Scatter-map flag: off-diagonal entry whose two DOFs merged into one unknown (counts twice).
 const DOUBLE: u32 = 1 << 31;
 
@@ -361,70 +466,35 @@ impl ReducedSystem {
             DofTarget::Reduced(j) => Some(j),
             DofTarget::Prescribed(_) => None,
         };
-        // Pass 1: count candidate rows per reduced column.
-        let mut count = vec![0usize; m + 1];
-        for k in 0..n {
-            let Some(rk) = reduced_of(k) else { continue };
-            for &i in &ri[cp[k]..cp[k + 1]] {
-                if let Some(ri) = reduced_of(i) {
-                    count[rk.max(ri) + 1] += 1;
-                }
-            }
-        }
-        for j in 0..m {
-            count[j + 1] += count[j];
-        }
-        let mut fill = count[..m].to_vec();
-        let mut rows = vec![0usize; count[m]];
-        for k in 0..n {
-            let Some(rk) = reduced_of(k) else { continue };
-            for &i in &ri[cp[k]..cp[k + 1]] {
-                if let Some(ri) = reduced_of(i) {
-                    let col = rk.max(ri);
-                    rows[fill[col]] = rk.min(ri);
-                    fill[col] += 1;
-                }
-            }
-        }
-        // Pass 2: sort + dedup per column, compact.
-        let mut col_ptr = Vec::with_capacity(m + 1);
-        col_ptr.push(0usize);
-        let mut write = 0usize;
-        for j in 0..m {
-            let (start, end) = (count[j], count[j + 1]);
-            rows[start..end].sort_unstable();
-            let mut last = usize::MAX;
-            for r in start..end {
-                if rows[r] != last {
-                    last = rows[r];
-                    rows[write] = last;
-                    write += 1;
-                }
-            }
-            col_ptr.push(write);
-        }
-        rows.truncate(write);
-        rows.shrink_to_fit();
+        // Passes 1–2: the reduced pattern (rows of every reduced column, sorted, unique).
+        let (col_ptr, rows) = reduced_pattern(m, cp, ri, &reduced_of)?;
+        let write = rows.len();
         if write >= DOUBLE as usize {
             return Err(FemError::SparseBackend(format!(
                 "reduced matrix has {write} entries, more than the 2^31 supported"
             )));
         }
-        // Pass 3: scatter map of every full upper entry.
-        let mut scatter = vec![DROPPED; full.nnz_upper()];
-        for k in 0..n {
-            let Some(rk) = reduced_of(k) else { continue };
-            for p in cp[k]..cp[k + 1] {
-                let i = ri[p];
-                let Some(rii) = reduced_of(i) else { continue };
-                let (r, c) = (rk.min(rii), rk.max(rii));
-                let pos = col_ptr[c]
-                    + rows[col_ptr[c]..col_ptr[c + 1]]
-                        .binary_search(&r)
-                        .expect("reduced pattern holds every entry");
-                scatter[p] = pos as u32 | if rk == rii && i != k { DOUBLE } else { 0 };
-            }
-        }
+        // Pass 3: scatter map of every full upper entry (full columns in parallel, in order).
+        let scatter: Vec<u32> = (0..n)
+            .into_par_iter()
+            .with_min_len(REDUCTION_COLUMNS_PER_TASK)
+            .flat_map_iter(|k| {
+                let rk = reduced_of(k);
+                let (rows, col_ptr) = (&rows, &col_ptr);
+                (cp[k]..cp[k + 1]).map(move |p| {
+                    let i = ri[p];
+                    let (Some(rk), Some(rii)) = (rk, reduced_of(i)) else {
+                        return DROPPED;
+                    };
+                    let (r, c) = (rk.min(rii), rk.max(rii));
+                    let pos = col_ptr[c]
+                        + rows[col_ptr[c]..col_ptr[c + 1]]
+                            .binary_search(&r)
+                            .expect("reduced pattern holds every entry");
+                    pos as u32 | if rk == rii && i != k { DOUBLE } else { 0 }
+                })
+            })
+            .collect();
         Ok(Self {
             dof_map,
             full_dim: n,

@@ -21,6 +21,63 @@ pub const ROW_BLOCK: usize = 2048;
 /// floating-point addition on current x86 and ARM cores).
 const DOT_LANES: usize = 4;
 
+/// Column blocks of [`CsrMatrix::from_symmetric`]'s transpose (and row blocks of its fill), each
+/// a parallel task. The output does not depend on it. Dimensionless; default 16.
+const TRANSPOSE_BLOCKS: usize = 16;
+
+/// Splits `0..ptr.len() - 1` into at most `blocks` consecutive ranges of about equal entry
+/// counts (`ptr`: CSC/CSR pointers); returns the boundaries (first 0, last the dimension).
+pub(crate) fn split_columns(ptr: &[usize], blocks: usize) -> Vec<usize> {
+    let n = ptr.len() - 1;
+    let total = ptr[n];
+    let mut bounds = vec![0usize];
+    for b in 1..blocks {
+        let target = total * b / blocks;
+        let j = ptr.partition_point(|&p| p < target).min(n);
+        if j > *bounds.last().unwrap_or(&0) {
+            bounds.push(j);
+        }
+    }
+    if *bounds.last().unwrap_or(&0) != n || bounds.len() == 1 {
+        bounds.push(n);
+    }
+    bounds
+}
+
+/// The strictly upper entries (i, j) of a block of columns j, bucketed by row i (CSR over all
+/// rows, each row's entries in increasing j).
+struct RowBuckets {
+    ptr: Vec<usize>,
+    col: Vec<u32>,
+    val: Vec<f64>,
+}
+
+impl RowBuckets {
+    fn new(n: usize, cp: &[usize], ri: &[usize], v: &[f64], cols: std::ops::Range<usize>) -> Self {
+        let mut ptr = vec![0usize; n + 1];
+        for j in cols.clone() {
+            for &i in &ri[cp[j]..cp[j + 1] - 1] {
+                ptr[i + 1] += 1;
+            }
+        }
+        for i in 0..n {
+            ptr[i + 1] += ptr[i];
+        }
+        let mut fill = ptr[..n].to_vec();
+        let mut col = vec![0u32; ptr[n]];
+        let mut val = vec![0.0; ptr[n]];
+        for j in cols {
+            for k in cp[j]..cp[j + 1] - 1 {
+                let i = ri[k];
+                col[fill[i]] = j as u32;
+                val[fill[i]] = v[k];
+                fill[i] += 1;
+            }
+        }
+        Self { ptr, col, val }
+    }
+}
+
 /// A square symmetric matrix with both triangles stored by rows (32-bit column indices).
 #[derive(Debug, Clone)]
 pub struct CsrMatrix {
@@ -40,39 +97,53 @@ impl CsrMatrix {
             )));
         }
         let (cp, ri, v) = (a.col_ptr(), a.row_idx(), a.values());
-        let mut count = vec![0usize; n + 1];
-        for j in 0..n {
-            count[j + 1] += cp[j + 1] - cp[j];
-            for &i in &ri[cp[j]..cp[j + 1] - 1] {
-                count[i + 1] += 1;
-            }
+        // Row i = column i of the upper triangle (rows ≤ i), then the entries (i, j > i) in
+        // increasing j. The strictly upper entries are bucketed by row per block of columns
+        // (blocks in parallel); rows are then filled in parallel, each copying its upper column
+        // and its buckets in block order. Pure copies: the result is independent of the threads.
+        let blocks = split_columns(cp, TRANSPOSE_BLOCKS);
+        let buckets: Vec<RowBuckets> = blocks
+            .par_windows(2)
+            .map(|w| RowBuckets::new(n, cp, ri, v, w[0]..w[1]))
+            .collect();
+        let mut row_ptr = vec![0usize; n + 1];
+        for i in 0..n {
+            let lower = cp[i + 1] - cp[i];
+            let upper: usize = buckets.iter().map(|b| b.ptr[i + 1] - b.ptr[i]).sum();
+            row_ptr[i + 1] = row_ptr[i] + lower + upper;
         }
-        for j in 0..n {
-            count[j + 1] += count[j];
-        }
-        let nnz = count[n];
+        let nnz = row_ptr[n];
         let mut col_idx = vec![0u32; nnz];
         let mut values = vec![0.0; nnz];
-        let mut fill = count[..n].to_vec();
-        // Row i = column i: first the upper column i (rows ≤ i), then entries (i, j > i) in
-        // increasing j; both sorted, so each row comes out sorted.
-        for j in 0..n {
-            for k in cp[j]..cp[j + 1] {
-                col_idx[fill[j]] = ri[k] as u32;
-                values[fill[j]] = v[k];
-                fill[j] += 1;
-            }
+        let row_ranges = split_columns(&row_ptr, TRANSPOSE_BLOCKS);
+        let mut pieces = Vec::with_capacity(row_ranges.len());
+        let (mut ci_rest, mut va_rest) = (col_idx.as_mut_slice(), values.as_mut_slice());
+        for w in row_ranges.windows(2) {
+            let len = row_ptr[w[1]] - row_ptr[w[0]];
+            let (ci, ci_tail) = std::mem::take(&mut ci_rest).split_at_mut(len);
+            let (va, va_tail) = std::mem::take(&mut va_rest).split_at_mut(len);
+            pieces.push((w[0]..w[1], ci, va));
+            (ci_rest, va_rest) = (ci_tail, va_tail);
         }
-        for j in 0..n {
-            for k in cp[j]..cp[j + 1] - 1 {
-                let i = ri[k];
-                col_idx[fill[i]] = j as u32;
-                values[fill[i]] = v[k];
-                fill[i] += 1;
+        pieces.into_par_iter().for_each(|(rows, ci, va)| {
+            let mut k = 0usize;
+            for i in rows {
+                for p in cp[i]..cp[i + 1] {
+                    ci[k] = ri[p] as u32;
+                    va[k] = v[p];
+                    k += 1;
+                }
+                for b in &buckets {
+                    for q in b.ptr[i]..b.ptr[i + 1] {
+                        ci[k] = b.col[q];
+                        va[k] = b.val[q];
+                        k += 1;
+                    }
+                }
             }
-        }
+        });
         Ok(Self {
-            row_ptr: count,
+            row_ptr,
             col_idx,
             values,
         })

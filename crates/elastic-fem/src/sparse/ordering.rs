@@ -161,6 +161,9 @@ fn metis_graph(
     Some((xadj, adjncy, vwgt))
 }
 
+/// Serialises the calls into METIS (see [`metis_nested_dissection`]).
+static METIS_LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// METIS nested-dissection ordering of the matrix graph. `None` if METIS cannot be used
 /// (graph too large for 32-bit indices, or METIS reports an error).
 pub fn metis_nested_dissection(matrix: &SymmetricMatrix) -> Option<Permutation> {
@@ -186,6 +189,13 @@ pub fn metis_nested_dissection(matrix: &SymmetricMatrix) -> Option<Permutation> 
     options[moptions_et_METIS_OPTION_NUMBERING as usize] = 0;
     // The graph is compressed already (supervariables above).
     options[moptions_et_METIS_OPTION_COMPRESS as usize] = 0;
+    // METIS draws from GKlib's random generator, whose state is one process-wide static (not
+    // thread-local): two orderings computed at once (parallel sweep points, parallel tests)
+    // would interleave their draws and give run-dependent permutations, hence run-dependent
+    // factor bits. One METIS call at a time keeps every ordering a function of its graph.
+    let _metis = METIS_LOCK
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner());
     // SAFETY: with m = `count` vertices: `xadj` has m+1 entries, `adjncy` has xadj[m] entries
     // with values in 0..m (a symmetric graph without self loops, built above), `vwgt`, `perm`
     // and `iperm` have m entries; all buffers outlive the call and METIS does not retain the

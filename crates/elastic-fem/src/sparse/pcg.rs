@@ -76,12 +76,17 @@ impl PcgWorkspace {
     }
 }
 
-/// Parallel dot product.
+/// Parallel dot product with a fixed summation order: one partial sum per block of
+/// [`ROW_BLOCK`] entries (blocks in parallel), the block sums then added in block order. The
+/// result has the same bits for any thread count and run (a rayon `sum` combines partial sums
+/// along the work-stealing tree, which varies from run to run with more than one thread).
 pub fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.par_chunks(ROW_BLOCK)
+    let partial: Vec<f64> = a
+        .par_chunks(ROW_BLOCK)
         .zip(b.par_chunks(ROW_BLOCK))
         .map(|(x, y)| x.iter().zip(y).map(|(u, v)| u * v).sum::<f64>())
-        .sum()
+        .collect();
+    partial.iter().sum()
 }
 
 /// y += a x, in parallel.

@@ -1,0 +1,126 @@
+#!/usr/bin/env bash
+# 1 vs 2 (or more) threads of the FEM, per phase (issue 12 point 4, last target), this machine:
+#
+#   punch   `punch_scaling --level L --method iterative` (validation example; default level 3 =
+#           349 558 unknowns): pattern, assembly, reduction, multigrid set-up, PCG solve;
+#   strip   `static_breakdown` (static-contact example; the default scene's slider strip, direct
+#           path): assembly (pattern + element matrices + reduction), METIS ordering + symbolic
+#           analysis, numeric Cholesky, condensation onto the posts.
+#
+# Each repeat runs RAYON_NUM_THREADS=1 then =T back to back (T = --threads, default 2), so both
+# see the same load; the summary keeps the minimum over the repeats of every phase, prints the
+# speed-up per phase and the load average before every run. Bitwise check: the printed result
+# (k_sn clamped for the punch, η for the strip, 17 digits) must be identical across repeats with
+# the same thread count (the script fails otherwise); whether 1 and T threads agree is printed.
+#
+#   scripts/threads-scaling.sh [--repeats N] [--threads T] [--level L] [--no-punch] [--no-strip]
+#
+# A 2-thread speed-up is only measurable on an otherwise idle machine (load average < 1 on 2
+# cores); the load is printed so that the numbers can be judged. Builds the two release examples
+# first. Output: one line per run (`case threads wall_s user_s sys_s load1 phases...`), then the
+# summary.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+repeats=3
+threads=2
+level=3
+punch=1
+strip=1
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --repeats) repeats="$2"; shift 2 ;;
+    --threads) threads="$2"; shift 2 ;;
+    --level) level="$2"; shift 2 ;;
+    --no-punch) punch=0; shift ;;
+    --no-strip) strip=0; shift ;;
+    *) echo "usage: $0 [--repeats N] [--threads T] [--level L] [--no-punch] [--no-strip]" >&2; exit 2 ;;
+  esac
+done
+[[ "$repeats" =~ ^[1-9][0-9]*$ ]] || { echo "error: --repeats must be a positive integer" >&2; exit 2; }
+[[ "$threads" =~ ^[2-9][0-9]*$|^[1-9][0-9]+$ ]] || { echo "error: --threads must be an integer ≥ 2" >&2; exit 2; }
+[[ "$level" =~ ^[0-9]+$ ]] || { echo "error: --level must be a non-negative integer" >&2; exit 2; }
+
+cargo build --release -q -p validation --example punch_scaling
+cargo build --release -q -p static-contact --example static_breakdown
+bin="$PWD/target/release/examples"
+scratch="$(mktemp -d)"
+trap 'rm -rf "$scratch"' EXIT
+log="$scratch/runs.jsonl"
+
+if [[ $punch == 1 ]]; then
+  # Mesh generated (gmsh) once, outside the timed runs.
+  mesh="$("$bin/punch_scaling" --mesh-only --level "$level" | tail -1)"
+fi
+
+# one CASE THREADS CMD...: runs CMD with RAYON_NUM_THREADS=THREADS, appends a JSON line
+# {case, threads, load1, wall_s, user_s, sys_s, result} to the log.
+one() {
+  local case="$1" t="$2"; shift 2
+  local load; load="$(cut -d' ' -f1 /proc/loadavg)"
+  RAYON_NUM_THREADS="$t" /usr/bin/time -f "%e %U %S" -o "$scratch/time" "$@" >"$scratch/out" 2>"$scratch/err" || {
+    echo "error: $case with $t threads failed:" >&2; tail -5 "$scratch/err" >&2; exit 1; }
+  python3 - "$case" "$t" "$load" "$scratch/time" "$scratch/out" >>"$log" <<'EOF'
+import json, sys
+case, t, load, time_path, out_path = sys.argv[1:]
+wall, user, sys_ = (float(x) for x in open(time_path).read().split()[-3:])
+r = json.loads(open(out_path).read().strip().splitlines()[-1])
+print(json.dumps({"case": case, "threads": int(t), "load1": float(load), "wall_s": wall,
+                  "user_s": user, "sys_s": sys_, "result": r}))
+EOF
+  tail -1 "$log"
+}
+
+for r in $(seq 1 "$repeats"); do
+  for t in 1 "$threads"; do
+    if [[ $punch == 1 ]]; then one punch "$t" "$bin/punch_scaling" --method iterative "$mesh"; fi
+    if [[ $strip == 1 ]]; then one strip "$t" "$bin/static_breakdown"; fi
+  done
+done >/dev/null
+
+python3 - "$log" <<'EOF'
+import json, sys
+runs = [json.loads(l) for l in open(sys.argv[1])]
+phases = {
+    "punch": ["pattern_s", "assembly_s", "reduction_s", "symbolic_s", "numeric_s", "solve_s", "total_s"],
+    "strip": ["assembly_s", "ordering_symbolic_s", "numeric_factor_s", "condensation_s", "static_total_s"],
+}
+value = {"punch": "k_sn_clamped_n_per_m", "strip": "effective_contact_ratio"}
+for r in runs:
+    print(f"# {r['case']} threads {r['threads']} load {r['load1']:.2f}: wall {r['wall_s']:.2f} s, "
+          f"CPU {r['user_s'] + r['sys_s']:.2f} s, " + ", ".join(
+              f"{p} {r['result'][p]:.3f}" for p in phases[r['case']]) +
+          f", {value[r['case']]} {r['result'][value[r['case']]]!r}")
+failed = False
+for case in ("punch", "strip"):
+    mine = [r for r in runs if r["case"] == case]
+    if not mine:
+        continue
+    counts = sorted({r["threads"] for r in mine})
+    print(f"{case}: minimum over {len(mine) // len(counts)} repeats (s); speed-up = 1 thread / {counts[-1]} threads")
+    print(f"  {'phase':<22}" + "".join(f"{str(t) + ' thr':>10}" for t in counts) + f"{'speed-up':>10}")
+    best = {}
+    for p in phases[case] + ["wall_s", "cpu_s"]:
+        row = []
+        for t in counts:
+            get = (lambda r: r["user_s"] + r["sys_s"]) if p == "cpu_s" else \
+                  (lambda r: r[p]) if p == "wall_s" else (lambda r: r["result"][p])
+            row.append(min(get(r) for r in mine if r["threads"] == t))
+        best[p] = row
+        print(f"  {p:<22}" + "".join(f"{v:>10.3f}" for v in row) + f"{row[0] / row[-1]:>10.2f}")
+    bits = {}
+    for t in counts:
+        vals = {repr(r["result"][value[case]]) for r in mine if r["threads"] == t}
+        bits[t] = vals
+        if len(vals) != 1:
+            failed = True
+            print(f"  NOT REPRODUCIBLE: {value[case]} differs between runs with {t} threads: {sorted(vals)}")
+    same = len(set().union(*bits.values())) == 1
+    print(f"  {value[case]}: same bits in every run with the same thread count: "
+          f"{'yes' if all(len(v) == 1 for v in bits.values()) else 'NO'}; "
+          f"1 and {counts[-1]} threads give the same bits: {'yes' if same else 'no'} "
+          f"({', '.join(f'{t}: {sorted(v)[0]}' for t, v in bits.items())})")
+    print(f"  load average (1 min) before the runs: "
+          f"{min(r['load1'] for r in mine):.2f}–{max(r['load1'] for r in mine):.2f}")
+sys.exit(1 if failed else 0)
+EOF
