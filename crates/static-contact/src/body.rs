@@ -430,15 +430,102 @@ impl BodyCompliance {
     /// a unit x force on disk j spread equally over its nodes; column j holds the x displacement
     /// of every disk (the same equal-weight average over its nodes: a symmetric generalised
     /// compliance, C_xx = Wᵀ K⁻¹ W) and the z displacement of every disk's rigid tie (the
-    /// slider-side normal–tangential cross term C_zx, normal tip displacement per unit
-    /// tangential force). Equal nodal forces approximate a uniform shear traction; a rigid x tie
-    /// would be slightly stiffer (the tip face of a post is nearly rigid in shear).
+    /// slider-side normal–tangential cross term C_zx = E_zᵀ K⁻¹ W, normal tip displacement per
+    /// unit tangential force). Equal nodal forces approximate a uniform shear traction; a rigid
+    /// x tie would be slightly stiffer (the tip face of a post is nearly rigid in shear).
+    ///
+    /// Both blocks are blocks of one Gram matrix [W E_z]ᵀ K⁻¹ [W E_z] = Yᵀ Y with
+    /// Y = L⁻¹ P [W E_z], computed by forward solves restricted to the elimination-tree paths of
+    /// the disk unknowns (elastic-fem `sparse/sparse_rhs.rs`); no backward solve, no full
+    /// solve. [`Self::tangential_compliance_by_solves`] gives the same matrices from full solves.
     ///
     /// Needs in-plane-free disks ([`TipLateral::Free`]: the x displacements are unknowns) and
     /// whole disks, or half disks cut by a mirror plane y = const (the half strip): an x load is
     /// symmetric about that plane, so the half body carries half of each post's x force, as it
     /// does of the normal force. A cut by a plane x = const has no such symmetry and is refused.
     pub fn tangential_compliance(&self) -> Result<TangentialCompliance> {
+        Ok(self.tangential_compliance_with_work()?.0)
+    }
+
+    /// [`Self::tangential_compliance`] with the work of its partial forward solves.
+    pub fn tangential_compliance_with_work(
+        &self,
+    ) -> Result<(TangentialCompliance, elastic_fem::sparse::InverseGramStats)> {
+        let x_dofs = self.tangential_dofs()?;
+        let n = x_dofs.len();
+        let mut columns: Vec<elastic_fem::sparse::SparseColumn> = x_dofs
+            .iter()
+            .map(|dofs| {
+                let weight = 1.0 / dofs.len() as f64;
+                dofs.iter().map(|&j| (j, weight)).collect()
+            })
+            .collect();
+        columns.extend(self.masters.iter().map(|&m| vec![(m, 1.0)]));
+        let (gram, work) = self
+            .factor
+            .inverse_gram(&columns)
+            .map_err(|source| self.solve_error(source))?;
+        // A post's force f puts disk_fraction · f on the disk of this body.
+        let tangential = gram.view((0, 0), (n, n)) * self.disk_fraction;
+        let cross = gram.view((n, 0), (n, n)) * (self.force_sign * self.disk_fraction);
+        Ok((
+            TangentialCompliance {
+                tangential_m_per_n: tangential,
+                normal_from_tangential_m_per_n: cross,
+            },
+            work,
+        ))
+    }
+
+    /// [`Self::tangential_compliance`] from full solves with the factor (SOLVE_BATCH_COLUMNS
+    /// right-hand sides at a time): the reference of the partial forward solves, ≈ 2 nnz(L)
+    /// multiply–adds per disk.
+    pub fn tangential_compliance_by_solves(&self) -> Result<TangentialCompliance> {
+        let x_dofs = self.tangential_dofs()?;
+        let dim = self.reduced.dim();
+        let n = x_dofs.len();
+        let mut tangential = DMatrix::zeros(n, n);
+        let mut cross = DMatrix::zeros(n, n);
+        for first in (0..n).step_by(SOLVE_BATCH_COLUMNS) {
+            let cols = SOLVE_BATCH_COLUMNS.min(n - first);
+            let mut rhs = vec![0.0; dim * cols];
+            for c in 0..cols {
+                let dofs = &x_dofs[first + c];
+                for &j in dofs {
+                    rhs[c * dim + j] += 1.0 / dofs.len() as f64;
+                }
+            }
+            self.factor
+                .solve_columns_in_place(&mut rhs, cols)
+                .map_err(|source| self.solve_error(source))?;
+            for c in 0..cols {
+                let column = &rhs[c * dim..(c + 1) * dim];
+                for i in 0..n {
+                    let dofs = &x_dofs[i];
+                    tangential[(i, first + c)] =
+                        dofs.iter().map(|&j| column[j]).sum::<f64>() / dofs.len() as f64;
+                    cross[(i, first + c)] = self.force_sign * column[self.masters[i]];
+                }
+            }
+        }
+        // A post's force f puts disk_fraction · f on the disk of this body.
+        Ok(TangentialCompliance {
+            tangential_m_per_n: (&tangential + tangential.transpose()) * (0.5 * self.disk_fraction),
+            normal_from_tangential_m_per_n: cross * self.disk_fraction,
+        })
+    }
+
+    fn solve_error(&self, source: FemError) -> ContactError {
+        ContactError::Fem {
+            body: self.name,
+            file: String::new(),
+            source: Box::new(source),
+        }
+    }
+
+    /// Reduced x unknowns of each disk, after checking that the tangential compliance applies
+    /// (whole or y-cut half disks, x free).
+    fn tangential_dofs(&self) -> Result<Vec<Vec<usize>>> {
         if !(self.disk_fraction == 1.0 || (self.disk_fraction == 0.5 && self.disks_cut_along_x())) {
             return Err(ContactError::InvalidParameter {
                 parameter: "disk_fraction",
@@ -448,14 +535,7 @@ impl BodyCompliance {
                     .into(),
             });
         }
-        let dim = self.reduced.dim();
         let map = self.reduced.dof_map();
-        let wrap = |source| ContactError::Fem {
-            body: self.name,
-            file: String::new(),
-            source: Box::new(source),
-        };
-        // Reduced x unknowns of each disk, with weight 1/(nodes of the disk).
         let mut x_dofs: Vec<Vec<usize>> = Vec::with_capacity(self.disk_nodes.len());
         for (d, nodes) in self.disk_nodes.iter().enumerate() {
             let mut dofs = Vec::with_capacity(nodes.len());
@@ -476,36 +556,7 @@ impl BodyCompliance {
             }
             x_dofs.push(dofs);
         }
-        let n = x_dofs.len();
-        let mut tangential = DMatrix::zeros(n, n);
-        let mut cross = DMatrix::zeros(n, n);
-        for first in (0..n).step_by(SOLVE_BATCH_COLUMNS) {
-            let cols = SOLVE_BATCH_COLUMNS.min(n - first);
-            let mut rhs = vec![0.0; dim * cols];
-            for c in 0..cols {
-                let dofs = &x_dofs[first + c];
-                for &j in dofs {
-                    rhs[c * dim + j] += 1.0 / dofs.len() as f64;
-                }
-            }
-            self.factor
-                .solve_columns_in_place(&mut rhs, cols)
-                .map_err(wrap)?;
-            for c in 0..cols {
-                let column = &rhs[c * dim..(c + 1) * dim];
-                for i in 0..n {
-                    let dofs = &x_dofs[i];
-                    tangential[(i, first + c)] =
-                        dofs.iter().map(|&j| column[j]).sum::<f64>() / dofs.len() as f64;
-                    cross[(i, first + c)] = self.force_sign * column[self.masters[i]];
-                }
-            }
-        }
-        // A post's force f puts disk_fraction · f on the disk of this body.
-        Ok(TangentialCompliance {
-            tangential_m_per_n: (&tangential + tangential.transpose()) * (0.5 * self.disk_fraction),
-            normal_from_tangential_m_per_n: cross * self.disk_fraction,
-        })
+        Ok(x_dofs)
     }
 
     /// Whether every disk's nodes span (nearly) its whole diameter in x: a disk cut, if at all,

@@ -5,6 +5,8 @@
 //! - [`factor`]: [`SymbolicCholesky::analyze`] once per pattern, then
 //!   [`SymbolicCholesky::factor`] / [`NumericCholesky::refactor`] per set of values;
 //! - [`solve`]: [`NumericCholesky::solve_in_place`], many right-hand sides;
+//! - [`sparse_rhs`]: [`NumericCholesky::inverse_gram`], Bᵀ K⁻¹ B for a few sparse columns from
+//!   forward solves on their elimination-tree paths only;
 //! - [`csr`]: [`CsrMatrix`] (both triangles by rows) for row-parallel products and the Galerkin
 //!   product Pᵀ A P, [`RowSparse`] transfer operators;
 //! - [`pcg`]: preconditioned conjugate gradients with an energy-norm stopping rule.
@@ -25,6 +27,7 @@ pub mod matrix;
 pub mod ordering;
 pub mod pcg;
 pub mod solve;
+pub mod sparse_rhs;
 
 pub use csr::{CsrMatrix, RowSparse};
 pub use factor::fill_reducing_order;
@@ -32,6 +35,7 @@ pub use factor::{DEFAULT_MIN_PIVOT_RATIO, FactorOptions, NumericCholesky, Symbol
 pub use matrix::SymmetricMatrix;
 pub use ordering::{Ordering, Permutation, metis_nested_dissection};
 pub use pcg::{PcgOptions, PcgReport, PcgWorkspace, pcg};
+pub use sparse_rhs::{InverseGramStats, SparseColumn};
 
 #[cfg(test)]
 mod tests {

@@ -532,8 +532,9 @@ fn step_error_estimate(fine: [f64; 2], coarse: [f64; 2], stall_thrust_n: f64) ->
     largest / (2f64.powf(COUPLED_STEP_ORDER) - 1.0) / stall_thrust_n
 }
 
-/// Layout version of a compliance cache entry.
-const COMPLIANCE_FORMAT: u32 = 1;
+/// Version of a compliance cache entry: its layout and how its values are computed (2: the
+/// tangential compliance from partial forward solves, values within 2e-15 relative of 1's).
+const COMPLIANCE_FORMAT: u32 = 2;
 
 /// The strip's posts and tip compliances (column-major n × n), as cached.
 #[derive(Debug, Clone, Serialize, Deserialize)]
