@@ -113,9 +113,9 @@ pub struct SolverChoice {
 pub const ITERATIVE_ITERATIONS_PER_SOLVE: usize = 13;
 
 /// Memory of the iterative path per stored entry of the fine matrix (both triangles, bytes):
-/// 12 for the CSR entry (value and column index) and ≈ 6 for the p-multigrid's transfer
-/// operators, coarse operator and factor and its work vectors (the strip and punch solvers'
-/// [`crate::iterative::MultigridReport::memory_bytes`] are 1.3–1.5 × the CSR). Default 18.
+/// 12 for the CSR entry (value and column index) and ≈ 6 assumed for the p-multigrid's
+/// transfer operators, coarse Tet4 operator and factor (≈ 1/8 of the unknowns) and work vectors
+/// (not yet checked against [`crate::iterative::MultigridReport::memory_bytes`]). Default 18.
 pub const ITERATIVE_BYTES_PER_ENTRY: f64 = 18.0;
 
 /// What the solves of one matrix will be: how many right-hand sides each method needs, and the
