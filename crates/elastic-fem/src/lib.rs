@@ -29,6 +29,7 @@
 
 pub mod amg;
 pub mod assembly;
+pub mod condense;
 pub mod constraints;
 pub mod element;
 pub mod error;
@@ -57,6 +58,6 @@ pub use pattern::StiffnessPattern;
 pub use reduction::{DofMap, DofTarget, ReducedSystem};
 pub use rigid_modes::{FreeRigidMode, check_rigid_body_modes, free_rigid_body_modes};
 pub use static_solver::{
-    RigidFaceResult, SolveReport, SolverChoice, SolverMethod, SolverOptions, StaticProblem,
-    StaticSolution, choose_method, solve_static,
+    CostEstimate, CostQuery, RigidFaceResult, SolveReport, SolverChoice, SolverMethod,
+    SolverOptions, StaticProblem, StaticSolution, choose_method, choose_method_with, solve_static,
 };

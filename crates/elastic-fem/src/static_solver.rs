@@ -12,7 +12,12 @@
 //!   linear in the N unknowns (multigrid: bounded iteration counts);
 //!
 //! picks the smaller, and the iterative one whenever the factor would exceed
-//! [`DIRECT_FACTOR_MEMORY_BYTES`]. Below [`ALWAYS_DIRECT_UNKNOWNS`] it picks direct without
+//! [`DIRECT_FACTOR_MEMORY_BYTES`] (or the limit of the [`CostQuery`]). A condensation states its
+//! right-hand sides separately per method ([`CostQuery`]: the strip's normal compliance is one
+//! PCG column per post, but free from the direct factor's trailing block); [`CostEstimate`]
+//! holds the figures (factor multiply–adds and bytes from the symbolic analysis, columns ×
+//! [`ITERATIVE_ITERATIONS_PER_SOLVE`], iterative memory by [`ITERATIVE_BYTES_PER_ENTRY`]) and
+//! [`CostEstimate::decide`] the rule and its printed reason. Below [`ALWAYS_DIRECT_UNKNOWNS`] it picks direct without
 //! analysis; above [`ALWAYS_ITERATIVE_UNKNOWNS`] iterative without analysis. Tet4 meshes (whose
 //! iterative path is SA-AMG alone, rates not measured) go direct whenever the factor fits. Rates measured on the punch meshes
 //! (validation/fem-peers/README.md). The choice and its reason are in [`StaticSolution::choice`].
@@ -102,6 +107,142 @@ pub struct SolverChoice {
     pub reason: String,
 }
 
+/// Iterations per right-hand side behind [`ITERATIVE_SOLVE_S_PER_UNKNOWN`] (the punch meshes'
+/// count at the default tolerance); used to state the iterative estimate as columns ×
+/// iterations. Default 13.
+pub const ITERATIVE_ITERATIONS_PER_SOLVE: usize = 13;
+
+/// Memory of the iterative path per stored entry of the fine matrix (both triangles, bytes):
+/// 12 for the CSR entry (value and column index) and ≈ 6 assumed for the p-multigrid's
+/// transfer operators, coarse Tet4 operator and factor (≈ 1/8 of the unknowns) and work vectors
+/// (not yet checked against [`crate::iterative::MultigridReport::memory_bytes`]). Default 18.
+pub const ITERATIVE_BYTES_PER_ENTRY: f64 = 18.0;
+
+/// What the solves of one matrix will be: how many right-hand sides each method needs, and the
+/// memory the direct factor may take.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CostQuery {
+    /// Right-hand sides the iterative path solves (one PCG solve each).
+    pub rhs_count: usize,
+    /// Pairs of triangular solves the direct path needs (fewer than `rhs_count` when the
+    /// answer comes from the factor itself, e.g. a trailing-block inverse).
+    pub direct_solves: usize,
+    /// Largest accepted Cholesky factor (bytes); default [`DIRECT_FACTOR_MEMORY_BYTES`].
+    pub factor_memory_limit_bytes: f64,
+}
+
+impl CostQuery {
+    /// `rhs_count` right-hand sides solved one by one by either method, default memory limit.
+    pub fn solves(rhs_count: usize) -> Self {
+        Self {
+            rhs_count,
+            direct_solves: rhs_count,
+            factor_memory_limit_bytes: DIRECT_FACTOR_MEMORY_BYTES,
+        }
+    }
+}
+
+/// The cost model's figures for one matrix (module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CostEstimate {
+    /// Reduced unknowns N.
+    pub unknowns: usize,
+    /// The query the estimate answers.
+    pub query: CostQuery,
+    /// Multiply–adds of the numeric factorisation (Σ c_j², symbolic analysis).
+    pub factor_madds: f64,
+    /// Bytes of the Cholesky factor (8 per stored entry).
+    pub factor_bytes: f64,
+    /// Estimated direct time (s): factorisation and `direct_solves` solve pairs.
+    pub direct_s: f64,
+    /// Estimated iterative time (s): set-up and `rhs_count` PCG solves.
+    pub iterative_s: f64,
+    /// Estimated memory of the iterative solver (bytes, [`ITERATIVE_BYTES_PER_ENTRY`]).
+    pub iterative_bytes: f64,
+}
+
+impl CostEstimate {
+    /// Figures of a matrix with `unknowns` rows and `matrix_nnz_upper` stored upper-triangle
+    /// entries whose factor (symbolic analysis) has `factor_nnz` entries and costs
+    /// `factor_madds` multiply–adds.
+    pub fn from_figures(
+        unknowns: usize,
+        matrix_nnz_upper: usize,
+        factor_madds: f64,
+        factor_nnz: usize,
+        query: CostQuery,
+    ) -> Self {
+        let n = unknowns as f64;
+        let solves = query.direct_solves as f64;
+        let columns = query.rhs_count.max(1) as f64;
+        let full_entries = (2 * matrix_nnz_upper).saturating_sub(unknowns) as f64;
+        Self {
+            unknowns,
+            query,
+            factor_madds,
+            factor_bytes: 8.0 * factor_nnz as f64,
+            direct_s: factor_madds / DIRECT_FLOP_RATE
+                + solves * 4.0 * factor_nnz as f64 / TRIANGULAR_SOLVE_RATE,
+            iterative_s: n
+                * (ITERATIVE_SETUP_S_PER_UNKNOWN + columns * ITERATIVE_SOLVE_S_PER_UNKNOWN),
+            iterative_bytes: ITERATIVE_BYTES_PER_ENTRY * full_entries,
+        }
+    }
+
+    /// Figures of `k_red` from its symbolic analysis.
+    pub fn new(symbolic: &SymbolicCholesky, k_red: &SymmetricMatrix, query: CostQuery) -> Self {
+        Self::from_figures(
+            k_red.dim(),
+            k_red.nnz_upper(),
+            symbolic.factor_flops(),
+            symbolic.factor_nnz(),
+            query,
+        )
+    }
+
+    /// The cheaper method, the iterative one whenever the factor exceeds the query's memory
+    /// limit; `tet4` meshes (no measured iterative rates) go direct whenever the factor fits.
+    /// The reason states every figure, e.g. "auto: direct cheaper: 185905 unknowns, 100
+    /// right-hand side(s): direct ≈ 0.38 s (factor 9.4 G madds, 0.29 GB; 0 solves),
+    /// iterative ≈ 234 s (100 columns × 13 it., 0.27 GB)".
+    pub fn decide(&self, tet4: bool) -> SolverChoice {
+        let q = &self.query;
+        let figures = format!(
+            "{} unknowns, {} right-hand side(s): direct ≈ {:.3} s (factor {:.3} G madds, {:.3} GB; \
+             {} solves), iterative ≈ {:.3} s ({} columns × {ITERATIVE_ITERATIONS_PER_SOLVE} it., \
+             {:.3} GB)",
+            self.unknowns,
+            q.rhs_count,
+            self.direct_s,
+            self.factor_madds / 1e9,
+            self.factor_bytes / 1e9,
+            q.direct_solves,
+            self.iterative_s,
+            q.rhs_count.max(1),
+            self.iterative_bytes / 1e9
+        );
+        let (method, why) = if self.factor_bytes > q.factor_memory_limit_bytes {
+            let why = format!(
+                "factor over the memory limit of {:.3} GB",
+                q.factor_memory_limit_bytes / 1e9
+            );
+            (SolverMethod::Iterative, why)
+        } else if tet4 {
+            let why = "Tet4 mesh (its AMG-only iterative path has no measured rates) and the \
+                       factor fits";
+            (SolverMethod::Direct, why.to_owned())
+        } else if self.iterative_s < self.direct_s {
+            (SolverMethod::Iterative, "iterative cheaper".to_owned())
+        } else {
+            (SolverMethod::Direct, "direct cheaper".to_owned())
+        };
+        SolverChoice {
+            method,
+            reason: format!("auto: {why}: {figures}"),
+        }
+    }
+}
+
 /// Chooses the method for a reduced matrix with `rhs_count` right-hand sides (module docs).
 /// `Auto` may run the symbolic analysis (returned for reuse by the direct path).
 pub fn choose_method(
@@ -110,6 +251,24 @@ pub fn choose_method(
     rhs_count: usize,
     connectivity: &Connectivity,
     ordering: Ordering,
+) -> FemResult<(SolverChoice, Option<SymbolicCholesky>)> {
+    choose_method_with(
+        requested,
+        k_red,
+        CostQuery::solves(rhs_count),
+        connectivity,
+        || SymbolicCholesky::analyze(k_red, ordering),
+    )
+}
+
+/// [`choose_method`] for any [`CostQuery`], with the caller's symbolic analysis `analyse` (run
+/// only when the cost model needs it; e.g. an ordering with some unknowns last, or cached).
+pub fn choose_method_with(
+    requested: SolverMethod,
+    k_red: &SymmetricMatrix,
+    query: CostQuery,
+    connectivity: &Connectivity,
+    analyse: impl FnOnce() -> FemResult<SymbolicCholesky>,
 ) -> FemResult<(SolverChoice, Option<SymbolicCholesky>)> {
     let n = k_red.dim();
     let choice = |method, reason: String, symbolic| (SolverChoice { method, reason }, symbolic);
@@ -120,11 +279,9 @@ pub fn choose_method(
         }
         SolverMethod::Auto => {}
     }
+    let tet4 = matches!(connectivity, Connectivity::Tet4(_));
     if n < ALWAYS_DIRECT_UNKNOWNS {
-        let mesh = match connectivity {
-            Connectivity::Tet4(_) => " (Tet4 mesh)",
-            Connectivity::Tet10(_) => "",
-        };
+        let mesh = if tet4 { " (Tet4 mesh)" } else { "" };
         let reason = format!("auto: {n} unknowns < {ALWAYS_DIRECT_UNKNOWNS}{mesh}");
         return Ok(choice(SolverMethod::Direct, reason, None));
     }
@@ -132,35 +289,9 @@ pub fn choose_method(
         let reason = format!("auto: {n} unknowns > {ALWAYS_ITERATIVE_UNKNOWNS}");
         return Ok(choice(SolverMethod::Iterative, reason, None));
     }
-    let symbolic = SymbolicCholesky::analyze(k_red, ordering)?;
-    let s = rhs_count.max(1) as f64;
-    let factor_bytes = 8.0 * symbolic.factor_nnz() as f64;
-    let direct_s = symbolic.factor_flops() / DIRECT_FLOP_RATE
-        + s * 4.0 * symbolic.factor_nnz() as f64 / TRIANGULAR_SOLVE_RATE;
-    let iterative_s =
-        n as f64 * (ITERATIVE_SETUP_S_PER_UNKNOWN + s * ITERATIVE_SOLVE_S_PER_UNKNOWN);
-    let figures = format!(
-        "{n} unknowns, {rhs_count} right-hand side(s): direct ≈ {direct_s:.2} s with a {:.2} GB \
-         factor, iterative ≈ {iterative_s:.2} s",
-        factor_bytes / 1e9
-    );
-    let (method, why) = if factor_bytes > DIRECT_FACTOR_MEMORY_BYTES {
-        (SolverMethod::Iterative, "factor over the memory limit")
-    } else if matches!(connectivity, Connectivity::Tet4(_)) {
-        (
-            SolverMethod::Direct,
-            "Tet4 mesh (its AMG-only iterative path has no measured rates) and the factor fits",
-        )
-    } else if iterative_s < direct_s {
-        (SolverMethod::Iterative, "iterative cheaper")
-    } else {
-        (SolverMethod::Direct, "direct cheaper")
-    };
-    Ok(choice(
-        method,
-        format!("auto: {why}: {figures}"),
-        Some(symbolic),
-    ))
+    let symbolic = analyse()?;
+    let decided = CostEstimate::new(&symbolic, k_red, query).decide(tet4);
+    Ok((decided, Some(symbolic)))
 }
 
 /// Options of [`solve_static`].

@@ -270,3 +270,31 @@ fn static_tolerance_auto_gives_each_static_model_its_own_and_a_given_value_is_us
         .to_string();
     assert!(e.contains("static.tolerance"), "{e}");
 }
+
+#[test]
+fn static_fem_solver_defaults_to_auto_takes_the_three_names_and_refuses_others_in_one_line() {
+    use static_contact::FemSolver;
+    let solver = |sets: &[&str]| {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        load_scene(None, &sets).map(|s| s.static_fem.fem_solver)
+    };
+    assert_eq!(
+        solver(&[]).unwrap(),
+        FemSolver::Auto,
+        "default static.fem_solver"
+    );
+    for (name, value) in [
+        ("direct", FemSolver::Direct),
+        ("iterative", FemSolver::Iterative),
+        ("auto", FemSolver::Auto),
+    ] {
+        let set = format!("static.fem_solver={name}");
+        assert_eq!(solver(&[set.as_str()]).unwrap(), value, "{set}");
+    }
+    let e = solver(&["static.fem_solver=cholesky"])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("static.fem_solver"), "names the key: {e}");
+    assert!(e.contains("\"iterative\""), "lists the choices: {e}");
+    assert_eq!(e.trim().lines().count(), 1, "one line: {e}");
+}

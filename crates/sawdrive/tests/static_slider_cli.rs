@@ -397,3 +397,32 @@ fn the_scene_keys_land_in_the_motor_in_si_and_the_default_is_the_ideal_motor() {
         .to_string();
     assert!(e.starts_with("load.point:"), "a point without `point`: {e}");
 }
+
+#[test]
+fn set_static_fem_solver_iterative_runs_pcg_and_keeps_the_strip_eta() {
+    let (_, _, strip) = shared();
+    let iterative = slider(
+        "fem-iterative",
+        &["static.model=strip", "static.fem_solver=iterative"],
+    );
+    assert_eq!(
+        strip["fem"]["slider"]["solver"], "direct",
+        "auto on 10 posts"
+    );
+    assert_eq!(
+        iterative["fem"]["slider"]["solver"], "iterative",
+        "the requested solver ran"
+    );
+    assert!(
+        iterative["fem"]["slider"]["pcg_iterations"]
+            .as_u64()
+            .is_some_and(|n| n > 0),
+        "PCG iterations reported: {}",
+        iterative["fem"]["slider"]
+    );
+    let (a, b) = (eta(strip), eta(&iterative));
+    assert!(
+        (a - b).abs() <= 1e-5 * a,
+        "η direct {a} vs iterative {b}: the compliances agree to 1e-6"
+    );
+}

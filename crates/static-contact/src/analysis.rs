@@ -336,6 +336,7 @@ pub fn strip_config(params: &StaticParams) -> StripConfig {
         slider_rows: params.posts_y,
         expected_strip_posts: Some(params.strip_post_count()),
         stator: params.stator,
+        fem_solver: params.fem_solver,
     }
 }
 
@@ -396,13 +397,28 @@ pub fn prepare_strip(params: &StaticParams) -> Result<PreparedStrip> {
         strip_config(params),
         resolved.cache_dir.as_deref(),
     )?;
+    let mut notes = resolved.notes;
+    notes.push(solver_note(&model.slider));
+    if let crate::scene::StatorCompliance::Meshed(body) = &model.stator {
+        notes.push(solver_note(body));
+    }
     Ok(PreparedStrip {
         model,
-        notes: resolved.notes,
+        notes,
         mesh_file: path.display().to_string(),
         mesh_s,
         condensation_s: t.elapsed().as_secs_f64(),
     })
+}
+
+/// The log line of a body's FEM solver and why (`static.fem_solver`, [`crate::body_solver`]).
+fn solver_note(body: &crate::BodyCompliance) -> String {
+    format!(
+        "{} FEM solver: {} ({})",
+        body.name,
+        body.stats.solver.name(),
+        body.solver_reason
+    )
 }
 
 /// [`run`] with explicit solver options.

@@ -6,15 +6,13 @@
 //! Cholesky); the dense compliance C_ij = z-displacement of disk i per unit force on disk j is
 //! the inverse of the factor's trailing block (the exact Schur-complement inverse onto the disk
 //! unknowns, elastic-fem `sparse/trailing.rs`), no solve per disk. The same factor later
-//! rebuilds the full displacement field for any set of post forces.
+//! rebuilds the full displacement field for any set of post forces. `static.fem_solver` (or the
+//! cost model) may replace the factor by PCG ([`crate::body_solver`]).
 
 use std::path::Path;
 use std::time::Instant;
 
-use elastic_fem::sparse::{
-    NumericCholesky, Ordering, SymbolicCholesky, SymmetricMatrix, fill_reducing_order,
-};
-use elastic_fem::static_solver::locate_factor_error;
+use elastic_fem::sparse::{Ordering, SymbolicCholesky, SymmetricMatrix, fill_reducing_order};
 use elastic_fem::{
     Connectivity, Constraints, Dirichlet, DofMap, DofTarget, FemError, Model, ReducedSystem,
     RigidComponent, RigidFace, StiffnessPattern, assemble_stiffness,
@@ -23,6 +21,7 @@ use gmsh_mesh::{TetMesh, Tets};
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
+use crate::body_solver::{BodySolver, FemSolver, condense_body};
 use crate::error::{ContactError, Result};
 use crate::order_cache::{self, order_file};
 
@@ -101,10 +100,16 @@ pub struct FemStats {
     /// Whether the fill-reducing ordering came from the mesh cache (no METIS run).
     #[serde(default)]
     pub ordering_cached: bool,
-    /// Symbolic + numeric factorisation time (s).
+    /// Symbolic + numeric factorisation time (s); iterative: the preconditioner set-up.
     pub factor_s: f64,
-    /// Time of the condensation onto the disks from the factor (s).
+    /// Time of the condensation onto the disks from the factor (s); iterative: the PCG columns.
     pub solve_s: f64,
+    /// The solver that ran: `direct` or `iterative` ([`crate::body_solver`]).
+    #[serde(default = "FemSolver::direct")]
+    pub solver: FemSolver,
+    /// PCG iterations of the condensation, all columns (0 for the direct solver).
+    #[serde(default)]
+    pub pcg_iterations: usize,
 }
 
 /// Tangential condensed compliance of a body's tips (see
@@ -127,9 +132,11 @@ pub struct BodyCompliance {
     pub compliance_m_per_n: DMatrix<f64>,
     /// Size and timings.
     pub stats: FemStats,
+    /// Why the solver of `stats.solver` (the cost model's figures, or "requested").
+    pub solver_reason: String,
     model: Model,
     reduced: ReducedSystem,
-    factor: NumericCholesky,
+    factor: BodySolver,
     masters: Vec<usize>,
     mesh_node: Vec<usize>,
     disk_nodes: Vec<Vec<usize>>,
@@ -155,7 +162,7 @@ fn mesh_error(spec: &BodySpec<'_>, source: gmsh_mesh::MeshError) -> ContactError
 /// Symbolic analysis of the body's reduced stiffness with the disk ties eliminated last; the
 /// fill-reducing ordering is read from, or stored in, the folder `order_cache` when given.
 /// Returns whether the ordering came from the cache.
-fn analyse(
+pub(crate) fn analyse(
     spec: &BodySpec<'_>,
     k_red: &SymmetricMatrix,
     masters: &[usize],
@@ -195,6 +202,16 @@ impl BodyCompliance {
     /// folder `order_cache` (a mesh cache) or storing it there ([`crate::order_cache`]): a
     /// second run of the same mesh skips the METIS ordering.
     pub fn build_with_order_cache(spec: &BodySpec<'_>, order_cache: Option<&Path>) -> Result<Self> {
+        Self::build_with_solver(spec, order_cache, FemSolver::Auto)
+    }
+
+    /// [`Self::build_with_order_cache`] with the solver `solver` (`static.fem_solver`;
+    /// [`crate::body_solver`]: direct, iterative, or chosen by the cost model).
+    pub fn build_with_solver(
+        spec: &BodySpec<'_>,
+        order_cache: Option<&Path>,
+        solver: FemSolver,
+    ) -> Result<Self> {
         let start = Instant::now();
         let mismatch = |detail: String| ContactError::MeshMismatch {
             file: spec.mesh.source.clone(),
@@ -354,42 +371,38 @@ impl BodyCompliance {
             .reduce_matrix(&stiffness)
             .map_err(|e| fem_error(spec, e))?;
         let assembly_s = start.elapsed().as_secs_f64();
-        let start = Instant::now();
-        // The disk ties eliminated last: their block of K⁻¹ (the compliance) is the inverse of
-        // the factor's trailing block (elastic-fem `trailing.rs`), no solve per disk.
-        let (symbolic, ordering_cached) = analyse(spec, &k_red, &masters, order_cache)?;
-        let analysis_s = start.elapsed().as_secs_f64();
-        let factor = symbolic
-            .factor(&k_red)
-            .map_err(|e| fem_error(spec, locate_factor_error(e, reduced.dof_map())))?;
-        let factor_s = start.elapsed().as_secs_f64();
-        let start = Instant::now();
-        let dim = reduced.dim();
-        let compliance = factor
-            .trailing_inverse(masters.len())
-            .map_err(|e| fem_error(spec, e))?
-            * spec.disk_fraction;
-        let solve_s = start.elapsed().as_secs_f64();
+        let condensed = condense_body(
+            spec,
+            &model,
+            &reduced,
+            &k_red,
+            &masters,
+            order_cache,
+            solver,
+        )?;
         let stats = FemStats {
             nodes: model.node_count(),
             tets: model.element_count(),
             order: spec.mesh.tets.order(),
-            reduced_unknowns: dim,
-            factor_nnz: symbolic.factor_nnz(),
-            factor_flops: symbolic.factor_flops(),
+            reduced_unknowns: reduced.dim(),
+            factor_nnz: condensed.factor_nnz,
+            factor_flops: condensed.factor_flops,
             assembly_s,
-            analysis_s,
-            ordering_cached,
-            factor_s,
-            solve_s,
+            analysis_s: condensed.analysis_s,
+            ordering_cached: condensed.ordering_cached,
+            factor_s: condensed.factor_s,
+            solve_s: condensed.solve_s,
+            solver: condensed.solver.method(),
+            pcg_iterations: condensed.pcg_iterations,
         };
         Ok(Self {
             name: spec.name,
-            compliance_m_per_n: compliance,
+            compliance_m_per_n: condensed.compliance,
             stats,
+            solver_reason: condensed.reason,
             model,
             reduced,
-            factor,
+            factor: condensed.solver,
             masters,
             mesh_node,
             disk_nodes,

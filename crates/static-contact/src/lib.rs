@@ -26,6 +26,7 @@
 
 pub mod analysis;
 pub mod body;
+pub mod body_solver;
 mod error;
 pub mod eta;
 pub mod eta_full_contact;
@@ -44,6 +45,7 @@ pub use analysis::{
     StaticReport, prepare_strip, run, run_with, run_with_springs, run_with_springs_cancellable,
 };
 pub use body::{BodyCompliance, BodySpec, Disk, FemStats, TangentialCompliance, TipLateral};
+pub use body_solver::{BodySolver, FemSolver};
 pub use error::{ContactError, Result};
 pub use eta::{EtaFit, FitSample, fit_eta};
 pub use eta_full_contact::full_contact_eta;

@@ -7,6 +7,7 @@ use motor::Motor;
 use serde::Serialize;
 use sha2::{Digest, Sha256};
 
+use crate::body_solver::FemSolver;
 use crate::error::{ContactError, Result};
 use crate::lcp::{ActiveSetOptions, DEFAULT_COMPLEMENTARITY_TOLERANCE, DEFAULT_MAX_ITERATIONS};
 use crate::scene::StatorModel;
@@ -108,6 +109,11 @@ pub struct StaticParams {
     /// Active-set iteration limit of each contact solve (both phases). Default
     /// [`DEFAULT_MAX_ITERATIONS`].
     pub max_iterations: usize,
+    /// Linear solver of the FEM bodies (`static.fem_solver`, [`crate::body_solver`]): the cost
+    /// model's choice (default, left out of the content hash: it depends only on the mesh) or
+    /// `direct` / `iterative` (hashed: the compliances differ by ≤ the PCG tolerance).
+    #[serde(default, skip_serializing_if = "FemSolver::is_auto")]
+    pub fem_solver: FemSolver,
     /// Directory for automatic meshes (`None`: `$SAWDRIVE_MESH_CACHE` or the system temp dir).
     /// Not part of the content hash.
     #[serde(skip)]
@@ -168,6 +174,7 @@ impl StaticParams {
             mesh_sizes: MeshSizes::default(),
             contact_tolerance: DEFAULT_COMPLEMENTARITY_TOLERANCE,
             max_iterations: DEFAULT_MAX_ITERATIONS,
+            fem_solver: FemSolver::Auto,
             mesh_cache_dir: None,
         }
     }

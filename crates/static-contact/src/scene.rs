@@ -63,6 +63,8 @@ pub struct StripConfig {
     pub expected_strip_posts: Option<usize>,
     /// Stator model.
     pub stator: StatorModel,
+    /// Linear solver of the FEM bodies (`static.fem_solver`; default auto).
+    pub fem_solver: crate::FemSolver,
 }
 
 /// A post of the strip.
@@ -249,7 +251,7 @@ impl StripModel {
                 ..*d
             })
             .collect();
-        let slider = BodyCompliance::build_with_order_cache(
+        let slider = BodyCompliance::build_with_solver(
             &BodySpec {
                 name: "slider",
                 mesh: &mesh,
@@ -264,6 +266,7 @@ impl StripModel {
                 force_sign: 1.0,
             },
             order_cache,
+            config.fem_solver,
         )?;
         let stator = match config.stator {
             StatorModel::HalfSpace => {
@@ -295,7 +298,7 @@ impl StripModel {
                 ))
             }
             StatorModel::MeshedBlock => {
-                StatorCompliance::Meshed(Box::new(BodyCompliance::build_with_order_cache(
+                StatorCompliance::Meshed(Box::new(BodyCompliance::build_with_solver(
                     &BodySpec {
                         name: "stator",
                         mesh: &mesh,
@@ -315,6 +318,7 @@ impl StripModel {
                         force_sign: -1.0,
                     },
                     order_cache,
+                    config.fem_solver,
                 )?))
             }
         };

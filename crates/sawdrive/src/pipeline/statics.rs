@@ -52,6 +52,7 @@ pub fn static_params(
         mesh,
         contact_tolerance: settings.tolerance_for(StaticModel::Strip),
         max_iterations: settings.max_iterations as usize,
+        fem_solver: settings.fem_solver,
         mesh_cache_dir: mesh_cache_dir.map(Path::to_owned),
         ..StaticParams::for_motor(&scene.motor)
     })

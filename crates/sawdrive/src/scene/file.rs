@@ -174,6 +174,8 @@ pub struct StaticFile {
     pub tolerance: AutoOr<f64>,
     /// Maximum active-set iterations.
     pub max_iterations: u32,
+    /// Linear solver of the FEM bodies: `auto` (cost model), `direct` or `iterative`.
+    pub fem_solver: String,
 }
 
 /// A material: a built-in name (`"si"`, `"linbo3"`) or a table of constants.

@@ -6,7 +6,7 @@
 use contact_springs::Material;
 use motor::{Friction, Imperfections, Load, Motor, PostArray, PreloadMechanism, SliderBody, Wave};
 use serde::Serialize;
-use static_contact::StatorModel;
+use static_contact::{FemSolver, StatorModel};
 use stick_slip::{IntegratorKind, ModelChoice, VerticalModel};
 
 use super::SceneError;
@@ -198,7 +198,16 @@ pub struct StaticSettings {
     /// `static.tolerance`; `None` = `auto` ([`Self::tolerance_for`]).
     pub tolerance: Option<f64>,
     pub max_iterations: u32,
+    /// `static.fem_solver`: the FEM bodies' linear solver (strip and the slider's near field).
+    pub fem_solver: FemSolver,
 }
+
+/// The values of `static.fem_solver`.
+const FEM_SOLVER_NAMES: [(&str, FemSolver); 3] = [
+    ("auto", FemSolver::Auto),
+    ("direct", FemSolver::Direct),
+    ("iterative", FemSolver::Iterative),
+];
 
 /// `static.tolerance = "auto"` for the strip: its exact active-set solver reaches this relative
 /// complementarity residual at no extra cost (a few pivots), so the strip's η is exact to
@@ -779,6 +788,7 @@ impl Scene {
             strip_rows: st.strip_rows,
             tolerance,
             max_iterations: st.max_iterations,
+            fem_solver: choice("static.fem_solver", &st.fem_solver, &FEM_SOLVER_NAMES)?,
         };
 
         let motor = Motor {
