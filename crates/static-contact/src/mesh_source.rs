@@ -310,14 +310,23 @@ mod tests {
             },
             ..StaticParams::default()
         };
-        assert_eq!(cached_mesh_path(&committed), None, "committed mesh needs no cache file");
+        assert_eq!(
+            cached_mesh_path(&committed),
+            None,
+            "committed mesh needs no cache file"
+        );
         let dir = std::env::temp_dir().join("sawdrive-cached-mesh-path-test");
         let generated = StaticParams {
             mesh_cache_dir: Some(dir.clone()),
             ..StaticParams::default()
         };
         let path = cached_mesh_path(&generated).expect("default strip is meshed into the cache");
-        assert_eq!(path.parent(), Some(dir.as_path()), "mesh file {}", path.display());
+        assert_eq!(
+            path.parent(),
+            Some(dir.as_path()),
+            "mesh file {}",
+            path.display()
+        );
         let coarser = StaticParams {
             mesh_sizes: crate::params::MeshSizes {
                 growth: 0.5,
