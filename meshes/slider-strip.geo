@@ -148,16 +148,14 @@ EndIf
 
 // Boundary pieces of each body, identified geometrically among that body's own faces.
 Macro FacesInBox
-  // in: body_faces(), box(); out: picked()
-  picked() = {};
-  candidates() = Surface In BoundingBox{box(0), box(1), box(2), box(3), box(4), box(5)};
-  For fi In {0 : #candidates() - 1}
-    For fj In {0 : #body_faces() - 1}
-      If (candidates(fi) == body_faces(fj))
-        picked() += candidates(fi);
-      EndIf
-    EndFor
-  EndFor
+  // in: body_faces(), box(); out: picked(), the faces in the box that belong to the body, in the
+  // order gmsh lists the box's faces. List subtraction, not a nested loop over both lists: the
+  // interpreted double loop took 1.0 of gmsh's 6.8 s CPU on the default 100-post half strip;
+  // the picked faces, and hence the mesh bytes, are the same.
+  picked() = Surface In BoundingBox{box(0), box(1), box(2), box(3), box(4), box(5)};
+  others() = picked();
+  others() -= body_faces();
+  picked() -= others();
 Return
 
 body_faces() = Abs(Boundary{ Volume{slider()}; });

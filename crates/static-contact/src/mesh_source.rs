@@ -165,6 +165,31 @@ fn cached_mesh_problem(path: &Path) -> Option<String> {
     }
 }
 
+/// The file of the automatic mesh cache that holds (or will hold) the strip mesh of `params`:
+/// the cache folder's `slider-strip_n<N>x<rows>_o<order>_<hash>.msh`, the hash taken over the
+/// geometry script and the gmsh parameters. `None` when the run uses a given mesh file or a
+/// committed mesh (no meshing). Callers that mesh concurrently lock per file name.
+pub fn cached_mesh_path(params: &StaticParams) -> Option<PathBuf> {
+    let automatic = !matches!(params.mesh, MeshChoice::File(_)) && committed_mesh(params).is_none();
+    automatic.then(|| automatic_mesh_path(params))
+}
+
+/// [`cached_mesh_path`] without the checks for a given or committed mesh.
+fn automatic_mesh_path(params: &StaticParams) -> PathBuf {
+    let mut hasher = Sha256::new();
+    hasher.update(geometry_source("slider-strip"));
+    for (name, value) in &strip_mesh_parameters(params) {
+        hasher.update(format!("{name}={value:e}\n"));
+    }
+    let digest = hex(&hasher.finalize()[..8]);
+    cache_dir(params).join(format!(
+        "slider-strip_n{}x{}_o{}_{digest}.msh",
+        params.strip_posts_along_x(),
+        params.strip_rows,
+        params.element_order
+    ))
+}
+
 /// The mesh file of the run: the given file, a committed mesh, or a cached/generated one.
 pub fn resolve_mesh(params: &StaticParams) -> Result<PathBuf> {
     resolve_mesh_verified(params).map(|r| r.path)
@@ -184,20 +209,9 @@ pub fn resolve_mesh_verified(params: &StaticParams) -> Result<ResolvedMesh> {
     if let Some(path) = committed_mesh(params) {
         return Ok(plain(path));
     }
+    let out = automatic_mesh_path(params);
     let setnumbers = strip_mesh_parameters(params);
-    let mut hasher = Sha256::new();
-    hasher.update(geometry_source("slider-strip"));
-    for (name, value) in &setnumbers {
-        hasher.update(format!("{name}={value:e}\n"));
-    }
-    let digest = hex(&hasher.finalize()[..8]);
     let dir = cache_dir(params);
-    let out = dir.join(format!(
-        "slider-strip_n{}x{}_o{}_{digest}.msh",
-        params.strip_posts_along_x(),
-        params.strip_rows,
-        params.element_order
-    ));
     let mut notes = Vec::new();
     if out.is_file() {
         match cached_mesh_problem(&out) {
@@ -282,6 +296,48 @@ mod tests {
         assert!(
             committed_mesh(&tet10).is_none(),
             "a Tet10 request must not reuse the Tet4 mesh"
+        );
+    }
+
+    #[test]
+    fn a_mesh_to_generate_has_its_cache_file_and_a_committed_one_none() {
+        let committed = StaticParams {
+            strip_posts: Some(10),
+            element_order: 1,
+            mesh_sizes: crate::params::MeshSizes {
+                h_post_over_radius: 0.25,
+                ..Default::default()
+            },
+            ..StaticParams::default()
+        };
+        assert_eq!(
+            cached_mesh_path(&committed),
+            None,
+            "committed mesh needs no cache file"
+        );
+        let dir = std::env::temp_dir().join("sawdrive-cached-mesh-path-test");
+        let generated = StaticParams {
+            mesh_cache_dir: Some(dir.clone()),
+            ..StaticParams::default()
+        };
+        let path = cached_mesh_path(&generated).expect("default strip is meshed into the cache");
+        assert_eq!(
+            path.parent(),
+            Some(dir.as_path()),
+            "mesh file {}",
+            path.display()
+        );
+        let coarser = StaticParams {
+            mesh_sizes: crate::params::MeshSizes {
+                growth: 0.5,
+                ..Default::default()
+            },
+            ..generated
+        };
+        assert_ne!(
+            cached_mesh_path(&coarser),
+            Some(path),
+            "another mesh size growth must name another mesh file"
         );
     }
 }

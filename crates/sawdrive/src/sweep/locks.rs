@@ -8,8 +8,16 @@
 //! with a non-blocking `try_lock`, skipping those another shard is condensing (visiting them in an
 //! order rotated by its shard index, so concurrent shards start on different geometries), then
 //! waits on the skipped ones: by then their reports are in the cache and the fill is a set of
-//! cache hits. Automatic meshes are generated under one lock, `locks/meshes.lock`, because two
-//! geometries that differ only in material or wave amplitude share one mesh file.
+//! cache hits. An automatic mesh is generated under the lock of its file,
+//! `locks/mesh-<mesh file name>.lock`, because two geometries that differ only in material or
+//! wave amplitude share one mesh file.
+//!
+//! Meshing runs ahead of the condensations: while the calling thread condenses one geometry, up to
+//! [`MAX_MESHERS_AHEAD`] threads run gmsh (one thread each: the mesh bytes do not depend on
+//! which thread or process made them) for the geometries after it, in the same visiting order.
+//! gmsh runs on one core, so on two cores the second is otherwise idle while a mesh is made.
+//! Each mesh is made once: a thread that finds a mesh locked waits and then verifies the
+//! finished file instead of meshing again.
 //!
 //! The locks are advisory `flock` locks held by an open file (`std::fs::File::lock`): the
 //! kernel releases them when the process exits, so a killed shard leaves no stale lock. On NFS,
@@ -19,6 +27,7 @@
 
 use std::fs::{File, TryLockError};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use super::{Cancel, SweepRunError};
 use crate::pipeline::{fill_static_cache, geometry_key, static_params};
@@ -26,6 +35,11 @@ use crate::scene::Scene;
 
 /// Folder of the lock files inside the FEM cache.
 const LOCK_FOLDER: &str = "locks";
+
+/// Most threads that run gmsh ahead of the condensations (each runs one one-threaded gmsh), at
+/// most the machine's cores. Default 2: on the 2-core reference machine meshing the five
+/// geometries of the Figs 7–8 sweep then overlaps with their condensations. Unit: threads.
+pub const MAX_MESHERS_AHEAD: usize = 2;
 
 /// Open (creating it if needed) the lock file `name` of `cache`.
 fn lock_file(cache: &Path, name: &str) -> Result<(File, PathBuf), SweepRunError> {
@@ -108,6 +122,43 @@ pub(super) fn fill_static_cache_shared(
     }
     let shift = rotation % groups.len();
     groups.rotate_left(shift);
+    let meshers = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(MAX_MESHERS_AHEAD)
+        .min(groups.len());
+    let next = AtomicUsize::new(0);
+    std::thread::scope(|scope| {
+        for _ in 0..meshers {
+            scope.spawn(|| mesh_ahead(&groups, &next, cache, cancel));
+        }
+        let condensed = condense_groups(groups.iter().collect(), cache, cancel);
+        // After an error or a cancel no mesher claims another geometry.
+        next.store(groups.len(), Ordering::Relaxed);
+        condensed
+    })
+}
+
+/// Make the meshes of `groups` in order, each taken by the first thread to claim it via `next`,
+/// until all are claimed or `cancel` is set. Errors are left to the condensation, which resolves
+/// the mesh again and reports the failure with its scene.
+fn mesh_ahead(groups: &[Group], next: &AtomicUsize, cache: &Path, cancel: &Cancel) {
+    loop {
+        let i = next.fetch_add(1, Ordering::Relaxed);
+        let Some(group) = groups.get(i) else { return };
+        if cancel.is_cancelled() {
+            return;
+        }
+        let _ = make_mesh(group, cache);
+    }
+}
+
+/// The condensations of `groups` under their geometry locks: first those no other process holds,
+/// then (waiting) the rest. Returns how many condensations this process ran.
+fn condense_groups(
+    groups: Vec<&Group>,
+    cache: &Path,
+    cancel: &Cancel,
+) -> Result<usize, SweepRunError> {
     let mut condensations = 0;
     let mut busy = Vec::new();
     for group in groups {
@@ -116,7 +167,7 @@ pub(super) fn fill_static_cache_shared(
         }
         let (file, path) = lock_file(cache, &format!("geometry-{}.lock", group.key))?;
         match file.try_lock() {
-            Ok(()) => condensations += fill_group(&group, cache)?,
+            Ok(()) => condensations += fill_group(group, cache)?,
             Err(TryLockError::WouldBlock) => busy.push(group),
             Err(TryLockError::Error(source)) => return Err(SweepRunError::Lock { path, source }),
         }
@@ -126,19 +177,31 @@ pub(super) fn fill_static_cache_shared(
             return Ok(condensations);
         }
         let _held = lock_exclusive(cache, &format!("geometry-{}.lock", group.key))?;
-        condensations += fill_group(&group, cache)?;
+        condensations += fill_group(group, cache)?;
     }
     Ok(condensations)
 }
 
-/// With the group's geometry lock held: make its mesh (under the mesh lock), then condense the
-/// geometry once and cache a report per scene (nothing if all are cached already).
+/// Make (or verify) the automatic mesh of the group's geometry under the lock of its file;
+/// nothing for a given or committed mesh or scene parameters that do not validate.
+fn make_mesh(group: &Group, cache: &Path) -> Result<(), SweepRunError> {
+    let Ok(params) = static_params(&group.scenes[0], Some(&cache.join("meshes"))) else {
+        return Ok(());
+    };
+    let Some(mesh) = static_contact::mesh_source::cached_mesh_path(&params) else {
+        return Ok(());
+    };
+    let name = mesh.file_name().unwrap_or_default().to_string_lossy();
+    let _held = lock_exclusive(cache, &format!("mesh-{name}.lock"))?;
+    // A meshing error is reported by the condensation, with its scene.
+    let _ = static_contact::mesh_source::resolve_mesh_verified(&params);
+    Ok(())
+}
+
+/// With the group's geometry lock held: make its mesh (unless a mesher thread has), then condense
+/// the geometry once and cache a report per scene (nothing if all are cached already).
 fn fill_group(group: &Group, cache: &Path) -> Result<usize, SweepRunError> {
-    if let Ok(params) = static_params(&group.scenes[0], Some(&cache.join("meshes"))) {
-        let _held = lock_exclusive(cache, "meshes.lock")?;
-        // A meshing error is reported by the condensation below, with its scene.
-        let _ = static_contact::mesh_source::resolve_mesh_verified(&params);
-    }
+    make_mesh(group, cache)?;
     let (built, _failures) = fill_static_cache(&group.scenes, cache);
     Ok(built)
 }
