@@ -456,8 +456,15 @@ impl BodyCompliance {
     /// whole disks, or half disks cut by a mirror plane y = const (the half strip): an x load is
     /// symmetric about that plane, so the half body carries half of each post's x force, as it
     /// does of the normal force. A cut by a plane x = const has no such symmetry and is refused.
+    ///
+    /// With the direct factor: partial forward solves ([`Self::tangential_compliance_with_work`]);
+    /// with the iterative solver (no factor): one PCG solve per disk
+    /// ([`Self::tangential_compliance_by_solves`]).
     pub fn tangential_compliance(&self) -> Result<TangentialCompliance> {
-        Ok(self.tangential_compliance_with_work()?.0)
+        match self.factor.cholesky() {
+            Some(_) => Ok(self.tangential_compliance_with_work()?.0),
+            None => self.tangential_compliance_by_solves(),
+        }
     }
 
     /// [`Self::tangential_compliance`] with the work of its partial forward solves.
@@ -474,8 +481,19 @@ impl BodyCompliance {
             })
             .collect();
         columns.extend(self.masters.iter().map(|&m| vec![(m, 1.0)]));
-        let (gram, work) = self
+        let factor = self
             .factor
+            .cholesky()
+            .ok_or_else(|| ContactError::InvalidParameter {
+                parameter: "fem_solver",
+                value: f64::NAN,
+                reason: format!(
+                    "the partial forward solves of the {} need its Cholesky factor; it was \
+                     condensed iteratively",
+                    self.name
+                ),
+            })?;
+        let (gram, work) = factor
             .inverse_gram(&columns)
             .map_err(|source| self.solve_error(source))?;
         // A post's force f puts disk_fraction · f on the disk of this body.
