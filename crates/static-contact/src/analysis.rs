@@ -85,6 +85,9 @@ pub struct FemSummary {
     pub stator_model: StatorModel,
     /// Slider strip FEM.
     pub slider: FemStats,
+    /// Why the slider's FEM solver (`slider.solver`): the cost model's figures, or "requested".
+    #[serde(default)]
+    pub slider_solver_reason: String,
     /// Meshed stator FEM, if any.
     pub stator: Option<FemStats>,
 }
@@ -397,28 +400,15 @@ pub fn prepare_strip(params: &StaticParams) -> Result<PreparedStrip> {
         strip_config(params),
         resolved.cache_dir.as_deref(),
     )?;
-    let mut notes = resolved.notes;
-    notes.push(solver_note(&model.slider));
-    if let crate::scene::StatorCompliance::Meshed(body) = &model.stator {
-        notes.push(solver_note(body));
-    }
+    // The FEM solver and its reason are in the report (`fem.slider.solver`, `solver_reason`)
+    // and in `sawdrive static`'s summary, not in the notes: a later error stays one line.
     Ok(PreparedStrip {
         model,
-        notes,
+        notes: resolved.notes,
         mesh_file: path.display().to_string(),
         mesh_s,
         condensation_s: t.elapsed().as_secs_f64(),
     })
-}
-
-/// The log line of a body's FEM solver and why (`static.fem_solver`, [`crate::body_solver`]).
-fn solver_note(body: &crate::BodyCompliance) -> String {
-    format!(
-        "{} FEM solver: {} ({})",
-        body.name,
-        body.stats.solver.name(),
-        body.solver_reason
-    )
 }
 
 /// [`run`] with explicit solver options.
@@ -549,6 +539,7 @@ pub fn report_for_model_cancellable(
         fem: FemSummary {
             stator_model: model.config.stator,
             slider: model.slider.stats,
+            slider_solver_reason: model.slider.solver_reason.clone(),
             stator: match &model.stator {
                 crate::scene::StatorCompliance::Meshed(b) => Some(b.stats),
                 crate::scene::StatorCompliance::HalfSpace(_) => None,

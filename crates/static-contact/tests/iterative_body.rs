@@ -51,28 +51,20 @@ fn iterative_strip_compliance_equals_the_direct_one_within_the_pcg_tolerance() {
         tangential <= 2e-6,
         "tangential tip compliance differs by {tangential:e} of √(C_ii C_jj)"
     );
-    assert!(
-        iterative
-            .notes
-            .iter()
-            .any(|n| n.starts_with("slider FEM solver: iterative (requested)")),
-        "the solver is logged: {:?}",
-        iterative.notes
+    assert_eq!(
+        iterative.model.slider.solver_reason, "requested",
+        "the reason of the solver is reported"
     );
 }
 
 #[test]
-fn auto_picks_direct_for_the_small_strip_and_logs_why() {
+fn auto_picks_direct_for_the_small_strip_and_reports_why() {
     let auto = strip(FemSolver::Auto);
     assert_eq!(auto.model.slider.stats.solver, FemSolver::Direct);
-    let note = auto
-        .notes
-        .iter()
-        .find(|n| n.starts_with("slider FEM solver: direct (auto: "))
-        .unwrap_or_else(|| panic!("the choice is logged: {:?}", auto.notes));
+    let reason = &auto.model.slider.solver_reason;
     assert!(
-        note.contains("unknowns"),
-        "the reason gives the size: {note}"
+        reason.starts_with("auto: ") && reason.contains("unknowns"),
+        "the reason of auto's choice gives the size: {reason}"
     );
 }
 

@@ -43,6 +43,11 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
         )?,
     }
     writeln!(out, "  model: {}", r.model_reason)?;
+    if let StaticDetails::Strip(strip) = &r.details {
+        let fem = &strip.fem;
+        let (solver, reason) = (fem.slider.solver.name(), &fem.slider_solver_reason);
+        writeln!(out, "  FEM solver: {solver} ({reason})")?;
+    }
     writeln!(
         out,
         "effective contact ratio η   {}",
