@@ -272,9 +272,9 @@ pub fn generate_mesh(geometry: &str, out: &Path, setnumbers: &[(&str, f64)]) -> 
 mod tests {
     use super::*;
 
-    #[test]
-    fn the_ten_post_strip_resolves_to_the_committed_mesh() {
-        let params = StaticParams {
+    /// The 10-post Tet4 strip whose mesh is committed (`meshes/`).
+    fn ten_post_tet4() -> StaticParams {
+        StaticParams {
             strip_posts: Some(10),
             element_order: 1,
             mesh_sizes: crate::params::MeshSizes {
@@ -282,7 +282,12 @@ mod tests {
                 ..Default::default()
             },
             ..StaticParams::default()
-        };
+        }
+    }
+
+    #[test]
+    fn the_ten_post_strip_resolves_to_the_committed_mesh() {
+        let params = ten_post_tet4();
         let path = committed_mesh(&params).expect("committed 10-post strip mesh matches");
         assert!(
             path.ends_with("slider-strip_p40um_d20um_n10_tet4_10k.msh"),
@@ -301,15 +306,7 @@ mod tests {
 
     #[test]
     fn a_mesh_to_generate_has_its_cache_file_and_a_committed_one_none() {
-        let committed = StaticParams {
-            strip_posts: Some(10),
-            element_order: 1,
-            mesh_sizes: crate::params::MeshSizes {
-                h_post_over_radius: 0.25,
-                ..Default::default()
-            },
-            ..StaticParams::default()
-        };
+        let committed = ten_post_tet4();
         assert_eq!(
             cached_mesh_path(&committed),
             None,

@@ -37,6 +37,35 @@ pub use ordering::{Ordering, Permutation, metis_nested_dissection};
 pub use pcg::{PcgOptions, PcgReport, PcgWorkspace, pcg};
 pub use sparse_rhs::{InverseGramStats, SparseColumn};
 
+/// Matrices shared by the sparse module's unit tests.
+#[cfg(test)]
+pub(crate) mod test_matrices {
+    use super::SymmetricMatrix;
+
+    /// SPD test matrix: the 7-point Laplacian on a kx × ky × kz grid plus a diagonal shift.
+    pub(crate) fn laplacian(kx: usize, ky: usize, kz: usize) -> SymmetricMatrix {
+        let n = kx * ky * kz;
+        let mut col_ptr = vec![0];
+        let (mut rows, mut vals) = (Vec::new(), Vec::new());
+        for j in 0..n {
+            for (stride, has_neighbour) in [
+                (kx * ky, j >= kx * ky),
+                (kx, j % (kx * ky) >= kx),
+                (1, j % kx != 0),
+            ] {
+                if has_neighbour {
+                    rows.push(j - stride);
+                    vals.push(-1.0);
+                }
+            }
+            rows.push(j);
+            vals.push(6.1);
+            col_ptr.push(rows.len());
+        }
+        SymmetricMatrix::from_upper_parts(n, col_ptr, rows, vals).unwrap()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

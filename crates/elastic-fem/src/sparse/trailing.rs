@@ -199,28 +199,7 @@ impl NumericCholesky {
 mod tests {
     use super::*;
 
-    /// SPD test matrix: the 7-point Laplacian on a kx × ky × kz grid plus a diagonal shift.
-    fn laplacian(kx: usize, ky: usize, kz: usize) -> SymmetricMatrix {
-        let n = kx * ky * kz;
-        let mut col_ptr = vec![0];
-        let (mut rows, mut vals) = (Vec::new(), Vec::new());
-        for j in 0..n {
-            for (stride, has_neighbour) in [
-                (kx * ky, j >= kx * ky),
-                (kx, j % (kx * ky) >= kx),
-                (1, j % kx != 0),
-            ] {
-                if has_neighbour {
-                    rows.push(j - stride);
-                    vals.push(-1.0);
-                }
-            }
-            rows.push(j);
-            vals.push(6.1);
-            col_ptr.push(rows.len());
-        }
-        SymmetricMatrix::from_upper_parts(n, col_ptr, rows, vals).unwrap()
-    }
+    use crate::sparse::test_matrices::laplacian;
 
     fn check_block_against_solves(
         a: &SymmetricMatrix,
