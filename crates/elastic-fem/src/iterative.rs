@@ -41,7 +41,9 @@ use crate::model::{Connectivity, Model};
 use crate::reduction::{DofMap, DofTarget};
 use crate::shape::TET10_EDGES;
 use crate::sparse::csr::ROW_BLOCK;
-use crate::sparse::pcg::{DEFAULT_ERROR_DELAY, DEFAULT_MAX_ITERATIONS, PcgOptions, dot};
+use crate::sparse::pcg::{
+    DEFAULT_CONTRACTION_LIMIT, DEFAULT_ERROR_DELAY, DEFAULT_MAX_ITERATIONS, PcgOptions, dot,
+};
 use crate::sparse::{
     CsrMatrix, FactorOptions, NumericCholesky, Ordering, PcgReport, PcgWorkspace, RowSparse,
     SymbolicCholesky, SymmetricMatrix, pcg,
@@ -175,6 +177,7 @@ impl IterativeOptions {
             relative_energy_error: self.relative_energy_error,
             max_iterations: self.max_iterations,
             error_delay: DEFAULT_ERROR_DELAY,
+            contraction_limit: DEFAULT_CONTRACTION_LIMIT,
         }
     }
 }

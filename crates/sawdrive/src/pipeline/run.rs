@@ -211,14 +211,19 @@ pub fn run_pipeline_cancellable(
     let t = Instant::now();
     let mut files = Vec::new();
     if options.write_files {
-        if let Some(outcome) = &static_outcome {
-            files.extend(write_static_files(outcome, staged.path())?);
-        }
-        files.extend(write_dynamic_stage_files(
-            &scene.name,
-            &stage,
-            staged.path(),
-        )?);
+        // The static fields (VTU snapshot, post-force chart) and the dynamic charts are
+        // independent files: written side by side (≈ 0.3 s each on the default scene).
+        let (static_files, dynamic_files) = rayon::join(
+            || {
+                static_outcome
+                    .as_ref()
+                    .map(|outcome| write_static_files(outcome, staged.path()))
+                    .transpose()
+            },
+            || write_dynamic_stage_files(&scene.name, &stage, staged.path()),
+        );
+        files.extend(static_files?.unwrap_or_default());
+        files.extend(dynamic_files?);
     }
     timings.output_s = t.elapsed().as_secs_f64();
     timings.total_s = start.elapsed().as_secs_f64();
