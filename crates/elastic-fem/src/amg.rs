@@ -285,10 +285,10 @@ fn aggregate(a: &CsrMatrix, block_of: &[usize]) -> Vec<usize> {
     // Phase 2: join a neighbouring phase-1 aggregate.
     let phase1 = agg.clone();
     for i in 0..nb {
-        if agg[i] == FREE {
-            if let Some(&j) = neighbours[i].iter().find(|&&j| phase1[j] != FREE) {
-                agg[i] = phase1[j];
-            }
+        if agg[i] == FREE
+            && let Some(&j) = neighbours[i].iter().find(|&&j| phase1[j] != FREE)
+        {
+            agg[i] = phase1[j];
         }
     }
     // Phase 3: left-overs with their free neighbours.

@@ -121,15 +121,15 @@ impl PeriodicPairs {
                         for &m in cands {
                             let d2: f64 = (0..3).map(|j| (nodes[m][j] - target[j]).powi(2)).sum();
                             if d2 <= tolerance_m * tolerance_m {
-                                if let Some(first) = found {
-                                    if first != m {
-                                        return Err(FemError::AmbiguousPeriodicMatch {
-                                            slave_node: s,
-                                            first_master: first,
-                                            second_master: m,
-                                            tolerance_m,
-                                        });
-                                    }
+                                if let Some(first) = found
+                                    && first != m
+                                {
+                                    return Err(FemError::AmbiguousPeriodicMatch {
+                                        slave_node: s,
+                                        first_master: first,
+                                        second_master: m,
+                                        tolerance_m,
+                                    });
                                 }
                                 found = Some(m);
                             }

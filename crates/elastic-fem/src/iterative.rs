@@ -209,11 +209,11 @@ fn p_prolongation_with_dofs(model: &Model, dof_map: &DofMap) -> FemResult<(RowSp
     let mut coarse_dofs: Vec<usize> = Vec::new();
     for node in (0..n_nodes).filter(|&n| is_vertex[n]) {
         for c in 0..3 {
-            if let DofTarget::Reduced(j) = dof_map.target(3 * node + c) {
-                if coarse_of[j] == usize::MAX {
-                    coarse_of[j] = coarse_dofs.len();
-                    coarse_dofs.push(3 * node + c);
-                }
+            if let DofTarget::Reduced(j) = dof_map.target(3 * node + c)
+                && coarse_of[j] == usize::MAX
+            {
+                coarse_of[j] = coarse_dofs.len();
+                coarse_dofs.push(3 * node + c);
             }
         }
     }

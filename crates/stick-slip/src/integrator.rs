@@ -219,9 +219,10 @@ impl Integrator {
                 regularization_speed_m_per_s,
             )?;
         }
-        if let Some(limit) = self.stability_limit(setting) {
-            if step > limit.limit_s {
-                match policy {
+        if let Some(limit) = self.stability_limit(setting)
+            && step > limit.limit_s
+        {
+            match policy {
                     StabilityPolicy::Refuse => {
                         return Err(StickSlipError::StepAboveStabilityLimit {
                             integrator: self.name(),
@@ -239,7 +240,6 @@ impl Integrator {
                         ),
                     )),
                 }
-            }
         }
         if matches!(self, Self::ReturnMapping { .. })
             && step > period_s / RETURN_MAPPING_MIN_STEPS_PER_PERIOD

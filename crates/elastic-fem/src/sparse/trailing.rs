@@ -34,10 +34,10 @@ pub fn fill_reducing_order(
     ordering: Ordering,
 ) -> FemResult<(Vec<usize>, Ordering)> {
     let n = matrix.dim();
-    if ordering == Ordering::Metis {
-        if let Some(p) = metis_nested_dissection(matrix) {
-            return Ok((p.forward, Ordering::Metis));
-        }
+    if ordering == Ordering::Metis
+        && let Some(p) = metis_nested_dissection(matrix)
+    {
+        return Ok((p.forward, Ordering::Metis));
     }
     if ordering == Ordering::Natural {
         return Ok(((0..n).collect(), Ordering::Natural));

@@ -415,10 +415,10 @@ impl AnalyticPost {
                 converged: true,
             });
         }
-        if self.v == 0.0 {
-            if let Some(stall) = self.stall_orbit(&mut segments)? {
-                return Ok(stall);
-            }
+        if self.v == 0.0
+            && let Some(stall) = self.stall_orbit(&mut segments)?
+        {
+            return Ok(stall);
         }
         let initial = if self.v == 0.0 {
             self.touching_orbit_start()

@@ -260,14 +260,14 @@ impl SteppedPost {
             let period_start = state;
             let (end, ints) = self.period(theta0, state)?;
             let mean = ints.mean_force();
-            if let Some(prev) = previous {
-                if (mean - prev).abs() <= PERIODIC_TOLERANCE * force_scale {
-                    return Ok(SteadyPost {
-                        integrals: ints,
-                        start: (theta0, period_start),
-                        converged: true,
-                    });
-                }
+            if let Some(prev) = previous
+                && (mean - prev).abs() <= PERIODIC_TOLERANCE * force_scale
+            {
+                return Ok(SteadyPost {
+                    integrals: ints,
+                    start: (theta0, period_start),
+                    converged: true,
+                });
             }
             previous = Some(mean);
             history.push(ints);

@@ -303,21 +303,21 @@ impl TransientModel {
                 }
                 if record && st.t >= next_sample {
                     next_sample = st.t + sample_spacing;
-                    if j >= history_from {
-                        if let Some(h) = post_history.as_mut() {
-                            let (normal, force, mode) = stepper.group(0);
-                            h.time_s.push((st.t - sys.t_start) * t_unit);
-                            h.normal_force_n.push(normal * post_force);
-                            h.tangential_force_n.push(-force * post_force);
-                            h.friction_bound_n.push(sys.mu_k * normal * post_force);
-                            let alpha = st.t - sys.wave.doppler * st.x - sys.groups.phase[0];
-                            let drive = sys.groups.amplitude[0] * sys.wave.amplitude_at(st.x);
-                            let on = if sys.wave.is_on(alpha) { 1.0 } else { 0.0 };
-                            h.stator_velocity_m_per_s.push(
-                                sys.wave.tangential_ratio * on * drive * alpha.sin() * a_n * omega,
-                            );
-                            h.state.push(ContactState::from(mode));
-                        }
+                    if j >= history_from
+                        && let Some(h) = post_history.as_mut()
+                    {
+                        let (normal, force, mode) = stepper.group(0);
+                        h.time_s.push((st.t - sys.t_start) * t_unit);
+                        h.normal_force_n.push(normal * post_force);
+                        h.tangential_force_n.push(-force * post_force);
+                        h.friction_bound_n.push(sys.mu_k * normal * post_force);
+                        let alpha = st.t - sys.wave.doppler * st.x - sys.groups.phase[0];
+                        let drive = sys.groups.amplitude[0] * sys.wave.amplitude_at(st.x);
+                        let on = if sys.wave.is_on(alpha) { 1.0 } else { 0.0 };
+                        h.stator_velocity_m_per_s.push(
+                            sys.wave.tangential_ratio * on * drive * alpha.sin() * a_n * omega,
+                        );
+                        h.state.push(ContactState::from(mode));
                     }
                 }
             }
