@@ -496,7 +496,7 @@ impl CoupledModel {
         let force = solution.x;
         let slip = solution.lambda;
         let dforce = &force - &state.force;
-        let compliance_force = &self.ct * &force;
+        let compliance_force = solution.ax;
         let stored_old = 0.5 * state.force.dot(&state.compliance_force);
         let stored_new = 0.5 * force.dot(&compliance_force);
         // Discrete gradient of the stored energy ½TᵀĈ_tT (Gonzalez 1996): the midpoint force.
