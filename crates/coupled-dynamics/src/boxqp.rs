@@ -209,11 +209,11 @@ impl Factor {
     }
 }
 
-/// y = A x over the nonzero entries of x (column-major A, column by column).
-fn product(a: &[f64], x: &[f64], y: &mut [f64]) {
+/// y += A x over the unknowns `columns` where x is nonzero (column-major A, column by column).
+fn add_product(a: &[f64], x: &[f64], columns: impl Iterator<Item = usize>, y: &mut [f64]) {
     let n = x.len();
-    y.fill(0.0);
-    for (j, &xj) in x.iter().enumerate() {
+    for j in columns {
+        let xj = x[j];
         if xj != 0.0 {
             for (yi, aij) in y.iter_mut().zip(&a[j * n..(j + 1) * n]) {
                 *yi += aij * xj;
@@ -281,9 +281,11 @@ pub fn solve(
         }
         let free: Vec<usize> = (0..n).filter(|&i| active.sets[i] == Bound::Free).collect();
         let mut updated = false;
+        // The bound unknowns' part of A x (x is zero on the free ones here): their pull on the
+        // free ones; the free columns are added after the Newton step.
+        ax.fill(0.0);
+        add_product(data, x.as_slice(), 0..n, ax.as_mut_slice());
         if !free.is_empty() {
-            // x is zero on the free unknowns here, so A x is the bound unknowns' pull on them.
-            product(data, x.as_slice(), ax.as_mut_slice());
             if !active
                 .factor
                 .set_free(data, n, &free, &mut mark, &mut scratch)
@@ -298,8 +300,8 @@ pub fn solve(
             for (&p, &xp) in factor.order.iter().zip(&scratch) {
                 x[p] = xp;
             }
+            add_product(data, x.as_slice(), free.iter().copied(), ax.as_mut_slice());
         }
-        product(data, x.as_slice(), ax.as_mut_slice());
         let lambda = b - &ax;
         let residual = natural_residual(&x, &lambda, lo, hi) / scale;
         if residual <= tolerance {
