@@ -4,22 +4,27 @@
 //! `sawdrive`'s `pipeline::coupled::run_coupled_model` does after the static stage (η_dyn, a
 //! lumped-model fit, left out).
 //!
-//! `cargo run --release -p coupled-dynamics --example default_stage -- COMPLIANCE.json [--repeat N] [--bits FILE]`
+//! `cargo run --release -p coupled-dynamics --example default_stage -- COMPLIANCE.json [--repeat N] [--bits FILE] [--no-eta-dyn]`
 //!
 //! COMPLIANCE.json is the compliance cache entry `sawdrive run` writes beside its static report
 //! (`out/.cache/compliance-<geometry key>.json`: the 100-post strip's normal and tangential tip
 //! compliances). Prints wall time per repeat and the process CPU time; `--bits` writes every
-//! curve point's speed and thrust bits (hex) and the headline numbers, for comparing runs.
+//! curve point's speed and thrust bits (hex) and the headline numbers, for comparing runs;
+//! `--no-eta-dyn` leaves the η_dyn fit out.
 
 use std::fmt::Write as _;
 use std::time::Instant;
 
+use contact_springs::{Material, post_springs};
 use coupled_dynamics::{CoupledModel, CoupledScene, PreloadBalance, solve};
 use motor::Motor;
 use nalgebra::DMatrix;
+use stick_slip::DynamicScene;
 
 /// Steps per period of the default coupled run (`sawdrive`'s `DEFAULT_COUPLED_STEPS_PER_PERIOD`).
 const STEPS_PER_PERIOD: usize = 64;
+/// Post radius of the default slider (m), for the lumped scene of η_dyn.
+const POST_RADIUS_M: f64 = 10e-6;
 
 fn scene(path: &str) -> Result<CoupledScene, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
@@ -75,9 +80,12 @@ fn cpu_s() -> f64 {
     (tick(11) + tick(12)) / 100.0
 }
 
-fn run(scene: &CoupledScene) -> Result<String, coupled_dynamics::CoupledError> {
+fn run(
+    scene: &CoupledScene,
+    lumped: Option<&DynamicScene>,
+) -> Result<String, coupled_dynamics::CoupledError> {
     let model = CoupledModel::new(scene)?;
-    let result = solve(&model, None)?;
+    let result = solve(&model, lumped)?;
     let speed = 0.5 * result.no_load_speed_m_per_s;
     let (histories, coarse) = rayon::join(
         || model.post_histories(speed),
@@ -104,12 +112,13 @@ fn run(scene: &CoupledScene) -> Result<String, coupled_dynamics::CoupledError> {
     }
     let _ = writeln!(
         bits,
-        "stall {:.12e} N, no-load {:.12e} m/s, at v0/2 {:.12e} N, coarse {:.12e} {:.12e} N, max energy residual {:.3e}, max solver residual {:.3e}",
+        "stall {:.12e} N, no-load {:.12e} m/s, at v0/2 {:.12e} N, coarse {:.12e} {:.12e} N, eta_dyn {:.6}, max energy residual {:.3e}, max solver residual {:.3e}",
         result.stall_thrust_n,
         result.no_load_speed_m_per_s,
         at_half.thrust_n,
         coarse[0],
         coarse[1],
+        result.eta_dyn.unwrap_or(f64::NAN),
         result.energy_balance_residual,
         result.max_solver_residual
     );
@@ -119,7 +128,9 @@ fn run(scene: &CoupledScene) -> Result<String, coupled_dynamics::CoupledError> {
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let Some(path) = args.first() else {
-        eprintln!("error: usage: default_stage COMPLIANCE.json [--repeat N] [--bits FILE]");
+        eprintln!(
+            "error: usage: default_stage COMPLIANCE.json [--repeat N] [--bits FILE] [--no-eta-dyn]"
+        );
         std::process::exit(2);
     };
     let option = |name: &str| {
@@ -139,11 +150,25 @@ fn main() {
         eprintln!("error: {e}");
         std::process::exit(1);
     });
+    let springs = post_springs(
+        &Material::silicon(),
+        &Material::lithium_niobate(),
+        POST_RADIUS_M,
+    )
+    .unwrap_or_else(|e| {
+        eprintln!("error: post springs: {e}");
+        std::process::exit(1);
+    });
+    let lumped = DynamicScene::paper_default(springs.k_pn_n_per_m, springs.k_pt_n_per_m);
     let cpu0 = cpu_s();
     let mut bits = String::new();
     for r in 0..repeat {
         let started = Instant::now();
-        bits = run(&scene).unwrap_or_else(|e| {
+        bits = run(
+            &scene,
+            (!args.iter().any(|a| a == "--no-eta-dyn")).then_some(&lumped),
+        )
+        .unwrap_or_else(|e| {
             eprintln!("error: {e}");
             std::process::exit(1);
         });

@@ -859,3 +859,59 @@ impl CoupledModel {
         Ok(0.5 * (a + b))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Period-start forces x_k = x* + ρᵏ d approaching x* geometrically.
+    fn geometric(k: i32) -> DVector<f64> {
+        let limit = DVector::from_vec(vec![1.0, -2.0, 0.5, 0.0]);
+        let mode = DVector::from_vec(vec![0.3, 0.1, -0.2, 0.05]);
+        limit + mode * 0.4f64.powi(k)
+    }
+
+    #[test]
+    fn a_geometric_approach_is_extrapolated_to_its_limit() {
+        let mut approach = Approach::default();
+        let mut jump = None;
+        for k in 1..=3 {
+            assert!(jump.is_none(), "no jump before three changes");
+            jump = approach.record(geometric(k) - geometric(k - 1), true);
+        }
+        let extrapolated = geometric(3) + jump.expect("three geometric changes are extrapolated");
+        let limit = geometric(200);
+        assert!(
+            (extrapolated - &limit).amax() < 1e-14,
+            "extrapolated period-start forces reach the periodic state"
+        );
+    }
+
+    #[test]
+    fn a_mode_change_or_an_irregular_approach_is_not_extrapolated() {
+        let mut approach = Approach::default();
+        let d = |k: i32| geometric(k) - geometric(k - 1);
+        assert!(approach.record(d(1), true).is_none(), "one change");
+        assert!(approach.record(d(2), true).is_none(), "two changes");
+        assert!(
+            approach.record(d(3), false).is_none(),
+            "the modes changed in the third period"
+        );
+        assert!(
+            approach.record(d(4), true).is_none(),
+            "restarted: one change"
+        );
+        assert!(
+            approach.record(d(5), true).is_none(),
+            "restarted: two changes"
+        );
+        assert!(
+            approach.record(d(6) * 3.0, true).is_none(),
+            "a change whose ratio jumps is not geometric"
+        );
+        assert!(
+            approach.record(-d(7), true).is_none(),
+            "a change that turns back is not geometric"
+        );
+    }
+}
