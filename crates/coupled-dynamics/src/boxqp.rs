@@ -10,16 +10,30 @@
 //! which converges for any SPD A (Cryer, SIAM J. Control 9 (1971) 385; Luo & Tseng, JOTA 72
 //! (1992) 7), to the natural residual tolerance, else a named error.
 //!
-//! Cost: a Newton step factors the free block of A (m³/3 for m free unknowns). Between steps
-//! of a stick phase the free set rarely changes, so [`ActiveSet`] keeps the last free block's
-//! Cholesky factor and reuses it while the free set repeats (the same bits as refactoring).
+//! Cost: a Newton step needs the Cholesky factor of the free block of A (m³/6 multiply-adds
+//! for m free unknowns). Between the steps of a time integration the free set changes by a few
+//! unknowns (posts entering or leaving stick), so [`ActiveSet`] keeps the last factor and
+//! updates it: an unknown that leaves the free set is deleted from the factor by a rank-one
+//! update of the trailing block (O((m−k)²), always stable: Golub & Van Loan, Matrix
+//! Computations, 4th ed., §6.5.4), one that joins is appended as a new last row by a forward
+//! solve (O(m²)); a fresh factorisation is made when more than m/[`UPDATE_SHARE`] unknowns
+//! change, after [`MAX_FACTOR_UPDATES`] updates, or when an updated factor's Newton step misses
+//! the tolerance (round-off of the updates). Products with A are plain column loops over the
+//! nonzero entries of x (bound unknowns at zero bounds — separated posts — cost nothing).
+//! Everything is sequential and deterministic: the same calls give the same bits.
 
-use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
+use nalgebra::{DMatrix, DVector};
 
 /// Active-set iterations before the projected Gauss–Seidel fallback. Default 40.
 pub const MAX_ACTIVE_SET_ITERATIONS: usize = 40;
 /// Projected Gauss–Seidel sweeps at most. Default 20000.
 pub const MAX_GAUSS_SEIDEL_SWEEPS: usize = 20000;
+/// The kept factor is updated (not recomputed) while fewer than m/`UPDATE_SHARE` of its m
+/// unknowns change: an update costs ≈ m² per unknown, a factorisation m³/6. Default 6.
+pub const UPDATE_SHARE: usize = 6;
+/// Updates of a kept factor before it is recomputed from A, bounding the round-off the updates
+/// accumulate. Default 256.
+pub const MAX_FACTOR_UPDATES: usize = 256;
 
 /// Where each unknown sits.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -38,8 +52,8 @@ pub enum Bound {
 pub struct ActiveSet {
     /// Where each unknown sat at the end of the last solve (the next one's first guess).
     pub sets: Vec<Bound>,
-    /// The free unknowns of the last factorisation and the factor of A on them.
-    factor: Option<(Vec<usize>, Cholesky<f64, Dyn>)>,
+    /// The factor of A on the last free set.
+    factor: Factor,
 }
 
 impl ActiveSet {
@@ -47,20 +61,189 @@ impl ActiveSet {
     pub fn new(n: usize) -> Self {
         Self {
             sets: vec![Bound::Free; n],
-            factor: None,
+            factor: Factor::default(),
+        }
+    }
+}
+
+/// Cholesky factor L Lᵀ of A on an ordered list of unknowns (`order`; not sorted once updated).
+/// L is lower triangular, row-major with row stride n = A's size (row r at `l[r n..]`).
+#[derive(Debug, Clone, Default)]
+struct Factor {
+    /// The unknowns of the factor, in factor order.
+    order: Vec<usize>,
+    /// Rows of L.
+    l: Vec<f64>,
+    /// A's size (row stride).
+    n: usize,
+    /// Updates since the last factorisation from A.
+    updates: usize,
+    /// Whether the factor must be recomputed before its next use.
+    stale: bool,
+}
+
+/// A_ij of the symmetric `a` from its lower triangle (as a Cholesky factorisation reads it).
+fn lower(a: &[f64], n: usize, i: usize, j: usize) -> f64 {
+    if i >= j { a[j * n + i] } else { a[i * n + j] }
+}
+
+fn dot(x: &[f64], y: &[f64]) -> f64 {
+    x.iter().zip(y).map(|(a, b)| a * b).sum()
+}
+
+impl Factor {
+    /// Append unknown `p` as the last row: L₂₁ = L₁₁⁻¹ A₁ₚ, l_pp = √(A_pp − L₂₁·L₂₁). `false`
+    /// if the block is not (numerically) positive definite.
+    fn append(&mut self, a: &[f64], p: usize) -> bool {
+        let (n, m) = (self.n, self.order.len());
+        let (done, row) = self.l.split_at_mut(m * n);
+        let row = &mut row[..=m];
+        for c in 0..m {
+            let lc = &done[c * n..c * n + c + 1];
+            row[c] = (lower(a, n, p, self.order[c]) - dot(&row[..c], &lc[..c])) / lc[c];
+        }
+        let d = a[p * n + p] - dot(&row[..m], &row[..m]);
+        if !(d > 0.0 && d.is_finite()) {
+            return false;
+        }
+        row[m] = d.sqrt();
+        self.order.push(p);
+        true
+    }
+
+    /// Delete the unknown at factor position `k`: drop row and column k, then the rank-one
+    /// update L₃₃L₃₃ᵀ + v vᵀ of the trailing block with v its old column k (rotations).
+    fn remove(&mut self, k: usize, v: &mut Vec<f64>) {
+        let (n, m) = (self.n, self.order.len());
+        v.clear();
+        v.extend((k + 1..m).map(|r| self.l[r * n + k]));
+        for r in k + 1..m {
+            self.l.copy_within(r * n..r * n + k, (r - 1) * n);
+            self.l
+                .copy_within(r * n + k + 1..r * n + r + 1, (r - 1) * n + k);
+        }
+        self.order.remove(k);
+        for j in k..m - 1 {
+            let vj = v[j - k];
+            if vj == 0.0 {
+                continue;
+            }
+            let ljj = self.l[j * n + j];
+            let r = ljj.hypot(vj);
+            let (c, s) = (r / ljj, vj / ljj);
+            self.l[j * n + j] = r;
+            for i in j + 1..m - 1 {
+                let lij = (self.l[i * n + j] + s * v[i - k]) / c;
+                self.l[i * n + j] = lij;
+                v[i - k] = c * v[i - k] - s * lij;
+            }
         }
     }
 
-    /// The Cholesky factor of `a` on `free`: the kept one if `free` is the last free set,
-    /// else a new one (kept). `None` if that block is not positive definite.
-    fn factor_on(&mut self, a: &DMatrix<f64>, free: &[usize]) -> Option<&Cholesky<f64, Dyn>> {
-        if self.factor.as_ref().is_none_or(|(kept, _)| kept != free) {
-            let m = free.len();
-            let sub = DMatrix::from_fn(m, m, |r, c| a[(free[r], free[c])]);
-            self.factor = Some((free.to_vec(), sub.cholesky()?));
-        }
-        self.factor.as_ref().map(|(_, chol)| chol)
+    /// Factor A on `free` from scratch. `false` if that block is not positive definite.
+    fn refactor(&mut self, a: &[f64], n: usize, free: &[usize]) -> bool {
+        self.n = n;
+        self.l.resize(n * n, 0.0);
+        self.order.clear();
+        self.updates = 0;
+        self.stale = false;
+        free.iter().all(|&p| self.append(a, p))
     }
+
+    /// Make this the factor of A on `free` (sorted): updated from the kept one when few
+    /// unknowns changed, else recomputed. `mark` is scratch of length n. `false` if the block is
+    /// not positive definite.
+    fn set_free(
+        &mut self,
+        a: &[f64],
+        n: usize,
+        free: &[usize],
+        mark: &mut [bool],
+        v: &mut Vec<f64>,
+    ) -> bool {
+        if self.stale || self.n != n || self.order.is_empty() {
+            return self.refactor(a, n, free);
+        }
+        mark.fill(false);
+        for &p in free {
+            mark[p] = true;
+        }
+        let leaving: Vec<usize> = (0..self.order.len())
+            .filter(|&k| !mark[self.order[k]])
+            .collect();
+        for &p in &self.order {
+            mark[p] = false;
+        }
+        let joining: Vec<usize> = free.iter().copied().filter(|&p| mark[p]).collect();
+        let changes = leaving.len() + joining.len();
+        if changes == 0 {
+            return true;
+        }
+        if changes * UPDATE_SHARE > free.len().max(self.order.len())
+            || self.updates + changes > MAX_FACTOR_UPDATES
+        {
+            return self.refactor(a, n, free);
+        }
+        for &k in leaving.iter().rev() {
+            self.remove(k, v);
+        }
+        self.updates += changes;
+        joining.iter().all(|&p| self.append(a, p)) || self.refactor(a, n, free)
+    }
+
+    /// Solve L Lᵀ y = r in factor order, in place.
+    fn solve(&self, r: &mut [f64]) {
+        let (n, m) = (self.n, self.order.len());
+        for i in 0..m {
+            let row = &self.l[i * n..i * n + i + 1];
+            r[i] = (r[i] - dot(&row[..i], &r[..i])) / row[i];
+        }
+        for i in (0..m).rev() {
+            let row = &self.l[i * n..i * n + i + 1];
+            r[i] /= row[i];
+            let ri = r[i];
+            for (rc, lc) in r[..i].iter_mut().zip(&row[..i]) {
+                *rc -= lc * ri;
+            }
+        }
+    }
+}
+
+/// y += A x over the unknowns `columns` where x is nonzero (column-major A, column by column).
+/// Every yᵢ is summed in column order with separate multiply and add (no fused multiply-add),
+/// so the bits are the same with and without the AVX path.
+fn add_product(a: &[f64], x: &[f64], columns: impl Iterator<Item = usize>, y: &mut [f64]) {
+    let n = x.len();
+    #[cfg(target_arch = "x86_64")]
+    let avx = std::arch::is_x86_feature_detected!("avx");
+    for j in columns {
+        let xj = x[j];
+        if xj != 0.0 {
+            let column = &a[j * n..(j + 1) * n];
+            #[cfg(target_arch = "x86_64")]
+            if avx {
+                // SAFETY: the CPU has AVX (checked above).
+                unsafe { add_column_avx(column, xj, y) };
+                continue;
+            }
+            add_column(column, xj, y);
+        }
+    }
+}
+
+/// y += c x, element by element.
+#[inline(always)]
+fn add_column(c: &[f64], x: f64, y: &mut [f64]) {
+    for (yi, ci) in y.iter_mut().zip(c) {
+        *yi += ci * x;
+    }
+}
+
+/// [`add_column`] compiled for AVX (four lanes instead of SSE2's two; the same operations).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+fn add_column_avx(c: &[f64], x: f64, y: &mut [f64]) {
+    add_column(c, x, y);
 }
 
 /// Outcome of a solve.
@@ -70,6 +253,8 @@ pub struct BoxSolution {
     pub x: DVector<f64>,
     /// λ = b − A x (the slip increment for friction, the gap for normal contact).
     pub lambda: DVector<f64>,
+    /// A x (for friction the tips' elastic deflection Ĉ_t T).
+    pub ax: DVector<f64>,
     /// Natural residual max|x − clamp(x + λ, lo, hi)| relative to `scale`.
     pub residual: f64,
     /// Active-set iterations plus Gauss–Seidel sweeps.
@@ -97,10 +282,16 @@ pub fn solve(
     tolerance: f64,
 ) -> std::result::Result<BoxSolution, (usize, f64)> {
     let n = b.len();
+    let data = a.as_slice();
     let scale = scale.max(1e-300);
     let mut x = DVector::zeros(n);
+    let mut ax = DVector::zeros(n);
+    let mut mark = vec![false; n];
+    let mut scratch = Vec::with_capacity(n);
     let mut best: Option<(f64, DVector<f64>)> = None;
-    for iteration in 1..=MAX_ACTIVE_SET_ITERATIONS {
+    let mut iteration = 0;
+    while iteration < MAX_ACTIVE_SET_ITERATIONS {
+        iteration += 1;
         // Fixed unknowns at their bounds, Newton step on the free ones.
         for i in 0..n {
             if lo[i] == hi[i] {
@@ -113,25 +304,35 @@ pub fn solve(
             };
         }
         let free: Vec<usize> = (0..n).filter(|&i| active.sets[i] == Bound::Free).collect();
+        let mut updated = false;
+        // The bound unknowns' part of A x (x is zero on the free ones here): their pull on the
+        // free ones; the free columns are added after the Newton step.
+        ax.fill(0.0);
+        add_product(data, x.as_slice(), 0..n, ax.as_mut_slice());
         if !free.is_empty() {
-            let m = free.len();
-            // x is zero on the free unknowns here, so A x is the bound unknowns' pull on them.
-            let pull = a * &x;
-            let rhs = DVector::from_fn(m, |r, _| b[free[r]] - pull[free[r]]);
-            let Some(chol) = active.factor_on(a, &free) else {
+            if !active
+                .factor
+                .set_free(data, n, &free, &mut mark, &mut scratch)
+            {
                 return Err((iteration, f64::INFINITY));
-            };
-            let xf = chol.solve(&rhs);
-            for (r, &i) in free.iter().enumerate() {
-                x[i] = xf[r];
             }
+            updated = active.factor.updates > 0;
+            let factor = &active.factor;
+            scratch.clear();
+            scratch.extend(factor.order.iter().map(|&p| b[p] - ax[p]));
+            factor.solve(&mut scratch);
+            for (&p, &xp) in factor.order.iter().zip(&scratch) {
+                x[p] = xp;
+            }
+            add_product(data, x.as_slice(), free.iter().copied(), ax.as_mut_slice());
         }
-        let lambda = b - a * &x;
+        let lambda = b - &ax;
         let residual = natural_residual(&x, &lambda, lo, hi) / scale;
         if residual <= tolerance {
             return Ok(BoxSolution {
                 x,
                 lambda,
+                ax,
                 residual,
                 iterations: iteration,
                 fallback: false,
@@ -140,19 +341,40 @@ pub fn solve(
         if best.as_ref().is_none_or(|(r, _)| residual < *r) {
             best = Some((residual, x.clone()));
         }
+        let mut repeated = true;
         for i in 0..n {
             let trial = x[i] + lambda[i];
-            active.sets[i] = if lo[i] == hi[i] || trial < lo[i] {
+            let set = if lo[i] == hi[i] || trial < lo[i] {
                 Bound::Lower
             } else if trial > hi[i] {
                 Bound::Upper
             } else {
                 Bound::Free
             };
+            repeated &= set == active.sets[i];
+            active.sets[i] = set;
         }
+        // The sets repeat but the step missed the tolerance: an updated factor's round-off; the
+        // next Newton step uses a fresh one.
+        active.factor.stale |= repeated && updated;
     }
-    // Projected Gauss–Seidel from the best iterate, clamped into the box.
-    let mut x = best.map_or(DVector::zeros(n), |(_, x)| x);
+    gauss_seidel(a, b, lo, hi, active, scale, tolerance, best.map(|(_, x)| x))
+}
+
+/// Projected Gauss–Seidel from `start` (else zero), clamped into the box.
+#[allow(clippy::too_many_arguments)]
+fn gauss_seidel(
+    a: &DMatrix<f64>,
+    b: &DVector<f64>,
+    lo: &[f64],
+    hi: &[f64],
+    active: &mut ActiveSet,
+    scale: f64,
+    tolerance: f64,
+    start: Option<DVector<f64>>,
+) -> std::result::Result<BoxSolution, (usize, f64)> {
+    let n = b.len();
+    let mut x = start.unwrap_or_else(|| DVector::zeros(n));
     for i in 0..n {
         x[i] = x[i].clamp(lo[i], hi[i]);
     }
@@ -163,7 +385,8 @@ pub fn solve(
             x[i] = ((b[i] - off) / a[(i, i)]).clamp(lo[i], hi[i]);
         }
         if sweep % 8 == 0 || sweep == MAX_GAUSS_SEIDEL_SWEEPS {
-            let lambda = b - a * &x;
+            let ax = a * &x;
+            let lambda = b - &ax;
             residual = natural_residual(&x, &lambda, lo, hi) / scale;
             if residual <= tolerance {
                 for i in 0..n {
@@ -175,9 +398,11 @@ pub fn solve(
                         Bound::Free
                     };
                 }
+                active.factor.stale = true;
                 return Ok(BoxSolution {
                     x,
                     lambda,
+                    ax,
                     residual,
                     iterations: MAX_ACTIVE_SET_ITERATIONS + sweep,
                     fallback: true,

@@ -39,6 +39,6 @@ pub use criterion::{
     choose_model, lumped_error_estimate,
 };
 pub use error::{CoupledError, Result};
-pub use model::{CoupledModel, CoupledPoint, PostHistories, PostMode};
+pub use model::{CoupledModel, CoupledPoint, PeriodState, PostHistories, PostMode};
 pub use result::{CoupledResult, fit_eta_dyn, lumped_misfit, solve};
 pub use scene::{CoupledScene, PreloadBalance, WaveDirection};

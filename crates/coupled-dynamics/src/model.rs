@@ -151,6 +151,9 @@ pub struct CoupledModel {
     /// cos(θ_j − σ k x_i) at grid phase j = 0..=M, `[j][i]`: the tangential wave motion of
     /// every post on the grid, the same at every speed (made once, not twice per step).
     wave_cos: Vec<DVector<f64>>,
+    /// Whether the approach to the periodic state is extrapolated ([`Approach`]): only when
+    /// every post separates at some phase (else the periodic state is not unique).
+    extrapolate: bool,
     /// k_ref A_n (N).
     force_n: f64,
     length_m: f64,
@@ -234,7 +237,9 @@ impl CoupledModel {
                 DVector::from_fn(kx.len(), |i, _| (theta - kx[i]).cos())
             })
             .collect();
+        let extrapolate = (0..kx.len()).all(|i| normals.iter().any(|nj| nj[i] <= 0.0));
         Ok(Self {
+            extrapolate,
             scene: scene.clone(),
             ct,
             kx,
@@ -413,6 +418,69 @@ struct TipState {
     active: ActiveSet,
 }
 
+/// The tips' state at the start of a steady period (forces, modes, the contact solver's warm
+/// start): the start of a neighbouring speed's stepping ([`CoupledModel::at_speed_from`]).
+#[derive(Debug, Clone)]
+pub struct PeriodState(TipState);
+
+/// Relative spread of the last two period-to-period contraction ratios below which the approach
+/// to the periodic state counts as geometric (one dominant mode). Default 0.05.
+pub const GEOMETRIC_RATIO_SPREAD: f64 = 0.05;
+/// Largest contraction ratio per period that is extrapolated (slower approaches are stepped).
+/// Default 0.9.
+pub const MAX_EXTRAPOLATED_RATIO: f64 = 0.9;
+/// Smallest cosine between the last two period-to-period changes for a geometric approach.
+/// Default 0.999.
+pub const MIN_GEOMETRIC_COSINE: f64 = 0.999;
+
+/// The period-start forces' approach to the periodic state, watched for a geometric phase.
+///
+/// Once the contact modes repeat, the period map is affine (every step's active sets repeat)
+/// and its differences d_k = Tᵏ − Tᵏ⁻¹ shrink by the dominant eigenvalue ρ of its linear part:
+/// d_k ≈ ρ d_{k−1}. When three successive differences agree with that (ratios within
+/// [`GEOMETRIC_RATIO_SPREAD`], directions within [`MIN_GEOMETRIC_COSINE`]), the remaining
+/// geometric tail Σ_{i≥1} ρⁱ d_k = ρ/(1−ρ) d_k is added at once (Aitken's Δ² along the
+/// dominant mode: Brezinski & Redivo Zaglia, Extrapolation Methods, 1991, §2.1). The
+/// periodicity rule then judges stepped periods from the extrapolated start, as before.
+#[derive(Debug, Default)]
+struct Approach {
+    /// The last differences with their norms, while the modes repeat.
+    differences: Vec<(DVector<f64>, f64)>,
+}
+
+impl Approach {
+    /// Record the difference of a stepped period (`same_modes`: its start and end modes agree);
+    /// the jump to add to the forces when the approach is geometric.
+    fn record(&mut self, difference: DVector<f64>, same_modes: bool) -> Option<DVector<f64>> {
+        if !same_modes {
+            self.differences.clear();
+            return None;
+        }
+        let norm = difference.norm();
+        self.differences.push((difference, norm));
+        if self.differences.len() > 3 {
+            self.differences.remove(0);
+        }
+        let [(_, n0), (d1, n1), (d2, n2)] = self.differences.as_slice() else {
+            return None;
+        };
+        if !(*n0 > 0.0 && *n1 > 0.0 && *n2 > 0.0) {
+            return None;
+        }
+        let (early, late) = (n1 / n0, n2 / n1);
+        let cosine = d1.dot(d2) / (n1 * n2);
+        if (late - early).abs() > GEOMETRIC_RATIO_SPREAD * late
+            || late >= MAX_EXTRAPOLATED_RATIO
+            || cosine < MIN_GEOMETRIC_COSINE
+        {
+            return None;
+        }
+        let jump = d2 * (late / (1.0 - late));
+        self.differences.clear();
+        Some(jump)
+    }
+}
+
 /// Solver statistics of a run.
 #[derive(Debug, Clone, Copy, Default)]
 struct SolverStats {
@@ -496,7 +564,7 @@ impl CoupledModel {
         let force = solution.x;
         let slip = solution.lambda;
         let dforce = &force - &state.force;
-        let compliance_force = &self.ct * &force;
+        let compliance_force = solution.ax;
         let stored_old = 0.5 * state.force.dot(&state.compliance_force);
         let stored_new = 0.5 * force.dot(&compliance_force);
         // Discrete gradient of the stored energy ½TᵀĈ_tT (Gonzalez 1996): the midpoint force.
@@ -535,14 +603,28 @@ impl CoupledModel {
     /// Steady state at an imposed speed along the drive direction (m/s); 0 is the v → 0⁺ limit
     /// for separating posts.
     pub fn at_speed(&self, speed_m_per_s: f64) -> Result<CoupledPoint> {
-        Ok(self.steady(speed_m_per_s)?.0)
+        Ok(self.steady(speed_m_per_s, None)?.0)
+    }
+
+    /// [`Self::at_speed`] with the stepping started from `start` (the periodic state of a
+    /// neighbouring speed; `None`: zero tangential forces, every post separated), and the
+    /// state at the start of the steady period reached. The periodicity rule is the same, so
+    /// the point agrees with a cold start's to the rule's tolerance ([`PERIODIC_TOLERANCE`] of
+    /// the friction scale) wherever the steady cycle is unique; fewer periods are stepped.
+    pub fn at_speed_from(
+        &self,
+        speed_m_per_s: f64,
+        start: Option<&PeriodState>,
+    ) -> Result<(CoupledPoint, PeriodState)> {
+        let (point, state, ..) = self.steady(speed_m_per_s, start)?;
+        Ok((point, PeriodState(state)))
     }
 
     /// Every post's normal and tangential force and contact mode over one steady period at
     /// `speed_m_per_s` (one sample per step, at the step's end), with the steady point itself
     /// (the [`Self::at_speed`] result, which the histories' solve has already found).
     pub fn post_histories(&self, speed_m_per_s: f64) -> Result<(CoupledPoint, PostHistories)> {
-        let (point, mut state, v, s, h) = self.steady(speed_m_per_s)?;
+        let (point, mut state, v, s, h) = self.steady(speed_m_per_s, None)?;
         let m = self.normals.len();
         let mut ints = Integrals::default();
         let mut stats = SolverStats::default();
@@ -574,7 +656,11 @@ impl CoupledModel {
 
     /// The steady state at a speed: the period average, the state at a period start, the
     /// scaled velocity, phase rate and step.
-    fn steady(&self, speed_m_per_s: f64) -> Result<(CoupledPoint, TipState, f64, f64, f64)> {
+    fn steady(
+        &self,
+        speed_m_per_s: f64,
+        start: Option<&PeriodState>,
+    ) -> Result<(CoupledPoint, TipState, f64, f64, f64)> {
         if !speed_m_per_s.is_finite() {
             return Err(CoupledError::InvalidParameter {
                 parameter: "speed_m_per_s",
@@ -587,12 +673,15 @@ impl CoupledModel {
         let v = self.scaled_velocity(speed_m_per_s);
         let s = 1.0 - self.doppler * self.sigma * v;
         let h = 2.0 * PI / (m as f64 * s);
-        let mut state = TipState {
-            force: DVector::zeros(n),
-            compliance_force: DVector::zeros(n),
-            mode: vec![PostMode::Separated; n],
-            active: ActiveSet::new(n),
-        };
+        let mut state = start.map_or_else(
+            || TipState {
+                force: DVector::zeros(n),
+                compliance_force: DVector::zeros(n),
+                mode: vec![PostMode::Separated; n],
+                active: ActiveSet::new(n),
+            },
+            |p| p.0.clone(),
+        );
         let friction_scale =
             self.scene.mu_static * self.normals.iter().map(|x| x.amax()).fold(0.0, f64::max);
         let mut ints = Integrals::default();
@@ -601,19 +690,28 @@ impl CoupledModel {
         let mut previous = (state.force.clone(), state.mode.clone());
         let mut converged = false;
         let mut periods = 0;
+        let mut approach = Approach::default();
         while periods < MAX_PERIODS {
             for j in 0..m {
                 self.step(j, v, s, h, &mut state, &mut ints, &mut stats)?;
             }
             periods += 1;
             marks.push(ints);
-            let change = (&state.force - &previous.0).amax();
+            let difference = &state.force - &previous.0;
+            let change = difference.amax();
+            let same_modes = state.mode == previous.1;
             if periods >= 2
                 && change <= PERIODIC_TOLERANCE * friction_scale.max(1e-300)
-                && state.mode == previous.1
+                && same_modes
             {
                 converged = true;
                 break;
+            }
+            if self.extrapolate
+                && let Some(jump) = approach.record(difference, same_modes)
+            {
+                state.force += jump;
+                state.compliance_force = &self.ct * &state.force;
             }
             previous = (state.force.clone(), state.mode.clone());
         }
@@ -683,13 +781,35 @@ impl CoupledModel {
 
     /// No-load speed F(v₀) = 0 (m/s), Illinois regula falsi on [0, crest]; 0 if F(0⁺) ≤ 0.
     pub fn no_load_speed_m_per_s(&self, stall_n: f64) -> Result<f64> {
+        Ok(self.no_load_search(stall_n)?.0)
+    }
+
+    /// [`Self::no_load_speed_m_per_s`] with the periodic state of its last evaluation (`None`
+    /// if there was none). Each evaluation starts from the previous one's periodic state.
+    pub fn no_load_search(&self, stall_n: f64) -> Result<(f64, Option<PeriodState>)> {
+        let mut warm: Option<PeriodState> = None;
+        let mut thrust = |speed: f64| -> Result<f64> {
+            let (point, state) = self.at_speed_from(speed, warm.as_ref())?;
+            warm = Some(state);
+            Ok(point.thrust_n)
+        };
+        let speed = self.regula_falsi(stall_n, &mut thrust)?;
+        Ok((speed, warm))
+    }
+
+    /// The no-load speed by Illinois regula falsi with `thrust(v)` (N).
+    fn regula_falsi(
+        &self,
+        stall_n: f64,
+        thrust: &mut dyn FnMut(f64) -> Result<f64>,
+    ) -> Result<f64> {
         if stall_n <= 0.0 {
             return Ok(0.0);
         }
         let crest = self.crest_speed_m_per_s();
         let (mut a, mut fa) = (0.0, stall_n);
         let mut b = crest;
-        let mut fb = self.at_speed(b)?.thrust_n;
+        let mut fb = thrust(b)?;
         let mut expansions = 0;
         while fb > 0.0 {
             if expansions == 6 {
@@ -704,7 +824,7 @@ impl CoupledModel {
             a = b;
             fa = fb;
             b *= 1.5;
-            fb = self.at_speed(b)?.thrust_n;
+            fb = thrust(b)?;
             expansions += 1;
         }
         let mut side = 0;
@@ -713,7 +833,7 @@ impl CoupledModel {
             if (b - a).abs() <= SPEED_TOLERANCE * crest {
                 return Ok(c);
             }
-            let fc = self.at_speed(c)?.thrust_n;
+            let fc = thrust(c)?;
             if fc == 0.0 {
                 return Ok(c);
             }
@@ -737,5 +857,61 @@ impl CoupledModel {
             }
         }
         Ok(0.5 * (a + b))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Period-start forces x_k = x* + ρᵏ d approaching x* geometrically.
+    fn geometric(k: i32) -> DVector<f64> {
+        let limit = DVector::from_vec(vec![1.0, -2.0, 0.5, 0.0]);
+        let mode = DVector::from_vec(vec![0.3, 0.1, -0.2, 0.05]);
+        limit + mode * 0.4f64.powi(k)
+    }
+
+    #[test]
+    fn a_geometric_approach_is_extrapolated_to_its_limit() {
+        let mut approach = Approach::default();
+        let mut jump = None;
+        for k in 1..=3 {
+            assert!(jump.is_none(), "no jump before three changes");
+            jump = approach.record(geometric(k) - geometric(k - 1), true);
+        }
+        let extrapolated = geometric(3) + jump.expect("three geometric changes are extrapolated");
+        let limit = geometric(200);
+        assert!(
+            (extrapolated - &limit).amax() < 1e-14,
+            "extrapolated period-start forces reach the periodic state"
+        );
+    }
+
+    #[test]
+    fn a_mode_change_or_an_irregular_approach_is_not_extrapolated() {
+        let mut approach = Approach::default();
+        let d = |k: i32| geometric(k) - geometric(k - 1);
+        assert!(approach.record(d(1), true).is_none(), "one change");
+        assert!(approach.record(d(2), true).is_none(), "two changes");
+        assert!(
+            approach.record(d(3), false).is_none(),
+            "the modes changed in the third period"
+        );
+        assert!(
+            approach.record(d(4), true).is_none(),
+            "restarted: one change"
+        );
+        assert!(
+            approach.record(d(5), true).is_none(),
+            "restarted: two changes"
+        );
+        assert!(
+            approach.record(d(6) * 3.0, true).is_none(),
+            "a change whose ratio jumps is not geometric"
+        );
+        assert!(
+            approach.record(-d(7), true).is_none(),
+            "a change that turns back is not geometric"
+        );
     }
 }

@@ -9,12 +9,17 @@ use serde::Serialize;
 use stick_slip::{DynamicScene, PeriodicAverageModel};
 
 use crate::error::Result;
-use crate::model::{CoupledModel, CoupledPoint};
+use crate::model::{CoupledModel, CoupledPoint, PeriodState};
 use crate::scene::PreloadBalance;
 
 /// Fewest steps per contact arc below which a warning is given: the stick/slip events inside
 /// the arc are then located to worse than ≈ 1/8 of it. Default 8.
 pub const MIN_CONTACT_STEPS: usize = 8;
+
+/// Curve points per chain of warm-started neighbouring speeds ([`CoupledModel::at_speed_from`]):
+/// a point started from the next faster one's periodic state needs fewer periods than from
+/// rest; chains run in parallel. Default 7.
+pub const CHAIN_POINTS: usize = 7;
 
 /// Golden-section steps of the η_dyn search on ln η. Default 80.
 const ETA_SEARCH_STEPS: usize = 80;
@@ -68,17 +73,10 @@ pub fn solve(model: &CoupledModel, lumped: Option<&DynamicScene>) -> Result<Coup
     let mut warnings = Vec::new();
     let stall_point = model.at_speed(0.0)?;
     let stall = stall_point.thrust_n;
-    let no_load = model.no_load_speed_m_per_s(stall)?;
+    let (no_load, top) = model.no_load_search(stall)?;
     let points = scene.curve_points;
-    // The points are independent periodic steady states: solved in parallel, collected in order
-    // (the result does not depend on the number of threads).
     let mut curve = vec![stall_point];
-    curve.extend(
-        (1..points)
-            .into_par_iter()
-            .map(|k| model.at_speed(no_load * k as f64 / (points - 1) as f64))
-            .collect::<Result<Vec<_>>>()?,
-    );
+    curve.extend(curve_points(model, no_load, points, top.as_ref())?);
     if stall <= 0.0 {
         warnings.push(format!(
             "the slider is locked: F(0⁺) = {stall:.4} N ≤ 0; stall thrust and no-load speed reported as 0"
@@ -134,6 +132,38 @@ pub fn solve(model: &CoupledModel, lumped: Option<&DynamicScene>) -> Result<Coup
         wall_time_s: started.elapsed().as_secs_f64() + model.normal_wall_time_s(),
         warnings,
     })
+}
+
+/// The curve points k = 1…`points`−1 at k v₀/(`points`−1), in order: chains of
+/// [`CHAIN_POINTS`] neighbouring speeds solved in parallel, each chain from its fastest point
+/// down, every point started from the periodic state of the one above it; the fastest chain
+/// starts from `top` (the no-load search's last state), the others from rest. The chains are
+/// fixed, so the result does not depend on the number of threads.
+fn curve_points(
+    model: &CoupledModel,
+    no_load: f64,
+    points: usize,
+    top: Option<&PeriodState>,
+) -> Result<Vec<CoupledPoint>> {
+    let speeds: Vec<f64> = (1..points)
+        .map(|k| no_load * k as f64 / (points - 1) as f64)
+        .collect();
+    let chains: Vec<(usize, &[f64])> = speeds.rchunks(CHAIN_POINTS).enumerate().collect();
+    let solved = chains
+        .into_par_iter()
+        .map(|(c, chain)| {
+            let mut warm = if c == 0 { top.cloned() } else { None };
+            let mut out = Vec::with_capacity(chain.len());
+            for &speed in chain.iter().rev() {
+                let (point, state) = model.at_speed_from(speed, warm.as_ref())?;
+                warm = Some(state);
+                out.push(point);
+            }
+            out.reverse();
+            Ok(out)
+        })
+        .collect::<Result<Vec<Vec<CoupledPoint>>>>()?;
+    Ok(solved.into_iter().rev().flatten().collect())
 }
 
 /// rms over the curve of (F_lumped(v; η) − F_coupled(v))/F_stall,coupled.

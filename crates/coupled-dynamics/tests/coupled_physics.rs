@@ -352,3 +352,41 @@ fn stator_power_and_efficiency_converge_with_the_step() {
         errors[3]
     );
 }
+
+#[test]
+fn a_warm_started_point_is_the_cold_started_steady_state() {
+    // The curve's chains and the no-load search start each speed from a neighbour's periodic
+    // state; the steady cycle they reach must be the one reached from rest.
+    let scene = interacting_scene(9, preload_for(9));
+    let model = CoupledModel::new(&scene).unwrap();
+    let result = solve(&model, None).unwrap();
+    let (v0, stall) = (result.no_load_speed_m_per_s, result.stall_thrust_n);
+    for fraction in [0.3, 0.7, 0.95] {
+        let (_, above) = model.at_speed_from((fraction + 0.05) * v0, None).unwrap();
+        let (warm, _) = model.at_speed_from(fraction * v0, Some(&above)).unwrap();
+        let cold = model.at_speed(fraction * v0).unwrap();
+        assert!(
+            warm.converged && cold.converged,
+            "both starts reach a periodic cycle at {fraction} v₀"
+        );
+        assert!(
+            (warm.thrust_n - cold.thrust_n).abs() <= 1e-9 * stall,
+            "thrust at {fraction} v₀: warm start {} N, from rest {} N",
+            warm.thrust_n,
+            cold.thrust_n
+        );
+        assert!(
+            (warm.stator_power_w - cold.stator_power_w).abs()
+                <= 1e-9 * cold.stator_power_w.abs().max(1e-300),
+            "stator power at {fraction} v₀: warm start {} W, from rest {} W",
+            warm.stator_power_w,
+            cold.stator_power_w
+        );
+    }
+    let curve_no_load = result.curve.last().unwrap();
+    assert!(
+        curve_no_load.thrust_n.abs() <= 1e-6 * stall,
+        "the warm-started curve's last point is at no load: {} N",
+        curve_no_load.thrust_n
+    );
+}
