@@ -204,28 +204,44 @@ fn add_point_stiffness<const N: usize, const D: usize>(
                 }
             }
         }
-        Constitutive::Anisotropic(c) => {
-            let b_of = |ga: &[f64; 3]| -> SMatrix<f64, 6, 3> {
-                let [x, y, z] = *ga;
-                SMatrix::<f64, 6, 3>::from_row_slice(&[
-                    x, 0.0, 0.0, //
-                    0.0, y, 0.0, //
-                    0.0, 0.0, z, //
-                    0.0, z, y, //
-                    z, 0.0, x, //
-                    y, x, 0.0,
-                ])
-            };
-            let bs: [SMatrix<f64, 6, 3>; N] = std::array::from_fn(|a| b_of(&g[a]));
-            for b in 0..N {
-                let cb = c * bs[b];
-                for a in 0..=b {
-                    let kab = bs[a].transpose() * cb;
-                    for i in 0..3 {
-                        for j in 0..3 {
-                            out[(3 * a + i, 3 * b + j)] += weight * kab[(i, j)];
-                        }
-                    }
+        Constitutive::Anisotropic(c) => add_anisotropic_point_stiffness(out, g, c, weight),
+    }
+}
+
+/// Rows of the Voigt strain (xx, yy, zz, yz, xz, xy; engineering shear) that displacement
+/// component i of a node feeds, with the gradient component multiplying it: B_a(p, i) = g_a[k]
+/// for (p, k) in `VOIGT_NONZEROS[i]`, zero elsewhere (3 of 6 rows per column).
+const VOIGT_NONZEROS: [[(usize, usize); 3]; 3] = [
+    [(0, 0), (4, 2), (5, 1)],
+    [(1, 1), (3, 2), (5, 0)],
+    [(2, 2), (3, 1), (4, 0)],
+];
+
+/// Anisotropic kernel: K_ab = w B_aᵀ (C B_b) using B's sparsity (3 nonzeros per column):
+/// C B_b is 6×3 from 3 columns of C each (54 multiply-adds per node), then each 3×3 block
+/// takes 27 (against 108 + 54 for dense 6×6·6×3 and 3×6·6×3 products).
+fn add_anisotropic_point_stiffness<const N: usize, const D: usize>(
+    out: &mut SMatrix<f64, D, D>,
+    g: &[[f64; 3]; N],
+    c: &VoigtStiffness,
+    weight: f64,
+) {
+    // cb[b][j][p] = w (C B_b)(p, j).
+    let cb: [[[f64; 6]; 3]; N] = std::array::from_fn(|b| {
+        std::array::from_fn(|j| {
+            let [(p0, k0), (p1, k1), (p2, k2)] = VOIGT_NONZEROS[j];
+            let (v0, v1, v2) = (weight * g[b][k0], weight * g[b][k1], weight * g[b][k2]);
+            std::array::from_fn(|p| c[(p, p0)] * v0 + c[(p, p1)] * v1 + c[(p, p2)] * v2)
+        })
+    });
+    for b in 0..N {
+        for a in 0..=b {
+            for (i, nonzeros) in VOIGT_NONZEROS.iter().enumerate() {
+                let [(p0, k0), (p1, k1), (p2, k2)] = *nonzeros;
+                let (u0, u1, u2) = (g[a][k0], g[a][k1], g[a][k2]);
+                for j in 0..3 {
+                    let col = &cb[b][j];
+                    out[(3 * a + i, 3 * b + j)] += u0 * col[p0] + u1 * col[p1] + u2 * col[p2];
                 }
             }
         }

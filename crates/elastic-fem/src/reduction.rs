@@ -331,6 +331,9 @@ impl DofMap {
 /// Scatter-map marker: entry couples a prescribed DOF and is dropped from K_red.
 const DROPPED: u32 = u32::MAX;
 
+/// Marker of a prescribed DOF in the compact table full DOF → reduced unknown.
+const PRESCRIBED: u32 = u32::MAX;
+
 /// Columns per rayon task when building the reduced pattern (pass 2) and scatter map (pass 3):
 /// enough to amortise scheduling over ≈ 30–80 entries per column. Dimensionless; default 512.
 pub const REDUCTION_COLUMNS_PER_TASK: usize = 512;
@@ -345,15 +348,21 @@ fn column_buckets(
     m: usize,
     cp: &[usize],
     ri: &[usize],
-    reduced_of: &(dyn Fn(usize) -> Option<usize> + Sync),
+    reduced: &[u32],
     cols: std::ops::Range<usize>,
 ) -> (Vec<usize>, Vec<u32>) {
     let mut ptr = vec![0usize; m + 1];
     let pairs = |k: usize| {
-        let rk = reduced_of(k);
-        ri[cp[k]..cp[k + 1]]
-            .iter()
-            .filter_map(move |&i| Some((rk?, reduced_of(i)?)))
+        let rk = reduced[k];
+        let rows = if rk == PRESCRIBED {
+            &[][..]
+        } else {
+            &ri[cp[k]..cp[k + 1]]
+        };
+        rows.iter().filter_map(move |&i| {
+            let rii = reduced[i];
+            (rii != PRESCRIBED).then_some((rk as usize, rii as usize))
+        })
     };
     for k in cols.clone() {
         for (rk, rii) in pairs(k) {
@@ -383,7 +392,7 @@ fn reduced_pattern(
     m: usize,
     cp: &[usize],
     ri: &[usize],
-    reduced_of: &(dyn Fn(usize) -> Option<usize> + Sync),
+    reduced: &[u32],
 ) -> FemResult<(Vec<usize>, Vec<usize>)> {
     if m > u32::MAX as usize {
         return Err(FemError::SparseBackend(format!(
@@ -393,7 +402,7 @@ fn reduced_pattern(
     let bounds = crate::sparse::csr::split_columns(cp, REDUCTION_BLOCKS);
     let buckets: Vec<(Vec<usize>, Vec<u32>)> = bounds
         .par_windows(2)
-        .map(|w| column_buckets(m, cp, ri, reduced_of, w[0]..w[1]))
+        .map(|w| column_buckets(m, cp, ri, reduced, w[0]..w[1]))
         .collect();
     let chunks: Vec<(Vec<usize>, Vec<usize>)> = (0..m)
         .into_par_iter()
@@ -433,6 +442,56 @@ fn reduced_pattern(
     Ok((col_ptr, rows))
 }
 
+/// Blocks of full columns whose scatter-map entries are computed in parallel; the result does
+/// not depend on it. Dimensionless; default 64.
+const SCATTER_BLOCKS: usize = 64;
+
+/// Position in K_red (with the [`DOUBLE`] flag) of every entry of K's upper pattern (`cp`,
+/// `ri`), or [`DROPPED`]; `reduced` is the unknown of every full DOF, (`col_ptr`, `rows`) the
+/// reduced pattern. A pure index computation: the same result for any thread count.
+fn scatter_map(
+    cp: &[usize],
+    ri: &[usize],
+    reduced: &[u32],
+    col_ptr: &[usize],
+    rows: &[usize],
+) -> Vec<u32> {
+    let n = cp.len() - 1;
+    let bounds = crate::sparse::csr::split_columns(cp, SCATTER_BLOCKS);
+    let mut scatter = Vec::with_capacity(cp[n]);
+    scatter.resize(cp[n], DROPPED);
+    let mut blocks: Vec<(std::ops::Range<usize>, &mut [u32])> = Vec::new();
+    let mut rest = scatter.as_mut_slice();
+    for w in bounds.windows(2) {
+        let (block, tail) = std::mem::take(&mut rest).split_at_mut(cp[w[1]] - cp[w[0]]);
+        blocks.push((w[0]..w[1], block));
+        rest = tail;
+    }
+    blocks.into_par_iter().for_each(|(cols, out)| {
+        let base = cp[cols.start];
+        for k in cols {
+            let rk = reduced[k];
+            if rk == PRESCRIBED {
+                continue;
+            }
+            for p in cp[k]..cp[k + 1] {
+                let i = ri[p];
+                let rii = reduced[i];
+                if rii == PRESCRIBED {
+                    continue;
+                }
+                let (r, c) = (rk.min(rii) as usize, rk.max(rii) as usize);
+                let pos = col_ptr[c]
+                    + rows[col_ptr[c]..col_ptr[c + 1]]
+                        .binary_search(&r)
+                        .expect("reduced pattern holds every entry");
+                out[p - base] = pos as u32 | if rk == rii && i != k { DOUBLE } else { 0 };
+            }
+        }
+    });
+    scatter
+}
+
 /// Scatter-map flag: off-diagonal entry whose two DOFs merged into one unknown (counts twice).
 const DOUBLE: u32 = 1 << 31;
 
@@ -462,39 +521,30 @@ impl ReducedSystem {
         }
         let m = dof_map.reduced_count();
         let (cp, ri) = (full.col_ptr(), full.row_idx());
-        let reduced_of = |dof: usize| match dof_map.targets[dof] {
-            DofTarget::Reduced(j) => Some(j),
-            DofTarget::Prescribed(_) => None,
-        };
+        if m >= PRESCRIBED as usize {
+            return Err(FemError::SparseBackend(format!(
+                "{m} reduced unknowns exceed 32-bit indices"
+            )));
+        }
+        // Reduced unknown of every full DOF as a compact table (PRESCRIBED: none).
+        let reduced: Vec<u32> = dof_map
+            .targets
+            .iter()
+            .map(|t| match t {
+                DofTarget::Reduced(j) => *j as u32,
+                DofTarget::Prescribed(_) => PRESCRIBED,
+            })
+            .collect();
         // Passes 1–2: the reduced pattern (rows of every reduced column, sorted, unique).
-        let (col_ptr, rows) = reduced_pattern(m, cp, ri, &reduced_of)?;
+        let (col_ptr, rows) = reduced_pattern(m, cp, ri, &reduced)?;
         let write = rows.len();
         if write >= DOUBLE as usize {
             return Err(FemError::SparseBackend(format!(
                 "reduced matrix has {write} entries, more than the 2^31 supported"
             )));
         }
-        // Pass 3: scatter map of every full upper entry (full columns in parallel, in order).
-        let scatter: Vec<u32> = (0..n)
-            .into_par_iter()
-            .with_min_len(REDUCTION_COLUMNS_PER_TASK)
-            .flat_map_iter(|k| {
-                let rk = reduced_of(k);
-                let (rows, col_ptr) = (&rows, &col_ptr);
-                (cp[k]..cp[k + 1]).map(move |p| {
-                    let i = ri[p];
-                    let (Some(rk), Some(rii)) = (rk, reduced_of(i)) else {
-                        return DROPPED;
-                    };
-                    let (r, c) = (rk.min(rii), rk.max(rii));
-                    let pos = col_ptr[c]
-                        + rows[col_ptr[c]..col_ptr[c + 1]]
-                            .binary_search(&r)
-                            .expect("reduced pattern holds every entry");
-                    pos as u32 | if rk == rii && i != k { DOUBLE } else { 0 }
-                })
-            })
-            .collect();
+        // Pass 3: scatter map of every full upper entry (blocks of full columns in parallel).
+        let scatter = scatter_map(cp, ri, &reduced, &col_ptr, &rows);
         Ok(Self {
             dof_map,
             full_dim: n,

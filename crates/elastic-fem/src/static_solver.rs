@@ -34,9 +34,11 @@ use crate::reduction::{DofMap, DofTarget, ReducedSystem, describe_dof};
 use crate::rigid_modes::check_rigid_body_modes;
 use crate::sparse::{FactorOptions, NumericCholesky, Ordering, SymbolicCholesky, SymmetricMatrix};
 
-/// Sustained rate of the supernodal Cholesky on one core (flop/s): the ≈ 45 GFlop/s measured
-/// for faer 0.24.4 on the punch meshes (issue 12), derated for a shared machine. Default 2.5e10.
-pub const DIRECT_FLOP_RATE: f64 = 2.5e10;
+/// Sustained rate of the supernodal Cholesky on one core (multiply–adds/s, the unit of
+/// [`SymbolicCholesky::factor_flops`]): faer 0.24.4's sequential factor of the default strip ran
+/// 9.41 G multiply–adds in 1.2–1.6 s of CPU (session 8, loaded machine), ≈ 6–8 G/s; 2.5e10 before
+/// (from a GFlop/s figure, 2 flops per multiply–add) overstated it 3–4×. Default 7e9.
+pub const DIRECT_FLOP_RATE: f64 = 7e9;
 
 /// Rate of the two triangular solves (flop/s, 4 flops per stored entry of L): memory-bound.
 /// Default 2e9.

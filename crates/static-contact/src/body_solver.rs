@@ -14,7 +14,7 @@
 //! Cost model inputs for a body: N unknowns, one PCG column per disk for the iterative path,
 //! no solve for the direct one (the trailing block), the factor's multiply–adds and bytes from
 //! the symbolic analysis, the memory limit [`elastic_fem::static_solver::DIRECT_FACTOR_MEMORY_BYTES`].
-//! On the default strip (185 905 unknowns, 100 posts) it picks direct: ≈ 0.4 s against ≈ 230 s.
+//! On the default strip (185 905 unknowns, 100 posts) it picks direct: ≈ 1.3 s against ≈ 230 s.
 
 use std::cell::Cell;
 use std::path::Path;
@@ -202,7 +202,7 @@ pub(crate) fn condense_body(
     };
     let analysis_s = start.elapsed().as_secs_f64();
     let factor = symbolic
-        .factor(k_red)
+        .factor_with(k_red, direct_factor_options())
         .map_err(|e| fem(locate_factor_error(e, reduced.dof_map())))?;
     let factor_s = start.elapsed().as_secs_f64();
     let start = Instant::now();
@@ -219,6 +219,20 @@ pub(crate) fn condense_body(
         solve_s: start.elapsed().as_secs_f64(),
         pcg_iterations: 0,
     })
+}
+
+/// Threads of a body's numeric Cholesky factorisation and of its solves: one. faer 0.24's
+/// supernodal factor is left-looking with parallelism only inside each supernode's dense
+/// kernels; on the default strip two threads gave 0.61–1.0× the speed of one (sessions 7–8) and
+/// cost ≈ 0.5 s more CPU (idle workers spinning). One thread also gives the same factor bits on
+/// any machine and thread count. Default 1.
+pub const DIRECT_FACTOR_THREADS: usize = 1;
+
+fn direct_factor_options() -> FactorOptions {
+    FactorOptions {
+        threads: DIRECT_FACTOR_THREADS,
+        ..FactorOptions::default()
+    }
 }
 
 /// The iterative path: one set-up, one PCG column per disk (module docs).

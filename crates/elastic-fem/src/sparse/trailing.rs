@@ -16,7 +16,7 @@ use std::sync::Arc;
 
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, SymbolicCholeskyRaw, SymmetricOrdering, factorize_symbolic_cholesky,
+    SymbolicCholeskyRaw, SymmetricOrdering, factorize_symbolic_cholesky,
 };
 use faer::{Side, sparse::linalg::amd};
 use nalgebra::DMatrix;
@@ -115,7 +115,7 @@ impl SymbolicCholesky {
             matrix.upper().symbolic(),
             Side::Upper,
             SymmetricOrdering::Custom(PermRef::new_checked(&forward, &inverse, dim)),
-            CholeskySymbolicParams::default(),
+            super::symbolic_params(),
         )
         .map_err(|e| FemError::SparseBackend(format!("symbolic Cholesky failed: {e:?}")))?;
         Ok(Self {
