@@ -292,3 +292,79 @@ fn check_quality(mesh: &TetMesh) -> Result<()> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::BTreeMap;
+
+    /// One tet (positive volume) whose face 0-1-2 lies on the cylinder of radius 1 about the z axis (group "wall").
+    fn one_tet_on_a_cylinder() -> TetMesh {
+        let angle = |deg: f64| [deg.to_radians().cos(), deg.to_radians().sin()];
+        let ([x0, y0], [x1, y1]) = (angle(0.0), angle(30.0));
+        TetMesh {
+            source: "test".into(),
+            nodes: vec![[x0, y0, 0.0], [x1, y1, 0.0], [x0, y0, 0.5], [2.0, 0.0, 0.0]],
+            node_tags: vec![1, 2, 3, 4],
+            tets: Tets::Linear(vec![[0, 1, 2, 3]]),
+            tet_tags: vec![1],
+            tet_groups: vec![Some(1)],
+            surface_groups: BTreeMap::from([("wall".to_string(), Faces::Linear(vec![[0, 1, 2]]))]),
+            groups: Vec::new(),
+            periodic_node_pairs: Vec::new(),
+            binary: false,
+            notes: Vec::new(),
+        }
+    }
+
+    fn z_cylinder(radius: f64) -> Vec<CylinderWalls> {
+        vec![CylinderWalls {
+            group: "wall".into(),
+            cylinders: vec![Cylinder {
+                axis_point: [0.0, 0.0, 0.0],
+                axis_direction: [0.0, 0.0, 2.0],
+                radius,
+            }],
+        }]
+    }
+
+    #[test]
+    fn wall_edges_get_the_mean_angle_point_and_other_edges_the_midpoint() {
+        let mesh = one_tet_on_a_cylinder();
+        let tet10 = elevate_to_tet10(&mesh, &z_cylinder(1.0)).expect("elevated tet");
+        let Tets::Quadratic(t) = &tet10.tets else {
+            panic!("Tet10 expected");
+        };
+        let p = |local: usize| tet10.nodes[t[0][local]];
+        let (c, s) = (15f64.to_radians().cos(), 15f64.to_radians().sin());
+        // Edge 0-1 (node 4): the arc's mean angle, 15°, on the radius-1 circle.
+        let gap01 = (p(4)[0] - c).abs() + (p(4)[1] - s).abs() + p(4)[2].abs();
+        assert!(
+            gap01 < 1e-15,
+            "midside node of the arc 0-1 off the circle by {gap01:e}"
+        );
+        // Edge 3-0 (node 7) is on no wall: the straight midpoint.
+        assert_eq!(p(7), [1.5, 0.0, 0.0], "midside node of the edge 3-0");
+        // Edge 2-0 (node 6) is a vertical line of the wall: its midpoint, which is on it.
+        assert!((p(6)[0] - 1.0).abs() < 1e-15 && (p(6)[2] - 0.25).abs() < 1e-15);
+        let Faces::Quadratic(f) = &tet10.surface_groups["wall"] else {
+            panic!("Tri6 wall expected");
+        };
+        assert_eq!(
+            f[0][3], t[0][4],
+            "the wall's Tri6 shares the tet's midside node 0-1"
+        );
+        assert_eq!(tet10.nodes.len(), 10, "4 corners and 6 midside nodes");
+        assert_eq!(tet10.node_tags[4..], [5, 6, 7, 8, 9, 10], "new node tags");
+    }
+
+    #[test]
+    fn a_wall_node_off_the_cylinder_is_refused() {
+        let err = elevate_to_tet10(&one_tet_on_a_cylinder(), &z_cylinder(1.1))
+            .expect_err("cylinder of the wrong radius");
+        assert!(
+            err.to_string().contains("off its cylinder"),
+            "error names the wall node: {err}"
+        );
+    }
+}

@@ -27,8 +27,22 @@ fn gmsh_available() -> bool {
     found
 }
 
-/// Tet4 and gmsh's Tet10 of one meshing of the strip with `half_y`.
+/// Tet4 and gmsh's Tet10 of one meshing of the small strip with `half_y`.
 fn tet4_and_gmsh_tet10(dir: &Path, half_y: u8) -> (TetMesh, TetMesh) {
+    let numbers = [
+        ("pitch", PITCH),
+        ("d", DIAMETER),
+        ("n_posts", POSTS as f64),
+        ("stator_depth", 0.0),
+        ("h_post", 4e-6),
+        ("order", 1.0),
+        ("half_y", f64::from(half_y)),
+    ];
+    mesh_twice(dir, &numbers)
+}
+
+/// Tet4 and gmsh's Tet10 (`SetOrder 2`) of one meshing of `slider-strip.geo` with `numbers`.
+fn mesh_twice(dir: &Path, numbers: &[(&str, f64)]) -> (TetMesh, TetMesh) {
     let geo = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../meshes/slider-strip.geo");
     let (tet4, tet10) = (dir.join("tet4.msh"), dir.join("tet10.msh"));
     let script = dir.join("order2.geo");
@@ -42,15 +56,6 @@ fn tet4_and_gmsh_tet10(dir: &Path, half_y: u8) -> (TetMesh, TetMesh) {
         ),
     )
     .expect("write the gmsh script");
-    let numbers = [
-        ("pitch", PITCH),
-        ("d", DIAMETER),
-        ("n_posts", POSTS as f64),
-        ("stator_depth", 0.0),
-        ("h_post", 4e-6),
-        ("order", 1.0),
-        ("half_y", f64::from(half_y)),
-    ];
     let mut command = std::process::Command::new(GmshOptions::default().program);
     command.arg(&script).args(["-parse_and_exit", "-nt", "1"]);
     for (name, value) in numbers {
@@ -73,12 +78,17 @@ fn tet4_and_gmsh_tet10(dir: &Path, half_y: u8) -> (TetMesh, TetMesh) {
 
 /// The post cylinders (axes at y = pitch/2 whether the strip is cut there or not).
 fn post_walls() -> Vec<CylinderWalls> {
+    walls_of(POSTS, 0.0)
+}
+
+/// The walls of `posts` posts of the test's pitch and diameter after a margin (m).
+fn walls_of(posts: usize, margin: f64) -> Vec<CylinderWalls> {
     let y = 0.5 * PITCH;
     vec![CylinderWalls {
         group: "post_walls".into(),
-        cylinders: (0..POSTS)
+        cylinders: (0..posts)
             .map(|i| Cylinder {
-                axis_point: [(i as f64 + 0.5) * PITCH, y, 0.0],
+                axis_point: [margin + (i as f64 + 0.5) * PITCH, y, 0.0],
                 axis_direction: [0.0, 0.0, 1.0],
                 radius: 0.5 * DIAMETER,
             })
@@ -164,4 +174,39 @@ fn midside_nodes_match_gmsh_curvilinear_order_2_of_the_same_tet4_mesh() {
             );
         }
     }
+}
+
+/// The same check on the default scene's strip (100 half posts, 0.5 mm margins, tips at a/2).
+/// About a minute of gmsh under load:
+/// `cargo test -p gmsh-mesh --test elevate -- --ignored --nocapture`.
+#[test]
+#[ignore = "meshes the default 100-post strip twice in one gmsh session (~10 s CPU)"]
+fn the_default_strip_gets_gmsh_s_midside_nodes() {
+    if !gmsh_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("temp dir");
+    let margin = 0.5e-3;
+    let numbers = [
+        ("pitch", PITCH),
+        ("d", DIAMETER),
+        ("n_posts", 100.0),
+        ("margin", margin),
+        ("stator_depth", 0.0),
+        ("h_post", 5e-6),
+        ("order", 1.0),
+        ("half_y", 1.0),
+    ];
+    let (tet4, gmsh_tet10) = mesh_twice(dir.path(), &numbers);
+    let ours = elevate_to_tet10(&tet4, &walls_of(100, margin)).expect("elevated strip");
+    let (gap, curved) = midside_gap(&ours, &gmsh_tet10);
+    let size = 100.0 * PITCH + 2.0 * margin;
+    println!(
+        "default strip: {} nodes, largest midside gap {gap:.2e} m, {curved} curved edges",
+        ours.nodes.len()
+    );
+    assert!(
+        gap <= 1e-12 * size,
+        "midside node positions differ from gmsh's by {gap:e} m"
+    );
 }
