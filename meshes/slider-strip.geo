@@ -24,7 +24,8 @@
 //
 // Physical groups: volumes "slider" (body and posts), "stator" (if stator_depth > 0); surfaces
 // "post_tips", "post_walls", "slider_top", "slider_sym_y0", "slider_sym_y1", "slider_x0", "slider_x1",
-// "stator_top", "stator_bottom", "stator_sym_y0", "stator_sym_y1", "stator_x0", "stator_x1".
+// "stator_top", "stator_bottom", "stator_sym_y0", "stator_sym_y1", "stator_x0", "stator_x1",
+// "stator_tip_disks".
 
 SetFactory("OpenCASCADE");
 // Any Error() below, or a meshing error, exits gmsh with a non-zero status and no output file.
@@ -228,6 +229,19 @@ If (S > 0)
   box() = {L - eps, -eps, -S - eps, L + eps, W + eps, eps};
   Call FacesInBox;
   stator_x1() = picked();
+  // The imprinted tip disks: the top faces no wider than a post (their circles are the curved
+  // edges of the stator; gmsh_mesh::elevate puts Tet10 midside nodes on them).
+  stator_tip_disks() = {};
+  For fi In {0 : #stator_top() - 1}
+    bb() = BoundingBox Surface{ stator_top(fi) };
+    If (bb(3) - bb(0) < D + eps)
+      stator_tip_disks() += stator_top(fi);
+    EndIf
+  EndFor
+  If (#stator_tip_disks() != n_tips)
+    Error("slider-strip.geo: internal error: found %g stator tip disks, expected %g", #stator_tip_disks(), n_tips);
+    Abort;
+  EndIf
 
   Physical Volume("stator", 2) = stator();
   Physical Surface("stator_top", 21) = stator_top();
@@ -236,6 +250,7 @@ If (S > 0)
   Physical Surface("stator_sym_y1", 24) = stator_y1();
   Physical Surface("stator_x0", 25) = stator_x0();
   Physical Surface("stator_x1", 26) = stator_x1();
+  Physical Surface("stator_tip_disks", 27) = stator_tip_disks();
 EndIf
 
 If (periodic_x == 1)

@@ -5,7 +5,9 @@
 //! Placement (the same as gmsh's curvilinear order 2, `Mesh.SecondOrderLinear = 0`, without
 //! `HighOrderOptimize`):
 //! - an edge of a triangle of a cylinder-wall group (the wall, and the circles and straight lines
-//!   bounding it): the chord midpoint m = (a + b)/2 moved radially onto the cylinder,
+//!   bounding it), or an edge on the rim of a disk group (a boundary edge of the group with both
+//!   ends on the circle; [`CylinderWalls::rims_only`]): the chord midpoint m = (a + b)/2 moved
+//!   radially onto the cylinder,
 //!   q = c + (m − c)∥ + R (m − c)⊥ / |(m − c)⊥|, with c a point of the axis, ∥ and ⊥ the parts
 //!   along and across the axis. For a cylinder parametrised by (angle, height) this is gmsh's
 //!   parametric midpoint (mean angle, mean height): the chord midpoint of two points of the same
@@ -94,13 +96,19 @@ fn norm(v: Point) -> f64 {
 }
 
 /// The triangles of the surface group `group` lie on the cylinders `cylinders` (each triangle on
-/// the one nearest to it).
+/// the one whose axis is nearest to it), or, with `rims_only`, the group is made of flat disks
+/// whose rims are circles of those cylinders.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CylinderWalls {
-    /// Physical surface group of the wall triangles.
+    /// Physical surface group of the wall (or disk) triangles.
     pub group: String,
     /// The cylinders (for posts: one per post).
     pub cylinders: Vec<Cylinder>,
+    /// `false`: every edge of the group's triangles is on its cylinder (a wall; all nodes must
+    /// lie on it). `true`: the group is flat disks (e.g. the tip circles imprinted on a stator);
+    /// only its boundary edges with both ends on the cylinder are curved (a half disk's straight
+    /// edge stays straight).
+    pub rims_only: bool,
 }
 
 /// Edge `[a, b]` with a < b.
@@ -189,6 +197,7 @@ fn curve_wall_edges(
     let mut moved = std::collections::BTreeSet::new();
     for wall in walls {
         let faces = mesh.group_faces(&wall.group)?;
+        let rim_edges = wall.rims_only.then(|| boundary_edges(faces));
         for f in 0..faces.len() {
             let c = faces.corners(f);
             let centroid =
@@ -197,11 +206,15 @@ fn curve_wall_edges(
                 .cylinders
                 .iter()
                 .min_by(|x, y| {
-                    let gap = |z: &Cylinder| (z.axis_distance(centroid) - z.radius).abs();
-                    gap(x).total_cmp(&gap(y))
+                    x.axis_distance(centroid)
+                        .total_cmp(&y.axis_distance(centroid))
                 })
                 .ok_or_else(|| invalid(format!("no cylinder given for group {}", wall.group)))?;
-            for &node in &c {
+            let on = |p: Point| {
+                (cylinder.axis_distance(p) - cylinder.radius).abs()
+                    <= WALL_TOLERANCE * cylinder.radius
+            };
+            for &node in c.iter().filter(|_| !wall.rims_only) {
                 let gap = (cylinder.axis_distance(nodes[node]) - cylinder.radius).abs();
                 if gap > WALL_TOLERANCE * cylinder.radius {
                     return Err(invalid(format!(
@@ -213,6 +226,11 @@ fn curve_wall_edges(
             }
             for [i, j] in [[0, 1], [1, 2], [2, 0]] {
                 let key = edge_key(c[i], c[j]);
+                if let Some(rims) = &rim_edges
+                    && !(rims.contains(&key) && on(nodes[key.0]) && on(nodes[key.1]))
+                {
+                    continue;
+                }
                 let Some(&m) = midside.get(&key) else {
                     return Err(invalid(format!(
                         "edge of nodes {} and {} of group {} is no tet edge",
@@ -232,6 +250,22 @@ fn curve_wall_edges(
         }
     }
     Ok(moved.len())
+}
+
+/// The edges of exactly one triangle of `faces` (the group's boundary).
+fn boundary_edges(faces: &Faces) -> std::collections::HashSet<(usize, usize)> {
+    let mut count: HashMap<(usize, usize), u32> = HashMap::new();
+    for f in 0..faces.len() {
+        let c = faces.corners(f);
+        for [i, j] in [[0, 1], [1, 2], [2, 0]] {
+            *count.entry(edge_key(c[i], c[j])).or_insert(0) += 1;
+        }
+    }
+    count
+        .into_iter()
+        .filter(|&(_, n)| n == 1)
+        .map(|(e, _)| e)
+        .collect()
 }
 
 /// The Tri6 faces of a group's Tri3 faces (midside nodes 3:(0,1) 4:(1,2) 5:(2,0)).
@@ -325,6 +359,7 @@ mod tests {
                 axis_direction: [0.0, 0.0, 2.0],
                 radius,
             }],
+            rims_only: false,
         }]
     }
 

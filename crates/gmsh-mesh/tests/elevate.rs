@@ -27,13 +27,14 @@ fn gmsh_available() -> bool {
     found
 }
 
-/// Tet4 and gmsh's Tet10 of one meshing of the small strip with `half_y`.
-fn tet4_and_gmsh_tet10(dir: &Path, half_y: u8) -> (TetMesh, TetMesh) {
+/// Tet4 and gmsh's Tet10 of one meshing of the small strip with `half_y` and a stator block of
+/// depth `stator_depth` (m; 0: none).
+fn tet4_and_gmsh_tet10(dir: &Path, half_y: u8, stator_depth: f64) -> (TetMesh, TetMesh) {
     let numbers = [
         ("pitch", PITCH),
         ("d", DIAMETER),
         ("n_posts", POSTS as f64),
-        ("stator_depth", 0.0),
+        ("stator_depth", stator_depth),
         ("h_post", 4e-6),
         ("order", 1.0),
         ("half_y", f64::from(half_y)),
@@ -84,16 +85,29 @@ fn post_walls() -> Vec<CylinderWalls> {
 /// The walls of `posts` posts of the test's pitch and diameter after a margin (m).
 fn walls_of(posts: usize, margin: f64) -> Vec<CylinderWalls> {
     let y = 0.5 * PITCH;
+    let cylinders: Vec<Cylinder> = (0..posts)
+        .map(|i| Cylinder {
+            axis_point: [margin + (i as f64 + 0.5) * PITCH, y, 0.0],
+            axis_direction: [0.0, 0.0, 1.0],
+            radius: 0.5 * DIAMETER,
+        })
+        .collect();
     vec![CylinderWalls {
         group: "post_walls".into(),
-        cylinders: (0..posts)
-            .map(|i| Cylinder {
-                axis_point: [margin + (i as f64 + 0.5) * PITCH, y, 0.0],
-                axis_direction: [0.0, 0.0, 1.0],
-                radius: 0.5 * DIAMETER,
-            })
-            .collect(),
+        cylinders,
+        rims_only: false,
     }]
+}
+
+/// [`walls_of`] plus the stator's imprinted tip circles.
+fn walls_and_stator_rims(posts: usize) -> Vec<CylinderWalls> {
+    let mut walls = walls_of(posts, 0.0);
+    walls.push(CylinderWalls {
+        group: "stator_tip_disks".into(),
+        cylinders: walls[0].cylinders.clone(),
+        rims_only: true,
+    });
+    walls
 }
 
 fn key(p: [f64; 3]) -> [u64; 3] {
@@ -142,10 +156,15 @@ fn midside_nodes_match_gmsh_curvilinear_order_2_of_the_same_tet4_mesh() {
     if !gmsh_available() {
         return;
     }
-    for half_y in [1, 0] {
+    for (half_y, stator_depth) in [(1, 0.0), (0, 0.0), (1, 100e-6), (0, 100e-6)] {
         let dir = tempfile::tempdir().expect("temp dir");
-        let (tet4, gmsh_tet10) = tet4_and_gmsh_tet10(dir.path(), half_y);
-        let ours = elevate_to_tet10(&tet4, &post_walls()).expect("elevated strip");
+        let (tet4, gmsh_tet10) = tet4_and_gmsh_tet10(dir.path(), half_y, stator_depth);
+        let walls = if stator_depth > 0.0 {
+            walls_and_stator_rims(POSTS)
+        } else {
+            post_walls()
+        };
+        let ours = elevate_to_tet10(&tet4, &walls).expect("elevated strip");
         assert_eq!(
             ours.nodes.len(),
             gmsh_tet10.nodes.len(),
@@ -154,7 +173,10 @@ fn midside_nodes_match_gmsh_curvilinear_order_2_of_the_same_tet4_mesh() {
         assert_eq!(ours.tets.len(), gmsh_tet10.tets.len(), "tet count");
         let (gap, curved) = midside_gap(&ours, &gmsh_tet10);
         let size = POSTS as f64 * PITCH;
-        println!("half_y = {half_y}: largest midside gap {gap:.2e} m, {curved} curved edges");
+        println!(
+            "half_y = {half_y}, stator {stator_depth:e} m: largest midside gap {gap:.2e} m, \
+             {curved} curved edges"
+        );
         assert!(
             gap <= 1e-12 * size,
             "midside node positions differ from gmsh's by {gap:e} m (half_y = {half_y})"

@@ -4,12 +4,11 @@
 //! recorded beside it (`NAME.msh.sha256`) and is verified before reuse: a swapped, edited or
 //! truncated cached mesh is regenerated, never used.
 //!
-//! A Tet10 strip on the half-space stator is meshed by gmsh in Tet4 and raised to Tet10 on
-//! reading ([`gmsh_mesh::elevate`]: midside nodes on the post cylinders as gmsh's curvilinear
-//! order 2 places them, to 1e-15 relative); gmsh's own order elevation took about a quarter of
-//! its time. The cache then holds the Tet4 file and every reader goes through
-//! [`ResolvedMesh::read`], which elevates it. A meshed stator block keeps gmsh's order 2 (its
-//! imprinted tip circles are curved edges of no wall group).
+//! An automatic Tet10 strip is meshed by gmsh in Tet4 and raised to Tet10 on reading
+//! ([`gmsh_mesh::elevate`]: midside nodes on the post cylinders, and on the tip circles imprinted
+//! on a stator block, as gmsh's curvilinear order 2 places them, to 1e-15 relative); gmsh's own
+//! order elevation took about a quarter of its time. The cache then holds the Tet4 file and
+//! every reader goes through [`ResolvedMesh::read`], which elevates it.
 
 use std::path::{Path, PathBuf};
 
@@ -50,10 +49,10 @@ pub fn workspace_root() -> PathBuf {
     )
 }
 
-/// Whether the run's Tet10 strip is gmsh's Tet4 mesh raised to Tet10 in Rust
-/// ([`gmsh_mesh::elevate`]): an automatic Tet10 mesh without a meshed stator block.
+/// Whether the run's automatic strip mesh is gmsh's Tet4 mesh raised to Tet10 in Rust
+/// ([`gmsh_mesh::elevate`]): every Tet10 strip.
 pub fn elevated_in_rust(params: &StaticParams) -> bool {
-    params.element_order == 2 && params.stator == StatorModel::HalfSpace
+    params.element_order == 2
 }
 
 /// The gmsh `-setnumber` parameters of the strip mesh file the run needs (`order` = 1 when the
@@ -70,8 +69,9 @@ pub fn strip_mesh_parameters(params: &StaticParams) -> Vec<(&'static str, f64)> 
     gmsh_parameters(params, order)
 }
 
-/// The post walls of the strip (group `post_walls` of `slider-strip.geo`): one vertical cylinder
-/// per post, axis at x = margin + (i + ½)·pitch, y = (r + ½)·pitch, radius d/2.
+/// The curved boundaries of the strip: the post walls (group `post_walls` of `slider-strip.geo`),
+/// one vertical cylinder per post, axis at x = margin + (i + ½)·pitch, y = (r + ½)·pitch, radius
+/// d/2; with a stator block also the rims of its imprinted tip disks (`stator_tip_disks`).
 pub fn strip_post_walls(params: &StaticParams) -> Vec<gmsh_mesh::elevate::CylinderWalls> {
     let (pitch, margin) = (params.post_pitch_m, params.strip_margin_m());
     let cylinders = (0..params.strip_rows)
@@ -87,10 +87,19 @@ pub fn strip_post_walls(params: &StaticParams) -> Vec<gmsh_mesh::elevate::Cylind
             })
         })
         .collect();
-    vec![gmsh_mesh::elevate::CylinderWalls {
+    let mut walls = vec![gmsh_mesh::elevate::CylinderWalls {
         group: "post_walls".into(),
         cylinders,
-    }]
+        rims_only: false,
+    }];
+    if params.stator == StatorModel::MeshedBlock {
+        walls.push(gmsh_mesh::elevate::CylinderWalls {
+            group: "stator_tip_disks".into(),
+            cylinders: walls[0].cylinders.clone(),
+            rims_only: true,
+        });
+    }
+    walls
 }
 
 fn gmsh_parameters(params: &StaticParams, order: u8) -> Vec<(&'static str, f64)> {
@@ -382,7 +391,7 @@ mod tests {
     }
 
     #[test]
-    fn a_tet10_strip_on_the_half_space_is_meshed_in_tet4_and_a_stator_block_in_tet10() {
+    fn a_tet10_strip_is_meshed_in_tet4_with_its_curved_boundaries_named() {
         let order = |p: &StaticParams| {
             strip_mesh_parameters(p)
                 .iter()
@@ -413,7 +422,12 @@ mod tests {
             stator: StatorModel::MeshedBlock,
             ..default
         };
-        assert_eq!(order(&block), Some(2.0), "gmsh order with a stator block");
+        assert_eq!(order(&block), Some(1.0), "gmsh order with a stator block");
+        assert_eq!(
+            strip_post_walls(&block).len(),
+            2,
+            "post walls and the stator's tip circles"
+        );
     }
 
     #[test]
