@@ -23,8 +23,9 @@
 //   half_y
 //
 // Physical groups: volumes "slider" (body and posts), "stator" (if stator_depth > 0); surfaces
-// "post_tips", "slider_top", "slider_sym_y0", "slider_sym_y1", "slider_x0", "slider_x1",
-// "stator_top", "stator_bottom", "stator_sym_y0", "stator_sym_y1", "stator_x0", "stator_x1".
+// "post_tips", "post_walls", "slider_top", "slider_sym_y0", "slider_sym_y1", "slider_x0", "slider_x1",
+// "stator_top", "stator_bottom", "stator_sym_y0", "stator_sym_y1", "stator_x0", "stator_x1",
+// "stator_tip_disks".
 
 SetFactory("OpenCASCADE");
 // Any Error() below, or a meshing error, exits gmsh with a non-zero status and no output file.
@@ -181,6 +182,23 @@ If (#post_tips() != n_tips)
   Error("slider-strip.geo: internal error: found %g post tips, expected %g", #post_tips(), n_tips);
   Abort;
 EndIf
+// Post walls: the slider's faces between the tips and the underside that lie on no plane face
+// (the cylinders; their triangles let a reader curve Tet4 edges onto them, gmsh_mesh::elevate).
+box() = {-eps, -eps, -eps, L + eps, W + eps, H + eps};
+Call FacesInBox;
+post_walls() = picked();
+post_walls() -= post_tips();
+box() = {-eps, -eps, H - eps, L + eps, W + eps, H + eps};
+Call FacesInBox;
+post_walls() -= picked();
+post_walls() -= slider_y0();
+post_walls() -= slider_y1();
+post_walls() -= slider_x0();
+post_walls() -= slider_x1();
+If (#post_walls() < n_tips)
+  Error("slider-strip.geo: internal error: found %g post wall faces for %g posts", #post_walls(), n_tips);
+  Abort;
+EndIf
 
 Physical Volume("slider", 1) = slider();
 Physical Surface("post_tips", 11) = post_tips();
@@ -189,6 +207,7 @@ Physical Surface("slider_sym_y0", 13) = slider_y0();
 Physical Surface("slider_sym_y1", 14) = slider_y1();
 Physical Surface("slider_x0", 15) = slider_x0();
 Physical Surface("slider_x1", 16) = slider_x1();
+Physical Surface("post_walls", 17) = post_walls();
 
 If (S > 0)
   body_faces() = Abs(Boundary{ Volume{stator()}; });
@@ -210,6 +229,19 @@ If (S > 0)
   box() = {L - eps, -eps, -S - eps, L + eps, W + eps, eps};
   Call FacesInBox;
   stator_x1() = picked();
+  // The imprinted tip disks: the top faces no wider than a post (their circles are the curved
+  // edges of the stator; gmsh_mesh::elevate puts Tet10 midside nodes on them).
+  stator_tip_disks() = {};
+  For fi In {0 : #stator_top() - 1}
+    bb() = BoundingBox Surface{ stator_top(fi) };
+    If (bb(3) - bb(0) < D + eps)
+      stator_tip_disks() += stator_top(fi);
+    EndIf
+  EndFor
+  If (#stator_tip_disks() != n_tips)
+    Error("slider-strip.geo: internal error: found %g stator tip disks, expected %g", #stator_tip_disks(), n_tips);
+    Abort;
+  EndIf
 
   Physical Volume("stator", 2) = stator();
   Physical Surface("stator_top", 21) = stator_top();
@@ -218,6 +250,7 @@ If (S > 0)
   Physical Surface("stator_sym_y1", 24) = stator_y1();
   Physical Surface("stator_x0", 25) = stator_x0();
   Physical Surface("stator_x1", 26) = stator_x1();
+  Physical Surface("stator_tip_disks", 27) = stator_tip_disks();
 EndIf
 
 If (periodic_x == 1)

@@ -18,6 +18,7 @@
 
 mod assemble;
 mod atomic;
+pub mod elevate;
 mod error;
 pub mod geometry;
 pub mod gmsh;

@@ -371,18 +371,20 @@ pub fn prepare_strip(params: &StaticParams) -> Result<PreparedStrip> {
     let start = Instant::now();
     params.validate()?;
     let resolved = crate::mesh_source::resolve_mesh_verified(params)?;
-    let path = resolved.path;
-    let mesh = gmsh_mesh::read_msh(&path).map_err(|source| match &resolved.cache_dir {
-        Some(cache_dir) => ContactError::CachedMesh {
-            file: path.clone(),
-            cache_dir: cache_dir.clone(),
-            source: Box::new(source),
-        },
-        None => ContactError::Mesh {
-            file: path.display().to_string(),
-            source: Box::new(source),
-        },
-    })?;
+    let path = resolved.path.clone();
+    let mesh = resolved
+        .read()
+        .map_err(|source| match &resolved.cache_dir {
+            Some(cache_dir) => ContactError::CachedMesh {
+                file: path.clone(),
+                cache_dir: cache_dir.clone(),
+                source: Box::new(source),
+            },
+            None => ContactError::Mesh {
+                file: path.display().to_string(),
+                source: Box::new(source),
+            },
+        })?;
     if mesh.tets.order() != params.element_order {
         return Err(ContactError::MeshMismatch {
             file: path.display().to_string(),

@@ -3,6 +3,12 @@
 //! of the geometry parameters so that a second run reuses it. Each cached mesh has its SHA-256
 //! recorded beside it (`NAME.msh.sha256`) and is verified before reuse: a swapped, edited or
 //! truncated cached mesh is regenerated, never used.
+//!
+//! An automatic Tet10 strip is meshed by gmsh in Tet4 and raised to Tet10 on reading
+//! ([`gmsh_mesh::elevate`]: midside nodes on the post cylinders, and on the tip circles imprinted
+//! on a stator block, as gmsh's curvilinear order 2 places them, to 1e-15 relative); gmsh's own
+//! order elevation took about a quarter of its time. The cache then holds the Tet4 file and
+//! every reader goes through [`ResolvedMesh::read`], which elevates it.
 
 use std::path::{Path, PathBuf};
 
@@ -43,11 +49,60 @@ pub fn workspace_root() -> PathBuf {
     )
 }
 
-/// The gmsh `-setnumber` parameters of the strip mesh the run needs. A one-row strip is meshed
-/// as its half y ≤ W/2 (`half_y`): the plane through the post axes is a mirror plane of the
-/// geometry and of a load uniform in y, so the half with a symmetry plane there has the whole
-/// strip's solution (up to its mesh) with fewer unknowns (static-contact README, Speed).
+/// Whether the run's automatic strip mesh is gmsh's Tet4 mesh raised to Tet10 in Rust
+/// ([`gmsh_mesh::elevate`]): every Tet10 strip.
+pub fn elevated_in_rust(params: &StaticParams) -> bool {
+    params.element_order == 2
+}
+
+/// The gmsh `-setnumber` parameters of the strip mesh file the run needs (`order` = 1 when the
+/// Tet10 mesh is elevated in Rust, [`elevated_in_rust`]). A one-row strip is meshed as its half
+/// y ≤ W/2 (`half_y`): the plane through the post axes is a mirror plane of the geometry and of a
+/// load uniform in y, so the half with a symmetry plane there has the whole strip's solution (up
+/// to its mesh) with fewer unknowns (static-contact README, Speed).
 pub fn strip_mesh_parameters(params: &StaticParams) -> Vec<(&'static str, f64)> {
+    let order = if elevated_in_rust(params) {
+        1
+    } else {
+        params.element_order
+    };
+    gmsh_parameters(params, order)
+}
+
+/// The curved boundaries of the strip: the post walls (group `post_walls` of `slider-strip.geo`),
+/// one vertical cylinder per post, axis at x = margin + (i + ½)·pitch, y = (r + ½)·pitch, radius
+/// d/2; with a stator block also the rims of its imprinted tip disks (`stator_tip_disks`).
+pub fn strip_post_walls(params: &StaticParams) -> Vec<gmsh_mesh::elevate::CylinderWalls> {
+    let (pitch, margin) = (params.post_pitch_m, params.strip_margin_m());
+    let cylinders = (0..params.strip_rows)
+        .flat_map(|r| {
+            (0..params.strip_posts_along_x()).map(move |i| gmsh_mesh::elevate::Cylinder {
+                axis_point: [
+                    margin + (i as f64 + 0.5) * pitch,
+                    (r as f64 + 0.5) * pitch,
+                    0.0,
+                ],
+                axis_direction: [0.0, 0.0, 1.0],
+                radius: 0.5 * params.post_diameter_m,
+            })
+        })
+        .collect();
+    let mut walls = vec![gmsh_mesh::elevate::CylinderWalls {
+        group: "post_walls".into(),
+        cylinders,
+        rims_only: false,
+    }];
+    if params.stator == StatorModel::MeshedBlock {
+        walls.push(gmsh_mesh::elevate::CylinderWalls {
+            group: "stator_tip_disks".into(),
+            cylinders: walls[0].cylinders.clone(),
+            rims_only: true,
+        });
+    }
+    walls
+}
+
+fn gmsh_parameters(params: &StaticParams, order: u8) -> Vec<(&'static str, f64)> {
     let stator_depth = match params.stator {
         StatorModel::HalfSpace => 0.0,
         StatorModel::MeshedBlock => params.stator_depth_m,
@@ -64,7 +119,7 @@ pub fn strip_mesh_parameters(params: &StaticParams) -> Vec<(&'static str, f64)> 
         ("h_post", params.mesh_h_post_m()),
         ("h_body", params.mesh_sizes.h_body_m),
         ("growth", params.mesh_sizes.growth),
-        ("order", params.element_order as f64),
+        ("order", order as f64),
         ("periodic_x", 0.0),
         ("half_y", if params.strip_rows == 1 { 1.0 } else { 0.0 }),
     ]
@@ -78,7 +133,7 @@ fn same(a: f64, b: f64) -> bool {
 /// half-space stator model (its stator volume is then ignored), and a whole-width mesh serves a
 /// half-width request (the strip model reads half or whole tip disks from the mesh).
 pub fn committed_mesh(params: &StaticParams) -> Option<PathBuf> {
-    let wanted = strip_mesh_parameters(params);
+    let wanted = gmsh_parameters(params, params.element_order);
     COMMITTED.iter().find_map(|(file, made)| {
         let fits = wanted.iter().all(|(name, value)| {
             if *name == "half_y" {
@@ -125,6 +180,21 @@ pub struct ResolvedMesh {
     /// What the cache check found and did, one line each (e.g. a damaged cached mesh that
     /// was regenerated), for the user.
     pub notes: Vec<String>,
+    /// `Some`: the file holds the Tet4 mesh, and the run's mesh is it raised to Tet10 with
+    /// curved midside nodes on these walls ([`ResolvedMesh::read`]).
+    pub elevate: Option<Vec<gmsh_mesh::elevate::CylinderWalls>>,
+}
+
+impl ResolvedMesh {
+    /// The run's mesh: the file read, and raised to Tet10 if [`ResolvedMesh::elevate`] says so.
+    /// Every reader of the strip mesh goes through here, so all see the same mesh.
+    pub fn read(&self) -> gmsh_mesh::Result<gmsh_mesh::TetMesh> {
+        let mesh = gmsh_mesh::read_msh(&self.path)?;
+        match &self.elevate {
+            Some(walls) => gmsh_mesh::elevate::elevate_to_tet10(&mesh, walls),
+            None => Ok(mesh),
+        }
+    }
 }
 
 /// Suffix of the file beside a cached mesh that records its SHA-256 (hex) when it was made.
@@ -175,22 +245,34 @@ pub fn cached_mesh_path(params: &StaticParams) -> Option<PathBuf> {
 }
 
 /// [`cached_mesh_path`] without the checks for a given or committed mesh.
+/// The name says `o1to2` for a Tet4 file raised to Tet10 on reading; the hash then also covers
+/// [`gmsh_mesh::elevate::ELEVATION_VERSION`].
 fn automatic_mesh_path(params: &StaticParams) -> PathBuf {
     let mut hasher = Sha256::new();
     hasher.update(geometry_source("slider-strip"));
     for (name, value) in &strip_mesh_parameters(params) {
         hasher.update(format!("{name}={value:e}\n"));
     }
+    let order = if elevated_in_rust(params) {
+        hasher.update(format!(
+            "elevation={}\n",
+            gmsh_mesh::elevate::ELEVATION_VERSION
+        ));
+        "1to2".to_string()
+    } else {
+        params.element_order.to_string()
+    };
     let digest = hex(&hasher.finalize()[..8]);
     cache_dir(params).join(format!(
-        "slider-strip_n{}x{}_o{}_{digest}.msh",
+        "slider-strip_n{}x{}_o{order}_{digest}.msh",
         params.strip_posts_along_x(),
         params.strip_rows,
-        params.element_order
     ))
 }
 
-/// The mesh file of the run: the given file, a committed mesh, or a cached/generated one.
+/// The mesh file of the run: the given file, a committed mesh, or a cached/generated one. For a
+/// Tet10 strip elevated in Rust this file holds the Tet4 mesh: read the run's mesh with
+/// [`resolve_mesh_verified`] and [`ResolvedMesh::read`].
 pub fn resolve_mesh(params: &StaticParams) -> Result<PathBuf> {
     resolve_mesh_verified(params).map(|r| r.path)
 }
@@ -202,6 +284,7 @@ pub fn resolve_mesh_verified(params: &StaticParams) -> Result<ResolvedMesh> {
         path,
         cache_dir: None,
         notes: Vec::new(),
+        elevate: None,
     };
     if let MeshChoice::File(path) = &params.mesh {
         return Ok(plain(path.clone()));
@@ -212,6 +295,7 @@ pub fn resolve_mesh_verified(params: &StaticParams) -> Result<ResolvedMesh> {
     let out = automatic_mesh_path(params);
     let setnumbers = strip_mesh_parameters(params);
     let dir = cache_dir(params);
+    let elevate = elevated_in_rust(params).then(|| strip_post_walls(params));
     let mut notes = Vec::new();
     if out.is_file() {
         match cached_mesh_problem(&out) {
@@ -220,6 +304,7 @@ pub fn resolve_mesh_verified(params: &StaticParams) -> Result<ResolvedMesh> {
                     path: out,
                     cache_dir: Some(dir),
                     notes,
+                    elevate,
                 });
             }
             Some(why) => notes.push(format!(
@@ -234,6 +319,7 @@ pub fn resolve_mesh_verified(params: &StaticParams) -> Result<ResolvedMesh> {
         path: out,
         cache_dir: Some(dir),
         notes,
+        elevate,
     })
 }
 
@@ -301,6 +387,46 @@ mod tests {
         assert!(
             committed_mesh(&tet10).is_none(),
             "a Tet10 request must not reuse the Tet4 mesh"
+        );
+    }
+
+    #[test]
+    fn a_tet10_strip_is_meshed_in_tet4_with_its_curved_boundaries_named() {
+        let order = |p: &StaticParams| {
+            strip_mesh_parameters(p)
+                .iter()
+                .find(|(n, _)| *n == "order")
+                .map(|(_, v)| *v)
+        };
+        let default = StaticParams {
+            mesh_cache_dir: Some(std::env::temp_dir().join("sawdrive-elevation-test")),
+            ..StaticParams::default()
+        };
+        assert_eq!(
+            order(&default),
+            Some(1.0),
+            "gmsh order of the default strip"
+        );
+        let path = cached_mesh_path(&default).expect("default strip is meshed into the cache");
+        assert!(
+            path.to_string_lossy().contains("_o1to2_"),
+            "cached Tet4 file of a Tet10 strip named {}",
+            path.display()
+        );
+        assert_eq!(
+            strip_post_walls(&default)[0].cylinders.len(),
+            default.strip_post_count(),
+            "one wall cylinder per post"
+        );
+        let block = StaticParams {
+            stator: StatorModel::MeshedBlock,
+            ..default
+        };
+        assert_eq!(order(&block), Some(1.0), "gmsh order with a stator block");
+        assert_eq!(
+            strip_post_walls(&block).len(),
+            2,
+            "post walls and the stator's tip circles"
         );
     }
 
