@@ -17,7 +17,7 @@ use serde_json::{Value, json};
 use static_contact::analysis::{report_for_model, strip_config};
 use static_contact::body::{BodyCompliance, BodySpec, Disk, TipLateral};
 use static_contact::halfspace::disk_mutual_compliance;
-use static_contact::mesh_source::{cache_dir, generate_mesh, resolve_mesh, workspace_root};
+use static_contact::mesh_source::{cache_dir, generate_mesh, resolve_mesh_verified, workspace_root};
 use static_contact::output::write_force_chart;
 use static_contact::params::{MeshSizes, StaticParams};
 use static_contact::scene::{PostSite, StatorModel, StripModel};
@@ -266,9 +266,10 @@ fn stator_section() -> AnyResult<Value> {
             preload_sweep_n: vec![10.0, 100.0],
             ..StaticParams::default()
         };
-        let path = resolve_mesh(&params)?;
+        // The run's mesh: a Tet10 strip is the cached Tet4 file raised to Tet10 on reading.
+        let mesh = resolve_mesh_verified(&params)?.read()?;
         let springs = params.post_springs()?;
-        let meshed = StripModel::build(gmsh_mesh::read_msh(&path)?, strip_config(&params))?;
+        let meshed = StripModel::build(mesh.clone(), strip_config(&params))?;
         let meshed_report = report_for_model(
             &meshed,
             &params,
@@ -281,7 +282,7 @@ fn stator_section() -> AnyResult<Value> {
             std::time::Instant::now(),
         )?;
         params.stator = StatorModel::HalfSpace;
-        let half = StripModel::build(gmsh_mesh::read_msh(&path)?, strip_config(&params))?;
+        let half = StripModel::build(mesh, strip_config(&params))?;
         let half_report = report_for_model(
             &half,
             &params,
