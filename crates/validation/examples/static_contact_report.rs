@@ -17,7 +17,9 @@ use serde_json::{Value, json};
 use static_contact::analysis::{report_for_model, strip_config};
 use static_contact::body::{BodyCompliance, BodySpec, Disk, TipLateral};
 use static_contact::halfspace::disk_mutual_compliance;
-use static_contact::mesh_source::{cache_dir, generate_mesh, resolve_mesh_verified, workspace_root};
+use static_contact::mesh_source::{
+    cache_dir, generate_mesh, resolve_mesh_verified, workspace_root,
+};
 use static_contact::output::write_force_chart;
 use static_contact::params::{MeshSizes, StaticParams};
 use static_contact::scene::{PostSite, StatorModel, StripModel};
