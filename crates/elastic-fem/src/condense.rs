@@ -18,6 +18,10 @@
 //! ε = [`crate::iterative::ALGEBRAIC_FRACTION`] × [`crate::iterative::DEFAULT_DISCRETISATION_ERROR`]
 //! = 1e-6 keeps every entry within 1e-6 √(C_ii C_jj): 1 % of the relative error the Tet10 mesh
 //! is assumed to resolve; [`IterativeOptions::for_discretisation_error`] ties ε to another.
+//! The bound holds as far as PCG's estimate of ‖x_j − x̃_j‖_K does: its delayed bound certifies
+//! an earlier iterate (the returned one is more accurate), its geometric-tail estimate, which
+//! usually stops first, extrapolates the observed contraction (an estimate, not a bound; see
+//! [`crate::sparse::pcg`]).
 //! A cross pattern (v ≠ w, e.g. the z tie under an x load) obeys the same bound with C_ii the
 //! compliance of v itself.
 //!
