@@ -3,7 +3,7 @@
 # vs TUNED scikit-fem (CG + pyamg smoothed aggregation with rigid-body modes,
 # scripts/compare-skfem-tuned.py) and CalculiX ccx (SPOOLES, scripts/compare-ccx.py).
 #
-#   scripts/compare-peers.sh [--threads N] [--peers skfem,ccx] LEVEL|MESH.msh ...
+#   scripts/compare-peers.sh [--threads N] [--peers skfem,ccx] [--ours iterative,direct] LEVEL|MESH.msh ...
 #       LEVEL: quarter Tet10 mesh of that level of the springs-study family (gmsh, cached in
 #              target/sawdrive-meshes; level 0 ≈ 20k, 1 ≈ 55k, 2 ≈ 140k, 3 ≈ 350k, 4 ≈ 900k,
 #              5 ≈ 2.3M unknowns)
@@ -24,15 +24,18 @@ target="${CARGO_TARGET_DIR:-$root/target}"
 venv="$target/skfem-venv"
 threads=1
 peers="skfem,ccx"
+ours_methods="iterative,direct"
 args=()
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --threads) threads="$2"; shift 2 ;;
     --peers) peers="$2"; shift 2 ;;
+    --ours) ours_methods="$2"; shift 2 ;;
     *) args+=("$1"); shift ;;
   esac
 done
-[[ ${#args[@]} -gt 0 ]] || { echo "usage: $0 [--threads N] [--peers skfem,ccx] LEVEL|MESH.msh ..." >&2; exit 2; }
+[[ ${#args[@]} -gt 0 ]] || { echo "usage: $0 [--threads N] [--peers skfem,ccx] [--ours iterative,direct] LEVEL|MESH.msh ..." >&2; exit 2; }
+[[ "$ours_methods" == *iterative* ]] || { echo "--ours must include iterative (the ratios are against it)" >&2; exit 2; }
 if [[ ! -x "$venv/bin/python" ]]; then
   python3 -m venv "$venv"
   "$venv/bin/pip" install -q scikit-fem meshio pyamg
@@ -73,7 +76,7 @@ for arg in "${args[@]}"; do
     mesh="$arg"
   fi
   : >"$out/lines"
-  for method in iterative direct; do
+  for method in ${ours_methods//,/ }; do
     timed "ours-$method" "$ours" --method "$method" --clamped-only "$mesh" | tee -a "$out/lines"
   done
   if [[ "$peers" == *skfem* ]]; then

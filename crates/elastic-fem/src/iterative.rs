@@ -392,6 +392,22 @@ pub struct MultigridWorkspace {
     pcg: PcgWorkspace,
 }
 
+/// Wall time of each phase of an [`IterativeSolver`]'s (latest) set-up (s).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct MultigridSetupTimes {
+    /// Full-row CSR copy of K_red.
+    pub fine_csr_s: f64,
+    /// Transfer operators P and Pᵀ (0 for AMG alone, and on re-factorisation).
+    pub transfer_s: f64,
+    /// Galerkin coarse operator Pᵀ K_red P (0 for AMG alone).
+    pub coarse_operator_s: f64,
+    /// Coarse Cholesky (ordering, symbolic and numeric) or coarse SA-AMG hierarchy; the whole
+    /// SA-AMG hierarchy for AMG alone.
+    pub coarse_solver_s: f64,
+    /// Fine smoother: diagonal and the power iterations for λ_max.
+    pub smoother_s: f64,
+}
+
 /// Sizes and set-up figures of an [`IterativeSolver`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MultigridReport {
@@ -414,6 +430,8 @@ pub struct MultigridReport {
     pub amg_levels: usize,
     /// Σ nnz over the AMG levels / nnz of its finest (0 without AMG).
     pub amg_operator_complexity: f64,
+    /// Where the set-up time went.
+    pub setup: MultigridSetupTimes,
 }
 
 /// The Tet4 coarse solve of the p-multigrid.
@@ -447,6 +465,14 @@ pub struct IterativeSolver {
     amg_input: Option<(Vec<[f64; 6]>, Vec<usize>)>,
     factor: FactorOptions,
     options: IterativeOptions,
+    setup: MultigridSetupTimes,
+}
+
+/// Seconds since `t`, and restarts it.
+fn lap(t: &mut std::time::Instant) -> f64 {
+    let s = t.elapsed().as_secs_f64();
+    *t = std::time::Instant::now();
+    s
 }
 
 impl IterativeSolver {
@@ -467,24 +493,31 @@ impl IterativeSolver {
                 found: k_red.dim(),
             });
         }
+        let mut clock = std::time::Instant::now();
+        let mut setup = MultigridSetupTimes::default();
         let a = CsrMatrix::from_symmetric(k_red)?;
+        setup.fine_csr_s = lap(&mut clock);
         if let Connectivity::Tet4(_) = model.connectivity() {
             let dofs: Vec<usize> = (0..a.dim())
                 .map(|j| dof_map.representative_dof(j))
                 .collect();
             let (b, blocks) = amg_input(model, &dofs);
             let amg = Amg::new(&a, b.clone(), blocks.clone(), factor)?;
+            setup.coarse_solver_s = lap(&mut clock);
             return Ok(Self {
                 a,
                 preconditioner: Preconditioner::Amg(amg),
                 amg_input: Some((b, blocks)),
                 factor,
                 options: *options,
+                setup,
             });
         }
         let (p, coarse_dofs) = p_prolongation_with_dofs(model, dof_map)?;
         let pt = p.transpose();
+        setup.transfer_s = lap(&mut clock);
         let coarse_matrix = a.galerkin(&p, &pt)?;
+        setup.coarse_operator_s = lap(&mut clock);
         let use_amg = match options.coarse_solver {
             CoarseSolver::Direct => false,
             CoarseSolver::Amg => true,
@@ -503,7 +536,9 @@ impl IterativeSolver {
                 None,
             )
         };
+        setup.coarse_solver_s = lap(&mut clock);
         let smoother = Chebyshev::new(&a, options.smoother_degree, CHEBYSHEV_INTERVAL_RATIO)?;
+        setup.smoother_s = lap(&mut clock);
         Ok(Self {
             a,
             preconditioner: Preconditioner::PMultigrid {
@@ -515,6 +550,7 @@ impl IterativeSolver {
             amg_input,
             factor,
             options: *options,
+            setup,
         })
     }
 
@@ -531,13 +567,19 @@ impl IterativeSolver {
                 ),
             });
         }
+        let mut clock = std::time::Instant::now();
+        let mut setup = MultigridSetupTimes::default();
         self.a = CsrMatrix::from_symmetric(k_red)?;
+        setup.fine_csr_s = lap(&mut clock);
         let rebuild = |a: &CsrMatrix, input: &Option<(Vec<[f64; 6]>, Vec<usize>)>| {
             let (b, blocks) = input.clone().expect("AMG input kept at set-up");
             Amg::new(a, b, blocks, self.factor)
         };
         match &mut self.preconditioner {
-            Preconditioner::Amg(amg) => *amg = rebuild(&self.a, &self.amg_input)?,
+            Preconditioner::Amg(amg) => {
+                *amg = rebuild(&self.a, &self.amg_input)?;
+                setup.coarse_solver_s = lap(&mut clock);
+            }
             Preconditioner::PMultigrid {
                 p,
                 pt,
@@ -545,6 +587,7 @@ impl IterativeSolver {
                 coarse,
             } => {
                 let coarse_matrix = self.a.galerkin(p, pt)?;
+                setup.coarse_operator_s = lap(&mut clock);
                 match coarse {
                     Coarse::Direct(factor) => factor.refactor(&coarse_matrix)?,
                     Coarse::Amg { a, amg } => {
@@ -552,13 +595,16 @@ impl IterativeSolver {
                         *amg = rebuild(a, &self.amg_input)?;
                     }
                 }
+                setup.coarse_solver_s = lap(&mut clock);
                 *smoother = Chebyshev::new(
                     &self.a,
                     self.options.smoother_degree,
                     CHEBYSHEV_INTERVAL_RATIO,
                 )?;
+                setup.smoother_s = lap(&mut clock);
             }
         }
+        self.setup = setup;
         Ok(())
     }
 
@@ -597,6 +643,7 @@ impl IterativeSolver {
             coarse_solver: "amg-only",
             amg_levels: 0,
             amg_operator_complexity: 0.0,
+            setup: self.setup,
         };
         let add_amg = |report: &mut MultigridReport, amg: &Amg| {
             let r = amg.report();

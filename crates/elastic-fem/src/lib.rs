@@ -50,7 +50,9 @@ pub mod static_solver;
 pub use assembly::{assemble_stiffness, assemble_stiffness_into};
 pub use constraints::{Constraints, Dirichlet, PeriodicPairs, RigidComponent, RigidFace};
 pub use error::{FemError, FemResult};
-pub use iterative::{CoarseSolver, IterativeOptions, IterativeSolver};
+pub use iterative::{
+    CoarseSolver, IterativeOptions, IterativeSolver, MultigridReport, MultigridSetupTimes,
+};
 pub use loads::SurfaceTriangles;
 pub use material::{CubicCrystal, LameParameters, Material};
 pub use model::{Connectivity, Model, QualityReport};

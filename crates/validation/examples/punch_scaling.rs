@@ -96,6 +96,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "symbolic_s": t.symbolic_s,
             "numeric_s": t.numeric_s,
             "solve_s": t.solve_s,
+            "multigrid_setup_s": {
+                "fine_csr": t.multigrid_fine_csr_s,
+                "transfer": t.multigrid_transfer_s,
+                "coarse_operator": t.multigrid_coarse_operator_s,
+                "coarse_solver": t.multigrid_coarse_solver_s,
+                "smoother": t.multigrid_smoother_s,
+            },
             "total_s": t.total_s(),
             "assembly_over_numeric": (t.pattern_s + t.assembly_s) / t.numeric_s,
             "total_us_per_unknown": 1e6 * t.total_s() / r.unknowns as f64,

@@ -45,8 +45,8 @@ use contact_springs::Material as SpringMaterial;
 use elastic_fem::sparse::{FactorOptions, Ordering, SymbolicCholesky, SymmetricMatrix};
 use elastic_fem::{
     Constraints, Dirichlet, DofMap, FemError, IterativeOptions, IterativeSolver, LameParameters,
-    Material, Model, ReducedSystem, SolverMethod, StiffnessPattern, assemble_stiffness,
-    choose_method, static_solver::locate_factor_error,
+    Material, Model, MultigridSetupTimes, ReducedSystem, SolverMethod, StiffnessPattern,
+    assemble_stiffness, choose_method, static_solver::locate_factor_error,
 };
 use serde::{Deserialize, Serialize};
 
@@ -75,6 +75,21 @@ pub struct StageTimings {
     pub numeric_s: f64,
     /// Both triangular solves, expansion and reactions.
     pub solve_s: f64,
+    /// Iterative path (0 on the direct one), part of `numeric_s`: full-row CSR copy of K_red.
+    #[serde(default)]
+    pub multigrid_fine_csr_s: f64,
+    /// Iterative path, part of `numeric_s`: transfer operators P, Pᵀ.
+    #[serde(default)]
+    pub multigrid_transfer_s: f64,
+    /// Iterative path, part of `numeric_s`: Galerkin coarse operator Pᵀ K_red P.
+    #[serde(default)]
+    pub multigrid_coarse_operator_s: f64,
+    /// Iterative path, part of `numeric_s`: coarse Cholesky or coarse SA-AMG set-up.
+    #[serde(default)]
+    pub multigrid_coarse_solver_s: f64,
+    /// Iterative path, part of `numeric_s`: fine smoother (diagonal, λ_max power iterations).
+    #[serde(default)]
+    pub multigrid_smoother_s: f64,
 }
 
 impl StageTimings {
@@ -178,6 +193,7 @@ struct TwoSolves {
     symbolic_s: f64,
     numeric_s: f64,
     solve_s: f64,
+    multigrid: MultigridSetupTimes,
 }
 
 /// The assembled stiffness of one punch mesh for one material, reused by all springs.
@@ -397,6 +413,7 @@ impl<'m> AssembledPunch<'m> {
                         - numeric_s,
                     numeric_s,
                     solve_s: solve.elapsed().as_secs_f64(),
+                    multigrid: solver.report().setup,
                 }
             }
             _ => {
@@ -421,6 +438,7 @@ impl<'m> AssembledPunch<'m> {
                     symbolic_s,
                     numeric_s,
                     solve_s: t.elapsed().as_secs_f64(),
+                    multigrid: MultigridSetupTimes::default(),
                 }
             }
         };
@@ -468,6 +486,11 @@ impl<'m> AssembledPunch<'m> {
                 symbolic_s: solved.symbolic_s,
                 numeric_s: solved.numeric_s,
                 solve_s,
+                multigrid_fine_csr_s: solved.multigrid.fine_csr_s,
+                multigrid_transfer_s: solved.multigrid.transfer_s,
+                multigrid_coarse_operator_s: solved.multigrid.coarse_operator_s,
+                multigrid_coarse_solver_s: solved.multigrid.coarse_solver_s,
+                multigrid_smoother_s: solved.multigrid.smoother_s,
             },
             method: choice.method.name().to_string(),
             method_reason: choice.reason,
