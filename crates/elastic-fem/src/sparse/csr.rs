@@ -246,12 +246,17 @@ impl CsrMatrix {
     /// The Galerkin coarse operator A_c = Pᵀ A P (upper triangle, every diagonal present) for a
     /// prolongation `p` (fine rows × coarse columns) and its transpose `pt`.
     ///
-    /// Two-step product per block of [`GALERKIN_BLOCK`] coarse columns (blocks in parallel):
-    /// first the rows of A P for the fine rows the block's columns touch (Gustavson, keeping only
-    /// coarse columns ≤ the block's last), then column c of A_c = Σ_i P_ic (A P)_i,·. Cost
-    /// ≈ nnz(A)·p + nnz(P)·q multiply-adds (p, q: entries per row of P and of A P), against
-    /// nnz(P)·(nnz(A)/n)·p for the one-pass triple product, i.e. ≈ p× less for a smoothed
-    /// aggregation P (p ≈ 20–50); a fine row shared by two blocks is multiplied twice.
+    /// Blocks of [`GALERKIN_BLOCK`] coarse columns are computed in parallel, each column
+    /// independently of the thread count, by one of two products:
+    /// - **one pass** when P has at most [`ONE_PASS_MAX_P_ROW`] entries per row (the
+    ///   p-multigrid's Tet10 → Tet4 interpolation: 1 or 2): column c of A_c is
+    ///   Σ_{j ∈ Pᵀ row c} P_jc Σ_i A_ij P_i,· over the fine rows j it touches, ≈ nnz(P)·(nnz(A)/n)·p
+    ///   multiply-adds with p ≤ 2 and no intermediate matrix;
+    /// - **two steps** otherwise (smoothed aggregation, p ≈ 20–50): first the rows of A P for
+    ///   the fine rows the block's columns touch (Gustavson, keeping only coarse columns ≤ the
+    ///   block's last), then column c of A_c = Σ_i P_ic (A P)_i,·. Cost ≈ nnz(A)·p + nnz(P)·q
+    ///   (q: entries per row of A P), ≈ p× less than one pass; a fine row shared by two blocks
+    ///   is multiplied twice.
     pub fn galerkin(&self, p: &RowSparse, pt: &RowSparse) -> FemResult<SymmetricMatrix> {
         let nc = pt.rows();
         if p.rows() != self.dim() || p.cols() != nc || pt.cols() != self.dim() {
@@ -261,10 +266,20 @@ impl CsrMatrix {
                 found: p.rows(),
             });
         }
+        let one_pass = p.max_row_len() <= ONE_PASS_MAX_P_ROW;
         let blocks: Vec<(Vec<usize>, Vec<usize>, Vec<f64>)> = (0..nc)
             .into_par_iter()
             .chunks(GALERKIN_BLOCK)
-            .map(|cols| self.galerkin_block(p, pt, &cols))
+            .map_init(
+                || Accumulator::new(nc),
+                |acc, cols| {
+                    if one_pass {
+                        self.galerkin_block_one_pass(p, pt, &cols, acc)
+                    } else {
+                        self.galerkin_block(p, pt, &cols, acc)
+                    }
+                },
+            )
             .collect();
         let total: usize = blocks.iter().map(|b| b.1.len()).sum();
         let mut col_ptr = Vec::with_capacity(nc + 1);
@@ -279,14 +294,43 @@ impl CsrMatrix {
         SymmetricMatrix::from_upper_parts(nc, col_ptr, row_idx, values)
     }
 
-    /// Upper columns `cols` (consecutive) of Pᵀ A P as (column pointers, rows, values).
+    /// Upper columns `cols` (consecutive) of Pᵀ A P as (column pointers, rows, values), in one
+    /// pass over the rows of A that the columns touch (short rows of P).
+    fn galerkin_block_one_pass(
+        &self,
+        p: &RowSparse,
+        pt: &RowSparse,
+        cols: &[usize],
+        acc: &mut Accumulator,
+    ) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
+        let (mut ptr, mut rows, mut vals) = (vec![0usize], Vec::new(), Vec::new());
+        for &c in cols {
+            for (j, w_j) in pt.row(c) {
+                for k in self.row_ptr[j]..self.row_ptr[j + 1] {
+                    let a = w_j * self.values[k];
+                    for (c2, w_i) in p.row(self.col_idx[k] as usize) {
+                        if c2 <= c {
+                            acc.add(c2, w_i * a);
+                        }
+                    }
+                }
+            }
+            acc.add(c, 0.0);
+            acc.drain_into(true, &mut rows, &mut vals);
+            ptr.push(rows.len());
+        }
+        (ptr, rows, vals)
+    }
+
+    /// Upper columns `cols` (consecutive) of Pᵀ A P as (column pointers, rows, values), in two
+    /// steps through the rows of A P (long rows of P).
     fn galerkin_block(
         &self,
         p: &RowSparse,
         pt: &RowSparse,
         cols: &[usize],
+        acc: &mut Accumulator,
     ) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
-        let nc = pt.rows();
         let last = cols.last().copied().unwrap_or(0);
         let mut fine: Vec<usize> = cols
             .iter()
@@ -294,7 +338,6 @@ impl CsrMatrix {
             .collect();
         fine.sort_unstable();
         fine.dedup();
-        let mut acc = Accumulator::new(nc);
         // Rows of A P (coarse columns ≤ last) for the touched fine rows.
         let (mut ap_ptr, mut ap_col, mut ap_val) = (vec![0usize], Vec::new(), Vec::new());
         for &i in &fine {
@@ -327,6 +370,10 @@ impl CsrMatrix {
         (ptr, rows, vals)
     }
 }
+
+/// Longest row of P for which [`CsrMatrix::galerkin`] uses the one-pass product (module docs
+/// of the method). Dimensionless; default 4.
+pub const ONE_PASS_MAX_P_ROW: usize = 4;
 
 /// Coarse columns per task of [`CsrMatrix::galerkin`]: large enough that few fine rows are
 /// shared between blocks (and multiplied twice), small enough to balance threads and keep the
@@ -425,6 +472,15 @@ impl RowSparse {
         self.cols
     }
 
+    /// Most entries in one row (0 for an empty matrix).
+    pub fn max_row_len(&self) -> usize {
+        self.row_ptr
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .max()
+            .unwrap_or(0)
+    }
+
     /// Entries (column, value) of row `i`.
     pub fn row(&self, i: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
         let (s, e) = (self.row_ptr[i], self.row_ptr[i + 1]);
@@ -507,6 +563,69 @@ mod tests {
         csr.mul_vec(&x, &mut y2);
         assert_eq!(y1, y2, "A x from CSR and from the upper triangle");
         assert_eq!(csr.diagonal(), vec![4.0, 5.0, 6.0], "diagonal of A");
+    }
+
+    /// Full n × n matrix with a_ii = 4 + i, a_ij = 1/(1 + i + j) for |i − j| ≤ 3, as upper CSC.
+    fn banded(n: usize) -> SymmetricMatrix {
+        let (mut cp, mut ri, mut v) = (vec![0usize], Vec::new(), Vec::new());
+        for j in 0..n {
+            for i in j.saturating_sub(3)..=j {
+                ri.push(i);
+                v.push(if i == j {
+                    4.0 + i as f64
+                } else {
+                    1.0 / (1 + i + j) as f64
+                });
+            }
+            cp.push(ri.len());
+        }
+        SymmetricMatrix::from_upper_parts(n, cp, ri, v).unwrap()
+    }
+
+    /// Both Galerkin algorithms (one pass for rows of P with ≤ ONE_PASS_MAX_P_ROW entries, two
+    /// steps for longer ones) against the dense Pᵀ A P.
+    #[test]
+    fn galerkin_one_pass_and_two_step_products_equal_the_dense_triple_product() {
+        let (n, nc) = (13, ONE_PASS_MAX_P_ROW + 2);
+        let a = banded(n);
+        let csr = CsrMatrix::from_symmetric(&a).unwrap();
+        let short: Vec<Vec<(usize, f64)>> = (0..n)
+            .map(|i| {
+                vec![
+                    (i * nc / n, 0.5 + 0.1 * i as f64),
+                    ((i * nc / n + 1) % nc, 0.25),
+                ]
+            })
+            .collect();
+        let long: Vec<Vec<(usize, f64)>> = (0..n)
+            .map(|i| (0..nc).map(|c| (c, 1.0 / (1 + i + 2 * c) as f64)).collect())
+            .collect();
+        for (rows, name) in [(short, "one pass"), (long, "two steps")] {
+            let p = RowSparse::from_rows(nc, &rows).unwrap();
+            assert_eq!(
+                p.max_row_len() <= ONE_PASS_MAX_P_ROW,
+                name == "one pass",
+                "{name}: the test P selects the algorithm it is named after"
+            );
+            let ac = csr.galerkin(&p, &p.transpose()).unwrap();
+            for c in 0..nc {
+                for r in 0..=c {
+                    let mut dense = 0.0;
+                    for i in 0..n {
+                        for j in 0..n {
+                            let pi: f64 = p.row(i).filter(|e| e.0 == r).map(|e| e.1).sum();
+                            let pj: f64 = p.row(j).filter(|e| e.0 == c).map(|e| e.1).sum();
+                            dense += pi * a.get(i.min(j), i.max(j)) * pj;
+                        }
+                    }
+                    let got = ac.get(r, c);
+                    assert!(
+                        (got - dense).abs() <= 1e-13 * dense.abs().max(1.0),
+                        "{name}: coarse entry ({r},{c}) = {got}, dense {dense}"
+                    );
+                }
+            }
+        }
     }
 
     #[test]
