@@ -313,7 +313,8 @@ fn lanczos_lambda_max(a: &CsrMatrix, inv_diag: &[f64], steps: usize) -> f64 {
             .for_each(|((x, d), (vj, vp))| *x = *x * d - alpha_j * vj - beta_prev * vp);
         alpha.push(alpha_j);
         let beta_j = d_dot(&w, &w).sqrt();
-        if !(beta_j > 1e-12 * alpha_j.abs()) {
+        // Stop on an invariant subspace (β ≈ 0) or a NaN.
+        if beta_j.partial_cmp(&(1e-12 * alpha_j.abs())) != Some(std::cmp::Ordering::Greater) {
             break;
         }
         beta.push(beta_j);

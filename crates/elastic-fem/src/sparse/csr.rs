@@ -294,6 +294,25 @@ impl CsrMatrix {
         SymmetricMatrix::from_upper_parts(nc, col_ptr, row_idx, values)
     }
 
+    /// Adds `scale` × (row i of A) P into `acc`, coarse columns ≤ `last` only.
+    fn add_row_times_p(
+        &self,
+        i: usize,
+        scale: f64,
+        p: &RowSparse,
+        last: usize,
+        acc: &mut Accumulator,
+    ) {
+        for k in self.row_ptr[i]..self.row_ptr[i + 1] {
+            let a = scale * self.values[k];
+            for (c2, w) in p.row(self.col_idx[k] as usize) {
+                if c2 <= last {
+                    acc.add(c2, w * a);
+                }
+            }
+        }
+    }
+
     /// Upper columns `cols` (consecutive) of Pᵀ A P as (column pointers, rows, values), in one
     /// pass over the rows of A that the columns touch (short rows of P).
     fn galerkin_block_one_pass(
@@ -306,14 +325,7 @@ impl CsrMatrix {
         let (mut ptr, mut rows, mut vals) = (vec![0usize], Vec::new(), Vec::new());
         for &c in cols {
             for (j, w_j) in pt.row(c) {
-                for k in self.row_ptr[j]..self.row_ptr[j + 1] {
-                    let a = w_j * self.values[k];
-                    for (c2, w_i) in p.row(self.col_idx[k] as usize) {
-                        if c2 <= c {
-                            acc.add(c2, w_i * a);
-                        }
-                    }
-                }
+                self.add_row_times_p(j, w_j, p, c, acc);
             }
             acc.add(c, 0.0);
             acc.drain_into(true, &mut rows, &mut vals);
@@ -341,14 +353,7 @@ impl CsrMatrix {
         // Rows of A P (coarse columns ≤ last) for the touched fine rows.
         let (mut ap_ptr, mut ap_col, mut ap_val) = (vec![0usize], Vec::new(), Vec::new());
         for &i in &fine {
-            for k in self.row_ptr[i]..self.row_ptr[i + 1] {
-                let a = self.values[k];
-                for (c2, w2) in p.row(self.col_idx[k] as usize) {
-                    if c2 <= last {
-                        acc.add(c2, a * w2);
-                    }
-                }
-            }
+            self.add_row_times_p(i, 1.0, p, last, acc);
             acc.drain_into(false, &mut ap_col, &mut ap_val);
             ap_ptr.push(ap_col.len());
         }

@@ -251,30 +251,44 @@ mod tests {
         SymmetricMatrix::from_upper_parts(n, col_ptr, rows, vals).unwrap()
     }
 
-    #[test]
-    fn pcg_meets_its_energy_error_rule() {
-        let n = 200;
-        let a = CsrMatrix::from_symmetric(&laplacian(n)).unwrap();
-        let b: Vec<f64> = (0..n).map(|i| ((i * 7) % 11) as f64 - 5.0).collect();
-        let mut x = vec![0.0; n];
-        let options = PcgOptions {
-            relative_energy_error: 1e-8,
-            max_iterations: 1000,
-            error_delay: 4,
-            contraction_limit: DEFAULT_CONTRACTION_LIMIT,
-        };
+    /// A non-smooth right-hand side of length n.
+    fn test_rhs(n: usize) -> Vec<f64> {
+        (0..n).map(|i| ((i * 7) % 11) as f64 - 5.0).collect()
+    }
+
+    /// CG (identity preconditioner) on `a` x = `b` from zero; the report and x.
+    fn unpreconditioned(
+        a: &CsrMatrix,
+        b: &[f64],
+        options: &PcgOptions,
+    ) -> FemResult<(PcgReport, Vec<f64>)> {
+        let mut x = vec![0.0; b.len()];
         let report = pcg(
             |v, o| a.mul_vec(v, o),
             |r, z| {
                 z.copy_from_slice(r);
                 Ok(())
             },
-            &b,
+            b,
             &mut x,
-            &mut PcgWorkspace::new(n),
-            &options,
-        )
-        .unwrap();
+            &mut PcgWorkspace::new(b.len()),
+            options,
+        )?;
+        Ok((report, x))
+    }
+
+    #[test]
+    fn pcg_meets_its_energy_error_rule() {
+        let n = 200;
+        let a = CsrMatrix::from_symmetric(&laplacian(n)).unwrap();
+        let b = test_rhs(n);
+        let options = PcgOptions {
+            relative_energy_error: 1e-8,
+            max_iterations: 1000,
+            error_delay: 4,
+            contraction_limit: DEFAULT_CONTRACTION_LIMIT,
+        };
+        let (report, x) = unpreconditioned(&a, &b, &options).unwrap();
         let mut ax = vec![0.0; n];
         a.mul_vec(&x, &mut ax);
         let res: f64 = ax
@@ -311,26 +325,13 @@ mod tests {
         )
         .unwrap();
         let a = CsrMatrix::from_symmetric(&shifted).unwrap();
-        let b: Vec<f64> = (0..n).map(|i| ((i * 7) % 11) as f64 - 5.0).collect();
-        let mut x = vec![0.0; n];
         let options = PcgOptions {
             relative_energy_error: tolerance,
             max_iterations: 1000,
             error_delay: DEFAULT_ERROR_DELAY,
             contraction_limit,
         };
-        let report = pcg(
-            |v, o| a.mul_vec(v, o),
-            |r, z| {
-                z.copy_from_slice(r);
-                Ok(())
-            },
-            &b,
-            &mut x,
-            &mut PcgWorkspace::new(n),
-            &options,
-        )
-        .unwrap();
+        let (report, x) = unpreconditioned(&a, &test_rhs(n), &options).unwrap();
         (report.iterations, x, a)
     }
 
@@ -366,18 +367,7 @@ mod tests {
             error_delay: 4,
             contraction_limit: DEFAULT_CONTRACTION_LIMIT,
         };
-        let err = pcg(
-            |v, o| a.mul_vec(v, o),
-            |r, z| {
-                z.copy_from_slice(r);
-                Ok(())
-            },
-            &b,
-            &mut vec![0.0; n],
-            &mut PcgWorkspace::new(n),
-            &options,
-        )
-        .unwrap_err();
+        let err = unpreconditioned(&a, &b, &options).unwrap_err();
         match err {
             FemError::IterativeNotConverged {
                 iterations, rule, ..
