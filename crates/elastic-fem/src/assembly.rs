@@ -1,7 +1,9 @@
 //! Numeric assembly of the global stiffness into a [`SymmetricMatrix`] with a prebuilt
-//! [`StiffnessPattern`]. Elements of one colour share no node, so each colour is assembled in
-//! parallel (rayon) without write conflicts; values are accumulated in relaxed atomics (plain
-//! loads/stores on x86-64) so that the code stays safe.
+//! [`StiffnessPattern`]. The pattern cuts the elements into blocks close in space and colours
+//! the blocks so that blocks of one colour share no node: each colour's blocks are assembled in
+//! parallel (rayon, one thread per block, elements in order) without write conflicts, and every
+//! entry sums its contributions in an order that does not depend on the thread count. Values
+//! are accumulated in relaxed atomics (plain loads/stores on x86-64) so that the code stays safe.
 
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 
@@ -17,9 +19,6 @@ use crate::pattern::{LOWER_PAIR, StiffnessPattern};
 use crate::quadrature::{tet_degree1, tet_degree5};
 use crate::shape::{Tet4, Tet10};
 use crate::sparse::SymmetricMatrix;
-
-/// Elements per rayon task inside a colour. Dimensionless; default 64.
-pub const ASSEMBLY_CHUNK: usize = 64;
 
 fn atomic_add(slot: &AtomicU64, value: f64) {
     // No two threads touch the same slot within a colour: load + store is race-free.
@@ -73,6 +72,48 @@ fn geometry_error(element: usize, defect: GeometryDefect) -> FemError {
     }
 }
 
+/// Assembles the elements of one block, in order, into `values`.
+fn assemble_block(
+    model: &Model,
+    pattern: &StiffnessPattern,
+    elements: &[u32],
+    values: &[AtomicU64],
+) -> FemResult<()> {
+    let col_ptr = &pattern.col_ptr;
+    match model.connectivity() {
+        Connectivity::Tet4(conn) => {
+            let mut ke = SMatrix::<f64, 12, 12>::zeros();
+            for &e in elements {
+                let e = e as usize;
+                let x = model.element_coords(&conn[e]);
+                let law: &Constitutive = model.constitutive_of(e);
+                assemble_element_matrix_into::<4, 12, Tet4>(&mut ke, &x, law, tet_degree1())
+                    .map_err(|d| geometry_error(e, d))?;
+                let map = &pattern.scatter[e * 16..(e + 1) * 16];
+                scatter(&ke, &conn[e], map, col_ptr, values);
+            }
+        }
+        Connectivity::Tet10(conn) => {
+            let mut ke = SMatrix::<f64, 30, 30>::zeros();
+            for &e in elements {
+                let e = e as usize;
+                let x = model.element_coords(&conn[e]);
+                let law = model.constitutive_of(e);
+                let rule = if model.is_curved(e) {
+                    tet_degree5()
+                } else {
+                    tet10_stiffness_rule(&x)
+                };
+                assemble_element_matrix_into::<10, 30, Tet10>(&mut ke, &x, law, rule)
+                    .map_err(|d| geometry_error(e, d))?;
+                let map = &pattern.scatter[e * 100..(e + 1) * 100];
+                scatter(&ke, &conn[e], map, col_ptr, values);
+            }
+        }
+    }
+    Ok(())
+}
+
 fn assemble_values(model: &Model, pattern: &StiffnessPattern) -> FemResult<Vec<AtomicU64>> {
     if !pattern.matches(model) {
         return Err(FemError::PatternMismatch {
@@ -82,59 +123,11 @@ fn assemble_values(model: &Model, pattern: &StiffnessPattern) -> FemResult<Vec<A
     let values: Vec<AtomicU64> = std::iter::repeat_with(|| AtomicU64::new(0))
         .take(pattern.nnz_upper())
         .collect();
-    let col_ptr = &pattern.col_ptr;
-    for color in &pattern.colors {
+    let blocks = &pattern.blocks;
+    for color in &blocks.colors {
         color
-            .par_chunks(ASSEMBLY_CHUNK)
-            .try_for_each(|chunk| -> FemResult<()> {
-                match model.connectivity() {
-                    Connectivity::Tet4(conn) => {
-                        let mut ke = SMatrix::<f64, 12, 12>::zeros();
-                        for &e in chunk {
-                            let e = e as usize;
-                            let x = model.element_coords(&conn[e]);
-                            let law: &Constitutive = model.constitutive_of(e);
-                            assemble_element_matrix_into::<4, 12, Tet4>(
-                                &mut ke,
-                                &x,
-                                law,
-                                tet_degree1(),
-                            )
-                            .map_err(|d| geometry_error(e, d))?;
-                            scatter(
-                                &ke,
-                                &conn[e],
-                                &pattern.scatter[e * 16..(e + 1) * 16],
-                                col_ptr,
-                                &values,
-                            );
-                        }
-                    }
-                    Connectivity::Tet10(conn) => {
-                        let mut ke = SMatrix::<f64, 30, 30>::zeros();
-                        for &e in chunk {
-                            let e = e as usize;
-                            let x = model.element_coords(&conn[e]);
-                            let law = model.constitutive_of(e);
-                            let rule = if model.is_curved(e) {
-                                tet_degree5()
-                            } else {
-                                tet10_stiffness_rule(&x)
-                            };
-                            assemble_element_matrix_into::<10, 30, Tet10>(&mut ke, &x, law, rule)
-                                .map_err(|d| geometry_error(e, d))?;
-                            scatter(
-                                &ke,
-                                &conn[e],
-                                &pattern.scatter[e * 100..(e + 1) * 100],
-                                col_ptr,
-                                &values,
-                            );
-                        }
-                    }
-                }
-                Ok(())
-            })?;
+            .par_iter()
+            .try_for_each(|&b| assemble_block(model, pattern, blocks.block(b), &values))?;
     }
     Ok(values)
 }

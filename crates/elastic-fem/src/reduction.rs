@@ -11,6 +11,7 @@ use rayon::prelude::*;
 
 use crate::constraints::{Constraints, RigidComponent};
 use crate::error::{FemError, FemResult};
+use crate::pattern::StiffnessPattern;
 use crate::sparse::SymmetricMatrix;
 use crate::sparse::matrix::fingerprint;
 
@@ -511,7 +512,19 @@ pub struct ReducedSystem {
 impl ReducedSystem {
     /// Builds the reduced pattern and scatter map for matrices with the pattern of `full`.
     pub fn new(full: &SymmetricMatrix, dof_map: DofMap) -> FemResult<Self> {
-        let n = full.dim();
+        Self::from_structure(full.col_ptr(), full.row_idx(), dof_map)
+    }
+
+    /// [`Self::new`] for the matrices that [`crate::assemble_stiffness`] builds on `pattern`,
+    /// before any is assembled (e.g. to run the symbolic analysis of K_red, through
+    /// [`Self::zero_matrix`], while K is assembled).
+    pub fn from_pattern(pattern: &StiffnessPattern, dof_map: DofMap) -> FemResult<Self> {
+        Self::from_structure(&pattern.col_ptr, &pattern.row_idx, dof_map)
+    }
+
+    /// The reduced pattern of full upper CSC structure (`cp`, `ri`).
+    fn from_structure(cp: &[usize], ri: &[usize], dof_map: DofMap) -> FemResult<Self> {
+        let n = cp.len() - 1;
         if n != dof_map.full_count() {
             return Err(FemError::DimensionMismatch {
                 what: "DOF map vs stiffness matrix",
@@ -520,7 +533,6 @@ impl ReducedSystem {
             });
         }
         let m = dof_map.reduced_count();
-        let (cp, ri) = (full.col_ptr(), full.row_idx());
         if m >= PRESCRIBED as usize {
             return Err(FemError::SparseBackend(format!(
                 "{m} reduced unknowns exceed 32-bit indices"
@@ -548,8 +560,8 @@ impl ReducedSystem {
         Ok(Self {
             dof_map,
             full_dim: n,
-            full_nnz: full.nnz_upper(),
-            full_fingerprint: full.pattern_fingerprint(),
+            full_nnz: ri.len(),
+            full_fingerprint: fingerprint(n, cp, ri),
             col_ptr,
             row_idx: rows,
             scatter,
@@ -579,14 +591,20 @@ impl ReducedSystem {
         Ok(())
     }
 
-    /// K_red = Tᵀ K T as a new matrix.
-    pub fn reduce_matrix(&self, full: &SymmetricMatrix) -> FemResult<SymmetricMatrix> {
-        let mut out = SymmetricMatrix::from_trusted_parts(
+    /// A matrix with the reduced pattern and zero values: the structure for a symbolic
+    /// analysis, and the storage for [`Self::reduce_matrix_into`].
+    pub fn zero_matrix(&self) -> SymmetricMatrix {
+        SymmetricMatrix::from_trusted_parts(
             self.dim(),
             self.col_ptr.clone(),
             self.row_idx.clone(),
             vec![0.0; self.row_idx.len()],
-        );
+        )
+    }
+
+    /// K_red = Tᵀ K T as a new matrix.
+    pub fn reduce_matrix(&self, full: &SymmetricMatrix) -> FemResult<SymmetricMatrix> {
+        let mut out = self.zero_matrix();
         self.reduce_matrix_into(full, &mut out)?;
         Ok(out)
     }

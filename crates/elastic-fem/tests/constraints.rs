@@ -530,3 +530,37 @@ fn a_floating_second_body_is_named_and_ties_to_a_fixed_body_constrain_it() {
         "the tied block must have no free rigid mode: {modes:?}"
     );
 }
+
+#[test]
+fn reduction_built_from_the_pattern_before_assembly_equals_the_one_built_from_the_matrix() {
+    use elastic_fem::{DofMap, ReducedSystem, StiffnessPattern, assemble_stiffness};
+    let mesh = BoxMesh::tet10([4.0, 1.0, 1.0], [6, 2, 2]);
+    let model = model_of(&mesh, Material::isotropic(E_PA, NU).unwrap());
+    let constraints = Constraints {
+        dirichlet: bar_supports(&mesh),
+        rigid_faces: vec![RigidFace {
+            nodes: mesh.face_nodes(BoxFace::XMax),
+            components: [
+                RigidComponent::Loaded { force_n: 1.0 },
+                RigidComponent::Free,
+                RigidComponent::Prescribed {
+                    displacement_m: 1e-6,
+                },
+            ],
+        }],
+        ..Default::default()
+    };
+    let pattern = StiffnessPattern::build(&model);
+    let dof_map = || DofMap::new(model.node_count(), &constraints).unwrap();
+    let early = ReducedSystem::from_pattern(&pattern, dof_map()).unwrap();
+    let stiffness = assemble_stiffness(&model, &pattern).unwrap();
+    let late = ReducedSystem::new(&stiffness, dof_map()).unwrap();
+    let mut k_early = early.zero_matrix();
+    assert!(k_early.values().iter().all(|&v| v == 0.0));
+    early.reduce_matrix_into(&stiffness, &mut k_early).unwrap();
+    let k_late = late.reduce_matrix(&stiffness).unwrap();
+    assert_eq!(k_early.col_ptr(), k_late.col_ptr());
+    assert_eq!(k_early.row_idx(), k_late.row_idx());
+    assert_eq!(k_early.values(), k_late.values());
+    assert!(k_late.values().iter().any(|&v| v != 0.0));
+}

@@ -21,7 +21,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use elastic_fem::condense::{Pattern, condense_by_pcg};
-use elastic_fem::sparse::{FactorOptions, NumericCholesky, SymmetricMatrix};
+use elastic_fem::sparse::{FactorOptions, NumericCholesky, SymbolicCholesky, SymmetricMatrix};
 use elastic_fem::static_solver::{DIRECT_FACTOR_MEMORY_BYTES, locate_factor_error};
 use elastic_fem::{
     CostQuery, FemError, FemResult, IterativeOptions, IterativeSolver, Model, ReducedSystem,
@@ -150,18 +150,32 @@ pub(crate) struct Condensed {
     pub pcg_iterations: usize,
 }
 
-/// Chooses the solver of `k_red` (the body's reduced stiffness; `masters` are the disks' z tie
-/// unknowns) and condenses it onto the disks.
-pub(crate) fn condense_body(
+/// The solver chosen for a body, with the direct path's symbolic analysis: everything that
+/// needs only the structure of the reduced stiffness ([`plan_body`]), so that it can run while
+/// the values are assembled.
+#[derive(Debug)]
+pub(crate) struct SolverPlan {
+    method: SolverMethod,
+    /// Why this solver (the cost model's figures, or "requested").
+    reason: String,
+    /// The direct path's symbolic analysis (`None` for the iterative path).
+    symbolic: Option<SymbolicCholesky>,
+    ordering_cached: bool,
+    /// METIS ordering (or the cached one) and symbolic analysis (s).
+    analysis_s: f64,
+}
+
+/// Chooses the solver of a body whose reduced stiffness has the structure of `k_red` (values
+/// unused; `masters` are the disks' z tie unknowns) and, for the direct path, runs the symbolic
+/// analysis.
+pub(crate) fn plan_body(
     spec: &BodySpec<'_>,
     model: &Model,
-    reduced: &ReducedSystem,
     k_red: &SymmetricMatrix,
     masters: &[usize],
     order_cache: Option<&Path>,
     requested: FemSolver,
-) -> Result<Condensed> {
-    let fem = |e| fem_error(spec, e);
+) -> Result<SolverPlan> {
     let start = Instant::now();
     let query = CostQuery {
         rhs_count: masters.len(),
@@ -191,20 +205,47 @@ pub(crate) fn condense_body(
     if let Some(e) = analysis_error {
         return Err(e);
     }
-    let (choice, symbolic) = chosen.map_err(fem)?;
-    let reason = choice.reason;
-    if choice.method == SolverMethod::Iterative {
-        return condense_iterative(spec, model, reduced, k_red, masters, reason);
-    }
-    let (symbolic, ordering_cached) = match symbolic {
-        Some(s) => (s, cached.get()),
-        None => analyse(spec, k_red, masters, order_cache)?,
+    let (choice, symbolic) = chosen.map_err(|e| fem_error(spec, e))?;
+    let (symbolic, ordering_cached) = match (choice.method, symbolic) {
+        (SolverMethod::Iterative, _) => (None, false),
+        (_, Some(s)) => (Some(s), cached.get()),
+        (_, None) => {
+            let (s, from_cache) = analyse(spec, k_red, masters, order_cache)?;
+            (Some(s), from_cache)
+        }
     };
-    let analysis_s = start.elapsed().as_secs_f64();
+    Ok(SolverPlan {
+        method: choice.method,
+        reason: choice.reason,
+        symbolic,
+        ordering_cached,
+        analysis_s: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// Factors (or sets up PCG for) `k_red`, the body's reduced stiffness, as `plan` says, and
+/// condenses it onto the disks (`masters`: their z tie unknowns).
+pub(crate) fn condense_body(
+    spec: &BodySpec<'_>,
+    model: &Model,
+    reduced: &ReducedSystem,
+    k_red: &SymmetricMatrix,
+    masters: &[usize],
+    plan: SolverPlan,
+) -> Result<Condensed> {
+    let fem = |e| fem_error(spec, e);
+    let (reason, analysis_s) = (plan.reason, plan.analysis_s);
+    let symbolic = match (plan.method, plan.symbolic) {
+        (SolverMethod::Iterative, _) | (_, None) => {
+            return condense_iterative(spec, model, reduced, k_red, masters, reason);
+        }
+        (_, Some(symbolic)) => symbolic,
+    };
+    let start = Instant::now();
     let factor = symbolic
         .factor_with(k_red, direct_factor_options())
         .map_err(|e| fem(locate_factor_error(e, reduced.dof_map())))?;
-    let factor_s = start.elapsed().as_secs_f64();
+    let factor_s = analysis_s + start.elapsed().as_secs_f64();
     let start = Instant::now();
     let compliance = factor.trailing_inverse(masters.len()).map_err(fem)? * spec.disk_fraction;
     Ok(Condensed {
@@ -214,7 +255,7 @@ pub(crate) fn condense_body(
         factor_nnz: symbolic.factor_nnz(),
         factor_flops: symbolic.factor_flops(),
         analysis_s,
-        ordering_cached,
+        ordering_cached: plan.ordering_cached,
         factor_s,
         solve_s: start.elapsed().as_secs_f64(),
         pcg_iterations: 0,
