@@ -541,10 +541,33 @@ impl IterativeSolver {
                 found: k_red.dim(),
             });
         }
+        let clock = std::time::Instant::now();
+        let a = CsrMatrix::from_symmetric(k_red)?;
+        let fine_csr_s = clock.elapsed().as_secs_f64();
+        let mut solver = Self::from_csr(model, dof_map, a, options, factor)?;
+        solver.setup.fine_csr_s = fine_csr_s;
+        Ok(solver)
+    }
+
+    /// [`Self::new`] for the reduced matrix already in full-row CSR (e.g. from
+    /// [`crate::ReducedSystem::reduce_matrix_csr`], which skips the upper-triangle copy).
+    pub fn from_csr(
+        model: &Model,
+        dof_map: &DofMap,
+        a: CsrMatrix,
+        options: &IterativeOptions,
+        factor: FactorOptions,
+    ) -> FemResult<Self> {
+        options.validate()?;
+        if a.dim() != dof_map.reduced_count() {
+            return Err(FemError::DimensionMismatch {
+                what: "reduced matrix vs DOF map",
+                expected: dof_map.reduced_count(),
+                found: a.dim(),
+            });
+        }
         let mut clock = std::time::Instant::now();
         let mut setup = MultigridSetupTimes::default();
-        let a = CsrMatrix::from_symmetric(k_red)?;
-        setup.fine_csr_s = lap(&mut clock);
         if let Connectivity::Tet4(_) = model.connectivity() {
             let dofs: Vec<usize> = (0..a.dim())
                 .map(|j| dof_map.representative_dof(j))

@@ -12,8 +12,8 @@ use rayon::prelude::*;
 use crate::constraints::{Constraints, RigidComponent};
 use crate::error::{FemError, FemResult};
 use crate::pattern::StiffnessPattern;
-use crate::sparse::SymmetricMatrix;
 use crate::sparse::matrix::fingerprint;
+use crate::sparse::{CsrLayout, CsrMatrix, SymmetricMatrix};
 
 /// Relative tolerance under which two prescribed values for the same (tied) DOF are treated
 /// as equal. Dimensionless; default 1e-12.
@@ -329,6 +329,18 @@ impl DofMap {
     }
 }
 
+/// Reduced unknown of every full DOF as a compact table ([`PRESCRIBED`]: none).
+fn reduced_table(dof_map: &DofMap) -> Vec<u32> {
+    dof_map
+        .targets
+        .iter()
+        .map(|t| match t {
+            DofTarget::Reduced(j) => *j as u32,
+            DofTarget::Prescribed(_) => PRESCRIBED,
+        })
+        .collect()
+}
+
 /// Scatter-map marker: entry couples a prescribed DOF and is dropped from K_red.
 const DROPPED: u32 = u32::MAX;
 
@@ -539,14 +551,7 @@ impl ReducedSystem {
             )));
         }
         // Reduced unknown of every full DOF as a compact table (PRESCRIBED: none).
-        let reduced: Vec<u32> = dof_map
-            .targets
-            .iter()
-            .map(|t| match t {
-                DofTarget::Reduced(j) => *j as u32,
-                DofTarget::Prescribed(_) => PRESCRIBED,
-            })
-            .collect();
+        let reduced = reduced_table(&dof_map);
         // Passes 1–2: the reduced pattern (rows of every reduced column, sorted, unique).
         let (col_ptr, rows) = reduced_pattern(m, cp, ri, &reduced)?;
         let write = rows.len();
@@ -631,6 +636,61 @@ impl ReducedSystem {
             dst[pos] += if s & DOUBLE != 0 { 2.0 * v } else { *v };
         }
         Ok(())
+    }
+
+    /// The layout of K_red's full-row CSR (both triangles), for [`Self::reduce_csr_values`].
+    pub fn csr_layout(&self) -> FemResult<CsrLayout> {
+        CsrLayout::of_upper(&self.col_ptr, &self.row_idx)
+    }
+
+    /// K_red = Tᵀ K T straight into the full-row CSR of the iterative path (no upper-triangle
+    /// copy): every entry of K adds into its position in row max(r, c) and into its mirror.
+    /// Each CSR entry sums its contributions in the order of K's storage, as
+    /// [`Self::reduce_matrix_into`] does: the same bits as [`CsrMatrix::from_symmetric`] of
+    /// [`Self::reduce_matrix`].
+    pub fn reduce_csr_values(
+        &self,
+        full: &SymmetricMatrix,
+        layout: &CsrLayout,
+    ) -> FemResult<Vec<f64>> {
+        self.check_full(full)?;
+        if layout.nnz() != (2 * self.row_idx.len()).saturating_sub(self.dim()) {
+            return Err(FemError::PatternMismatch {
+                detail: "CSR layout was built for another reduced pattern".into(),
+            });
+        }
+        let reduced = reduced_table(&self.dof_map);
+        let (cp, ri, v) = (full.col_ptr(), full.row_idx(), full.values());
+        let mut out = vec![0.0; layout.nnz()];
+        for k in 0..cp.len() - 1 {
+            let rk = reduced[k];
+            if rk == PRESCRIBED {
+                continue;
+            }
+            for p in cp[k]..cp[k + 1] {
+                let s = self.scatter[p];
+                if s == DROPPED {
+                    continue;
+                }
+                let pos = (s & !DOUBLE) as usize;
+                let value = if s & DOUBLE != 0 { 2.0 * v[p] } else { v[p] };
+                let column = rk.max(reduced[ri[p]]) as usize;
+                out[layout.position(pos, column)] += value;
+                if let Some(q) = layout.mirror(pos) {
+                    out[q] += value;
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// K_red as the iterative path's full-row CSR, built without the upper-triangle copy
+    /// ([`Self::csr_layout`] and [`Self::reduce_csr_values`] in one; keep those two to reduce
+    /// several matrices with one layout).
+    pub fn reduce_matrix_csr(&self, full: &SymmetricMatrix) -> FemResult<CsrMatrix> {
+        let layout = self.csr_layout()?;
+        let values = self.reduce_csr_values(full, &layout)?;
+        Ok(layout.into_matrix(values))
     }
 
     /// f_red = Tᵀ (f − K u_p) + F_rigid for the full load `f` (N).

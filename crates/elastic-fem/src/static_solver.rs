@@ -415,6 +415,103 @@ pub fn locate_factor_error(error: FemError, dof_map: &DofMap) -> FemError {
     }
 }
 
+fn report_for(
+    model: &Model,
+    reduced: &ReducedSystem,
+    matrix_nnz: usize,
+    ordering: Ordering,
+) -> SolveReport {
+    SolveReport {
+        full_unknowns: model.dof_count(),
+        reduced_unknowns: reduced.dim(),
+        matrix_nnz,
+        factor_nnz: 0,
+        ordering_used: ordering,
+        supernodal: false,
+        iterations: 0,
+        relative_energy_error: 0.0,
+    }
+}
+
+/// The requested iterative path: K_red goes straight into the solver's full-row CSR
+/// ([`ReducedSystem::reduce_matrix_csr`]), no upper-triangle copy; solves `q` in place.
+fn solve_iterative_requested(
+    model: &Model,
+    stiffness: &SymmetricMatrix,
+    reduced: &ReducedSystem,
+    q: &mut [f64],
+    options: &SolverOptions,
+) -> FemResult<(SolverChoice, SolveReport)> {
+    let a = reduced.reduce_matrix_csr(stiffness)?;
+    let mut report = report_for(model, reduced, (a.nnz() + a.dim()) / 2, options.ordering);
+    if reduced.dim() > 0 {
+        let solver = IterativeSolver::from_csr(
+            model,
+            reduced.dof_map(),
+            a,
+            &options.iterative,
+            options.factor,
+        )?;
+        let pcg = solver.solve_in_place(q, &mut solver.workspace())?;
+        report.iterations = pcg.iterations;
+        report.relative_energy_error = pcg.relative_energy_error;
+    }
+    let choice = SolverChoice {
+        method: SolverMethod::Iterative,
+        reason: "requested".into(),
+    };
+    Ok((choice, report))
+}
+
+/// Chooses the method for `k_red` (options) and solves `q` in place.
+fn solve_reduced(
+    model: &Model,
+    reduced: &ReducedSystem,
+    k_red: &SymmetricMatrix,
+    q: &mut [f64],
+    options: &SolverOptions,
+) -> FemResult<(SolverChoice, SolveReport)> {
+    let (choice, mut analysed) = choose_method(
+        options.method,
+        k_red,
+        1,
+        model.connectivity(),
+        options.ordering,
+    )?;
+    let mut report = report_for(model, reduced, k_red.nnz_upper(), options.ordering);
+    if reduced.dim() == 0 {
+        return Ok((choice, report));
+    }
+    match choice.method {
+        SolverMethod::Iterative => {
+            let solver = IterativeSolver::new(
+                model,
+                reduced.dof_map(),
+                k_red,
+                &options.iterative,
+                options.factor,
+            )?;
+            let pcg = solver.solve_in_place(q, &mut solver.workspace())?;
+            report.iterations = pcg.iterations;
+            report.relative_energy_error = pcg.relative_energy_error;
+        }
+        _ => {
+            let symbolic = match analysed.take() {
+                Some(s) => s,
+                None => SymbolicCholesky::analyze(k_red, options.ordering)?,
+            };
+            let numeric: NumericCholesky = symbolic
+                .factor_with(k_red, options.factor)
+                .map_err(|e| locate_factor_error(e, reduced.dof_map()))?;
+            numeric.solve_in_place(q)?;
+            report.factor_nnz = symbolic.factor_nnz();
+            report.ordering_used = symbolic.ordering_used();
+            report.supernodal = symbolic.is_supernodal();
+        }
+    }
+    Ok((choice, report))
+}
+
 /// Solves K u = f under the constraints.
 pub fn solve_static(
     problem: &StaticProblem<'_>,
@@ -435,54 +532,13 @@ pub fn solve_static(
         check_rigid_body_modes(model, &dof_map)?;
     }
     let reduced = ReducedSystem::new(&stiffness, dof_map)?;
-    let k_red = reduced.reduce_matrix(&stiffness)?;
     let mut q = reduced.reduce_load(&stiffness, problem.load_n)?;
-    let (choice, mut analysed) = choose_method(
-        options.method,
-        &k_red,
-        1,
-        model.connectivity(),
-        options.ordering,
-    )?;
-    let mut report = SolveReport {
-        full_unknowns: model.dof_count(),
-        reduced_unknowns: reduced.dim(),
-        matrix_nnz: k_red.nnz_upper(),
-        factor_nnz: 0,
-        ordering_used: options.ordering,
-        supernodal: false,
-        iterations: 0,
-        relative_energy_error: 0.0,
+    let (choice, report) = if options.method == SolverMethod::Iterative {
+        solve_iterative_requested(model, &stiffness, &reduced, &mut q, options)?
+    } else {
+        let k_red = reduced.reduce_matrix(&stiffness)?;
+        solve_reduced(model, &reduced, &k_red, &mut q, options)?
     };
-    if reduced.dim() > 0 {
-        match choice.method {
-            SolverMethod::Iterative => {
-                let solver = IterativeSolver::new(
-                    model,
-                    reduced.dof_map(),
-                    &k_red,
-                    &options.iterative,
-                    options.factor,
-                )?;
-                let pcg = solver.solve_in_place(&mut q, &mut solver.workspace())?;
-                report.iterations = pcg.iterations;
-                report.relative_energy_error = pcg.relative_energy_error;
-            }
-            _ => {
-                let symbolic = match analysed.take() {
-                    Some(s) => s,
-                    None => SymbolicCholesky::analyze(&k_red, options.ordering)?,
-                };
-                let numeric: NumericCholesky = symbolic
-                    .factor_with(&k_red, options.factor)
-                    .map_err(|e| locate_factor_error(e, reduced.dof_map()))?;
-                numeric.solve_in_place(&mut q)?;
-                report.factor_nnz = symbolic.factor_nnz();
-                report.ordering_used = symbolic.ordering_used();
-                report.supernodal = symbolic.is_supernodal();
-            }
-        }
-    }
     let u = reduced.expand(&q)?;
     if let Some(i) = u.iter().position(|v| !v.is_finite()) {
         return Err(FemError::NonFiniteSolution { unknown: i });

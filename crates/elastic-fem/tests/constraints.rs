@@ -564,3 +564,44 @@ fn reduction_built_from_the_pattern_before_assembly_equals_the_one_built_from_th
     assert_eq!(k_early.values(), k_late.values());
     assert!(k_late.values().iter().any(|&v| v != 0.0));
 }
+
+#[test]
+fn reduction_straight_into_full_rows_has_the_bits_of_the_upper_copy_made_full() {
+    use elastic_fem::sparse::CsrMatrix;
+    use elastic_fem::{DofMap, ReducedSystem, StiffnessPattern, assemble_stiffness};
+    let mesh = BoxMesh::tet10([4.0, 1.0, 1.0], [6, 2, 2]);
+    let model = model_of(&mesh, Material::isotropic(E_PA, NU).unwrap());
+    // Ties (a loaded rigid face: merged DOFs, doubled couplings) and prescribed values.
+    let constraints = Constraints {
+        dirichlet: bar_supports(&mesh),
+        rigid_faces: vec![RigidFace {
+            nodes: mesh.face_nodes(BoxFace::XMax),
+            components: [
+                RigidComponent::Loaded { force_n: 1.0 },
+                RigidComponent::Loaded { force_n: 0.0 },
+                RigidComponent::Prescribed {
+                    displacement_m: 1e-6,
+                },
+            ],
+        }],
+        ..Default::default()
+    };
+    let pattern = StiffnessPattern::build(&model);
+    let stiffness = assemble_stiffness(&model, &pattern).unwrap();
+    let dof_map = DofMap::new(model.node_count(), &constraints).unwrap();
+    let reduced = ReducedSystem::new(&stiffness, dof_map).unwrap();
+    let direct = reduced.reduce_matrix_csr(&stiffness).unwrap();
+    let via_upper = CsrMatrix::from_symmetric(&reduced.reduce_matrix(&stiffness).unwrap()).unwrap();
+    assert_eq!(direct.nnz(), via_upper.nnz());
+    assert_eq!(direct.diagonal(), via_upper.diagonal());
+    let n = reduced.dim();
+    for seed in 1..4 {
+        let x: Vec<f64> = (0..n)
+            .map(|i| ((i * 7919 + seed * 104729) % 1000) as f64 - 499.5)
+            .collect();
+        let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
+        direct.mul_vec(&x, &mut a);
+        via_upper.mul_vec(&x, &mut b);
+        assert_eq!(a, b, "products differ for seed {seed}");
+    }
+}

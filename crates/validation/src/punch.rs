@@ -42,11 +42,11 @@
 use std::time::Instant;
 
 use contact_springs::Material as SpringMaterial;
-use elastic_fem::sparse::{FactorOptions, Ordering, SymbolicCholesky, SymmetricMatrix};
+use elastic_fem::sparse::{CsrMatrix, FactorOptions, Ordering, SymbolicCholesky, SymmetricMatrix};
 use elastic_fem::{
     Constraints, Dirichlet, DofMap, FemError, IterativeOptions, IterativeSolver, LameParameters,
-    Material, Model, MultigridSetupTimes, ReducedSystem, SolverMethod, StiffnessPattern,
-    assemble_stiffness, choose_method, static_solver::locate_factor_error,
+    Material, Model, MultigridSetupTimes, ReducedSystem, SolverChoice, SolverMethod,
+    StiffnessPattern, assemble_stiffness, choose_method, static_solver::locate_factor_error,
 };
 use serde::{Deserialize, Serialize};
 
@@ -183,6 +183,14 @@ impl Default for PunchSolveOptions {
             clamped_only: false,
         }
     }
+}
+
+/// K_red as the chosen path needs it.
+enum ReducedMatrix {
+    /// Upper triangle (direct path, cost model).
+    Upper(SymmetricMatrix),
+    /// Both triangles by rows (requested iterative path).
+    FullRows(CsrMatrix),
 }
 
 /// Solutions of the reduced systems A and B (A only if clamped_only) with what the solve reports.
@@ -351,7 +359,13 @@ impl<'m> AssembledPunch<'m> {
         // splits connected meshes into spurious bodies on some gmsh meshes (union-find bug,
         // reported). A singular system would still be caught by the factorisation's pivot check.
         let reduced = ReducedSystem::new(&self.stiffness, map_a).map_err(fem)?;
-        let k_red = reduced.reduce_matrix(&self.stiffness).map_err(fem)?;
+        // The requested iterative path needs K_red only as its solver's full-row CSR, built
+        // without the upper-triangle copy; the direct path and the cost model need that copy.
+        let k_red = if options.method == SolverMethod::Iterative {
+            ReducedMatrix::FullRows(reduced.reduce_matrix_csr(&self.stiffness).map_err(fem)?)
+        } else {
+            ReducedMatrix::Upper(reduced.reduce_matrix(&self.stiffness).map_err(fem)?)
+        };
         let load_a = reduced
             .reduce_load(&self.stiffness, &vec![0.0; 3 * n])
             .map_err(fem)?;
@@ -373,14 +387,23 @@ impl<'m> AssembledPunch<'m> {
         let reduction_s = t.elapsed().as_secs_f64();
 
         let t = Instant::now();
-        let (choice, analysed) = choose_method(
-            options.method,
-            &k_red,
-            columns,
-            self.model.connectivity(),
-            options.ordering,
-        )
-        .map_err(fem)?;
+        let (choice, analysed) = match &k_red {
+            ReducedMatrix::Upper(k_red) => choose_method(
+                options.method,
+                k_red,
+                columns,
+                self.model.connectivity(),
+                options.ordering,
+            )
+            .map_err(fem)?,
+            ReducedMatrix::FullRows(_) => (
+                SolverChoice {
+                    method: SolverMethod::Iterative,
+                    reason: "requested".into(),
+                },
+                None,
+            ),
+        };
         let factor_options = FactorOptions {
             threads: options.threads,
             ..FactorOptions::default()
@@ -388,13 +411,23 @@ impl<'m> AssembledPunch<'m> {
         let solved = match choice.method {
             SolverMethod::Iterative => {
                 let setup = Instant::now();
-                let solver = IterativeSolver::new(
-                    &self.model,
-                    reduced.dof_map(),
-                    &k_red,
-                    &options.iterative,
-                    factor_options,
-                )
+                let (model, dof_map) = (&self.model, reduced.dof_map());
+                let solver = match k_red {
+                    ReducedMatrix::Upper(k_red) => IterativeSolver::new(
+                        model,
+                        dof_map,
+                        &k_red,
+                        &options.iterative,
+                        factor_options,
+                    ),
+                    ReducedMatrix::FullRows(a) => IterativeSolver::from_csr(
+                        model,
+                        dof_map,
+                        a,
+                        &options.iterative,
+                        factor_options,
+                    ),
+                }
                 .map_err(fem)?;
                 let numeric_s = setup.elapsed().as_secs_f64();
                 let solve = Instant::now();
@@ -417,6 +450,9 @@ impl<'m> AssembledPunch<'m> {
                 }
             }
             _ => {
+                let ReducedMatrix::Upper(k_red) = k_red else {
+                    unreachable!("the full-row copy is made for the iterative path only")
+                };
                 let symbolic = match analysed {
                     Some(s) => s,
                     None => SymbolicCholesky::analyze(&k_red, options.ordering).map_err(fem)?,

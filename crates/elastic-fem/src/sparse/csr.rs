@@ -45,15 +45,23 @@ pub(crate) fn split_columns(ptr: &[usize], blocks: usize) -> Vec<usize> {
 }
 
 /// The strictly upper entries (i, j) of a block of columns j, bucketed by row i (CSR over all
-/// rows, each row's entries in increasing j).
-struct RowBuckets {
+/// rows, each row's entries in increasing j), with a payload per entry (its value, or its
+/// position in the upper storage).
+struct RowBuckets<T> {
     ptr: Vec<usize>,
     col: Vec<u32>,
-    val: Vec<f64>,
+    val: Vec<T>,
 }
 
-impl RowBuckets {
-    fn new(n: usize, cp: &[usize], ri: &[usize], v: &[f64], cols: std::ops::Range<usize>) -> Self {
+impl<T: Copy + Default> RowBuckets<T> {
+    /// `payload(k)`: what entry k of the upper storage carries.
+    fn new(
+        n: usize,
+        cp: &[usize],
+        ri: &[usize],
+        payload: impl Fn(usize) -> T,
+        cols: std::ops::Range<usize>,
+    ) -> Self {
         let mut ptr = vec![0usize; n + 1];
         for j in cols.clone() {
             for &i in &ri[cp[j]..cp[j + 1] - 1] {
@@ -65,16 +73,166 @@ impl RowBuckets {
         }
         let mut fill = ptr[..n].to_vec();
         let mut col = vec![0u32; ptr[n]];
-        let mut val = vec![0.0; ptr[n]];
+        let mut val = vec![T::default(); ptr[n]];
         for j in cols {
             for k in cp[j]..cp[j + 1] - 1 {
                 let i = ri[k];
                 col[fill[i]] = j as u32;
-                val[fill[i]] = v[k];
+                val[fill[i]] = payload(k);
                 fill[i] += 1;
             }
         }
         Self { ptr, col, val }
+    }
+}
+
+/// Row `i` of the full matrix is column i of the upper triangle (rows ≤ i), then the entries
+/// (i, j > i) in increasing j. Buckets the strictly upper entries by row per block of columns
+/// (blocks in parallel), then fills rows in parallel, each copying its upper column and its
+/// buckets in block order: pure copies, the result is independent of the threads. Returns the
+/// row pointers, column indices and every entry's payload.
+fn full_rows<T: Copy + Default + Send + Sync>(
+    cp: &[usize],
+    ri: &[usize],
+    payload: impl Fn(usize) -> T + Sync,
+) -> (Vec<usize>, Vec<u32>, Vec<T>) {
+    let n = cp.len() - 1;
+    let blocks = split_columns(cp, TRANSPOSE_BLOCKS);
+    let buckets: Vec<RowBuckets<T>> = blocks
+        .par_windows(2)
+        .map(|w| RowBuckets::new(n, cp, ri, &payload, w[0]..w[1]))
+        .collect();
+    let mut row_ptr = vec![0usize; n + 1];
+    for i in 0..n {
+        let lower = cp[i + 1] - cp[i];
+        let upper: usize = buckets.iter().map(|b| b.ptr[i + 1] - b.ptr[i]).sum();
+        row_ptr[i + 1] = row_ptr[i] + lower + upper;
+    }
+    let nnz = row_ptr[n];
+    let mut col_idx = vec![0u32; nnz];
+    let mut values = vec![T::default(); nnz];
+    let row_ranges = split_columns(&row_ptr, TRANSPOSE_BLOCKS);
+    let mut pieces = Vec::with_capacity(row_ranges.len());
+    let (mut ci_rest, mut va_rest) = (col_idx.as_mut_slice(), values.as_mut_slice());
+    for w in row_ranges.windows(2) {
+        let len = row_ptr[w[1]] - row_ptr[w[0]];
+        let (ci, ci_tail) = std::mem::take(&mut ci_rest).split_at_mut(len);
+        let (va, va_tail) = std::mem::take(&mut va_rest).split_at_mut(len);
+        pieces.push((w[0]..w[1], ci, va));
+        (ci_rest, va_rest) = (ci_tail, va_tail);
+    }
+    pieces.into_par_iter().for_each(|(rows, ci, va)| {
+        let mut k = 0usize;
+        for i in rows {
+            for p in cp[i]..cp[i + 1] {
+                ci[k] = ri[p] as u32;
+                va[k] = payload(p);
+                k += 1;
+            }
+            for b in &buckets {
+                for q in b.ptr[i]..b.ptr[i + 1] {
+                    ci[k] = b.col[q];
+                    va[k] = b.val[q];
+                    k += 1;
+                }
+            }
+        }
+    });
+    (row_ptr, col_idx, values)
+}
+
+fn check_u32_dimension(n: usize) -> FemResult<()> {
+    if n >= u32::MAX as usize {
+        return Err(FemError::SparseBackend(format!(
+            "CSR matrix of dimension {n} exceeds 32-bit column indices"
+        )));
+    }
+    Ok(())
+}
+
+/// Where the entries of a symmetric matrix's upper-triangle CSC storage (`cp`, `ri`) go in its
+/// full-row CSR ([`CsrMatrix`]): entry k = (r, c), r ≤ c, of upper column c is entry (c, r) of
+/// row c at `row_ptr[c] + k − cp[c]`, and, when r < c, entry (r, c) of row r at `mirror[k]`.
+/// Built once per pattern; [`Self::matrix`] then fills a CSR matrix without the upper copy.
+#[derive(Debug, Clone)]
+pub struct CsrLayout {
+    col_ptr: Vec<usize>,
+    row_ptr: Vec<usize>,
+    col_idx: Vec<u32>,
+    /// Per upper entry: the position of its mirror in the CSR (u32::MAX on the diagonal).
+    mirror: Vec<u32>,
+}
+
+impl CsrLayout {
+    /// The layout of the upper CSC pattern (`cp`, `ri`; rows sorted, every diagonal last in
+    /// its column). Fails beyond 32-bit indices.
+    pub fn of_upper(cp: &[usize], ri: &[usize]) -> FemResult<Self> {
+        let n = cp.len() - 1;
+        check_u32_dimension(n)?;
+        let nnz_full = (2 * ri.len()).saturating_sub(n);
+        if nnz_full >= u32::MAX as usize {
+            return Err(FemError::SparseBackend(format!(
+                "CSR matrix with {nnz_full} entries exceeds 32-bit positions"
+            )));
+        }
+        let (row_ptr, col_idx, source) = full_rows(cp, ri, |k| k as u32);
+        let mut mirror = vec![u32::MAX; ri.len()];
+        for (i, w) in row_ptr.windows(2).enumerate() {
+            let strictly_upper = w[0] + (cp[i + 1] - cp[i])..w[1];
+            for q in strictly_upper {
+                mirror[source[q] as usize] = q as u32;
+            }
+        }
+        Ok(Self {
+            col_ptr: cp.to_vec(),
+            row_ptr,
+            col_idx,
+            mirror,
+        })
+    }
+
+    /// Position in the CSR values of upper entry `k` of column `c` (as the entry of row c).
+    pub fn position(&self, k: usize, c: usize) -> usize {
+        self.row_ptr[c] + k - self.col_ptr[c]
+    }
+
+    /// Position of upper entry `k`'s mirror in row r (`None` on the diagonal).
+    pub fn mirror(&self, k: usize) -> Option<usize> {
+        let q = self.mirror[k];
+        (q != u32::MAX).then_some(q as usize)
+    }
+
+    /// Stored entries of the full matrix.
+    pub fn nnz(&self) -> usize {
+        self.col_idx.len()
+    }
+
+    /// A CSR matrix with this layout and the given `values` (one per full entry).
+    pub fn matrix(&self, values: Vec<f64>) -> CsrMatrix {
+        assert_eq!(
+            values.len(),
+            self.nnz(),
+            "CsrLayout::matrix: wrong value count"
+        );
+        CsrMatrix {
+            row_ptr: self.row_ptr.clone(),
+            col_idx: self.col_idx.clone(),
+            values,
+        }
+    }
+
+    /// [`Self::matrix`], moving the pattern out of the layout.
+    pub fn into_matrix(self, values: Vec<f64>) -> CsrMatrix {
+        assert_eq!(
+            values.len(),
+            self.nnz(),
+            "CsrLayout::matrix: wrong value count"
+        );
+        CsrMatrix {
+            row_ptr: self.row_ptr,
+            col_idx: self.col_idx,
+            values,
+        }
     }
 }
 
@@ -90,58 +248,9 @@ impl CsrMatrix {
     /// The full matrix of a symmetric upper-triangle matrix. Fails if the dimension exceeds
     /// 32-bit column indices.
     pub fn from_symmetric(a: &SymmetricMatrix) -> FemResult<Self> {
-        let n = a.dim();
-        if n >= u32::MAX as usize {
-            return Err(FemError::SparseBackend(format!(
-                "CSR matrix of dimension {n} exceeds 32-bit column indices"
-            )));
-        }
-        let (cp, ri, v) = (a.col_ptr(), a.row_idx(), a.values());
-        // Row i = column i of the upper triangle (rows ≤ i), then the entries (i, j > i) in
-        // increasing j. The strictly upper entries are bucketed by row per block of columns
-        // (blocks in parallel); rows are then filled in parallel, each copying its upper column
-        // and its buckets in block order. Pure copies: the result is independent of the threads.
-        let blocks = split_columns(cp, TRANSPOSE_BLOCKS);
-        let buckets: Vec<RowBuckets> = blocks
-            .par_windows(2)
-            .map(|w| RowBuckets::new(n, cp, ri, v, w[0]..w[1]))
-            .collect();
-        let mut row_ptr = vec![0usize; n + 1];
-        for i in 0..n {
-            let lower = cp[i + 1] - cp[i];
-            let upper: usize = buckets.iter().map(|b| b.ptr[i + 1] - b.ptr[i]).sum();
-            row_ptr[i + 1] = row_ptr[i] + lower + upper;
-        }
-        let nnz = row_ptr[n];
-        let mut col_idx = vec![0u32; nnz];
-        let mut values = vec![0.0; nnz];
-        let row_ranges = split_columns(&row_ptr, TRANSPOSE_BLOCKS);
-        let mut pieces = Vec::with_capacity(row_ranges.len());
-        let (mut ci_rest, mut va_rest) = (col_idx.as_mut_slice(), values.as_mut_slice());
-        for w in row_ranges.windows(2) {
-            let len = row_ptr[w[1]] - row_ptr[w[0]];
-            let (ci, ci_tail) = std::mem::take(&mut ci_rest).split_at_mut(len);
-            let (va, va_tail) = std::mem::take(&mut va_rest).split_at_mut(len);
-            pieces.push((w[0]..w[1], ci, va));
-            (ci_rest, va_rest) = (ci_tail, va_tail);
-        }
-        pieces.into_par_iter().for_each(|(rows, ci, va)| {
-            let mut k = 0usize;
-            for i in rows {
-                for p in cp[i]..cp[i + 1] {
-                    ci[k] = ri[p] as u32;
-                    va[k] = v[p];
-                    k += 1;
-                }
-                for b in &buckets {
-                    for q in b.ptr[i]..b.ptr[i + 1] {
-                        ci[k] = b.col[q];
-                        va[k] = b.val[q];
-                        k += 1;
-                    }
-                }
-            }
-        });
+        check_u32_dimension(a.dim())?;
+        let v = a.values();
+        let (row_ptr, col_idx, values) = full_rows(a.col_ptr(), a.row_idx(), |k| v[k]);
         Ok(Self {
             row_ptr,
             col_idx,
