@@ -455,6 +455,49 @@ fn reduced_pattern(
     Ok((col_ptr, rows))
 }
 
+/// Whether the reduction only selects DOFs: no two DOFs share an unknown (no rigid faces or
+/// periodic ties), so unknowns are numbered in DOF order and K_red is K without the prescribed
+/// rows and columns.
+fn is_selection(dof_map: &DofMap) -> bool {
+    // Unknowns are numbered as their first DOF comes (`DofMap::new`): with one DOF each they
+    // increase with the DOF.
+    let selected = dof_map
+        .targets
+        .iter()
+        .filter(|t| matches!(t, DofTarget::Reduced(_)))
+        .count();
+    selected == dof_map.reduced_count && dof_map.representative.windows(2).all(|w| w[0] < w[1])
+}
+
+/// The reduced pattern and scatter map of a pure selection ([`is_selection`]) in one pass over
+/// K's upper pattern: unknowns increase with the DOF, so every free column keeps its free rows
+/// in order and its entries land one after another. The same result as the general passes.
+fn selected_pattern(
+    m: usize,
+    cp: &[usize],
+    ri: &[usize],
+    reduced: &[u32],
+) -> (Vec<usize>, Vec<usize>, Vec<u32>) {
+    let mut col_ptr = Vec::with_capacity(m + 1);
+    col_ptr.push(0usize);
+    let mut rows = Vec::with_capacity(ri.len());
+    let mut scatter = vec![DROPPED; ri.len()];
+    for k in 0..cp.len() - 1 {
+        if reduced[k] == PRESCRIBED {
+            continue;
+        }
+        for p in cp[k]..cp[k + 1] {
+            let rii = reduced[ri[p]];
+            if rii != PRESCRIBED {
+                scatter[p] = rows.len() as u32;
+                rows.push(rii as usize);
+            }
+        }
+        col_ptr.push(rows.len());
+    }
+    (col_ptr, rows, scatter)
+}
+
 /// Blocks of full columns whose scatter-map entries are computed in parallel; the result does
 /// not depend on it. Dimensionless; default 64.
 const SCATTER_BLOCKS: usize = 64;
@@ -552,16 +595,21 @@ impl ReducedSystem {
         }
         // Reduced unknown of every full DOF as a compact table (PRESCRIBED: none).
         let reduced = reduced_table(&dof_map);
-        // Passes 1–2: the reduced pattern (rows of every reduced column, sorted, unique).
-        let (col_ptr, rows) = reduced_pattern(m, cp, ri, &reduced)?;
+        let (col_ptr, rows, scatter) = if is_selection(&dof_map) {
+            selected_pattern(m, cp, ri, &reduced)
+        } else {
+            // Passes 1–2: the reduced pattern (rows of every reduced column, sorted, unique).
+            let (col_ptr, rows) = reduced_pattern(m, cp, ri, &reduced)?;
+            // Pass 3: scatter map of every full upper entry (blocks of full columns in parallel).
+            let scatter = scatter_map(cp, ri, &reduced, &col_ptr, &rows);
+            (col_ptr, rows, scatter)
+        };
         let write = rows.len();
         if write >= DOUBLE as usize {
             return Err(FemError::SparseBackend(format!(
                 "reduced matrix has {write} entries, more than the 2^31 supported"
             )));
         }
-        // Pass 3: scatter map of every full upper entry (blocks of full columns in parallel).
-        let scatter = scatter_map(cp, ri, &reduced, &col_ptr, &rows);
         Ok(Self {
             dof_map,
             full_dim: n,
@@ -724,5 +772,58 @@ impl ReducedSystem {
     /// u = T q + u_p.
     pub fn expand(&self, q: &[f64]) -> FemResult<Vec<f64>> {
         self.dof_map.expand(q)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::constraints::Dirichlet;
+    use crate::mesh_gen::{BoxFace, BoxMesh};
+    use crate::{Material, Model, StiffnessPattern};
+
+    #[test]
+    fn one_pass_selection_gives_the_general_reduced_pattern_and_scatter_map() {
+        let mesh = BoxMesh::tet10([2.0, 1.0, 1.0], [4, 3, 2]);
+        let material = Material::isotropic(200e9, 0.3).expect("valid material");
+        let model = Model::new(mesh.nodes.clone(), mesh.connectivity.clone(), material)
+            .expect("valid box mesh");
+        let constraints = Constraints {
+            dirichlet: vec![
+                Dirichlet::clamped(mesh.face_nodes(BoxFace::XMin)),
+                Dirichlet::component(mesh.face_nodes(BoxFace::XMax), 2, 1e-6),
+            ],
+            ..Default::default()
+        };
+        let dof_map = DofMap::new(model.node_count(), &constraints).expect("valid constraints");
+        assert!(is_selection(&dof_map));
+        let pattern = StiffnessPattern::build(&model);
+        let (cp, ri) = (&pattern.col_ptr, &pattern.row_idx);
+        let reduced = reduced_table(&dof_map);
+        let m = dof_map.reduced_count();
+        let (col_ptr, rows) = reduced_pattern(m, cp, ri, &reduced).expect("pattern");
+        let scatter = scatter_map(cp, ri, &reduced, &col_ptr, &rows);
+        assert_eq!(
+            selected_pattern(m, cp, ri, &reduced),
+            (col_ptr, rows, scatter)
+        );
+    }
+
+    #[test]
+    fn tied_dofs_are_not_a_selection() {
+        let mesh = BoxMesh::tet4([1.0, 1.0, 1.0], [2, 2, 2]);
+        let constraints = Constraints {
+            rigid_faces: vec![crate::RigidFace {
+                nodes: mesh.face_nodes(BoxFace::XMax),
+                components: [
+                    RigidComponent::Loaded { force_n: 1.0 },
+                    RigidComponent::Free,
+                    RigidComponent::Free,
+                ],
+            }],
+            ..Default::default()
+        };
+        let dof_map = DofMap::new(mesh.nodes.len(), &constraints).expect("valid constraints");
+        assert!(!is_selection(&dof_map));
     }
 }
