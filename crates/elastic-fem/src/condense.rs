@@ -7,8 +7,8 @@
 //! disk's x-averaging load).
 //!
 //! **Accuracy.** Each column stops when PCG's estimate of its relative energy-norm error
-//! ‖x_j − x̃_j‖_K / ‖x_j‖_K falls below ε ([`IterativeOptions::relative_energy_error`];
-//! [`crate::sparse::pcg`] for the estimate). For patterns observed as they are loaded (v = w),
+//! ‖x_j − x̃_j‖_K / ‖x_j‖_K falls below ε ([`crate::IterativeOptions::relative_energy_error`];
+//! [`mod@crate::sparse::pcg`] for the estimate). For patterns observed as they are loaded (v = w),
 //! Cauchy–Schwarz in the K inner product bounds every entry:
 //!
 //! |C_ij − w_iᵀ x̃_j| = |x_iᵀ K (x_j − x̃_j)| ≤ ‖x_i‖_K · ε ‖x_j‖_K = ε √(C_ii C_jj),
@@ -17,11 +17,11 @@
 //! C_jj − w_jᵀ x̃_j = ‖x_j − x̃_j‖²_K ≤ ε² C_jj (Hestenes & Stiefel 1952). The default
 //! ε = [`crate::iterative::ALGEBRAIC_FRACTION`] × [`crate::iterative::DEFAULT_DISCRETISATION_ERROR`]
 //! = 1e-6 keeps every entry within 1e-6 √(C_ii C_jj): 1 % of the relative error the Tet10 mesh
-//! is assumed to resolve; [`IterativeOptions::for_discretisation_error`] ties ε to another.
+//! is assumed to resolve; [`crate::IterativeOptions::for_discretisation_error`] ties ε to another.
 //! The bound holds as far as PCG's estimate of ‖x_j − x̃_j‖_K does: its delayed bound certifies
 //! an earlier iterate (the returned one is more accurate), its geometric-tail estimate, which
 //! usually stops first, extrapolates the observed contraction (an estimate, not a bound; see
-//! [`crate::sparse::pcg`]).
+//! [`mod@crate::sparse::pcg`]).
 //! A cross pattern (v ≠ w, e.g. the z tie under an x load) obeys the same bound with C_ii the
 //! compliance of v itself.
 //!

@@ -19,7 +19,7 @@
 //! thread count, so the V-cycle (pre- and post-smoothing alike) is an SPD preconditioner for CG.
 //!
 //! **Stopping rule.** CG stops when its estimated relative energy-norm error (see
-//! [`crate::sparse::pcg`]) falls below `relative_energy_error`. The default ties it to the FEM
+//! [`mod@crate::sparse::pcg`]) falls below `relative_energy_error`. The default ties it to the FEM
 //! discretisation error: [`ALGEBRAIC_FRACTION`] × [`DEFAULT_DISCRETISATION_ERROR`] = 1e-6, so
 //! the algebraic error changes the FEM energy error by < 0.01 % and energy-type quantities
 //! (stiffness uᵀ K u / δ²) by ≈ ε² = 1e-12.

@@ -9,7 +9,7 @@
 //!   forward solves on their elimination-tree paths only;
 //! - [`csr`]: [`CsrMatrix`] (both triangles by rows) for row-parallel products and the Galerkin
 //!   product Pᵀ A P, [`RowSparse`] transfer operators;
-//! - [`pcg`]: preconditioned conjugate gradients with an energy-norm stopping rule.
+//! - [`mod@pcg`]: preconditioned conjugate gradients with an energy-norm stopping rule.
 //!
 //! ```
 //! use elastic_fem::sparse::{Ordering, SymbolicCholesky, SymmetricMatrix};
