@@ -676,13 +676,7 @@ impl ReducedSystem {
         }
         let dst = out.values_mut();
         dst.fill(0.0);
-        for (v, &s) in full.values().iter().zip(&self.scatter) {
-            if s == DROPPED {
-                continue;
-            }
-            let pos = (s & !DOUBLE) as usize;
-            dst[pos] += if s & DOUBLE != 0 { 2.0 * v } else { *v };
-        }
+        self.add_reduced_values(full, dst);
         Ok(())
     }
 
@@ -691,45 +685,35 @@ impl ReducedSystem {
         CsrLayout::of_upper(&self.col_ptr, &self.row_idx)
     }
 
-    /// K_red = Tᵀ K T straight into the full-row CSR of the iterative path (no upper-triangle
-    /// copy): every entry of K adds into its position in row max(r, c) and into its mirror.
-    /// Each CSR entry sums its contributions in the order of K's storage, as
-    /// [`Self::reduce_matrix_into`] does: the same bits as [`CsrMatrix::from_symmetric`] of
-    /// [`Self::reduce_matrix`].
+    /// K_red = Tᵀ K T as the values of the iterative path's full-row CSR (`layout` from
+    /// [`Self::csr_layout`]): the upper values in a plain vector (no pattern copy), then
+    /// gathered into rows in parallel. Pure copies after the reduction: the same bits as
+    /// [`CsrMatrix::from_symmetric`] of [`Self::reduce_matrix`].
     pub fn reduce_csr_values(
         &self,
         full: &SymmetricMatrix,
         layout: &CsrLayout,
     ) -> FemResult<Vec<f64>> {
         self.check_full(full)?;
-        if layout.nnz() != (2 * self.row_idx.len()).saturating_sub(self.dim()) {
+        if layout.upper_nnz() != self.row_idx.len() {
             return Err(FemError::PatternMismatch {
                 detail: "CSR layout was built for another reduced pattern".into(),
             });
         }
-        let reduced = reduced_table(&self.dof_map);
-        let (cp, ri, v) = (full.col_ptr(), full.row_idx(), full.values());
-        let mut out = vec![0.0; layout.nnz()];
-        for k in 0..cp.len() - 1 {
-            let rk = reduced[k];
-            if rk == PRESCRIBED {
+        let mut upper = vec![0.0; self.row_idx.len()];
+        self.add_reduced_values(full, &mut upper);
+        Ok(layout.gather(&upper))
+    }
+
+    /// Adds K's values into the reduced upper values `dst` through the scatter map.
+    fn add_reduced_values(&self, full: &SymmetricMatrix, dst: &mut [f64]) {
+        for (v, &s) in full.values().iter().zip(&self.scatter) {
+            if s == DROPPED {
                 continue;
             }
-            for p in cp[k]..cp[k + 1] {
-                let s = self.scatter[p];
-                if s == DROPPED {
-                    continue;
-                }
-                let pos = (s & !DOUBLE) as usize;
-                let value = if s & DOUBLE != 0 { 2.0 * v[p] } else { v[p] };
-                let column = rk.max(reduced[ri[p]]) as usize;
-                out[layout.position(pos, column)] += value;
-                if let Some(q) = layout.mirror(pos) {
-                    out[q] += value;
-                }
-            }
+            let pos = (s & !DOUBLE) as usize;
+            dst[pos] += if s & DOUBLE != 0 { 2.0 * v } else { *v };
         }
-        Ok(out)
     }
 
     /// K_red as the iterative path's full-row CSR, built without the upper-triangle copy

@@ -150,61 +150,69 @@ fn check_u32_dimension(n: usize) -> FemResult<()> {
     Ok(())
 }
 
-/// Where the entries of a symmetric matrix's upper-triangle CSC storage (`cp`, `ri`) go in its
-/// full-row CSR ([`CsrMatrix`]): entry k = (r, c), r ≤ c, of upper column c is entry (c, r) of
-/// row c at `row_ptr[c] + k − cp[c]`, and, when r < c, entry (r, c) of row r at `mirror[k]`.
-/// Built once per pattern; [`Self::matrix`] then fills a CSR matrix without the upper copy.
+/// Where the entries of a symmetric matrix's full-row CSR ([`CsrMatrix`]) come from in its
+/// upper-triangle CSC storage (`cp`, `ri`): entry q of the CSR is upper entry `source[q]`. Built
+/// once per pattern; [`Self::gather`] then fills the CSR values from any upper values with that
+/// pattern, rows in parallel (pure copies: the same bits for any thread count).
 #[derive(Debug, Clone)]
 pub struct CsrLayout {
-    col_ptr: Vec<usize>,
     row_ptr: Vec<usize>,
     col_idx: Vec<u32>,
-    /// Per upper entry: the position of its mirror in the CSR (u32::MAX on the diagonal).
-    mirror: Vec<u32>,
+    /// Per CSR entry: its position in the upper storage.
+    source: Vec<u32>,
+    upper_nnz: usize,
 }
+
+/// CSR entries per rayon task in [`CsrLayout::gather`]. Dimensionless; default 16384.
+const GATHER_CHUNK: usize = 16384;
 
 impl CsrLayout {
     /// The layout of the upper CSC pattern (`cp`, `ri`; rows sorted, every diagonal last in
     /// its column). Fails beyond 32-bit indices.
     pub fn of_upper(cp: &[usize], ri: &[usize]) -> FemResult<Self> {
-        let n = cp.len() - 1;
-        check_u32_dimension(n)?;
-        let nnz_full = (2 * ri.len()).saturating_sub(n);
-        if nnz_full >= u32::MAX as usize {
+        check_u32_dimension(cp.len() - 1)?;
+        if ri.len() >= u32::MAX as usize {
             return Err(FemError::SparseBackend(format!(
-                "CSR matrix with {nnz_full} entries exceeds 32-bit positions"
+                "upper triangle with {} entries exceeds 32-bit positions",
+                ri.len()
             )));
         }
         let (row_ptr, col_idx, source) = full_rows(cp, ri, |k| k as u32);
-        let mut mirror = vec![u32::MAX; ri.len()];
-        for (i, w) in row_ptr.windows(2).enumerate() {
-            let strictly_upper = w[0] + (cp[i + 1] - cp[i])..w[1];
-            for q in strictly_upper {
-                mirror[source[q] as usize] = q as u32;
-            }
-        }
         Ok(Self {
-            col_ptr: cp.to_vec(),
             row_ptr,
             col_idx,
-            mirror,
+            source,
+            upper_nnz: ri.len(),
         })
-    }
-
-    /// Position in the CSR values of upper entry `k` of column `c` (as the entry of row c).
-    pub fn position(&self, k: usize, c: usize) -> usize {
-        self.row_ptr[c] + k - self.col_ptr[c]
-    }
-
-    /// Position of upper entry `k`'s mirror in row r (`None` on the diagonal).
-    pub fn mirror(&self, k: usize) -> Option<usize> {
-        let q = self.mirror[k];
-        (q != u32::MAX).then_some(q as usize)
     }
 
     /// Stored entries of the full matrix.
     pub fn nnz(&self) -> usize {
         self.col_idx.len()
+    }
+
+    /// Stored entries of the upper triangle the layout was built for.
+    pub fn upper_nnz(&self) -> usize {
+        self.upper_nnz
+    }
+
+    /// The full-row values of the matrix whose upper values are `upper`.
+    pub fn gather(&self, upper: &[f64]) -> Vec<f64> {
+        assert_eq!(
+            upper.len(),
+            self.upper_nnz,
+            "CsrLayout::gather: wrong value count"
+        );
+        let mut values = vec![0.0; self.nnz()];
+        values
+            .par_chunks_mut(GATHER_CHUNK)
+            .zip(self.source.par_chunks(GATHER_CHUNK))
+            .for_each(|(out, src)| {
+                for (o, &k) in out.iter_mut().zip(src) {
+                    *o = upper[k as usize];
+                }
+            });
+        values
     }
 
     /// A CSR matrix with this layout and the given `values` (one per full entry).
