@@ -1,6 +1,7 @@
 //! Compressed-row matrices for the iterative path: the full (both triangles) copy of a
-//! [`SymmetricMatrix`] for a row-parallel product y = A x, a rectangular row-sparse matrix for
-//! the multigrid transfer operators, and the Galerkin product A_c = Pᵀ A P.
+//! [`SymmetricMatrix`] for a row-parallel product y = A x (or its [`CsrLayout`], to fill it from
+//! upper values without the copy), a rectangular row-sparse matrix for the multigrid transfer
+//! operators, and the Galerkin product A_c = Pᵀ A P.
 //!
 //! Why assembled CSR: a stored entry costs 12 bytes of memory traffic per product, while a
 //! matrix-free Tet10 product recomputes 30 × 30 element matrices (the whole assembly, 2.4 s at
