@@ -533,14 +533,7 @@ impl IterativeSolver {
         options: &IterativeOptions,
         factor: FactorOptions,
     ) -> FemResult<Self> {
-        options.validate()?;
-        if k_red.dim() != dof_map.reduced_count() {
-            return Err(FemError::DimensionMismatch {
-                what: "reduced matrix vs DOF map",
-                expected: dof_map.reduced_count(),
-                found: k_red.dim(),
-            });
-        }
+        // `from_csr` checks the options and the dimension.
         let clock = std::time::Instant::now();
         let a = CsrMatrix::from_symmetric(k_red)?;
         let fine_csr_s = clock.elapsed().as_secs_f64();

@@ -32,7 +32,9 @@ use crate::pattern::StiffnessPattern;
 use crate::post::{reaction_forces, strain_energy};
 use crate::reduction::{DofMap, DofTarget, ReducedSystem, describe_dof};
 use crate::rigid_modes::check_rigid_body_modes;
-use crate::sparse::{FactorOptions, NumericCholesky, Ordering, SymbolicCholesky, SymmetricMatrix};
+use crate::sparse::{
+    CsrMatrix, FactorOptions, NumericCholesky, Ordering, SymbolicCholesky, SymmetricMatrix,
+};
 
 /// Sustained rate of the supernodal Cholesky on one core (multiply–adds/s, the unit of
 /// [`SymbolicCholesky::factor_flops`]): faer 0.24.4's sequential factor of the default strip ran
@@ -107,6 +109,16 @@ pub struct SolverChoice {
     pub method: SolverMethod,
     /// Human-readable reason (requested, or the cost-model figures).
     pub reason: String,
+}
+
+impl SolverChoice {
+    /// `method` because the caller asked for it (reason "requested").
+    pub fn requested(method: SolverMethod) -> Self {
+        Self {
+            method,
+            reason: "requested".into(),
+        }
+    }
 }
 
 /// Iterations per right-hand side behind [`ITERATIVE_SOLVE_S_PER_UNKNOWN`] (the punch meshes'
@@ -274,12 +286,8 @@ pub fn choose_method_with(
 ) -> FemResult<(SolverChoice, Option<SymbolicCholesky>)> {
     let n = k_red.dim();
     let choice = |method, reason: String, symbolic| (SolverChoice { method, reason }, symbolic);
-    match requested {
-        SolverMethod::Direct => return Ok(choice(SolverMethod::Direct, "requested".into(), None)),
-        SolverMethod::Iterative => {
-            return Ok(choice(SolverMethod::Iterative, "requested".into(), None));
-        }
-        SolverMethod::Auto => {}
+    if requested != SolverMethod::Auto {
+        return Ok((SolverChoice::requested(requested), None));
     }
     let tet4 = matches!(connectivity, Connectivity::Tet4(_));
     if n < ALWAYS_DIRECT_UNKNOWNS {
@@ -445,22 +453,32 @@ fn solve_iterative_requested(
     let a = reduced.reduce_matrix_csr(stiffness)?;
     let mut report = report_for(model, reduced, (a.nnz() + a.dim()) / 2, options.ordering);
     if reduced.dim() > 0 {
-        let solver = IterativeSolver::from_csr(
-            model,
-            reduced.dof_map(),
-            a,
-            &options.iterative,
-            options.factor,
-        )?;
-        let pcg = solver.solve_in_place(q, &mut solver.workspace())?;
-        report.iterations = pcg.iterations;
-        report.relative_energy_error = pcg.relative_energy_error;
+        solve_by_pcg(model, reduced, a, q, options, &mut report)?;
     }
-    let choice = SolverChoice {
-        method: SolverMethod::Iterative,
-        reason: "requested".into(),
-    };
-    Ok((choice, report))
+    Ok((SolverChoice::requested(SolverMethod::Iterative), report))
+}
+
+/// PCG with the p-multigrid (or AMG) preconditioner on `a` (K_red, full rows); solves `q` in
+/// place and records the iterations in `report`.
+fn solve_by_pcg(
+    model: &Model,
+    reduced: &ReducedSystem,
+    a: CsrMatrix,
+    q: &mut [f64],
+    options: &SolverOptions,
+    report: &mut SolveReport,
+) -> FemResult<()> {
+    let solver = IterativeSolver::from_csr(
+        model,
+        reduced.dof_map(),
+        a,
+        &options.iterative,
+        options.factor,
+    )?;
+    let pcg = solver.solve_in_place(q, &mut solver.workspace())?;
+    report.iterations = pcg.iterations;
+    report.relative_energy_error = pcg.relative_energy_error;
+    Ok(())
 }
 
 /// Chooses the method for `k_red` (options) and solves `q` in place.
@@ -484,16 +502,8 @@ fn solve_reduced(
     }
     match choice.method {
         SolverMethod::Iterative => {
-            let solver = IterativeSolver::new(
-                model,
-                reduced.dof_map(),
-                k_red,
-                &options.iterative,
-                options.factor,
-            )?;
-            let pcg = solver.solve_in_place(q, &mut solver.workspace())?;
-            report.iterations = pcg.iterations;
-            report.relative_energy_error = pcg.relative_energy_error;
+            let a = CsrMatrix::from_symmetric(k_red)?;
+            solve_by_pcg(model, reduced, a, q, options, &mut report)?;
         }
         _ => {
             let symbolic = match analysed.take() {

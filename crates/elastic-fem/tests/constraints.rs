@@ -531,9 +531,9 @@ fn a_floating_second_body_is_named_and_ties_to_a_fixed_body_constrain_it() {
     );
 }
 
-#[test]
-fn reduction_built_from_the_pattern_before_assembly_equals_the_one_built_from_the_matrix() {
-    use elastic_fem::{DofMap, ReducedSystem, StiffnessPattern, assemble_stiffness};
+/// The Tet10 bar on its supports with a rigid end face: x and y tied (merged DOFs, doubled
+/// couplings), z prescribed. Exercises every kind of reduced entry.
+fn bar_with_a_tied_end_face() -> (elastic_fem::Model, Constraints) {
     let mesh = BoxMesh::tet10([4.0, 1.0, 1.0], [6, 2, 2]);
     let model = model_of(&mesh, Material::isotropic(E_PA, NU).unwrap());
     let constraints = Constraints {
@@ -542,7 +542,7 @@ fn reduction_built_from_the_pattern_before_assembly_equals_the_one_built_from_th
             nodes: mesh.face_nodes(BoxFace::XMax),
             components: [
                 RigidComponent::Loaded { force_n: 1.0 },
-                RigidComponent::Free,
+                RigidComponent::Loaded { force_n: 0.0 },
                 RigidComponent::Prescribed {
                     displacement_m: 1e-6,
                 },
@@ -550,6 +550,13 @@ fn reduction_built_from_the_pattern_before_assembly_equals_the_one_built_from_th
         }],
         ..Default::default()
     };
+    (model, constraints)
+}
+
+#[test]
+fn reduction_built_from_the_pattern_before_assembly_equals_the_one_built_from_the_matrix() {
+    use elastic_fem::{DofMap, ReducedSystem, StiffnessPattern, assemble_stiffness};
+    let (model, constraints) = bar_with_a_tied_end_face();
     let pattern = StiffnessPattern::build(&model);
     let dof_map = || DofMap::new(model.node_count(), &constraints).unwrap();
     let early = ReducedSystem::from_pattern(&pattern, dof_map()).unwrap();
@@ -569,23 +576,7 @@ fn reduction_built_from_the_pattern_before_assembly_equals_the_one_built_from_th
 fn reduction_straight_into_full_rows_has_the_bits_of_the_upper_copy_made_full() {
     use elastic_fem::sparse::CsrMatrix;
     use elastic_fem::{DofMap, ReducedSystem, StiffnessPattern, assemble_stiffness};
-    let mesh = BoxMesh::tet10([4.0, 1.0, 1.0], [6, 2, 2]);
-    let model = model_of(&mesh, Material::isotropic(E_PA, NU).unwrap());
-    // Ties (a loaded rigid face: merged DOFs, doubled couplings) and prescribed values.
-    let constraints = Constraints {
-        dirichlet: bar_supports(&mesh),
-        rigid_faces: vec![RigidFace {
-            nodes: mesh.face_nodes(BoxFace::XMax),
-            components: [
-                RigidComponent::Loaded { force_n: 1.0 },
-                RigidComponent::Loaded { force_n: 0.0 },
-                RigidComponent::Prescribed {
-                    displacement_m: 1e-6,
-                },
-            ],
-        }],
-        ..Default::default()
-    };
+    let (model, constraints) = bar_with_a_tied_end_face();
     let pattern = StiffnessPattern::build(&model);
     let stiffness = assemble_stiffness(&model, &pattern).unwrap();
     let dof_map = DofMap::new(model.node_count(), &constraints).unwrap();

@@ -396,13 +396,7 @@ impl<'m> AssembledPunch<'m> {
                 options.ordering,
             )
             .map_err(fem)?,
-            ReducedMatrix::FullRows(_) => (
-                SolverChoice {
-                    method: SolverMethod::Iterative,
-                    reason: "requested".into(),
-                },
-                None,
-            ),
+            ReducedMatrix::FullRows(_) => (SolverChoice::requested(SolverMethod::Iterative), None),
         };
         let factor_options = FactorOptions {
             threads: options.threads,

@@ -216,26 +216,12 @@ impl CsrLayout {
         values
     }
 
-    /// A CSR matrix with this layout and the given `values` (one per full entry).
-    pub fn matrix(&self, values: Vec<f64>) -> CsrMatrix {
-        assert_eq!(
-            values.len(),
-            self.nnz(),
-            "CsrLayout::matrix: wrong value count"
-        );
-        CsrMatrix {
-            row_ptr: self.row_ptr.clone(),
-            col_idx: self.col_idx.clone(),
-            values,
-        }
-    }
-
-    /// [`Self::matrix`], moving the pattern out of the layout.
+    /// The CSR matrix with this layout and the given `values` (one per full entry).
     pub fn into_matrix(self, values: Vec<f64>) -> CsrMatrix {
         assert_eq!(
             values.len(),
             self.nnz(),
-            "CsrLayout::matrix: wrong value count"
+            "CsrLayout::into_matrix: wrong value count"
         );
         CsrMatrix {
             row_ptr: self.row_ptr,
