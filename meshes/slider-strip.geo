@@ -14,18 +14,23 @@
 // become half disks whose straight edge lies on y = W/2 (both bodies are cut).
 // periodic_x = 1 makes the x = L faces periodic copies (node-matching, gmsh "Periodic Surface")
 // of the x = 0 faces, for both bodies; the $Periodic section of the MSH file lists the node pairs.
+// mirror_x = 1 (n_posts even, periodic_x = 0) meshes only the half x <= L/2 (the first n_posts/2
+// posts): the strip is mirror-symmetric about x = L/2, and the reader makes the whole mesh by
+// reflecting this half in that plane (gmsh_mesh::mirror), in about half of gmsh's time. The cut
+// faces at x = L/2 are named "slider_mirror_x" / "stator_mirror_x"; there is no x = L face.
 //
 // Mesh size: h_post on the post tips and on the stator disks under them, growing linearly with the
 // distance from them, size = min(h_post + growth * dist, h_body).
 //
 // Parameters (metres; override with gmsh -setnumber NAME VALUE; see meshes/README.md):
 //   pitch, d, h, t, n_posts, rows, margin, stator_depth, h_post, h_body, growth, order, periodic_x,
-//   half_y
+//   half_y, mirror_x
 //
 // Physical groups: volumes "slider" (body and posts), "stator" (if stator_depth > 0); surfaces
 // "post_tips", "post_walls", "slider_top", "slider_sym_y0", "slider_sym_y1", "slider_x0", "slider_x1",
 // "stator_top", "stator_bottom", "stator_sym_y0", "stator_sym_y1", "stator_x0", "stator_x1",
-// "stator_tip_disks".
+// "stator_tip_disks"; with mirror_x = 1 "slider_mirror_x" and "stator_mirror_x" instead of the
+// two x1 groups.
 
 SetFactory("OpenCASCADE");
 // Any Error() below, or a meshing error, exits gmsh with a non-zero status and no output file.
@@ -45,7 +50,8 @@ DefineConstant[
   growth = {0.3, Name "Parameters/growth (size growth per unit distance)"},
   order = {1, Choices{1 = "Tet4", 2 = "Tet10"}, Name "Parameters/order"},
   periodic_x = {0, Choices{0 = "free ends", 1 = "periodic x"}, Name "Parameters/periodic_x"},
-  half_y = {0, Choices{0 = "whole width", 1 = "half width (mirror plane y = W/2)"}, Name "Parameters/half_y"}
+  half_y = {0, Choices{0 = "whole width", 1 = "half width (mirror plane y = W/2)"}, Name "Parameters/half_y"},
+  mirror_x = {0, Choices{0 = "whole length", 1 = "half length (mirror plane x = L/2)"}, Name "Parameters/mirror_x"}
 ];
 
 If (pitch <= 0 || d <= 0 || h <= 0 || t <= 0 || margin < 0 || stator_depth < 0)
@@ -80,6 +86,14 @@ If (half_y != 0 && half_y != 1)
   Error("slider-strip.geo: half_y must be 0 or 1");
   Abort;
 EndIf
+If (mirror_x != 0 && mirror_x != 1)
+  Error("slider-strip.geo: mirror_x must be 0 or 1");
+  Abort;
+EndIf
+If (mirror_x == 1 && (periodic_x == 1 || n_posts % 2 != 0))
+  Error("slider-strip.geo: mirror_x = 1 needs an even n_posts and periodic_x = 0");
+  Abort;
+EndIf
 If (half_y == 1 && rows != 1)
   Error("slider-strip.geo: half_y = 1 needs rows = 1 (the mirror plane runs through the post axes)");
   Abort;
@@ -95,7 +109,10 @@ H = h / unit;
 T = t / unit;
 M = margin / unit;
 S = stator_depth / unit;
-L = n_posts * P + 2 * M;
+L_full = n_posts * P + 2 * M;
+// Length and posts per row of the meshed strip: the whole, or its half x <= L/2 (mirror_x = 1).
+L = L_full / (1 + mirror_x);
+n_x = n_posts / (1 + mirror_x);
 W_full = rows * P;
 // Width of the meshed strip: the whole width, or its half y <= W/2 (half_y = 1).
 W = W_full / (1 + half_y);
@@ -104,10 +121,10 @@ eps = 1e-3 * H;
 
 // Slider: body plus posts fused into one volume.
 Box(1) = {0, 0, H, L, W, T};
-n_tips = n_posts * rows;
+n_tips = n_x * rows;
 For r In {0 : rows - 1}
-  For i In {0 : n_posts - 1}
-    Cylinder(100 + r * n_posts + i) = {M + (i + 0.5) * P, (r + 0.5) * P, 0, 0, 0, H, D / 2};
+  For i In {0 : n_x - 1}
+    Cylinder(100 + r * n_x + i) = {M + (i + 0.5) * P, (r + 0.5) * P, 0, 0, 0, H, D / 2};
   EndFor
 EndFor
 slider() = BooleanUnion{ Volume{1}; Delete; }{ Volume{100 : 100 + n_tips - 1}; Delete; };
@@ -131,8 +148,8 @@ stator() = {};
 If (S > 0)
   Box(2) = {0, 0, -S, L, W, S};
   For r In {0 : rows - 1}
-    For i In {0 : n_posts - 1}
-      Disk(100000 + r * n_posts + i) = {M + (i + 0.5) * P, (r + 0.5) * P, 0, D / 2};
+    For i In {0 : n_x - 1}
+      Disk(100000 + r * n_x + i) = {M + (i + 0.5) * P, (r + 0.5) * P, 0, D / 2};
     EndFor
   EndFor
   stator() = BooleanFragments{ Volume{2}; Delete; }{ Surface{100000 : 100000 + n_tips - 1}; Delete; };
@@ -206,7 +223,11 @@ Physical Surface("slider_top", 12) = slider_top();
 Physical Surface("slider_sym_y0", 13) = slider_y0();
 Physical Surface("slider_sym_y1", 14) = slider_y1();
 Physical Surface("slider_x0", 15) = slider_x0();
-Physical Surface("slider_x1", 16) = slider_x1();
+If (mirror_x == 1)
+  Physical Surface("slider_mirror_x", 18) = slider_x1();
+Else
+  Physical Surface("slider_x1", 16) = slider_x1();
+EndIf
 Physical Surface("post_walls", 17) = post_walls();
 
 If (S > 0)
@@ -249,7 +270,11 @@ If (S > 0)
   Physical Surface("stator_sym_y0", 23) = stator_y0();
   Physical Surface("stator_sym_y1", 24) = stator_y1();
   Physical Surface("stator_x0", 25) = stator_x0();
-  Physical Surface("stator_x1", 26) = stator_x1();
+  If (mirror_x == 1)
+    Physical Surface("stator_mirror_x", 28) = stator_x1();
+  Else
+    Physical Surface("stator_x1", 26) = stator_x1();
+  EndIf
   Physical Surface("stator_tip_disks", 27) = stator_tip_disks();
 EndIf
 

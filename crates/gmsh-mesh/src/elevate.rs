@@ -24,7 +24,6 @@ use std::collections::HashMap;
 use crate::error::{MeshError, Result};
 use crate::geometry::{Point, TET10_EDGES};
 use crate::mesh::{Faces, TetMesh, Tets};
-use crate::quality::MAX_LISTED_TAGS;
 
 /// Version of this placement rule, for caches keyed by the mesh it makes: change it whenever the
 /// position or numbering of the added nodes changes.
@@ -179,7 +178,7 @@ pub fn elevate_to_tet10(mesh: &TetMesh, walls: &[CylinderWalls]) -> Result<TetMe
         binary: mesh.binary,
         notes,
     };
-    check_quality(&elevated)?;
+    elevated.check_elements()?;
     Ok(elevated)
 }
 
@@ -312,21 +311,6 @@ fn periodic_midside_pairs(
 }
 
 /// Refuse an elevated mesh with inverted or degenerate curved elements.
-fn check_quality(mesh: &TetMesh) -> Result<()> {
-    let quality = mesh.quality();
-    if quality.has_bad_elements() {
-        return Err(MeshError::BadElements {
-            file: mesh.source.clone(),
-            inverted_count: quality.inverted_count,
-            degenerate_count: quality.degenerate_count,
-            shown: MAX_LISTED_TAGS,
-            inverted_tags: quality.inverted_tags,
-            degenerate_tags: quality.degenerate_tags,
-        });
-    }
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

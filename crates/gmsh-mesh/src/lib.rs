@@ -24,6 +24,7 @@ pub mod geometry;
 pub mod gmsh;
 mod info;
 mod mesh;
+pub mod mirror;
 mod msh;
 mod quality;
 mod read;

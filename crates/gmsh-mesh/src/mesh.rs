@@ -289,4 +289,21 @@ impl TetMesh {
     pub fn quality(&self) -> QualityReport {
         quality::assess(self)
     }
+
+    /// [`MeshError::BadElements`] if a tet is inverted or degenerate (a mesh made from another,
+    /// e.g. by [`crate::elevate`] or [`crate::mirror`], is checked as a file is on reading).
+    pub(crate) fn check_elements(&self) -> Result<()> {
+        let quality = self.quality();
+        if quality.has_bad_elements() {
+            return Err(MeshError::BadElements {
+                file: self.source.clone(),
+                inverted_count: quality.inverted_count,
+                degenerate_count: quality.degenerate_count,
+                shown: quality::MAX_LISTED_TAGS,
+                inverted_tags: quality.inverted_tags,
+                degenerate_tags: quality.degenerate_tags,
+            });
+        }
+        Ok(())
+    }
 }

@@ -9,6 +9,11 @@
 //! on a stator block, as gmsh's curvilinear order 2 places them, to 1e-15 relative); gmsh's own
 //! order elevation took about a quarter of its time. The cache then holds the Tet4 file and
 //! every reader goes through [`ResolvedMesh::read`], which elevates it.
+//!
+//! A strip of an even number of posts along x is meshed by gmsh as its half x ≤ L/2
+//! (`slider-strip.geo` `mirror_x`) and reflected into the whole strip on reading
+//! ([`gmsh_mesh::mirror`]) before the elevation: the strip is mirror-symmetric about its middle,
+//! and gmsh takes about half the time (default strip: 1.8 s instead of 3.9 s).
 
 use std::path::{Path, PathBuf};
 
@@ -53,6 +58,53 @@ pub fn workspace_root() -> PathBuf {
 /// ([`gmsh_mesh::elevate`]): every Tet10 strip.
 pub fn elevated_in_rust(params: &StaticParams) -> bool {
     params.element_order == 2
+}
+
+/// Whether the run's automatic strip mesh is gmsh's half x ≤ L/2 reflected in Rust
+/// ([`gmsh_mesh::mirror`]): every strip with an even number of posts along x.
+pub fn mirrored_in_rust(params: &StaticParams) -> bool {
+    params.strip_posts_along_x().is_multiple_of(2)
+}
+
+/// The mirror plane of a half strip (`slider-strip.geo` with `mirror_x = 1`): its cut faces, and
+/// the end faces x = 0 whose images are the ends x = L (tags as in the whole strip's script),
+/// of the slider and, with a meshed stator block, of the stator.
+pub fn strip_mirror_plane(params: &StaticParams) -> gmsh_mesh::mirror::MirrorPlane {
+    let mut bodies = vec![("slider", 16)];
+    if params.stator == StatorModel::MeshedBlock {
+        bodies.push(("stator", 26));
+    }
+    gmsh_mesh::mirror::MirrorPlane {
+        groups: bodies
+            .iter()
+            .map(|(b, _)| format!("{b}_mirror_x"))
+            .collect(),
+        renames: bodies
+            .iter()
+            .map(|&(b, tag)| gmsh_mesh::mirror::MirrorRename {
+                from: format!("{b}_x0"),
+                to: format!("{b}_x1"),
+                tag,
+            })
+            .collect(),
+    }
+}
+
+/// What Rust does to the automatic strip mesh file on reading (reflection, elevation) and the
+/// versions of those steps, one line each: hashed into the mesh cache's file names and into the
+/// results' content hash, so that a changed step never reuses a mesh or result made before.
+pub fn rust_mesh_steps(params: &StaticParams) -> String {
+    let mut steps = String::new();
+    if mirrored_in_rust(params) {
+        steps += &format!("mirror x {}\n", gmsh_mesh::mirror::MIRROR_VERSION);
+    }
+    if elevated_in_rust(params) {
+        steps += &format!(
+            "tet10 elevation {}\n",
+            gmsh_mesh::elevate::ELEVATION_VERSION
+        );
+    }
+    steps
 }
 
 /// The gmsh `-setnumber` parameters of the strip mesh file the run needs (`order` = 1 when the
@@ -122,6 +174,7 @@ fn gmsh_parameters(params: &StaticParams, order: u8) -> Vec<(&'static str, f64)>
         ("order", order as f64),
         ("periodic_x", 0.0),
         ("half_y", if params.strip_rows == 1 { 1.0 } else { 0.0 }),
+        ("mirror_x", if mirrored_in_rust(params) { 1.0 } else { 0.0 }),
     ]
 }
 
@@ -130,13 +183,14 @@ fn same(a: f64, b: f64) -> bool {
 }
 
 /// A committed mesh usable for these parameters. A mesh with a stator block also serves the
-/// half-space stator model (its stator volume is then ignored), and a whole-width mesh serves a
-/// half-width request (the strip model reads half or whole tip disks from the mesh).
+/// half-space stator model (its stator volume is then ignored), a whole-width mesh serves a
+/// half-width request (the strip model reads half or whole tip disks from the mesh), and a whole
+/// strip serves one that would be mirrored.
 pub fn committed_mesh(params: &StaticParams) -> Option<PathBuf> {
     let wanted = gmsh_parameters(params, params.element_order);
     COMMITTED.iter().find_map(|(file, made)| {
         let fits = wanted.iter().all(|(name, value)| {
-            if *name == "half_y" {
+            if *name == "half_y" || *name == "mirror_x" {
                 return true;
             }
             let Some((_, m)) = made.iter().find(|(n, _)| n == name) else {
@@ -180,16 +234,23 @@ pub struct ResolvedMesh {
     /// What the cache check found and did, one line each (e.g. a damaged cached mesh that
     /// was regenerated), for the user.
     pub notes: Vec<String>,
+    /// `Some`: the file holds the half x ≤ L/2 of the strip, and the run's mesh is it reflected
+    /// in this plane ([`ResolvedMesh::read`]; before any elevation).
+    pub mirror: Option<gmsh_mesh::mirror::MirrorPlane>,
     /// `Some`: the file holds the Tet4 mesh, and the run's mesh is it raised to Tet10 with
     /// curved midside nodes on these walls ([`ResolvedMesh::read`]).
     pub elevate: Option<Vec<gmsh_mesh::elevate::CylinderWalls>>,
 }
 
 impl ResolvedMesh {
-    /// The run's mesh: the file read, and raised to Tet10 if [`ResolvedMesh::elevate`] says so.
-    /// Every reader of the strip mesh goes through here, so all see the same mesh.
+    /// The run's mesh: the file read, reflected if [`ResolvedMesh::mirror`] says so, and raised
+    /// to Tet10 if [`ResolvedMesh::elevate`] does. Every reader of the strip mesh goes through
+    /// here, so all see the same mesh.
     pub fn read(&self) -> gmsh_mesh::Result<gmsh_mesh::TetMesh> {
-        let mesh = gmsh_mesh::read_msh(&self.path)?;
+        let mut mesh = gmsh_mesh::read_msh(&self.path)?;
+        if let Some(plane) = &self.mirror {
+            mesh = gmsh_mesh::mirror::mirror_in_x(&mesh, plane)?;
+        }
         match &self.elevate {
             Some(walls) => gmsh_mesh::elevate::elevate_to_tet10(&mesh, walls),
             None => Ok(mesh),
@@ -253,11 +314,8 @@ fn automatic_mesh_path(params: &StaticParams) -> PathBuf {
     for (name, value) in &strip_mesh_parameters(params) {
         hasher.update(format!("{name}={value:e}\n"));
     }
+    hasher.update(rust_mesh_steps(params));
     let order = if elevated_in_rust(params) {
-        hasher.update(format!(
-            "elevation={}\n",
-            gmsh_mesh::elevate::ELEVATION_VERSION
-        ));
         "1to2".to_string()
     } else {
         params.element_order.to_string()
@@ -284,6 +342,7 @@ pub fn resolve_mesh_verified(params: &StaticParams) -> Result<ResolvedMesh> {
         path,
         cache_dir: None,
         notes: Vec::new(),
+        mirror: None,
         elevate: None,
     };
     if let MeshChoice::File(path) = &params.mesh {
@@ -295,6 +354,7 @@ pub fn resolve_mesh_verified(params: &StaticParams) -> Result<ResolvedMesh> {
     let out = automatic_mesh_path(params);
     let setnumbers = strip_mesh_parameters(params);
     let dir = cache_dir(params);
+    let mirror = mirrored_in_rust(params).then(|| strip_mirror_plane(params));
     let elevate = elevated_in_rust(params).then(|| strip_post_walls(params));
     let mut notes = Vec::new();
     if out.is_file() {
@@ -304,6 +364,7 @@ pub fn resolve_mesh_verified(params: &StaticParams) -> Result<ResolvedMesh> {
                     path: out,
                     cache_dir: Some(dir),
                     notes,
+                    mirror,
                     elevate,
                 });
             }
@@ -319,6 +380,7 @@ pub fn resolve_mesh_verified(params: &StaticParams) -> Result<ResolvedMesh> {
         path: out,
         cache_dir: Some(dir),
         notes,
+        mirror,
         elevate,
     })
 }

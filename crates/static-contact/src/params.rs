@@ -393,12 +393,7 @@ impl StaticParams {
             hasher.update(&bytes);
         } else {
             hasher.update(crate::mesh_source::geometry_source("slider-strip"));
-            if crate::mesh_source::elevated_in_rust(self) {
-                hasher.update(format!(
-                    "tet10 elevation {}\n",
-                    gmsh_mesh::elevate::ELEVATION_VERSION
-                ));
-            }
+            hasher.update(crate::mesh_source::rust_mesh_steps(self));
         }
         Ok(hasher
             .finalize()

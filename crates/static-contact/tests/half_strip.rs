@@ -10,12 +10,15 @@ use static_contact::mesh_source::{generate_mesh, strip_mesh_parameters};
 use static_contact::params::{MeshChoice, StaticParams};
 use static_contact::prepare_strip;
 
-/// Meshes the 10-post strip whole (`half_y` 0) or half (1) into `dir`.
+/// Meshes the 10-post strip whole (`half_y` 0) or half (1) into `dir`, whole along x (a given
+/// mesh file is used as it is, never reflected).
 fn mesh(dir: &std::path::Path, half_y: f64) -> std::path::PathBuf {
     let mut setnumbers = strip_mesh_parameters(&common::ten_post_tet4());
     for (name, value) in &mut setnumbers {
-        if *name == "half_y" {
-            *value = half_y;
+        match *name {
+            "half_y" => *value = half_y,
+            "mirror_x" => *value = 0.0,
+            _ => {}
         }
     }
     let out = dir.join(format!("strip-half{half_y}.msh"));
