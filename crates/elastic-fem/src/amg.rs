@@ -253,7 +253,7 @@ impl Amg {
             let (x, b, r, d) = (&mut ws.x[l], &ws.b[l], &mut ws.r[l], &mut ws.d[l]);
             x.fill(0.0);
             level.smoother.smooth(a, b, x, true, r, d);
-            a.residual(b, x, r);
+            level.smoother.residual(a, b, x, r);
         }
         let (upper, lower) = ws.b.split_at_mut(l + 1);
         level.pt.mul_vec(&ws.r[l], &mut lower[0]);

@@ -231,6 +231,14 @@ impl CsrLayout {
     }
 }
 
+/// The values of a [`CsrMatrix`] rounded to f32 ([`CsrMatrix::single_precision`]): 8 instead of
+/// 12 bytes per entry with the column index, for the smoothers' products, which are memory bound
+/// and need no double precision (a fixed symmetric operator is all a preconditioner must be).
+#[derive(Debug, Clone)]
+pub(crate) struct SinglePrecision {
+    values: Vec<f32>,
+}
+
 /// A square symmetric matrix with both triangles stored by rows (32-bit column indices).
 #[derive(Debug, Clone)]
 pub struct CsrMatrix {
@@ -292,22 +300,73 @@ impl CsrMatrix {
     /// Σ_j A_ij x_j with [`DOT_LANES`] independent partial sums, so the additions' latency
     /// (≈ 4 cycles each, one chain per row otherwise) overlaps the memory traffic.
     fn row_dot(&self, i: usize, x: &[f64]) -> f64 {
+        self.row_dot_with(&self.values, i, x)
+    }
+
+    /// [`Self::row_dot`] with `values` in place of the matrix's own (same length: this matrix's
+    /// entries in another precision), summed in f64.
+    fn row_dot_with<V: Copy + Into<f64>>(&self, values: &[V], i: usize, x: &[f64]) -> f64 {
         let (s, e) = (self.row_ptr[i], self.row_ptr[i + 1]);
         let mut cols = self.col_idx[s..e].chunks_exact(DOT_LANES);
-        let mut vals = self.values[s..e].chunks_exact(DOT_LANES);
+        let mut vals = values[s..e].chunks_exact(DOT_LANES);
         let mut acc = [0.0; DOT_LANES];
         for (c, v) in (&mut cols).zip(&mut vals) {
             for k in 0..DOT_LANES {
-                acc[k] += v[k] * x[c[k] as usize];
+                acc[k] += v[k].into() * x[c[k] as usize];
             }
         }
         let tail: f64 = cols
             .remainder()
             .iter()
             .zip(vals.remainder())
-            .map(|(&j, &a)| a * x[j as usize])
+            .map(|(&j, &a)| a.into() * x[j as usize])
             .sum();
         (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
+    }
+
+    /// The values rounded to single precision, for operators that need no more (smoothers).
+    pub(crate) fn single_precision(&self) -> SinglePrecision {
+        SinglePrecision {
+            values: self.values.par_iter().map(|&v| v as f32).collect(),
+        }
+    }
+
+    /// y = Ã x with Ã = `single`, this matrix in single precision (sums in f64).
+    pub(crate) fn mul_vec_single(&self, single: &SinglePrecision, x: &[f64], y: &mut [f64]) {
+        assert_eq!(
+            single.values.len(),
+            self.values.len(),
+            "values of another matrix"
+        );
+        y.par_chunks_mut(ROW_BLOCK).enumerate().for_each(|(b, yb)| {
+            let base = b * ROW_BLOCK;
+            for (k, yi) in yb.iter_mut().enumerate() {
+                *yi = self.row_dot_with(&single.values, base + k, x);
+            }
+        });
+    }
+
+    /// r = b − Ã x with Ã = `single`, this matrix in single precision (sums in f64).
+    pub(crate) fn residual_single(
+        &self,
+        single: &SinglePrecision,
+        b: &[f64],
+        x: &[f64],
+        r: &mut [f64],
+    ) {
+        assert_eq!(
+            single.values.len(),
+            self.values.len(),
+            "values of another matrix"
+        );
+        r.par_chunks_mut(ROW_BLOCK)
+            .enumerate()
+            .for_each(|(blk, rb)| {
+                let base = blk * ROW_BLOCK;
+                for (k, ri) in rb.iter_mut().enumerate() {
+                    *ri = b[base + k] - self.row_dot_with(&single.values, base + k, x);
+                }
+            });
     }
 
     /// y = A x, rows in parallel blocks of [`ROW_BLOCK`].
