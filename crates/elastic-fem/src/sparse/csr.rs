@@ -733,6 +733,36 @@ mod tests {
         assert_eq!(csr.diagonal(), vec![4.0, 5.0, 6.0], "diagonal of A");
     }
 
+    #[test]
+    fn single_precision_products_are_those_of_the_values_rounded_to_f32() {
+        let a = banded(40);
+        let csr = CsrMatrix::from_symmetric(&a).unwrap();
+        let single = csr.single_precision();
+        let rounded = CsrMatrix {
+            values: csr.values.iter().map(|&v| f64::from(v as f32)).collect(),
+            ..csr.clone()
+        };
+        let x: Vec<f64> = (0..40).map(|i| (0.37 * i as f64).sin()).collect();
+        let b: Vec<f64> = (0..40).map(|i| 1.0 / (1.0 + i as f64)).collect();
+        let (mut y, mut y_rounded, mut y_double) = (vec![0.0; 40], vec![0.0; 40], vec![0.0; 40]);
+        csr.mul_vec_single(&single, &x, &mut y);
+        rounded.mul_vec(&x, &mut y_rounded);
+        csr.mul_vec(&x, &mut y_double);
+        assert_eq!(
+            y, y_rounded,
+            "Ã x is the f64 product with the rounded values, bit for bit"
+        );
+        assert_ne!(y, y_double, "the rounding is seen: 1/(1 + i + j) is no f32");
+        let scale = y_double.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        for (s, d) in y.iter().zip(&y_double) {
+            assert!((s - d).abs() <= 1e-6 * scale, "{s} vs {d}");
+        }
+        let (mut r, mut r_rounded) = (vec![0.0; 40], vec![0.0; 40]);
+        csr.residual_single(&single, &b, &x, &mut r);
+        rounded.residual(&b, &x, &mut r_rounded);
+        assert_eq!(r, r_rounded, "b − Ã x likewise");
+    }
+
     /// Full n × n matrix with a_ii = 4 + i, a_ij = 1/(1 + i + j) for |i − j| ≤ 3, as upper CSC.
     fn banded(n: usize) -> SymmetricMatrix {
         let (mut cp, mut ri, mut v) = (vec![0usize], Vec::new(), Vec::new());
