@@ -430,6 +430,7 @@ impl CsrMatrix {
             });
         }
         let one_pass = p.max_row_len() <= ONE_PASS_MAX_P_ROW;
+        let slots = (p.max_row_len() <= 2).then(|| TwoSlots::of(p));
         let blocks: Vec<(Vec<usize>, Vec<usize>, Vec<f64>)> = (0..nc)
             .into_par_iter()
             .chunks(GALERKIN_BLOCK)
@@ -437,7 +438,7 @@ impl CsrMatrix {
                 || Accumulator::new(nc),
                 |acc, cols| {
                     if one_pass {
-                        self.galerkin_block_one_pass(p, pt, &cols, acc)
+                        self.galerkin_block_one_pass(p, slots.as_ref(), pt, &cols, acc)
                     } else {
                         self.galerkin_block(p, pt, &cols, acc)
                     }
@@ -481,6 +482,7 @@ impl CsrMatrix {
     fn galerkin_block_one_pass(
         &self,
         p: &RowSparse,
+        slots: Option<&TwoSlots>,
         pt: &RowSparse,
         cols: &[usize],
         acc: &mut Accumulator,
@@ -488,13 +490,40 @@ impl CsrMatrix {
         let (mut ptr, mut rows, mut vals) = (vec![0usize], Vec::new(), Vec::new());
         for &c in cols {
             for (j, w_j) in pt.row(c) {
-                self.add_row_times_p(j, w_j, p, c, acc);
+                match slots {
+                    Some(slots) => self.add_row_times_two_slots(j, w_j, slots, c, acc),
+                    None => self.add_row_times_p(j, w_j, p, c, acc),
+                }
             }
             acc.add(c, 0.0);
             acc.drain_into(true, &mut rows, &mut vals);
             ptr.push(rows.len());
         }
         (ptr, rows, vals)
+    }
+
+    /// [`Self::add_row_times_p`] for P in two slots per row: the same additions in the same
+    /// order, without the row iterator.
+    fn add_row_times_two_slots(
+        &self,
+        i: usize,
+        scale: f64,
+        p: &TwoSlots,
+        last: usize,
+        acc: &mut Accumulator,
+    ) {
+        for k in self.row_ptr[i]..self.row_ptr[i + 1] {
+            let a = scale * self.values[k];
+            let j = self.col_idx[k] as usize;
+            let ([c1, c2], [w1, w2]) = (p.cols[j], p.weights[j]);
+            // An empty slot holds u32::MAX, beyond every `last`.
+            if c1 as usize <= last {
+                acc.add(c1 as usize, w1 * a);
+            }
+            if c2 as usize <= last {
+                acc.add(c2 as usize, w2 * a);
+            }
+        }
     }
 
     /// Upper columns `cols` (consecutive) of Pᵀ A P as (column pointers, rows, values), in two
@@ -584,6 +613,29 @@ impl Accumulator {
             self.mark[c] = false;
         }
         self.touched.clear();
+    }
+}
+
+/// The rows of a prolongation with at most two entries per row (the p-multigrid's Tet10 → Tet4
+/// interpolation) in two fixed slots, in row order; an empty slot has column u32::MAX.
+struct TwoSlots {
+    cols: Vec<[u32; 2]>,
+    weights: Vec<[f64; 2]>,
+}
+
+impl TwoSlots {
+    fn of(p: &RowSparse) -> Self {
+        let (mut cols, mut weights) = (Vec::with_capacity(p.rows()), Vec::with_capacity(p.rows()));
+        for i in 0..p.rows() {
+            let (mut c, mut w) = ([u32::MAX; 2], [0.0; 2]);
+            for (slot, (col, v)) in p.row(i).enumerate() {
+                c[slot] = col as u32;
+                w[slot] = v;
+            }
+            cols.push(c);
+            weights.push(w);
+        }
+        Self { cols, weights }
     }
 }
 
