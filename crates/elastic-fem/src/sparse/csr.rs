@@ -832,8 +832,9 @@ mod tests {
         SymmetricMatrix::from_upper_parts(n, cp, ri, v).unwrap()
     }
 
-    /// Both Galerkin algorithms (one pass for rows of P with ≤ ONE_PASS_MAX_P_ROW entries, two
-    /// steps for longer ones) against the dense Pᵀ A P.
+    /// Both Galerkin algorithms (one pass for rows of P with ≤ ONE_PASS_MAX_P_ROW entries, P's
+    /// rows in two fixed slots when they have ≤ 2; two steps for longer ones) against the dense
+    /// Pᵀ A P.
     #[test]
     fn galerkin_one_pass_and_two_step_products_equal_the_dense_triple_product() {
         let (n, nc) = (13, ONE_PASS_MAX_P_ROW + 2);
@@ -847,14 +848,29 @@ mod tests {
                 ]
             })
             .collect();
+        // Three entries per row: one pass, without the two fixed slots.
+        let three: Vec<Vec<(usize, f64)>> = (0..n)
+            .map(|i| {
+                let c = i * nc / n;
+                vec![
+                    (c, 0.5),
+                    ((c + 2) % nc, 0.125 * i as f64),
+                    ((c + 4) % nc, 0.3),
+                ]
+            })
+            .collect();
         let long: Vec<Vec<(usize, f64)>> = (0..n)
             .map(|i| (0..nc).map(|c| (c, 1.0 / (1 + i + 2 * c) as f64)).collect())
             .collect();
-        for (rows, name) in [(short, "one pass"), (long, "two steps")] {
+        for (rows, name) in [
+            (short, "one pass, two slots"),
+            (three, "one pass, three per row"),
+            (long, "two steps"),
+        ] {
             let p = RowSparse::from_rows(nc, &rows).unwrap();
             assert_eq!(
                 p.max_row_len() <= ONE_PASS_MAX_P_ROW,
-                name == "one pass",
+                name.starts_with("one pass"),
                 "{name}: the test P selects the algorithm it is named after"
             );
             let ac = csr.galerkin(&p, &p.transpose()).unwrap();
