@@ -282,14 +282,14 @@ impl StaticParams {
                 "must be 1 (Tet4) or 2 (Tet10)",
             ));
         }
-        if let Some(n) = self.strip_posts {
-            if n == 0 || n > self.posts_x {
-                return Err(invalid(
-                    "strip_posts",
-                    n as f64,
-                    format!("must lie in 1..={}", self.posts_x),
-                ));
-            }
+        if let Some(n) = self.strip_posts
+            && (n == 0 || n > self.posts_x)
+        {
+            return Err(invalid(
+                "strip_posts",
+                n as f64,
+                format!("must lie in 1..={}", self.posts_x),
+            ));
         }
         if self.strip_rows == 0 || self.strip_rows > self.posts_y {
             return Err(invalid(
