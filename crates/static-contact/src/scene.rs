@@ -204,13 +204,21 @@ impl StripModel {
         // `half_y`); each body then carries half of each post's force.
         let (disks, disk_fraction) =
             crate::posts::find_tip_disks_with_fraction(&mesh, "post_tips")?;
-        if let Some(n) = config.expected_strip_posts {
-            if disks.len() != n {
-                return Err(mismatch(format!(
-                    "group `post_tips` has {} tip disks, the scene has {n} posts in the strip",
-                    disks.len()
-                )));
-            }
+        if let Some(n) = config.expected_strip_posts
+            && disks.len() != n
+        {
+            // A half strip meshed for reflection (slider-strip.geo `mirror_x = 1`) given as a
+            // file: it is used as it is, so say what it is.
+            let hint = if mesh.group("slider_mirror_x").is_some() {
+                "; this mesh is the half x ≤ L/2 of a strip (slider-strip.geo mirror_x = 1): \
+                 give the whole strip (mirror_x = 0)"
+            } else {
+                ""
+            };
+            return Err(mismatch(format!(
+                "group `post_tips` has {} tip disks, the scene has {n} posts in the strip{hint}",
+                disks.len()
+            )));
         }
         for (i, d) in disks.iter().enumerate() {
             if (d.radius_m / config.post_radius_m - 1.0).abs() > GEOMETRY_MATCH_TOLERANCE {

@@ -2,7 +2,8 @@
 //! (`slider-strip.geo` `mirror_x`, `gmsh_mesh::mirror`): its model is exactly symmetric about the
 //! strip's middle (post i and post n − 1 − i have the same compliances to round-off), and it has
 //! the compliances of the strip gmsh meshes whole, up to the two meshes' difference. An odd
-//! number of posts is meshed whole. Needs gmsh (two 10-post Tet4 strips, a few seconds).
+//! number of posts is meshed whole, and a half strip given as a file is refused with what it is.
+//! Needs gmsh (two 10-post Tet4 strips, a few seconds).
 
 use nalgebra::DMatrix;
 use static_contact::mesh_source::{generate_mesh, resolve_mesh_verified, strip_mesh_parameters};
@@ -40,6 +41,17 @@ fn an_even_strip_is_reflected_from_its_half_and_an_odd_one_meshed_whole() {
     assert_eq!(whole.tets.len(), 2 * half.tets.len());
     let odd = resolve_mesh_verified(&strip(dir.path(), 9)).expect("gmsh meshes the strip");
     assert!(odd.mirror.is_none(), "9 posts: meshed whole");
+    // The half file given to a run is used as it is, and refused with what it is.
+    let error = prepare_strip(&StaticParams {
+        mesh: MeshChoice::File(even.path.clone()),
+        ..strip(dir.path(), 10)
+    })
+    .expect_err("a half strip for a 10-post run")
+    .to_string();
+    assert!(
+        error.contains("5 tip disks") && error.contains("mirror_x = 1"),
+        "{error}"
+    );
 }
 
 #[test]
