@@ -362,12 +362,13 @@ fn column_buckets(
     cp: &[usize],
     ri: &[usize],
     reduced: &[u32],
+    skip: Option<&[bool]>,
     cols: std::ops::Range<usize>,
 ) -> (Vec<usize>, Vec<u32>) {
     let mut ptr = vec![0usize; m + 1];
     let pairs = |k: usize| {
         let rk = reduced[k];
-        let rows = if rk == PRESCRIBED {
+        let rows = if rk == PRESCRIBED || skip.is_some_and(|s| s[k]) {
             &[][..]
         } else {
             &ri[cp[k]..cp[k + 1]]
@@ -406,6 +407,7 @@ fn reduced_pattern(
     cp: &[usize],
     ri: &[usize],
     reduced: &[u32],
+    skip: Option<&[bool]>,
 ) -> FemResult<(Vec<usize>, Vec<usize>)> {
     if m > u32::MAX as usize {
         return Err(FemError::SparseBackend(format!(
@@ -415,7 +417,7 @@ fn reduced_pattern(
     let bounds = crate::sparse::csr::split_columns(cp, REDUCTION_BLOCKS);
     let buckets: Vec<(Vec<usize>, Vec<u32>)> = bounds
         .par_windows(2)
-        .map(|w| column_buckets(m, cp, ri, reduced, w[0]..w[1]))
+        .map(|w| column_buckets(m, cp, ri, reduced, skip, w[0]..w[1]))
         .collect();
     let chunks: Vec<(Vec<usize>, Vec<usize>)> = (0..m)
         .into_par_iter()
@@ -469,6 +471,77 @@ fn is_selection(dof_map: &DofMap) -> bool {
     selected == dof_map.reduced_count && dof_map.representative.windows(2).all(|w| w[0] < w[1])
 }
 
+/// Full columns k of K whose reduced column is a plain selection, `None` when unknowns are not
+/// numbered in the order of their first DOF. Column k is *clean* when its DOF is free and has
+/// an unknown of its own, none of its rows is tied (shares its unknown with another DOF), and
+/// it is no row of a tied column. Untied unknowns then increase with their DOF, so reduced
+/// column r_k is exactly the unknowns of column k's free rows, in order, and no other full
+/// column adds to it (an entry (k, k′ > k) lands in column r_k only if r_k′ < r_k, i.e. k′
+/// tied). On the strip, with its post tips tied, most columns are clean.
+fn clean_columns(
+    cp: &[usize],
+    ri: &[usize],
+    reduced: &[u32],
+    dof_map: &DofMap,
+) -> Option<Vec<bool>> {
+    if !dof_map.representative.windows(2).all(|w| w[0] < w[1]) {
+        return None;
+    }
+    let mut count = vec![0u32; dof_map.reduced_count];
+    for &r in reduced.iter().filter(|&&r| r != PRESCRIBED) {
+        count[r as usize] = count[r as usize].saturating_add(1);
+    }
+    let tied = |k: usize| reduced[k] != PRESCRIBED && count[reduced[k] as usize] > 1;
+    let mut clean: Vec<bool> = (0..reduced.len())
+        .map(|k| reduced[k] != PRESCRIBED && !tied(k))
+        .collect();
+    for k in 0..reduced.len() {
+        let tied_k = tied(k);
+        for &i in &ri[cp[k]..cp[k + 1]] {
+            if tied(i) {
+                clean[k] = false;
+            }
+            if tied_k {
+                clean[i] = false;
+            }
+        }
+    }
+    Some(clean)
+}
+
+/// The reduced pattern when `clean` ([`clean_columns`]) marks the full columns that are plain
+/// selections: those copied with their free rows, the others through [`reduced_pattern`]. The
+/// same pattern as [`reduced_pattern`] of all columns.
+fn mostly_selected_pattern(
+    m: usize,
+    cp: &[usize],
+    ri: &[usize],
+    reduced: &[u32],
+    dof_map: &DofMap,
+    clean: &[bool],
+) -> FemResult<(Vec<usize>, Vec<usize>)> {
+    let (other_ptr, other_rows) = reduced_pattern(m, cp, ri, reduced, Some(clean))?;
+    let mut col_ptr = Vec::with_capacity(m + 1);
+    col_ptr.push(0usize);
+    let mut rows = Vec::with_capacity(ri.len());
+    for j in 0..m {
+        let k = dof_map.representative[j];
+        if clean[k] {
+            rows.extend(
+                ri[cp[k]..cp[k + 1]]
+                    .iter()
+                    .map(|&i| reduced[i])
+                    .filter(|&r| r != PRESCRIBED)
+                    .map(|r| r as usize),
+            );
+        } else {
+            rows.extend_from_slice(&other_rows[other_ptr[j]..other_ptr[j + 1]]);
+        }
+        col_ptr.push(rows.len());
+    }
+    Ok((col_ptr, rows))
+}
+
 /// The reduced pattern and scatter map of a pure selection ([`is_selection`]) in one pass over
 /// K's upper pattern: unknowns increase with the DOF, so every free column keeps its free rows
 /// in order and its entries land one after another. The same result as the general passes.
@@ -509,6 +582,7 @@ fn scatter_map(
     cp: &[usize],
     ri: &[usize],
     reduced: &[u32],
+    clean: Option<&[bool]>,
     col_ptr: &[usize],
     rows: &[usize],
 ) -> Vec<u32> {
@@ -528,6 +602,17 @@ fn scatter_map(
         for k in cols {
             let rk = reduced[k];
             if rk == PRESCRIBED {
+                continue;
+            }
+            if clean.is_some_and(|c| c[k]) {
+                // Its free rows, in order, are the whole reduced column rk.
+                let mut pos = col_ptr[rk as usize];
+                for p in cp[k]..cp[k + 1] {
+                    if reduced[ri[p]] != PRESCRIBED {
+                        out[p - base] = pos as u32;
+                        pos += 1;
+                    }
+                }
                 continue;
             }
             for p in cp[k]..cp[k + 1] {
@@ -598,10 +683,15 @@ impl ReducedSystem {
         let (col_ptr, rows, scatter) = if is_selection(&dof_map) {
             selected_pattern(m, cp, ri, &reduced)
         } else {
-            // Passes 1–2: the reduced pattern (rows of every reduced column, sorted, unique).
-            let (col_ptr, rows) = reduced_pattern(m, cp, ri, &reduced)?;
+            let clean = clean_columns(cp, ri, &reduced, &dof_map);
+            // Passes 1–2: the reduced pattern (rows of every reduced column, sorted, unique);
+            // clean columns copied, the others bucketed.
+            let (col_ptr, rows) = match &clean {
+                Some(clean) => mostly_selected_pattern(m, cp, ri, &reduced, &dof_map, clean)?,
+                None => reduced_pattern(m, cp, ri, &reduced, None)?,
+            };
             // Pass 3: scatter map of every full upper entry (blocks of full columns in parallel).
-            let scatter = scatter_map(cp, ri, &reduced, &col_ptr, &rows);
+            let scatter = scatter_map(cp, ri, &reduced, clean.as_deref(), &col_ptr, &rows);
             (col_ptr, rows, scatter)
         };
         let write = rows.len();
@@ -785,8 +875,8 @@ mod tests {
         let (cp, ri) = (&pattern.col_ptr, &pattern.row_idx);
         let reduced = reduced_table(&dof_map);
         let m = dof_map.reduced_count();
-        let (col_ptr, rows) = reduced_pattern(m, cp, ri, &reduced).expect("pattern");
-        let scatter = scatter_map(cp, ri, &reduced, &col_ptr, &rows);
+        let (col_ptr, rows) = reduced_pattern(m, cp, ri, &reduced, None).expect("pattern");
+        let scatter = scatter_map(cp, ri, &reduced, None, &col_ptr, &rows);
         assert_eq!(
             selected_pattern(m, cp, ri, &reduced),
             (col_ptr, rows, scatter)
@@ -809,5 +899,69 @@ mod tests {
         };
         let dof_map = DofMap::new(mesh.nodes.len(), &constraints).expect("valid constraints");
         assert!(!is_selection(&dof_map));
+    }
+
+    /// A strip-like set-up: a clamped top, a roller plane, and tied "tips" (z of two patches on
+    /// the bottom, one of them with x bonded): most columns are clean, the rest go through the
+    /// general passes, and the result equals the general passes on every column.
+    #[test]
+    fn mostly_selected_reduction_equals_the_general_one_with_tied_tips() {
+        let mesh = BoxMesh::tet10([4.0, 1.0, 1.0], [8, 2, 3]);
+        let material = Material::isotropic(200e9, 0.3).expect("valid material");
+        let model = Model::new(mesh.nodes.clone(), mesh.connectivity.clone(), material)
+            .expect("valid box mesh");
+        let bottom = mesh.face_nodes(BoxFace::ZMin);
+        let patch = |x0: f64, x1: f64| -> Vec<usize> {
+            bottom
+                .iter()
+                .copied()
+                .filter(|&n| (x0..=x1).contains(&mesh.nodes[n][0]))
+                .collect()
+        };
+        let tip = |nodes: Vec<usize>, x: RigidComponent| crate::RigidFace {
+            nodes,
+            components: [
+                x,
+                RigidComponent::Free,
+                RigidComponent::Loaded { force_n: 1.0 },
+            ],
+        };
+        let constraints = Constraints {
+            dirichlet: vec![
+                Dirichlet::clamped(mesh.face_nodes(BoxFace::ZMax)),
+                Dirichlet::component(mesh.face_nodes(BoxFace::YMin), 1, 0.0),
+            ],
+            rigid_faces: vec![
+                tip(patch(0.9, 1.6), RigidComponent::Free),
+                tip(
+                    patch(2.4, 3.1),
+                    RigidComponent::Prescribed {
+                        displacement_m: 0.0,
+                    },
+                ),
+            ],
+            ..Default::default()
+        };
+        let dof_map = DofMap::new(model.node_count(), &constraints).expect("valid constraints");
+        let pattern = StiffnessPattern::build(&model);
+        let (cp, ri) = (&pattern.col_ptr, &pattern.row_idx);
+        let reduced = reduced_table(&dof_map);
+        let m = dof_map.reduced_count();
+        let clean = clean_columns(cp, ri, &reduced, &dof_map).expect("first-DOF numbering");
+        let clean_count = clean.iter().filter(|&&c| c).count();
+        assert!(
+            clean_count > m / 2 && clean_count < m,
+            "{clean_count} clean columns of {m}: both paths are exercised"
+        );
+        let general = reduced_pattern(m, cp, ri, &reduced, None).expect("pattern");
+        let mostly =
+            mostly_selected_pattern(m, cp, ri, &reduced, &dof_map, &clean).expect("pattern");
+        assert_eq!(mostly, general, "reduced pattern");
+        let (col_ptr, rows) = general;
+        assert_eq!(
+            scatter_map(cp, ri, &reduced, Some(&clean), &col_ptr, &rows),
+            scatter_map(cp, ri, &reduced, None, &col_ptr, &rows),
+            "scatter map"
+        );
     }
 }
