@@ -3,8 +3,10 @@
 //! saves that; the Tet4 file elevated in Rust must have the same midside positions. Needs gmsh
 //! (CI installs it); without it the test prints a note and returns.
 
+mod common;
+
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use gmsh_mesh::elevate::{Cylinder, CylinderWalls, elevate_to_tet10};
 use gmsh_mesh::geometry::TET10_EDGES;
@@ -15,17 +17,6 @@ use gmsh_mesh::{TetMesh, Tets, read_msh};
 const PITCH: f64 = 40e-6;
 const DIAMETER: f64 = 20e-6;
 const POSTS: usize = 3;
-
-fn gmsh_available() -> bool {
-    let found = std::process::Command::new(GmshOptions::default().program)
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !found {
-        println!("note: gmsh not installed (apt-get install -y gmsh); skipping");
-    }
-    found
-}
 
 /// Tet4 and gmsh's Tet10 of one meshing of the small strip with `half_y` and a stator block of
 /// depth `stator_depth` (m; 0: none).
@@ -44,7 +35,7 @@ fn tet4_and_gmsh_tet10(dir: &Path, half_y: u8, stator_depth: f64) -> (TetMesh, T
 
 /// Tet4 and gmsh's Tet10 (`SetOrder 2`) of one meshing of `slider-strip.geo` with `numbers`.
 fn mesh_twice(dir: &Path, numbers: &[(&str, f64)]) -> (TetMesh, TetMesh) {
-    let geo = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../meshes/slider-strip.geo");
+    let geo = common::geometry("slider-strip");
     let (tet4, tet10) = (dir.join("tet4.msh"), dir.join("tet10.msh"));
     let script = dir.join("order2.geo");
     std::fs::write(
@@ -153,7 +144,7 @@ fn midside_gap(ours: &TetMesh, gmsh: &TetMesh) -> (f64, usize) {
 
 #[test]
 fn midside_nodes_match_gmsh_curvilinear_order_2_of_the_same_tet4_mesh() {
-    if !gmsh_available() {
+    if !common::gmsh_available() {
         return;
     }
     for (half_y, stator_depth) in [(1, 0.0), (0, 0.0), (1, 100e-6), (0, 100e-6)] {
@@ -204,7 +195,7 @@ fn midside_nodes_match_gmsh_curvilinear_order_2_of_the_same_tet4_mesh() {
 #[test]
 #[ignore = "meshes the default 100-post strip twice in one gmsh session (~10 s CPU)"]
 fn the_default_strip_gets_gmsh_s_midside_nodes() {
-    if !gmsh_available() {
+    if !common::gmsh_available() {
         return;
     }
     let dir = tempfile::tempdir().expect("temp dir");

@@ -2,25 +2,12 @@
 //! `-setnumber` parameters atomically, and names a missing gmsh or a gmsh failure. Needs gmsh
 //! (CI installs it); without it the meshing test prints a note and returns.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 
 use gmsh_mesh::MeshError;
 use gmsh_mesh::gmsh::{GmshOptions, run_geo};
-
-fn geometry(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../../meshes/{name}.geo"))
-}
-
-fn gmsh_available() -> bool {
-    let found = std::process::Command::new(GmshOptions::default().program)
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !found {
-        println!("note: gmsh not installed (apt-get install -y gmsh); skipping");
-    }
-    found
-}
 
 fn only_file_in(dir: &Path) -> Vec<String> {
     std::fs::read_dir(dir)
@@ -31,7 +18,7 @@ fn only_file_in(dir: &Path) -> Vec<String> {
 
 #[test]
 fn a_punch_mesh_is_written_atomically_with_its_parameters() {
-    if !gmsh_available() {
+    if !common::gmsh_available() {
         return;
     }
     let dir = tempfile::tempdir().expect("temp dir");
@@ -48,7 +35,8 @@ fn a_punch_mesh_is_written_atomically_with_its_parameters() {
             binary,
             ..GmshOptions::default()
         };
-        run_geo(&geometry("punch"), &out, &parameters, &options).expect("gmsh meshes punch.geo");
+        run_geo(&common::geometry("punch"), &out, &parameters, &options)
+            .expect("gmsh meshes punch.geo");
         let mesh = gmsh_mesh::read_msh(&out).expect("the mesh reads back");
         assert!(
             mesh.tets.len() > 100,
@@ -79,7 +67,7 @@ fn a_missing_gmsh_is_named_with_how_to_install_it() {
         program: "/nonexistent/gmsh-binary".into(),
         ..GmshOptions::default()
     };
-    let err = run_geo(&geometry("punch"), &out, &[], &options).expect_err("no such gmsh");
+    let err = run_geo(&common::geometry("punch"), &out, &[], &options).expect_err("no such gmsh");
     assert!(
         matches!(err, MeshError::GmshMissing { .. }),
         "missing gmsh reported as such: {err}"
@@ -94,14 +82,14 @@ fn a_missing_gmsh_is_named_with_how_to_install_it() {
 
 #[test]
 fn a_gmsh_failure_quotes_its_error_and_leaves_no_file() {
-    if !gmsh_available() {
+    if !common::gmsh_available() {
         return;
     }
     let dir = tempfile::tempdir().expect("temp dir");
     let out = dir.path().join("strip.msh");
     // d ≥ pitch: slider-strip.geo stops with its own Error().
     let err = run_geo(
-        &geometry("slider-strip"),
+        &common::geometry("slider-strip"),
         &out,
         &[("pitch", 10e-6), ("d", 20e-6)],
         &GmshOptions::default(),

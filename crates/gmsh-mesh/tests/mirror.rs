@@ -12,20 +12,9 @@ use gmsh_mesh::gmsh::{GmshOptions, run_geo};
 use gmsh_mesh::mirror::{MirrorPlane, MirrorRename, mirror_in_x};
 use gmsh_mesh::{TetMesh, read_msh};
 
-fn gmsh_available() -> bool {
-    let found = std::process::Command::new(GmshOptions::default().program)
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !found {
-        println!("note: gmsh not installed (apt-get install -y gmsh); skipping");
-    }
-    found
-}
-
 /// The 4-post strip (half width, with a stator block) meshed with `mirror_x`.
 fn strip(dir: &Path, mirror_x: f64) -> TetMesh {
-    let geo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../meshes/slider-strip.geo");
+    let geo = common::geometry("slider-strip");
     let out = dir.join(format!("strip-mirror{mirror_x}.msh"));
     let numbers = [
         ("n_posts", 4.0),
@@ -56,7 +45,7 @@ fn strip_plane() -> MirrorPlane {
 
 #[test]
 fn the_reflected_half_strip_is_the_whole_strip_body_with_outward_faces() {
-    if !gmsh_available() {
+    if !common::gmsh_available() {
         return;
     }
     let dir = tempfile::tempdir().expect("temp dir");

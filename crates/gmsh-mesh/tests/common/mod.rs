@@ -7,6 +7,24 @@ use std::path::PathBuf;
 use gmsh_mesh::TetMesh;
 use gmsh_mesh::geometry::{Point, triangle_normal};
 
+/// `meshes/NAME.geo`, the parametric geometry `name`.
+pub fn geometry(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../../meshes/{name}.geo"))
+}
+
+/// Whether the gmsh that `gmsh_mesh::gmsh::run_geo` would start runs; prints a note when not
+/// (the gmsh tests then return: CI installs gmsh).
+pub fn gmsh_available() -> bool {
+    let found = std::process::Command::new(gmsh_mesh::gmsh::GmshOptions::default().program)
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !found {
+        println!("note: gmsh not installed (apt-get install -y gmsh); skipping");
+    }
+    found
+}
+
 /// Path of a committed mesh in meshes/.
 pub fn committed_mesh(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
