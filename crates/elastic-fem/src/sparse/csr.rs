@@ -297,14 +297,10 @@ impl CsrMatrix {
             .map(|(&c, &v)| (c as usize, v))
     }
 
-    /// Σ_j A_ij x_j with [`DOT_LANES`] independent partial sums, so the additions' latency
-    /// (≈ 4 cycles each, one chain per row otherwise) overlaps the memory traffic.
-    fn row_dot(&self, i: usize, x: &[f64]) -> f64 {
-        self.row_dot_with(&self.values, i, x)
-    }
-
-    /// [`Self::row_dot`] with `values` in place of the matrix's own (same length: this matrix's
-    /// entries in another precision), summed in f64.
+    /// Σ_j A_ij x_j with `values` for A's entries (the matrix's own, or them in another
+    /// precision: same length), summed in f64 with [`DOT_LANES`] independent partial sums, so
+    /// the additions' latency (≈ 4 cycles each, one chain per row otherwise) overlaps the memory
+    /// traffic.
     fn row_dot_with<V: Copy + Into<f64>>(&self, values: &[V], i: usize, x: &[f64]) -> f64 {
         let (s, e) = (self.row_ptr[i], self.row_ptr[i + 1]);
         let mut cols = self.col_idx[s..e].chunks_exact(DOT_LANES);
@@ -333,17 +329,8 @@ impl CsrMatrix {
 
     /// y = Ã x with Ã = `single`, this matrix in single precision (sums in f64).
     pub(crate) fn mul_vec_single(&self, single: &SinglePrecision, x: &[f64], y: &mut [f64]) {
-        assert_eq!(
-            single.values.len(),
-            self.values.len(),
-            "values of another matrix"
-        );
-        y.par_chunks_mut(ROW_BLOCK).enumerate().for_each(|(b, yb)| {
-            let base = b * ROW_BLOCK;
-            for (k, yi) in yb.iter_mut().enumerate() {
-                *yi = self.row_dot_with(&single.values, base + k, x);
-            }
-        });
+        self.check_single(single);
+        self.mul_vec_with(&single.values, x, y);
     }
 
     /// r = b − Ã x with Ã = `single`, this matrix in single precision (sums in f64).
@@ -354,23 +341,25 @@ impl CsrMatrix {
         x: &[f64],
         r: &mut [f64],
     ) {
+        self.check_single(single);
+        self.residual_with(&single.values, b, x, r);
+    }
+
+    fn check_single(&self, single: &SinglePrecision) {
         assert_eq!(
             single.values.len(),
             self.values.len(),
             "values of another matrix"
         );
-        r.par_chunks_mut(ROW_BLOCK)
-            .enumerate()
-            .for_each(|(blk, rb)| {
-                let base = blk * ROW_BLOCK;
-                for (k, ri) in rb.iter_mut().enumerate() {
-                    *ri = b[base + k] - self.row_dot_with(&single.values, base + k, x);
-                }
-            });
     }
 
     /// y = A x, rows in parallel blocks of [`ROW_BLOCK`].
     pub fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
+        self.mul_vec_with(&self.values, x, y);
+    }
+
+    /// y = A x with `values` for this matrix's entries ([`Self::row_dot_with`]).
+    fn mul_vec_with<V: Copy + Into<f64> + Sync>(&self, values: &[V], x: &[f64], y: &mut [f64]) {
         assert_eq!(
             x.len(),
             self.dim(),
@@ -384,13 +373,24 @@ impl CsrMatrix {
         y.par_chunks_mut(ROW_BLOCK).enumerate().for_each(|(b, yb)| {
             let base = b * ROW_BLOCK;
             for (k, yi) in yb.iter_mut().enumerate() {
-                *yi = self.row_dot(base + k, x);
+                *yi = self.row_dot_with(values, base + k, x);
             }
         });
     }
 
     /// r = b − A x, rows in parallel.
     pub fn residual(&self, b: &[f64], x: &[f64], r: &mut [f64]) {
+        self.residual_with(&self.values, b, x, r);
+    }
+
+    /// r = b − A x with `values` for this matrix's entries ([`Self::row_dot_with`]).
+    fn residual_with<V: Copy + Into<f64> + Sync>(
+        &self,
+        values: &[V],
+        b: &[f64],
+        x: &[f64],
+        r: &mut [f64],
+    ) {
         assert_eq!(
             b.len(),
             self.dim(),
@@ -401,7 +401,7 @@ impl CsrMatrix {
             .for_each(|(blk, rb)| {
                 let base = blk * ROW_BLOCK;
                 for (k, ri) in rb.iter_mut().enumerate() {
-                    *ri = b[base + k] - self.row_dot(base + k, x);
+                    *ri = b[base + k] - self.row_dot_with(values, base + k, x);
                 }
             });
     }
