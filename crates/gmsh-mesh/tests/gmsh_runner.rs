@@ -104,4 +104,18 @@ fn a_gmsh_failure_quotes_its_error_and_leaves_no_file() {
         only_file_in(dir.path()).is_empty(),
         "no mesh or temporary file left after a failure"
     );
+    // A half along x needs an even post count (the plane x = L/2 between two posts).
+    let err = run_geo(
+        &common::geometry("slider-strip"),
+        &out,
+        &[("n_posts", 3.0), ("mirror_x", 1.0)],
+        &GmshOptions::default(),
+    )
+    .expect_err("mirror_x with an odd post count is refused by the geometry");
+    let text = err.to_string();
+    assert!(
+        text.contains("mirror_x = 1 needs an even n_posts"),
+        "gmsh's own error is quoted: {text}"
+    );
+    assert!(only_file_in(dir.path()).is_empty());
 }
