@@ -9,11 +9,18 @@
 #
 # Each repeat runs RAYON_NUM_THREADS=1 then =T back to back (T = --threads, default 2), so both
 # see the same load; the summary keeps the minimum over the repeats of every phase, prints the
-# speed-up per phase and the load average before every run. Bitwise check: the printed result
+# speed-up per phase and the load average before every run.
+#
+# The machine's own limit: with --threads 2 each repeat also runs two one-thread processes side
+# by side (skip with --no-side-by-side). Two independent copies share nothing but the hardware
+# (memory bandwidth, caches, the host), so 2 × t(alone) / t(side by side) is the most any
+# two-thread version of a phase can gain on this machine; the summary prints it per phase as
+# `ceiling`, and the speed-up as a share of it. Bitwise check: the printed result
 # (k_sn clamped for the punch, η for the strip, 17 digits) must be identical across repeats with
 # the same thread count (the script fails otherwise); whether 1 and T threads agree is printed.
 #
 #   scripts/threads-scaling.sh [--repeats N] [--threads T] [--level L] [--no-punch] [--no-strip]
+#                              [--no-side-by-side]
 #
 # A 2-thread speed-up is only measurable on an otherwise idle machine (load average < 1 on 2
 # cores); the load is printed so that the numbers can be judged. Builds the two release examples
@@ -27,6 +34,7 @@ threads=2
 level=3
 punch=1
 strip=1
+side=1
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --repeats) repeats="$2"; shift 2 ;;
@@ -34,7 +42,8 @@ while [[ $# -gt 0 ]]; do
     --level) level="$2"; shift 2 ;;
     --no-punch) punch=0; shift ;;
     --no-strip) strip=0; shift ;;
-    *) echo "usage: $0 [--repeats N] [--threads T] [--level L] [--no-punch] [--no-strip]" >&2; exit 2 ;;
+    --no-side-by-side) side=0; shift ;;
+    *) echo "usage: $0 [--repeats N] [--threads T] [--level L] [--no-punch] [--no-strip] [--no-side-by-side]" >&2; exit 2 ;;
   esac
 done
 [[ "$repeats" =~ ^[1-9][0-9]*$ ]] || { echo "error: --repeats must be a positive integer" >&2; exit 2; }
@@ -71,11 +80,36 @@ EOF
   tail -1 "$log"
 }
 
+# pair CASE CMD...: two one-thread copies of CMD side by side; appends both as threads "pair".
+pair() {
+  local case="$1"; shift
+  local load; load="$(cut -d' ' -f1 /proc/loadavg)"
+  for k in a b; do
+    RAYON_NUM_THREADS=1 /usr/bin/time -f "%e %U %S" -o "$scratch/time.$k" "$@" >"$scratch/out.$k" 2>"$scratch/err.$k" &
+  done
+  wait %1 && wait %2 || { echo "error: $case side by side failed:" >&2; tail -5 "$scratch"/err.* >&2; exit 1; }
+  for k in a b; do
+    python3 - "$case" "$load" "$scratch/time.$k" "$scratch/out.$k" >>"$log" <<'EOF'
+import json, sys
+case, load, time_path, out_path = sys.argv[1:]
+wall, user, sys_ = (float(x) for x in open(time_path).read().split()[-3:])
+r = json.loads(open(out_path).read().strip().splitlines()[-1])
+print(json.dumps({"case": case, "threads": "pair", "load1": float(load), "wall_s": wall,
+                  "user_s": user, "sys_s": sys_, "result": r}))
+EOF
+  done
+}
+[[ $threads == 2 ]] || side=0
+
 for r in $(seq 1 "$repeats"); do
   for t in 1 "$threads"; do
     if [[ $punch == 1 ]]; then one punch "$t" "$bin/punch_scaling" --method iterative "$mesh"; fi
     if [[ $strip == 1 ]]; then one strip "$t" "$bin/static_breakdown"; fi
   done
+  if [[ $side == 1 ]]; then
+    if [[ $punch == 1 ]]; then pair punch "$bin/punch_scaling" --method iterative "$mesh"; fi
+    if [[ $strip == 1 ]]; then pair strip "$bin/static_breakdown"; fi
+  fi
 done >/dev/null
 
 python3 - "$log" <<'EOF'
@@ -87,30 +121,37 @@ phases = {
 }
 value = {"punch": "k_sn_clamped_n_per_m", "strip": "effective_contact_ratio"}
 for r in runs:
-    print(f"# {r['case']} threads {r['threads']} load {r['load1']:.2f}: wall {r['wall_s']:.2f} s, "
+    print(f"# {r['case']} threads {'1+1 side by side' if r['threads'] == 'pair' else r['threads']} load {r['load1']:.2f}: wall {r['wall_s']:.2f} s, "
           f"CPU {r['user_s'] + r['sys_s']:.2f} s, " + ", ".join(
               f"{p} {r['result'][p]:.3f}" for p in phases[r['case']]) +
           f", {value[r['case']]} {r['result'][value[r['case']]]!r}")
 failed = False
 for case in ("punch", "strip"):
-    mine = [r for r in runs if r["case"] == case]
+    pairs = [r for r in runs if r["case"] == case and r["threads"] == "pair"]
+    mine = [r for r in runs if r["case"] == case and r["threads"] != "pair"]
     if not mine:
         continue
     counts = sorted({r["threads"] for r in mine})
     print(f"{case}: minimum over {len(mine) // len(counts)} repeats (s); speed-up = 1 thread / {counts[-1]} threads")
-    print(f"  {'phase':<22}" + "".join(f"{str(t) + ' thr':>10}" for t in counts) + f"{'speed-up':>10}")
-    best = {}
+    if pairs:
+        print("  1+1 side = one-thread copy run beside another (the pair's mean, minimum over the repeats);")
+        print("  ceiling = 2 × (1 thr) / (1+1 side): the most two threads can gain on this machine")
+    print(f"  {'phase':<22}" + "".join(f"{str(t) + ' thr':>10}" for t in counts) + f"{'speed-up':>10}"
+          + (f"{'1+1 side':>10}{'ceiling':>10}{'share':>8}" if pairs else ""))
+    def get(r, p):
+        return r["user_s"] + r["sys_s"] if p == "cpu_s" else r[p] if p == "wall_s" else r["result"][p]
     for p in phases[case] + ["wall_s", "cpu_s"]:
-        row = []
-        for t in counts:
-            get = (lambda r: r["user_s"] + r["sys_s"]) if p == "cpu_s" else \
-                  (lambda r: r[p]) if p == "wall_s" else (lambda r: r["result"][p])
-            row.append(min(get(r) for r in mine if r["threads"] == t))
-        best[p] = row
-        print(f"  {p:<22}" + "".join(f"{v:>10.3f}" for v in row) + f"{row[0] / row[-1]:>10.2f}")
+        row = [min(get(r, p) for r in mine if r["threads"] == t) for t in counts]
+        line = f"  {p:<22}" + "".join(f"{v:>10.3f}" for v in row) + f"{row[0] / row[-1]:>10.2f}"
+        if pairs and p != "cpu_s":
+            side = min((get(a, p) + get(b, p)) / 2 for a, b in zip(pairs[::2], pairs[1::2]))
+            ceiling = 2 * row[0] / side if side > 0 else float("nan")
+            line += f"{side:>10.3f}{ceiling:>10.2f}{(row[0] / row[-1]) / ceiling:>8.0%}"
+        print(line)
     bits = {}
     for t in counts:
-        vals = {repr(r["result"][value[case]]) for r in mine if r["threads"] == t}
+        vals = {repr(r["result"][value[case]]) for r in mine + pairs
+                if r["threads"] == t or (t == 1 and r["threads"] == "pair")}
         bits[t] = vals
         if len(vals) != 1:
             failed = True
