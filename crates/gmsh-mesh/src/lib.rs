@@ -28,6 +28,7 @@ pub mod mirror;
 mod msh;
 mod quality;
 mod read;
+pub mod renumber;
 mod vtu;
 
 pub use error::{Location, MeshError, Result, escape_control};

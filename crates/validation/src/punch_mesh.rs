@@ -94,12 +94,14 @@ fn group_nodes(
 }
 
 impl PunchMesh {
-    /// Reads and checks a punch mesh file.
+    /// Reads and checks a punch mesh file; its nodes are renumbered along a Morton curve
+    /// ([`gmsh_mesh::renumber`]: gmsh's numbering puts coupled unknowns far apart in memory).
     pub fn read(path: &Path) -> Result<Self, ValidationError> {
-        let mesh = gmsh_mesh::read_msh(path).map_err(|source| ValidationError::MeshRead {
+        let mut mesh = gmsh_mesh::read_msh(path).map_err(|source| ValidationError::MeshRead {
             path: path.to_path_buf(),
             source: Box::new(source),
         })?;
+        mesh.renumber_for_locality();
         Self::from_tet_mesh(mesh)
     }
 
