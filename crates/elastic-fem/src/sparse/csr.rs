@@ -817,6 +817,29 @@ mod tests {
         assert_eq!(r, r_rounded, "b − Ã x likewise");
     }
 
+    #[test]
+    fn the_full_rows_are_the_same_for_any_thread_count() {
+        let a = banded(500);
+        let with = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| CsrMatrix::from_symmetric(&a).unwrap())
+        };
+        let one = with(1);
+        for threads in [2, 3, 16, 20] {
+            let other = with(threads);
+            assert_eq!(one.row_ptr, other.row_ptr, "{threads} threads");
+            assert_eq!(one.col_idx, other.col_idx, "{threads} threads");
+            assert_eq!(one.values, other.values, "{threads} threads");
+        }
+        let x: Vec<f64> = (0..500).map(|i| (0.1 * i as f64).sin()).collect();
+        let (mut y, mut y_csr) = (vec![0.0; 500], vec![0.0; 500]);
+        a.mul_vec(&x, &mut y);
+        one.mul_vec(&x, &mut y_csr);
+        for (u, v) in y.iter().zip(&y_csr) {
+            assert!((u - v).abs() <= 1e-14 * u.abs().max(1.0), "{u} vs {v}");
+        }
+    }
+
     /// Full n × n matrix with a_ii = 4 + i, a_ij = 1/(1 + i + j) for |i − j| ≤ 3, as upper CSC.
     fn banded(n: usize) -> SymmetricMatrix {
         let (mut cp, mut ri, mut v) = (vec![0usize], Vec::new(), Vec::new());
