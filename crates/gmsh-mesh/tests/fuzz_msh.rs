@@ -101,10 +101,11 @@ fn parse_checked(bytes: &[u8], name: &str) -> Result<(), TestCaseError> {
 fn count_offsets(bytes: &[u8]) -> Vec<usize> {
     let mut offsets = Vec::new();
     for (i, window) in bytes.windows(2).enumerate() {
-        if window == b"\n$" && !bytes[i + 2..].starts_with(b"$End") {
-            if let Some(eol) = bytes[i + 1..].iter().position(|&b| b == b'\n') {
-                offsets.push(i + 1 + eol + 1);
-            }
+        if window == b"\n$"
+            && !bytes[i + 2..].starts_with(b"$End")
+            && let Some(eol) = bytes[i + 1..].iter().position(|&b| b == b'\n')
+        {
+            offsets.push(i + 1 + eol + 1);
         }
     }
     offsets
