@@ -35,6 +35,7 @@ pub mod element;
 pub mod error;
 pub mod iterative;
 pub mod loads;
+pub mod locality;
 pub mod material;
 pub mod mesh_gen;
 pub mod model;

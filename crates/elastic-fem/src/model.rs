@@ -278,14 +278,6 @@ impl Model {
 
     /// Axis-aligned bounding box (min, max) of the nodes (m).
     pub fn bounding_box(&self) -> ([f64; 3], [f64; 3]) {
-        let mut lo = [f64::INFINITY; 3];
-        let mut hi = [f64::NEG_INFINITY; 3];
-        for x in &self.nodes {
-            for j in 0..3 {
-                lo[j] = lo[j].min(x[j]);
-                hi[j] = hi[j].max(x[j]);
-            }
-        }
-        (lo, hi)
+        crate::locality::bounding_box(&self.nodes)
     }
 }

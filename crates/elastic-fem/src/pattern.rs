@@ -4,6 +4,7 @@
 
 use rayon::prelude::*;
 
+use crate::locality::morton_key;
 use crate::model::{Connectivity, Model};
 
 /// Nodes per rayon task when filling the row indices of the pattern. Dimensionless; default 256.
@@ -88,29 +89,6 @@ fn lower_node_neighbours(node_count: usize, connectivity: &Connectivity) -> (Vec
 /// thread. Large enough for the scatter to stay in cache and to amortise scheduling, small
 /// enough for ≥ 10 blocks per colour at 10⁴ elements. Dimensionless; default 64.
 pub const ASSEMBLY_BLOCK_ELEMENTS: usize = 64;
-
-/// Morton (Z-order) key of a point in the box `lo`..`hi`: 21 bits per axis, interleaved.
-fn morton_key(x: [f64; 3], lo: [f64; 3], hi: [f64; 3]) -> u64 {
-    const CELLS: f64 = ((1u64 << 21) - 1) as f64;
-    let spread = |v: u64| {
-        let mut v = v & 0x1f_ffff;
-        v = (v | v << 32) & 0x1f_0000_0000_ffff;
-        v = (v | v << 16) & 0x1f_0000_ff00_00ff;
-        v = (v | v << 8) & 0x100f_00f0_0f00_f00f;
-        v = (v | v << 4) & 0x10c3_0c30_c30c_30c3;
-        (v | v << 2) & 0x1249_2492_4924_9249
-    };
-    let cell = |c: usize| {
-        let span = hi[c] - lo[c];
-        let t = if span > 0.0 {
-            (x[c] - lo[c]) / span
-        } else {
-            0.0
-        };
-        (t.clamp(0.0, 1.0) * CELLS) as u64
-    };
-    spread(cell(0)) | spread(cell(1)) << 1 | spread(cell(2)) << 2
-}
 
 /// Elements in Morton order of their vertex centroids (ties by index): neighbours in space are
 /// neighbours in the order, whatever order the mesher wrote them in.
@@ -326,16 +304,5 @@ mod tests {
             }
         }
         assert!(seen.iter().all(|&count| count == 1));
-    }
-
-    #[test]
-    fn morton_keys_interleave_the_axes_and_order_by_the_highest_bit() {
-        let (lo, hi) = ([0.0; 3], [1.0; 3]);
-        assert_eq!(morton_key([0.0; 3], lo, hi), 0);
-        assert_eq!(morton_key([1.0; 3], lo, hi), (1u64 << 63) - 1);
-        // The top cell bit of x, y, z lands at bits 60, 61, 62.
-        assert_eq!(morton_key([0.6, 0.0, 0.0], lo, hi) >> 60, 0b001);
-        assert_eq!(morton_key([0.0, 0.6, 0.0], lo, hi) >> 60, 0b010);
-        assert_eq!(morton_key([0.0, 0.0, 0.6], lo, hi) >> 60, 0b100);
     }
 }

@@ -95,13 +95,13 @@ fn group_nodes(
 
 impl PunchMesh {
     /// Reads and checks a punch mesh file; its nodes are renumbered along a Morton curve
-    /// ([`gmsh_mesh::renumber`]: gmsh's numbering puts coupled unknowns far apart in memory).
+    /// ([`elastic_fem::locality`]: gmsh's numbering puts coupled unknowns far apart in memory).
     pub fn read(path: &Path) -> Result<Self, ValidationError> {
         let mut mesh = gmsh_mesh::read_msh(path).map_err(|source| ValidationError::MeshRead {
             path: path.to_path_buf(),
             source: Box::new(source),
         })?;
-        mesh.renumber_for_locality();
+        mesh.renumber_nodes(&elastic_fem::locality::morton_order(&mesh.nodes));
         Self::from_tet_mesh(mesh)
     }
 

@@ -821,7 +821,10 @@ mod tests {
     fn the_full_rows_are_the_same_for_any_thread_count() {
         let a = banded(500);
         let with = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
             pool.install(|| CsrMatrix::from_symmetric(&a).unwrap())
         };
         let one = with(1);
