@@ -84,10 +84,13 @@ EOF
 pair() {
   local case="$1"; shift
   local load; load="$(cut -d' ' -f1 /proc/loadavg)"
+  local pids=() failed=0
   for k in a b; do
     RAYON_NUM_THREADS=1 /usr/bin/time -f "%e %U %S" -o "$scratch/time.$k" "$@" >"$scratch/out.$k" 2>"$scratch/err.$k" &
+    pids+=("$!")
   done
-  wait %1 && wait %2 || { echo "error: $case side by side failed:" >&2; tail -5 "$scratch"/err.* >&2; exit 1; }
+  for p in "${pids[@]}"; do wait "$p" || failed=1; done
+  [[ $failed == 0 ]] || { echo "error: $case side by side failed:" >&2; tail -5 "$scratch"/err.* >&2; exit 1; }
   for k in a b; do
     python3 - "$case" "$load" "$scratch/time.$k" "$scratch/out.$k" >>"$log" <<'EOF'
 import json, sys
