@@ -314,25 +314,16 @@ fn periodic_midside_pairs(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::collections::BTreeMap;
 
     /// One tet (positive volume) whose face 0-1-2 lies on the cylinder of radius 1 about the z axis (group "wall").
     fn one_tet_on_a_cylinder() -> TetMesh {
         let angle = |deg: f64| [deg.to_radians().cos(), deg.to_radians().sin()];
         let ([x0, y0], [x1, y1]) = (angle(0.0), angle(30.0));
-        TetMesh {
-            source: "test".into(),
-            nodes: vec![[x0, y0, 0.0], [x1, y1, 0.0], [x0, y0, 0.5], [2.0, 0.0, 0.0]],
-            node_tags: vec![1, 2, 3, 4],
-            tets: Tets::Linear(vec![[0, 1, 2, 3]]),
-            tet_tags: vec![1],
-            tet_groups: vec![Some(1)],
-            surface_groups: BTreeMap::from([("wall".to_string(), Faces::Linear(vec![[0, 1, 2]]))]),
-            groups: Vec::new(),
-            periodic_node_pairs: Vec::new(),
-            binary: false,
-            notes: Vec::new(),
-        }
+        TetMesh::linear_for_tests(
+            vec![[x0, y0, 0.0], [x1, y1, 0.0], [x0, y0, 0.5], [2.0, 0.0, 0.0]],
+            vec![[0, 1, 2, 3]],
+            &[("wall", vec![[0, 1, 2]])],
+        )
     }
 
     fn z_cylinder(radius: f64) -> Vec<CylinderWalls> {

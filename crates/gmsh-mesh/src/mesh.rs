@@ -164,6 +164,35 @@ pub struct TetMesh {
     pub notes: Vec<String>,
 }
 
+#[cfg(test)]
+impl TetMesh {
+    /// A Tet4 mesh for unit tests: `nodes` tagged 1, 2, …, `tets` tagged 1, 2, … in volume
+    /// group 1, the given face groups; no physical group list, periodic pairs or notes. Tests
+    /// override the fields they need (`TetMesh { node_tags: …, ..TetMesh::linear_for_tests(…) }`).
+    pub(crate) fn linear_for_tests(
+        nodes: Vec<Point>,
+        tets: Vec<[usize; 4]>,
+        faces: &[(&str, Vec<[usize; 3]>)],
+    ) -> Self {
+        Self {
+            source: "test".into(),
+            node_tags: (1..=nodes.len() as u64).collect(),
+            nodes,
+            tet_tags: (1..=tets.len() as u64).collect(),
+            tet_groups: vec![Some(1); tets.len()],
+            tets: Tets::Linear(tets),
+            surface_groups: faces
+                .iter()
+                .map(|(name, f)| (name.to_string(), Faces::Linear(f.clone())))
+                .collect(),
+            groups: Vec::new(),
+            periodic_node_pairs: Vec::new(),
+            binary: false,
+            notes: Vec::new(),
+        }
+    }
+}
+
 impl TetMesh {
     /// The physical group called `name` (any dimension).
     pub fn group(&self, name: &str) -> Option<&PhysicalGroup> {

@@ -286,27 +286,19 @@ mod tests {
     /// One tet on x ≤ 1 with its face 0-1-2 on the plane x = 1 (group "cut"), the slanted face
     /// 1-3-2 in group "end" (renamed), the face 0-3-1 on z = 0 in group "floor" (kept).
     fn half_tet() -> TetMesh {
+        let faces = [
+            ("cut", vec![[0, 1, 2]]),
+            ("end", vec![[1, 3, 2]]),
+            ("floor", vec![[0, 3, 1]]),
+        ];
         TetMesh {
             source: "half".into(),
-            nodes: vec![
-                [1.0, 0.0, 0.0],
-                [1.0, 1.0, 0.0],
-                [1.0, 0.0, 1.0],
-                [0.0, 0.0, 0.0],
-            ],
             node_tags: vec![10, 11, 12, 13],
-            tets: Tets::Linear(vec![[0, 2, 1, 3]]),
             tet_tags: vec![5],
-            tet_groups: vec![Some(1)],
-            surface_groups: BTreeMap::from([
-                ("cut".to_string(), Faces::Linear(vec![[0, 1, 2]])),
-                ("end".to_string(), Faces::Linear(vec![[1, 3, 2]])),
-                ("floor".to_string(), Faces::Linear(vec![[0, 3, 1]])),
-            ]),
-            groups: ["cut", "end", "floor"]
+            groups: faces
                 .iter()
                 .enumerate()
-                .map(|(k, name)| PhysicalGroup {
+                .map(|(k, (name, _))| PhysicalGroup {
                     dim: 2,
                     tag: k as i32 + 1,
                     name: name.to_string(),
@@ -315,9 +307,16 @@ mod tests {
                     element_count: 1,
                 })
                 .collect(),
-            periodic_node_pairs: Vec::new(),
-            binary: false,
-            notes: Vec::new(),
+            ..TetMesh::linear_for_tests(
+                vec![
+                    [1.0, 0.0, 0.0],
+                    [1.0, 1.0, 0.0],
+                    [1.0, 0.0, 1.0],
+                    [0.0, 0.0, 0.0],
+                ],
+                vec![[0, 2, 1, 3]],
+                &faces,
+            )
         }
     }
 

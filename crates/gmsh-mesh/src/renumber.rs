@@ -40,31 +40,25 @@ impl TetMesh {
 
 #[cfg(test)]
 mod tests {
-    use std::collections::BTreeMap;
-
     use super::*;
 
     /// Two tets sharing the face 1-2-3, a face group on the first one's base and a periodic
     /// pair.
     fn two_tets() -> TetMesh {
         TetMesh {
-            source: "two".into(),
-            nodes: vec![
-                [1.0, 1.0, 1.0],
-                [1.0, 0.0, 0.0],
-                [0.0, 1.0, 0.0],
-                [0.0, 0.0, 1.0],
-                [0.0, 0.0, 0.0],
-            ],
             node_tags: vec![50, 51, 52, 53, 54],
-            tets: Tets::Linear(vec![[4, 1, 2, 3], [0, 1, 3, 2]]),
-            tet_tags: vec![7, 8],
-            tet_groups: vec![Some(1), Some(1)],
-            surface_groups: BTreeMap::from([("base".to_string(), Faces::Linear(vec![[4, 2, 1]]))]),
-            groups: Vec::new(),
             periodic_node_pairs: vec![[3, 4]],
-            binary: false,
-            notes: Vec::new(),
+            ..TetMesh::linear_for_tests(
+                vec![
+                    [1.0, 1.0, 1.0],
+                    [1.0, 0.0, 0.0],
+                    [0.0, 1.0, 0.0],
+                    [0.0, 0.0, 1.0],
+                    [0.0, 0.0, 0.0],
+                ],
+                vec![[4, 1, 2, 3], [0, 1, 3, 2]],
+                &[("base", vec![[4, 2, 1]])],
+            )
         }
     }
 
