@@ -62,25 +62,31 @@ if [[ $punch == 1 ]]; then
   mesh="$("$bin/punch_scaling" --mesh-only --level "$level" | tail -1)"
 fi
 
-# one CASE THREADS CMD...: runs CMD with RAYON_NUM_THREADS=THREADS, appends a JSON line
-# {case, threads, load1, wall_s, user_s, sys_s, result} to the log.
+# record CASE THREADS LOAD SUFFIX: appends the JSON line {case, threads, load1, wall_s, user_s,
+# sys_s, result} of the run whose time and output are $scratch/time$SUFFIX, $scratch/out$SUFFIX
+# (THREADS a count, or "pair" for a copy run side by side).
+record() {
+  python3 - "$1" "$2" "$3" "$scratch/time$4" "$scratch/out$4" >>"$log" <<'EOF'
+import json, sys
+case, t, load, time_path, out_path = sys.argv[1:]
+wall, user, sys_ = (float(x) for x in open(time_path).read().split()[-3:])
+r = json.loads(open(out_path).read().strip().splitlines()[-1])
+print(json.dumps({"case": case, "threads": int(t) if t.isdigit() else t, "load1": float(load),
+                  "wall_s": wall, "user_s": user, "sys_s": sys_, "result": r}))
+EOF
+}
+
+# one CASE THREADS CMD...: runs CMD with RAYON_NUM_THREADS=THREADS and records it.
 one() {
   local case="$1" t="$2"; shift 2
   local load; load="$(cut -d' ' -f1 /proc/loadavg)"
   RAYON_NUM_THREADS="$t" /usr/bin/time -f "%e %U %S" -o "$scratch/time" "$@" >"$scratch/out" 2>"$scratch/err" || {
     echo "error: $case with $t threads failed:" >&2; tail -5 "$scratch/err" >&2; exit 1; }
-  python3 - "$case" "$t" "$load" "$scratch/time" "$scratch/out" >>"$log" <<'EOF'
-import json, sys
-case, t, load, time_path, out_path = sys.argv[1:]
-wall, user, sys_ = (float(x) for x in open(time_path).read().split()[-3:])
-r = json.loads(open(out_path).read().strip().splitlines()[-1])
-print(json.dumps({"case": case, "threads": int(t), "load1": float(load), "wall_s": wall,
-                  "user_s": user, "sys_s": sys_, "result": r}))
-EOF
+  record "$case" "$t" "$load" ""
   tail -1 "$log"
 }
 
-# pair CASE CMD...: two one-thread copies of CMD side by side; appends both as threads "pair".
+# pair CASE CMD...: two one-thread copies of CMD side by side; records both as threads "pair".
 pair() {
   local case="$1"; shift
   local load; load="$(cut -d' ' -f1 /proc/loadavg)"
@@ -91,16 +97,7 @@ pair() {
   done
   for p in "${pids[@]}"; do wait "$p" || failed=1; done
   [[ $failed == 0 ]] || { echo "error: $case side by side failed:" >&2; tail -5 "$scratch"/err.* >&2; exit 1; }
-  for k in a b; do
-    python3 - "$case" "$load" "$scratch/time.$k" "$scratch/out.$k" >>"$log" <<'EOF'
-import json, sys
-case, load, time_path, out_path = sys.argv[1:]
-wall, user, sys_ = (float(x) for x in open(time_path).read().split()[-3:])
-r = json.loads(open(out_path).read().strip().splitlines()[-1])
-print(json.dumps({"case": case, "threads": "pair", "load1": float(load), "wall_s": wall,
-                  "user_s": user, "sys_s": sys_, "result": r}))
-EOF
-  done
+  for k in a b; do record "$case" pair "$load" ".$k"; done
 }
 [[ $threads == 2 ]] || side=0
 
