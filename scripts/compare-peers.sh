@@ -6,7 +6,7 @@
 #   scripts/compare-peers.sh [--threads N] [--peers skfem,ccx] [--ours iterative,direct] LEVEL|MESH.msh ...
 #       LEVEL: quarter Tet10 mesh of that level of the springs-study family (gmsh, cached in
 #              target/sawdrive-meshes; level 0 ≈ 20k, 1 ≈ 55k, 2 ≈ 140k, 3 ≈ 350k, 4 ≈ 900k,
-#              5 ≈ 2.3M unknowns)
+#              5 ≈ 2.5M unknowns; a fraction lies between two levels: 4.2 ≈ 1.1M)
 #
 # Whole-process wall time, CPU time (user + sys), peak resident memory of each code (/usr/bin/time -v)
 # and the 1-minute load average before it started, one thread
@@ -70,7 +70,7 @@ PY
 }
 
 for arg in "${args[@]}"; do
-  if [[ "$arg" =~ ^[0-9]+$ ]]; then
+  if [[ "$arg" =~ ^[0-9]+(\.[0-9]+)?$ ]]; then
     mesh="$("$ours" --method direct --level "$arg" --mesh-only)"
   else
     mesh="$arg"

@@ -37,6 +37,7 @@ pub mod iterative;
 pub mod loads;
 pub mod locality;
 pub mod material;
+pub mod matrix_free;
 pub mod mesh_gen;
 pub mod model;
 pub mod pattern;

@@ -14,7 +14,8 @@
 //! problem the peers of scripts/compare-peers.sh solve; `k_sn_n_per_m` is then null;
 //! `--discretisation-error E` sets the iterative stopping rule (CG tolerance 0.01 E).
 //! `--level L` takes the quarter Tet10 mesh of level L of the springs study family (generated
-//! into the mesh cache if missing). Used for the ≥ 300k-unknown point of the benchmark table and
+//! into the mesh cache if missing); a fraction lies between two levels (4.2: h_e = h_e(4) / 2^0.2,
+//! ≈ 1.1M unknowns). Used for the ≥ 300k-unknown point of the benchmark table and
 //! by scripts/compare-skfem.sh.
 
 use contact_springs::Material;
@@ -59,8 +60,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             options.iterative = IterativeOptions::for_discretisation_error(e);
             options.iterative.validate()?;
         } else if arg == "--level" {
-            let level: usize = args.next().ok_or("--level needs a number")?.parse()?;
-            let parameters = MeshFamily::tet10().parameters(level, 10e-6, MeshSymmetry::Quarter);
+            let text = args.next().ok_or("--level needs a number")?;
+            let level: f64 = text
+                .parse()
+                .map_err(|_| format!("--level: `{text}` is not a number"))?;
+            let parameters =
+                MeshFamily::tet10().parameters_between(level, 10e-6, MeshSymmetry::Quarter)?;
             paths.push(MeshCache::default().punch_mesh(&parameters)?);
         } else {
             paths.push(arg.into());

@@ -66,10 +66,24 @@ impl MeshFamily {
         self.h_edge_over_a / self.refinement_ratio.powi(level as i32)
     }
 
+    /// h_e / a on a level between two of the sequence: ℓ = n + f (0 ≤ f < 1) gives
+    /// h_e(n) / r^f, so that whole levels keep the bits of [`Self::h_edge`]. For meshes of a
+    /// chosen size in the same family (the peer benchmark's ≥ 1M-unknown point is level 4.2).
+    pub fn h_edge_between(&self, level: f64) -> f64 {
+        let whole = level.floor();
+        self.h_edge(whole as usize) / self.refinement_ratio.powf(level - whole)
+    }
+
     /// Growth g on `level`: g₀ · (h_e(ℓ)/h_e(0))^(1/(2p)), rounded to [`GROWTH_DECIMALS`].
     pub fn growth(&self, level: usize) -> f64 {
+        self.growth_for_edge(self.h_edge(level))
+    }
+
+    /// Growth g that goes with edge size `h_edge_over_a` in this family (same rule and rounding
+    /// as [`Self::growth`]).
+    fn growth_for_edge(&self, h_edge_over_a: f64) -> f64 {
         let exponent = 1.0 / (2.0 * f64::from(self.order));
-        let g = self.growth * (self.h_edge(level) / self.h_edge_over_a).powf(exponent);
+        let g = self.growth * (h_edge_over_a / self.h_edge_over_a).powf(exponent);
         let scale = 10f64.powi(GROWTH_DECIMALS);
         (g * scale).round() / scale
     }
@@ -82,6 +96,27 @@ impl MeshFamily {
         symmetry: MeshSymmetry,
     ) -> PunchMeshParameters {
         self.with_truncation(level, radius_m, symmetry, self.truncation_ratio)
+    }
+
+    /// As [`Self::parameters`] on a level between two of the sequence ([`Self::h_edge_between`]);
+    /// whole levels give the parameters of [`Self::parameters`]. `level` must be finite and ≥ 0.
+    pub fn parameters_between(
+        &self,
+        level: f64,
+        radius_m: f64,
+        symmetry: MeshSymmetry,
+    ) -> Result<PunchMeshParameters, String> {
+        if !(level.is_finite() && level >= 0.0) {
+            return Err(format!(
+                "mesh family level must be a finite number ≥ 0, got {level}"
+            ));
+        }
+        let h_edge_over_a = self.h_edge_between(level);
+        Ok(PunchMeshParameters {
+            h_edge_over_a,
+            growth: self.growth_for_edge(h_edge_over_a),
+            ..self.parameters(0, radius_m, symmetry)
+        })
     }
 
     /// As [`Self::parameters`] with another R / a (truncation study).
@@ -114,6 +149,43 @@ mod tests {
         assert_eq!(f.h_edge(2), 0.01, "edge size on level 2 (units of a)");
         assert_eq!(f.growth(1), 0.2523, "growth on level 1");
         assert_eq!(f.growth(2), 0.2121, "growth on level 2");
+    }
+
+    #[test]
+    fn whole_levels_between_give_the_levels_and_a_fraction_lies_between_them() {
+        let f = MeshFamily::tet10();
+        for level in 0..6 {
+            let between = f
+                .parameters_between(level as f64, 10e-6, MeshSymmetry::Quarter)
+                .unwrap();
+            assert_eq!(
+                between,
+                f.parameters(level, 10e-6, MeshSymmetry::Quarter),
+                "level {level}"
+            );
+        }
+        let p = f
+            .parameters_between(4.2, 10e-6, MeshSymmetry::Quarter)
+            .unwrap();
+        assert!(
+            p.h_edge_over_a < f.h_edge(4) && p.h_edge_over_a > f.h_edge(5),
+            "h_e of 4.2"
+        );
+        assert!(
+            (p.h_edge_over_a - 0.0025 / 2f64.powf(0.2)).abs() < 1e-15,
+            "h_e of 4.2"
+        );
+        assert!(
+            p.growth < f.growth(4) && p.growth > f.growth(5),
+            "growth of 4.2"
+        );
+        for bad in [-0.5, f64::NAN, f64::INFINITY] {
+            assert!(
+                f.parameters_between(bad, 10e-6, MeshSymmetry::Quarter)
+                    .is_err(),
+                "{bad}"
+            );
+        }
     }
 
     #[test]

@@ -237,7 +237,7 @@ impl CsrLayout {
 /// 12 bytes per entry with the column index, for the smoothers' products, which are memory bound
 /// and need no double precision (a fixed symmetric operator is all a preconditioner must be).
 #[derive(Debug, Clone)]
-pub(crate) struct SinglePrecision {
+pub struct SinglePrecision {
     values: Vec<f32>,
 }
 
@@ -323,14 +323,14 @@ impl CsrMatrix {
     }
 
     /// The values rounded to single precision, for operators that need no more (smoothers).
-    pub(crate) fn single_precision(&self) -> SinglePrecision {
+    pub fn single_precision(&self) -> SinglePrecision {
         SinglePrecision {
             values: self.values.par_iter().map(|&v| v as f32).collect(),
         }
     }
 
     /// y = Ã x with Ã = `single`, this matrix in single precision (sums in f64).
-    pub(crate) fn mul_vec_single(&self, single: &SinglePrecision, x: &[f64], y: &mut [f64]) {
+    pub fn mul_vec_single(&self, single: &SinglePrecision, x: &[f64], y: &mut [f64]) {
         self.check_single(single);
         self.mul_vec_with(&single.values, x, y);
     }

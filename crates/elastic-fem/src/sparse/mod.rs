@@ -29,7 +29,7 @@ pub mod pcg;
 pub mod solve;
 pub mod sparse_rhs;
 
-pub use csr::{CsrLayout, CsrMatrix, RowSparse};
+pub use csr::{CsrLayout, CsrMatrix, RowSparse, SinglePrecision};
 pub use factor::fill_reducing_order;
 pub use factor::{DEFAULT_MIN_PIVOT_RATIO, FactorOptions, NumericCholesky, SymbolicCholesky};
 pub use matrix::SymmetricMatrix;
