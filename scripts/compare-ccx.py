@@ -4,7 +4,7 @@ calculix-ccx, its default direct solver SPOOLES; PaStiX when the build has it an
 pastix is given) on the same .msh as the validation crate's FEM.
 
 Writes an .inp deck (C3D10: corners, then edges 1-2, 2-3, 3-1, 1-4, 2-4, 3-4, which is meshio's
-tetra10 order), the same boundary conditions as scripts/compare-skfem.py
+tetra10 order), the boundary conditions of validation's punch problem A (punch_scaling --clamped-only)
 
   punch disk (z = 0, r < a):  u_z = -delta (frictionless);  far field r = R: u = 0;
   x = 0: u_x = 0;  y = 0: u_y = 0  (quarter symmetry)

@@ -5,7 +5,7 @@ near-null space (Vanek, Mandel & Brezina 1996) -- the configuration a skilled sc
 runs for large 3D elasticity instead of the default SuperLU direct solve.
 
 Same .msh, same isoparametric Tet10 (skfem MeshTet2 + ElementTetP2, its default quadrature),
-same boundary conditions as scripts/compare-skfem.py:
+the boundary conditions of validation's punch problem A (punch_scaling --clamped-only):
 
   punch disk (z = 0, r < a):  u_z = -delta (frictionless);  far field r = R: u = 0;
   x = 0: u_x = 0;  y = 0: u_y = 0  (quarter symmetry)

@@ -15,8 +15,8 @@
 //! `--discretisation-error E` sets the iterative stopping rule (CG tolerance 0.01 E).
 //! `--level L` takes the quarter Tet10 mesh of level L of the springs study family (generated
 //! into the mesh cache if missing); a fraction lies between two levels (4.2: h_e = h_e(4) / 2^0.2,
-//! ≈ 1.1M unknowns). Used for the ≥ 300k-unknown point of the benchmark table and
-//! by scripts/compare-skfem.sh.
+//! ≈ 1.1M unknowns). Used by scripts/compare-peers.sh and
+//! scripts/fem-scaling.sh.
 
 use contact_springs::Material;
 use elastic_fem::{IterativeOptions, SolverMethod};
