@@ -19,7 +19,7 @@ use elastic_fem::matrix_free::{MatrixFreeGeometry, MatrixFreeStiffness};
 use elastic_fem::sparse::CsrMatrix;
 use elastic_fem::{Model, StiffnessPattern, assemble_stiffness};
 use validation::punch::fem_material;
-use validation::{MeshCache, MeshFamily, MeshSymmetry, PunchMesh};
+use validation::{PunchMesh, benchmark_punch_mesh};
 
 fn median_s(repetitions: usize, mut f: impl FnMut()) -> f64 {
     f();
@@ -116,13 +116,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 return Err("--products must be at least 1".into());
             }
         } else if arg == "--level" {
-            let text = args.next().ok_or("--level needs a number")?;
-            let level: f64 = text
-                .parse()
-                .map_err(|_| format!("--level: `{text}` is not a number"))?;
-            let parameters =
-                MeshFamily::tet10().parameters_between(level, 10e-6, MeshSymmetry::Quarter)?;
-            paths.push(MeshCache::default().punch_mesh(&parameters)?);
+            let level = args.next().ok_or("--level needs a number")?;
+            paths.push(benchmark_punch_mesh(&level)?);
         } else {
             paths.push(std::path::PathBuf::from(arg));
         }

@@ -20,9 +20,7 @@
 
 use contact_springs::Material;
 use elastic_fem::{IterativeOptions, SolverMethod};
-use validation::{
-    AssembledPunch, MeshCache, MeshFamily, MeshSymmetry, PunchMesh, PunchSolveOptions, Spring,
-};
+use validation::{AssembledPunch, PunchMesh, PunchSolveOptions, Spring, benchmark_punch_mesh};
 
 /// Peak resident set size of this process (MB), from /proc/self/status (Linux), or NaN.
 fn peak_rss_mb() -> f64 {
@@ -60,13 +58,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             options.iterative = IterativeOptions::for_discretisation_error(e);
             options.iterative.validate()?;
         } else if arg == "--level" {
-            let text = args.next().ok_or("--level needs a number")?;
-            let level: f64 = text
-                .parse()
-                .map_err(|_| format!("--level: `{text}` is not a number"))?;
-            let parameters =
-                MeshFamily::tet10().parameters_between(level, 10e-6, MeshSymmetry::Quarter)?;
-            paths.push(MeshCache::default().punch_mesh(&parameters)?);
+            let level = args.next().ok_or("--level needs a number")?;
+            paths.push(benchmark_punch_mesh(&level)?);
         } else {
             paths.push(arg.into());
         }

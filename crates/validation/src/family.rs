@@ -12,7 +12,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::mesh_cache::PunchMeshParameters;
+use std::path::PathBuf;
+
+use crate::mesh_cache::{MeshCache, PunchMeshParameters};
 use crate::punch_mesh::MeshSymmetry;
 
 /// Decimal places kept for the growth factor (so that file names stay short; the growth is not
@@ -137,6 +139,24 @@ impl MeshFamily {
             order: self.order,
         }
     }
+}
+
+/// Punch radius a of the benchmark meshes (m): 10 µm.
+pub const BENCHMARK_RADIUS_M: f64 = 10e-6;
+
+/// The quarter Tet10 punch mesh (a = [`BENCHMARK_RADIUS_M`]) of `level` of [`MeshFamily::tet10`],
+/// a whole level or one between two ("4.2"), from the default mesh cache (gmsh meshes it if it is
+/// missing): the meshes of the peer benchmark (`scripts/compare-peers.sh`) and of the
+/// `punch_scaling` and `punch_operator` examples. `level` is the command-line text.
+pub fn benchmark_punch_mesh(level: &str) -> Result<PathBuf, String> {
+    let value: f64 = level
+        .parse()
+        .map_err(|_| format!("--level: `{level}` is not a number"))?;
+    let parameters =
+        MeshFamily::tet10().parameters_between(value, BENCHMARK_RADIUS_M, MeshSymmetry::Quarter)?;
+    MeshCache::default()
+        .punch_mesh(&parameters)
+        .map_err(|e| e.to_string())
 }
 
 #[cfg(test)]

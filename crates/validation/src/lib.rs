@@ -40,7 +40,7 @@ pub mod stick_slip;
 pub mod study;
 
 pub use error::ValidationError;
-pub use family::MeshFamily;
+pub use family::{MeshFamily, benchmark_punch_mesh};
 pub use mesh_cache::{MeshCache, PunchMeshParameters};
 pub use punch::{AssembledPunch, PunchSolveOptions, PunchStiffness, StageTimings};
 pub use punch_mesh::{MeshSymmetry, MirrorPlane, PunchMesh};
