@@ -69,12 +69,12 @@ impl MatrixFreeStiffness {
     /// Prepares the element data of `model` (Tet10 only; `Jacobians` refuses curved elements).
     pub fn new(model: &Model, geometry: MatrixFreeGeometry) -> FemResult<Self> {
         let unsupported = |reason: String| FemError::IterativeUnsupported { reason };
-        if !matches!(model.connectivity(), Connectivity::Tet10(_)) {
+        let Connectivity::Tet10(tets) = model.connectivity() else {
             return Err(unsupported(
                 "the matrix-free product is for Tet10 meshes".into(),
             ));
-        }
-        let n_elements = model.element_count();
+        };
+        let n_elements = tets.len();
         let mut laws: Vec<Constitutive> = Vec::new();
         let mut law_of = Vec::with_capacity(n_elements);
         let mut elements = Vec::with_capacity(n_elements);
@@ -85,12 +85,11 @@ impl MatrixFreeStiffness {
                 laws.len() - 1
             });
             law_of.push(index as u32);
-            let nodes = model.connectivity().element_nodes(e);
-            elements.push(std::array::from_fn(|a| nodes[a] as u32));
+            elements.push(tets[e].map(|n| n as u32));
         }
         let geometry = match geometry {
-            MatrixFreeGeometry::Gradients => gradients_of(model)?,
-            MatrixFreeGeometry::Jacobians => jacobians_of(model).map_err(unsupported)?,
+            MatrixFreeGeometry::Gradients => gradients_of(model, tets)?,
+            MatrixFreeGeometry::Jacobians => jacobians_of(model, tets).map_err(unsupported)?,
         };
         Ok(Self {
             elements,
@@ -151,11 +150,11 @@ impl MatrixFreeStiffness {
 }
 
 /// (w det J, ∇N_a) at every stiffness quadrature point of every element.
-fn gradients_of(model: &Model) -> FemResult<Geometry> {
+fn gradients_of(model: &Model, tets: &[[usize; 10]]) -> FemResult<Geometry> {
     let mut points = Vec::new();
     let mut offsets = vec![0];
-    for e in 0..model.element_count() {
-        let coords = tet10_coords(model, e);
+    for (e, tet) in tets.iter().enumerate() {
+        let coords = model.element_coords(tet);
         let rule = tet10_stiffness_rule(&coords);
         for (xi, w) in rule.points.iter().zip(&rule.weights) {
             let (g, det) =
@@ -172,7 +171,7 @@ fn gradients_of(model: &Model) -> FemResult<Geometry> {
 }
 
 /// J⁻¹ and w det J per straight-sided element; the reference gradients at the 4 points.
-fn jacobians_of(model: &Model) -> Result<Geometry, String> {
+fn jacobians_of(model: &Model, tets: &[[usize; 10]]) -> Result<Geometry, String> {
     let rule = tet_degree2();
     let reference: [[[f64; 3]; 10]; 4] =
         std::array::from_fn(|q| Tet10::reference_gradients(rule.points[q]));
@@ -180,16 +179,16 @@ fn jacobians_of(model: &Model) -> Result<Geometry, String> {
     if rule.weights.iter().any(|&wq| wq != w) {
         return Err("the 4-point rule's weights differ (Jacobians needs equal weights)".into());
     }
-    let mut inverse = Vec::with_capacity(model.element_count());
-    let mut weight = Vec::with_capacity(model.element_count());
-    for e in 0..model.element_count() {
+    let mut inverse = Vec::with_capacity(tets.len());
+    let mut weight = Vec::with_capacity(tets.len());
+    for (e, tet) in tets.iter().enumerate() {
         if model.is_curved(e) {
             return Err(format!(
                 "element {e} is curved: matrix-free `Jacobians` needs straight-sided Tet10 \
                  (use `Gradients`)"
             ));
         }
-        let coords = tet10_coords(model, e);
+        let coords = model.element_coords(tet);
         let v = |a: usize| nalgebra::Vector3::from(coords[a]);
         let j = Matrix3::from_columns(&[v(1) - v(0), v(2) - v(0), v(3) - v(0)]);
         let inv = j
@@ -203,11 +202,6 @@ fn jacobians_of(model: &Model) -> Result<Geometry, String> {
         weight,
         reference: Box::new(reference),
     })
-}
-
-fn tet10_coords(model: &Model, e: usize) -> [[f64; 3]; 10] {
-    let nodes = model.connectivity().element_nodes(e);
-    std::array::from_fn(|a| model.nodes()[nodes[a]])
 }
 
 /// σ = C : sym(H) for the displacement gradient H (h[i][j] = ∂u_i/∂x_j).
