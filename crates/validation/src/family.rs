@@ -10,9 +10,9 @@
 //! sequence has the single leading order 1 in h_e (Richardson variable). The number of elements
 //! grows ∝ 1/(g² h_e): × 2^(1 + 1/p) per level (× 2.8 Tet10, × 4 Tet4).
 
-use serde::{Deserialize, Serialize};
-
 use std::path::PathBuf;
+
+use serde::{Deserialize, Serialize};
 
 use crate::mesh_cache::{MeshCache, PunchMeshParameters};
 use crate::punch_mesh::MeshSymmetry;
