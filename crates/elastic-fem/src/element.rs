@@ -307,22 +307,37 @@ pub fn element_strain<const N: usize, S: TetShape<N>>(
     xi: [f64; 3],
 ) -> Option<[f64; 6]> {
     let (g, _) = physical_gradients::<N, S>(coords, xi)?;
-    let mut grad = [[0.0; 3]; 3]; // grad[i][j] = ∂u_i/∂x_j
-    for a in 0..N {
+    Some(voigt_strain(&displacement_gradient(u, &g)))
+}
+
+/// Displacement gradient H = Σ_a u_a ⊗ g_a (h[i][j] = ∂u_i/∂x_j) from nodal displacements `u`
+/// and shape-function gradients `g` (physical, or reference for H_ξ).
+pub fn displacement_gradient<const N: usize>(
+    u: &[[f64; 3]; N],
+    g: &[[f64; 3]; N],
+) -> [[f64; 3]; 3] {
+    let mut h = [[0.0; 3]; 3];
+    for (ua, ga) in u.iter().zip(g) {
         for i in 0..3 {
             for j in 0..3 {
-                grad[i][j] += u[a][i] * g[a][j];
+                h[i][j] += ua[i] * ga[j];
             }
         }
     }
-    Some([
-        grad[0][0],
-        grad[1][1],
-        grad[2][2],
-        grad[1][2] + grad[2][1],
-        grad[0][2] + grad[2][0],
-        grad[0][1] + grad[1][0],
-    ])
+    h
+}
+
+/// Small strain in Voigt order (xx, yy, zz, yz, xz, xy; engineering shear) of the displacement
+/// gradient `h` (h[i][j] = ∂u_i/∂x_j).
+pub fn voigt_strain(h: &[[f64; 3]; 3]) -> [f64; 6] {
+    [
+        h[0][0],
+        h[1][1],
+        h[2][2],
+        h[1][2] + h[2][1],
+        h[0][2] + h[2][0],
+        h[0][1] + h[1][0],
+    ]
 }
 
 #[cfg(test)]

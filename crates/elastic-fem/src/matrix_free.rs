@@ -24,7 +24,9 @@
 
 use nalgebra::Matrix3;
 
-use crate::element::{Constitutive, physical_gradients, tet10_stiffness_rule};
+use crate::element::{
+    Constitutive, displacement_gradient, physical_gradients, tet10_stiffness_rule, voigt_strain,
+};
 use crate::error::{FemError, FemResult};
 use crate::model::{Connectivity, Model};
 use crate::quadrature::tet_degree2;
@@ -221,15 +223,7 @@ fn stress(h: &[[f64; 3]; 3], law: &Constitutive) -> [[f64; 3]; 3] {
             })
         }
         Constitutive::Anisotropic(c) => {
-            // Voigt xx, yy, zz, yz, xz, xy with engineering shear strains.
-            let eps = [
-                h[0][0],
-                h[1][1],
-                h[2][2],
-                h[1][2] + h[2][1],
-                h[0][2] + h[2][0],
-                h[0][1] + h[1][0],
-            ];
+            let eps = voigt_strain(h);
             let s: [f64; 6] = std::array::from_fn(|p| (0..6).map(|q| c[(p, q)] * eps[q]).sum());
             [[s[0], s[5], s[4]], [s[5], s[1], s[3]], [s[4], s[3], s[2]]]
         }
@@ -244,7 +238,7 @@ fn element_product(
 ) -> [[f64; 3]; 10] {
     let mut y = [[0.0; 3]; 10];
     for (wdet, g) in points {
-        let h = outer_sum(u, g);
+        let h = displacement_gradient(u, g);
         let s = stress(&h, law);
         for (ya, ga) in y.iter_mut().zip(g) {
             for i in 0..3 {
@@ -266,7 +260,7 @@ fn element_product_reference(
     let jinv = |k: usize, j: usize| inverse[3 * k + j];
     let mut y = [[0.0; 3]; 10];
     for r in reference {
-        let hr = outer_sum(u, r);
+        let hr = displacement_gradient(u, r);
         // H = H_ξ J⁻¹: ∂u_i/∂x_j = Σ_k H_ξ[i][k] (J⁻¹)_kj.
         let h: [[f64; 3]; 3] = std::array::from_fn(|i| {
             std::array::from_fn(|j| (0..3).map(|k| hr[i][k] * jinv(k, j)).sum())
@@ -283,17 +277,4 @@ fn element_product_reference(
         }
     }
     y
-}
-
-/// Σ_a u_a ⊗ g_a (h[i][j] = Σ_a u_a,i g_a,j).
-fn outer_sum(u: &[[f64; 3]; 10], g: &[[f64; 3]; 10]) -> [[f64; 3]; 3] {
-    let mut h = [[0.0; 3]; 3];
-    for (ua, ga) in u.iter().zip(g) {
-        for i in 0..3 {
-            for j in 0..3 {
-                h[i][j] += ua[i] * ga[j];
-            }
-        }
-    }
-    h
 }

@@ -74,14 +74,7 @@ fn errors<const N: usize, S: TetShape<N>>(
             l2 += w * det * (0..3).map(|i| (uh[i] - ue[i]).powi(2)).sum::<f64>();
             let d: [[f64; 3]; 3] =
                 std::array::from_fn(|i| std::array::from_fn(|j| grad[i][j] - ge[i][j]));
-            let eps = nalgebra::Vector6::new(
-                d[0][0],
-                d[1][1],
-                d[2][2],
-                d[1][2] + d[2][1],
-                d[0][2] + d[2][0],
-                d[0][1] + d[1][0],
-            );
+            let eps = nalgebra::Vector6::from(elastic_fem::element::voigt_strain(&d));
             energy += w * det * eps.dot(&(c * eps));
         }
     }
