@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{Lcg, distort, max_abs, model_of, steel};
+use common::{Lcg, curved_tet10_box, distort, max_abs, model_of, steel};
 use elastic_fem::element::{Constitutive, tet4_stiffness_into, tet10_stiffness_into};
 use elastic_fem::mesh_gen::BoxMesh;
 use elastic_fem::post::centroid_stresses;
@@ -109,13 +109,7 @@ fn patch_test_reproduces_affine_displacement_on_distorted_tet4_and_tet10_meshes(
     tet10.straighten_edges();
     patch_test(&tet10, steel(), "Tet10 distorted straight-sided");
 
-    let mut curved = BoxMesh::tet10([1.0, 1.2, 0.8], [2, 2, 2]);
-    distort(&mut curved, 0.08);
-    let model = model_of(&curved, steel());
-    assert!(
-        model.quality().curved_elements > 0,
-        "the smooth map must curve some Tet10 elements"
-    );
+    let curved = curved_tet10_box();
     patch_test(&curved, steel(), "Tet10 curved (degree-5 rule)");
 
     let silicon_45 = Material::Cubic(

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{Lcg, distort, max_abs, model_of, steel};
+use common::{Lcg, curved_tet10_box, distort, max_abs, model_of, steel};
 use elastic_fem::matrix_free::{MatrixFreeGeometry, MatrixFreeStiffness};
 use elastic_fem::mesh_gen::BoxMesh;
 use elastic_fem::{CubicCrystal, FemError, Material, Model, StiffnessPattern, assemble_stiffness};
@@ -54,13 +54,7 @@ fn matrix_free_products_equal_the_assembled_stiffness_times_x() {
 
 #[test]
 fn curved_elements_use_their_own_rule_with_gradients_and_are_refused_with_jacobians() {
-    let mut mesh = BoxMesh::tet10([1.0, 1.0, 1.0], [2, 2, 2]);
-    distort(&mut mesh, 0.08);
-    let model = model_of(&mesh, steel());
-    assert!(
-        model.quality().curved_elements > 0,
-        "the fixture has curved elements"
-    );
+    let model = model_of(&curved_tet10_box(), steel());
     let d = relative_difference(&model, MatrixFreeGeometry::Gradients);
     assert!(d < 1e-13, "curved, Gradients: relative difference {d:e}");
     match MatrixFreeStiffness::new(&model, MatrixFreeGeometry::Jacobians) {

@@ -24,6 +24,19 @@ pub fn distort(mesh: &mut BoxMesh, amplitude: f64) {
     });
 }
 
+/// Tet10 box (2 × 2 × 2 cells) under the smooth [`distort`]ion with its midside nodes left on the
+/// mapped edges: some elements are curved (degree-5 rule). Asserts that it has curved elements.
+pub fn curved_tet10_box() -> BoxMesh {
+    let mut mesh = BoxMesh::tet10([1.0, 1.2, 0.8], [2, 2, 2]);
+    distort(&mut mesh, 0.08);
+    let model = model_of(&mesh, steel());
+    assert!(
+        model.quality().curved_elements > 0,
+        "the smooth map must curve some Tet10 elements"
+    );
+    mesh
+}
+
 /// Model from a box mesh.
 pub fn model_of(mesh: &BoxMesh, material: Material) -> Model {
     Model::new(mesh.nodes.clone(), mesh.connectivity.clone(), material).expect("valid box mesh")
