@@ -19,7 +19,7 @@ theta 0, Jacobi prolongation smoothing, symmetric Gauss-Seidel pre/post smoothin
 max_coarse 2000, coarse_solver "splu"), used as a CG preconditioner through pyamg's own cg
 accelerator. The coarse solver: pyamg's default "pinv" made the CG phase 2.1x slower at 55k
 unknowns (6.89 s against 3.26 s for the same 23 iterations and hierarchy, 1494 coarse unknowns)
-and took 15 s per iteration at 350k (session 9); sparse LU is what a skilled user picks.
+and took 15 s per iteration at 350k; sparse LU is what a skilled user picks.
 
 Usage: compare-skfem-tuned.py MESH.msh [--rtol 1e-8]. Prints one JSON object.
 """

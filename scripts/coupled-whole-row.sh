@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 14's coupled-vs-lumped study on whole-row strips (validation/coupled-dynamics/whole-row.py):
+# The coupled-vs-lumped study on whole-row strips (validation/coupled-dynamics/whole-row.py):
 # 8 sliders × 3 preloads through `sawdrive dynamic --json` with model.dynamics = "coupled"; gmsh
 # meshes, FEM reports and tip compliances are cached in OUT/.cache (one strip FEM per slider).
 # Writes validation/coupled-dynamics/whole-row.csv.

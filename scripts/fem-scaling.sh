@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Cost of our FEM against problem size (issue 12 point 4: "total cost growing no faster than
+# Cost of our FEM against problem size (target: "total cost growing no faster than
 # N^1.2 from 55k to ≥ 2M unknowns within 24 GB"): the punch family's quarter Tet10 meshes, one
 # thread, `punch_scaling --method iterative --clamped-only` (the problem the peers of
 # compare-peers.sh solve), whole-process wall time and peak memory.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Wall and CPU time of UQ and design (issue 15 point 5), whole process, this machine:
+# Wall and CPU time of UQ and design (target: 200 UQ samples in ≤ 60 s), whole process, this machine:
 #
 #   uq-N      `sawdrive uq validation/design/scatter.toml --samples N --seed 1` (the default scene,
 #             the paper's motor, under the case study's scatter), fresh output folder (no resumed

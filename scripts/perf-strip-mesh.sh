@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The strip mesh step of the default scene (issue 12 point 5), cold and cached, one command:
+# The strip mesh step of the default scene, cold and cached, one command:
 #
 #   scripts/perf-strip-mesh.sh
 #

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Issue 14's coupled-vs-lumped study on whole-row strips: for the paper's sliders (five counts of
+"""The coupled-vs-lumped study on whole-row strips: for the paper's sliders (five counts of
 20 um posts, four diameters at equal tip area) at 10, 40 and 100 N, run `sawdrive dynamic --json`
 with model.dynamics = "coupled" on the static stage's own strip (the whole row of posts along the
 wave) and write one CSV row per run to stdout: the coupled and lumped (static eta) stall thrust
