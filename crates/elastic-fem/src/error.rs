@@ -205,6 +205,18 @@ pub enum FemError {
         /// Which rule ended the iteration (iteration limit, breakdown).
         rule: String,
     },
+    /// The reduced matrix has a (near-)null space of rigid-body motions: the system is singular
+    /// or semi-definite, and the iterative solver refuses it (CG would return one of infinitely
+    /// many solutions of a consistent singular system without noticing).
+    #[error(
+        "elastic-fem iterative solver: the system is singular: a rigid-body motion of the reduced unknowns has energy ratio qᵀKq / qᵀDq = {ratio:e} (≤ {tolerance:e}; D = diagonal of K); add Dirichlet conditions or ties that fix it"
+    )]
+    SingularSystem {
+        /// Smallest generalised Rayleigh quotient qᵀ K q / qᵀ D q over the rigid-body motions q.
+        ratio: f64,
+        /// Largest ratio counted as singular.
+        tolerance: f64,
+    },
     /// The iterative path cannot handle this model (it is refused, not silently replaced).
     #[error("elastic-fem iterative solver: {reason}")]
     IterativeUnsupported {

@@ -30,6 +30,18 @@
 //! aggregation AMG with rigid-body near-null space ([`crate::amg`], Vaněk–Mandel–Brezina 1996).
 //! Both keep the preconditioner symmetric positive definite.
 //!
+//! **Singular systems** ([`check_null_space`]): CG on a consistent singular system (a body
+//! left free to move rigidly, its load orthogonal to that motion) converges to one of infinitely
+//! many solutions without any breakdown, so the set-up refuses such a matrix before building the
+//! hierarchy, whatever called it: the six rigid-body motions restricted to the reduced unknowns
+//! (translations and rotations at each unknown's node, [`rigid_body_modes`]) are orthonormalised
+//! in the D inner product (D = diag K_red) and the smallest eigenvalue of the 6 × 6 projection
+//! QᵀK_red Q, i.e. the smallest generalised Rayleigh quotient qᵀKq / qᵀDq over their span, must
+//! exceed [`NULL_SPACE_TOLERANCE`]. Rounding gives ≈ 1e-15 for a free motion; a motion held by
+//! even a few prescribed unknowns among N gives ≈ (their share of D) ≳ 1/N, so the test separates
+//! the two by orders of magnitude up to 1e9 unknowns. The direct path's counterpart is the
+//! Cholesky pivot check ([`crate::sparse::FactorOptions::min_pivot_ratio`]).
+//!
 //! **Range.** Tet10 meshes (straight or curved) get the p-multigrid; Tet4-only meshes have no
 //! p-hierarchy and are preconditioned by SA-AMG on the whole (reduced) Tet4 problem.
 
@@ -79,6 +91,79 @@ pub const LANCZOS_STEPS: usize = 12;
 /// SA-AMG instead of factorising it. Measured on the punch meshes (validation/fem-peers):
 /// default 40 000.
 pub const AMG_COARSE_UNKNOWNS: usize = 40_000;
+
+/// Largest generalised Rayleigh quotient qᵀ K_red q / qᵀ D q of a rigid-body motion q that
+/// counts as a null vector (module docs, Singular systems). Dimensionless; default 1e-10.
+pub const NULL_SPACE_TOLERANCE: f64 = 1e-10;
+
+/// A rigid-body motion whose part D-orthogonal to the motions kept before it is below this
+/// fraction of its D-norm adds nothing to their span and is dropped (e.g. translation z when
+/// every z unknown is prescribed). Dimensionless; default 1e-8.
+const NULL_SPACE_RANK_TOLERANCE: f64 = 1e-8;
+
+/// Refuses a reduced matrix `a` whose span of rigid-body motions `modes` (one row of six per
+/// reduced unknown: translations x, y, z and rotations, [`rigid_body_modes`]) contains a
+/// (near-)null vector: [`FemError::SingularSystem`] when the smallest generalised Rayleigh
+/// quotient qᵀ a q / qᵀ D q over that span is ≤ [`NULL_SPACE_TOLERANCE`] (module docs).
+/// Costs six products with `a`.
+pub fn check_null_space(a: &CsrMatrix, modes: &[[f64; 6]]) -> FemResult<()> {
+    let n = a.dim();
+    if n == 0 || modes.len() != n {
+        return Ok(());
+    }
+    let d = a.diagonal();
+    if d.iter().any(|&v| !(v > 0.0)) {
+        // A zero or negative diagonal entry: the unknown has no stiffness at all (or the matrix
+        // is indefinite); the unit vector there is a null (or negative) direction.
+        let i = d.iter().position(|&v| !(v > 0.0)).unwrap_or(0);
+        return Err(FemError::SingularSystem {
+            ratio: d[i],
+            tolerance: NULL_SPACE_TOLERANCE,
+        });
+    }
+    let d_dot = |x: &[f64], y: &[f64]| -> f64 {
+        x.iter().zip(y).zip(&d).map(|((a, b), w)| a * b * w).sum()
+    };
+    // Modified Gram–Schmidt in the D inner product.
+    let mut basis: Vec<Vec<f64>> = Vec::with_capacity(6);
+    for k in 0..6 {
+        let mut v: Vec<f64> = modes.iter().map(|row| row[k]).collect();
+        let norm0 = d_dot(&v, &v).sqrt();
+        if norm0 == 0.0 {
+            continue;
+        }
+        for q in &basis {
+            let c = d_dot(q, &v);
+            v.iter_mut().zip(q).for_each(|(vi, qi)| *vi -= c * qi);
+        }
+        let norm = d_dot(&v, &v).sqrt();
+        if norm > NULL_SPACE_RANK_TOLERANCE * norm0 {
+            v.iter_mut().for_each(|vi| *vi /= norm);
+            basis.push(v);
+        }
+    }
+    if basis.is_empty() {
+        return Ok(());
+    }
+    let m = basis.len();
+    let mut aq = vec![0.0; n];
+    let mut h = nalgebra::DMatrix::<f64>::zeros(m, m);
+    for j in 0..m {
+        a.mul_vec(&basis[j], &mut aq);
+        for i in 0..m {
+            h[(i, j)] = dot(&basis[i], &aq);
+        }
+    }
+    let h = 0.5 * (&h + h.transpose());
+    let smallest = h.symmetric_eigenvalues().min();
+    if !(smallest > NULL_SPACE_TOLERANCE) {
+        return Err(FemError::SingularSystem {
+            ratio: smallest,
+            tolerance: NULL_SPACE_TOLERANCE,
+        });
+    }
+    Ok(())
+}
 
 /// How the p-multigrid solves its Tet4 coarse problem.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -579,11 +664,13 @@ impl IterativeSolver {
         }
         let mut clock = std::time::Instant::now();
         let mut setup = MultigridSetupTimes::default();
+        let dofs: Vec<usize> = (0..a.dim())
+            .map(|j| dof_map.representative_dof(j))
+            .collect();
+        let (fine_modes, fine_blocks) = amg_input(model, &dofs);
+        check_null_space(&a, &fine_modes)?;
         if let Connectivity::Tet4(_) = model.connectivity() {
-            let dofs: Vec<usize> = (0..a.dim())
-                .map(|j| dof_map.representative_dof(j))
-                .collect();
-            let (b, blocks) = amg_input(model, &dofs);
+            let (b, blocks) = (fine_modes, fine_blocks);
             let amg = Amg::new(&a, b.clone(), blocks.clone(), factor)?;
             setup.coarse_solver_s = lap(&mut clock);
             return Ok(Self {
@@ -595,6 +682,7 @@ impl IterativeSolver {
                 setup,
             });
         }
+        drop((fine_modes, fine_blocks));
         let (p, coarse_dofs) = p_prolongation_with_dofs(model, dof_map)?;
         let pt = p.transpose();
         setup.transfer_s = lap(&mut clock);
