@@ -1,4 +1,4 @@
-//! End-to-end checks of the coupled dynamic model from the command line (issue 14's contract):
+//! End-to-end checks of the coupled dynamic model from the command line:
 //! `model.dynamics = "coupled"`, the `auto` choice between lumped and coupled, the keys of
 //! `sawdrive dynamic --json` and of the run summary, the compliance cache, and bad input.
 
@@ -43,7 +43,7 @@ fn coupled_dynamics_reports_the_contract_keys_and_balances_energy() {
     let residual = number(&json, "energy_balance_residual");
     assert!(
         residual < 1e-6,
-        "energy balance residual {residual} of the power flow (issue 14: < 1e-6)"
+        "energy balance residual {residual} of the power flow (required: < 1e-6)"
     );
     let eta_dyn = number(&json, "eta_dyn");
     assert!(eta_dyn > 0.0 && eta_dyn.is_finite(), "η_dyn {eta_dyn}");

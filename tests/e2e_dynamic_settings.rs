@@ -1,4 +1,4 @@
-//! Issue 11, dynamic side: every dynamic setting is honoured or refused, scenes the period average
+//! Settings, dynamic side: every dynamic setting is honoured or refused, scenes the period average
 //! cannot represent still write their files, and sizes a user sets are bounded before allocating.
 //! All on the small 10 × 10-post scene with a given η (no FEM).
 

@@ -1,16 +1,4 @@
-//! Charts for sawdrive: one small vocabulary (series, axes, shaded intervals, category maps)
-//! drawn by `plotters` into an SVG and, where fonts allow, a PNG next to it.
-//!
-//! Every writer takes a path *stem* (`out/curve` → `out/curve.svg`, `out/curve.png`) and writes
-//! atomically (temporary file, then rename), so an interrupted run never leaves half a chart over
-//! a good one.
-//!
-//! ```no_run
-//! use charts::{Chart, Series, Style, write_chart};
-//! let mut chart = Chart::new("speed–thrust", "speed (m/s)", "thrust (N)");
-//! chart.series.push(Series::new("10000 posts", vec![(0.0, 3.0), (1.0, 0.0)], Style::LineMarkers));
-//! let files = write_chart(&chart, std::path::Path::new("out/curve")).unwrap();
-//! ```
+#![doc = include_str!("../README.md")]
 
 mod axes;
 mod draw;

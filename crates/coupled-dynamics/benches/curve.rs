@@ -1,4 +1,4 @@
-//! Cost of the coupled model (issue 14 target: the default slider's row, 100 posts, 50-point
+//! Cost of the coupled model (target: the default slider's row, 100 posts, 50-point
 //! curve ≤ 10 s). The compliance is the row's analytic part — Johnson post springs on the
 //! diagonal plus the half-space normal and tangential terms of all 100 rows — so the bench
 //! needs no meshing; the FEM strip gives the same matrix sizes and solver work (see the

@@ -1,6 +1,6 @@
 //! When is the lumped model (N_eff = η·N independent posts) good enough? A cheap estimate of its
 //! relative error against the coupled model, from what the static stage already computed, and
-//! the `auto` choice between the two (issue 14 points 4 and 5).
+//! the `auto` choice between the two.
 //!
 //! Estimate: e_lumped ≈ [`LUMPED_ERROR_FACTOR`] · r_fit · V_crest / v₀,lumped, where r_fit is
 //! the static η fit's relative rms misfit of the post forces
@@ -28,7 +28,7 @@ pub const LUMPED_ERROR_FACTOR: f64 = 0.6;
 /// Largest static fit misfit of the study's scenes (dimensionless). Default 0.18.
 pub const STUDY_MAX_FIT_MISFIT: f64 = 0.18;
 /// Default tolerance of the `auto` choice: the lumped model is used when its estimated error is
-/// at most this (dimensionless). Default 0.02 (issue 14's 2 %).
+/// at most this (dimensionless). Default 0.02 (2 %).
 pub const DEFAULT_AUTO_TOLERANCE: f64 = 0.02;
 
 /// What the pipeline knows before choosing a dynamic model: the static report's η fit misfit

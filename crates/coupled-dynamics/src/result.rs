@@ -1,4 +1,4 @@
-//! The coupled run's result (JSON keys of issue 14's contract) and η_dyn, the effective contact
+//! The coupled run's result (its JSON keys are the command line's contract) and η_dyn, the effective contact
 //! ratio at which the lumped period-average model (stick_slip) reproduces the coupled curve
 //! best.
 

@@ -18,7 +18,7 @@ pub const DEFAULT_CURVE_POINTS: usize = 50;
 #[serde(rename_all = "kebab-case")]
 pub enum PreloadBalance {
     /// Σ N_i(t) = P at every instant; the rigid approach z(t) is an unknown of each step
-    /// (issue 14; the normal problem is static-contact's active-set solver).
+    /// (the normal problem is static-contact's active-set solver).
     #[default]
     Instant,
     /// One constant approach with the period mean Σ⟨N_i⟩ = P: the lumped model's

@@ -1,4 +1,4 @@
-//! Issue 14's key check: with a diagonal compliance (no interaction: C_nn = 1/k_n,
+//! The coupled model's key check: with a diagonal compliance (no interaction: C_nn = 1/k_n,
 //! C_tt = 1/k_t) and the lumped model's period-mean preload, the coupled model reproduces
 //! stick_slip's period-average model at η = 1 (same k_n, k_t, μ, wave, step) within 1e-6 in
 //! stall thrust and no-load speed; and its time-step error against the lumped closed form

@@ -1,4 +1,4 @@
-//! The study of validation/coupled-dynamics/README.md (issue 14): for the paper's sliders (five
+//! The study of validation/coupled-dynamics/README.md: for the paper's sliders (five
 //! counts of 20 µm posts, four diameters at equal area) at 10, 40, 100 N, stall thrust and
 //! no-load speed from the lumped model at the static η, at η_dyn, and from the coupled model on
 //! the FEM strip's row compliance; and the work-precision chart of the default slider at 40 N.

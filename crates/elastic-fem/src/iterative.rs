@@ -82,7 +82,7 @@ pub const CHEBYSHEV_UPPER_SAFETY: f64 = 1.1;
 
 /// Lanczos steps for λ_max(D⁻¹ K_red) (one product with K_red each). On the punch meshes 12
 /// steps come within 1.3 % (55k unknowns) and 2.5 % (350k) of λ_max, where 12 power iterations
-/// (used up to session 8) fell 12–14 % short, so that the upper end of the damped interval lay
+/// (the earlier estimate) fell 12–14 % short, so that the upper end of the damped interval lay
 /// below λ_max: Chebyshev then amplifies the top modes, and an estimate 26 % short made PCG
 /// take 254 iterations instead of 10 (validation/fem-peers/README.md). Default 12.
 pub const LANCZOS_STEPS: usize = 12;

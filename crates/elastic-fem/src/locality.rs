@@ -8,7 +8,7 @@
 //! nearly every access misses the cache and the TLB. With the nodes in Morton order the median
 //! reach was 637 unknowns, and on the 0.93M-unknown punch mesh, one thread, the whole FEM took
 //! 20.5 instead of 29.6 s, the PCG solve 9.3 instead of 15.6 s (both measured with a first
-//! version of the key, x the most significant axis; validation/fem-peers/README.md, session 12). A
+//! version of the key, x the most significant axis; validation/fem-peers/README.md). A
 //! fill-reducing ordering (METIS) for a direct solve is computed on top and does not depend on
 //! it. The renumbering itself is the mesh's (`gmsh_mesh::TetMesh::renumber_nodes`).
 //!

@@ -1,7 +1,7 @@
 //! Matrix-free product with the Tet10 stiffness: y = K x = Σ_e A_eᵀ K_e A_e x without K.
 //!
-//! This is the measured alternative to the assembled matrix of the iterative path (issue 12
-//! asks for "matrix-free or assembled, justified by measurement"; the numbers and the choice are
+//! This is the measured alternative to the assembled matrix of the iterative path (matrix-free
+//! or assembled was to be decided by measurement; the numbers and the choice are
 //! in this crate's README, "Matrix-free or assembled"). At each quadrature point of an element
 //! the product is the classic three steps (Hughes, *The Finite Element Method*, §3.10):
 //!

@@ -38,7 +38,7 @@ use crate::sparse::{
 
 /// Sustained rate of the supernodal Cholesky on one core (multiply–adds/s, the unit of
 /// [`SymbolicCholesky::factor_flops`]): faer 0.24.4's sequential factor of the default strip ran
-/// 9.41 G multiply–adds in 1.2–1.6 s of CPU (session 8, loaded machine), ≈ 6–8 G/s; 2.5e10 before
+/// 9.41 G multiply–adds in 1.2–1.6 s of CPU (loaded machine), ≈ 6–8 G/s; 2.5e10 before
 /// (from a GFlop/s figure, 2 flops per multiply–add) overstated it 3–4×. Default 7e9.
 pub const DIRECT_FLOP_RATE: f64 = 7e9;
 

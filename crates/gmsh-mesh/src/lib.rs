@@ -1,20 +1,4 @@
-//! Gmsh MSH 4.1 reader (ASCII and binary) producing a tetrahedral mesh with physical groups,
-//! element quality checks, a mesh summary and a ParaView VTU writer. No physics here.
-//!
-//! ```no_run
-//! let mesh = gmsh_mesh::read_msh("meshes/punch_a10um_R20a_tet4_5k.msh")?;
-//! let punch = mesh.group_faces("punch")?;          // outward-oriented boundary triangles
-//! let fixed = mesh.group_nodes("far_field")?;      // sorted unique node indices
-//! println!("{} tets, volume {:.3e} m^3", mesh.tets.len(), mesh.volume());
-//! # Ok::<(), gmsh_mesh::MeshError>(())
-//! ```
-//!
-//! Why not `mshio`: it drops node tags when the header's tag range is dense, so a file whose
-//! node blocks list their tags out of order is silently misread; it also ignores
-//! `$PhysicalNames` and `$Periodic`, reports errors without file offsets, and can underflow on
-//! an empty `$Nodes`. This crate's own parser checks every count against the bytes left before
-//! allocating, names the section, line and byte offset of every error, and never panics on input
-//! (see the corrupted-file property tests).
+#![doc = include_str!("../README.md")]
 
 mod assemble;
 mod atomic;

@@ -1,19 +1,4 @@
-//! The one description of a SAW motor, shared by every stage.
-//!
-//! A [`Motor`] is what a designer builds: the stator's travelling [`Wave`] on a stator
-//! material, the [`SliderBody`] with its [`PostArray`], the interface [`Friction`] and the
-//! [`Load`]. The scene file resolves into it (`sawdrive::scene`), and each stage builds its own
-//! parameters from it (`static_contact::StaticParams::for_motor`,
-//! `slider_contact::SliderParams::for_motor`, the dynamic scene of the pipeline), so a motor is
-//! described once. Derived quantities (pitch, wavelength, masses …) are methods, never stored
-//! copies, so that they cannot disagree with what they derive from.
-//!
-//! The paper's motor ([`Motor::paper`], docs/physics.md §1) is the only copy of the paper's
-//! numbers in the libraries; the embedded default scene (`sawdrive`'s `default.toml`, in human
-//! units with comments) is checked against it by a test.
-//!
-//! Values are SI, unit in every name. Checking a motor for physical range with messages that
-//! name scene keys is the scene's job; the stages check what they need.
+#![doc = include_str!("../README.md")]
 
 pub mod paper;
 

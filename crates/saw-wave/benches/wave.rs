@@ -8,7 +8,9 @@ use std::hint::black_box;
 fn solve_named_cuts(c: &mut Criterion) {
     for name in Cut::KNOWN_NAMES {
         let cut = Cut::from_name(name).expect("named cut");
-        c.bench_function(&format!("solve {name}"), |b| b.iter(|| black_box(&cut).solve().expect("surface wave")));
+        c.bench_function(&format!("solve {name}"), |b| {
+            b.iter(|| black_box(&cut).solve().expect("surface wave"))
+        });
     }
 }
 

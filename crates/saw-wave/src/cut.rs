@@ -24,11 +24,26 @@ pub struct Cut {
     pub euler: EulerAngles,
 }
 
-/// The named cuts: name, constant set, Euler angles (degrees).
-const NAMED_CUTS: [(&str, fn() -> Material, EulerAngles); 3] = [
-    ("128yx-linbo3", materials::lithium_niobate_kovacs_1990, EulerAngles::new(0.0, 38.0, 0.0)),
-    ("yz-linbo3", materials::lithium_niobate_kovacs_1990, EulerAngles::new(0.0, 90.0, 90.0)),
-    ("st-x-quartz", materials::quartz_bechmann_1958, EulerAngles::new(0.0, 132.75, 0.0)),
+/// A named cut: name, constructor of its constant set, Euler angles (degrees).
+type NamedCut = (&'static str, fn() -> Material, EulerAngles);
+
+/// The named cuts.
+const NAMED_CUTS: [NamedCut; 3] = [
+    (
+        "128yx-linbo3",
+        materials::lithium_niobate_kovacs_1990,
+        EulerAngles::new(0.0, 38.0, 0.0),
+    ),
+    (
+        "yz-linbo3",
+        materials::lithium_niobate_kovacs_1990,
+        EulerAngles::new(0.0, 90.0, 90.0),
+    ),
+    (
+        "st-x-quartz",
+        materials::quartz_bechmann_1958,
+        EulerAngles::new(0.0, 132.75, 0.0),
+    ),
 ];
 
 impl Cut {
@@ -37,7 +52,11 @@ impl Cut {
 
     /// A cut of any material at any Euler angles.
     pub fn new(name: impl Into<String>, material: Material, euler: EulerAngles) -> Self {
-        Self { name: name.into(), material, euler }
+        Self {
+            name: name.into(),
+            material,
+            euler,
+        }
     }
 
     /// One of the named cuts (LiNbO3 with the Kovacs et al. 1990 constants, quartz with
@@ -49,7 +68,10 @@ impl Cut {
             .iter()
             .find(|(known, _, _)| *known == wanted)
             .map(|(known, material, euler)| Self::new(*known, material(), *euler))
-            .ok_or_else(|| WaveError::UnknownCut { name: name.to_owned(), known: Self::KNOWN_NAMES.join(", ") })
+            .ok_or_else(|| WaveError::UnknownCut {
+                name: name.to_owned(),
+                known: Self::KNOWN_NAMES.join(", "),
+            })
     }
 
     /// The material's constants in the wave frame.
@@ -60,7 +82,10 @@ impl Cut {
     /// A readable label: name, material and Euler angles.
     pub fn label(&self) -> String {
         let e = &self.euler;
-        format!("{} ({}, Euler {}°, {}°, {}°)", self.name, self.material.name, e.phi_deg, e.theta_deg, e.psi_deg)
+        format!(
+            "{} ({}, Euler {}°, {}°, {}°)",
+            self.name, self.material.name, e.phi_deg, e.theta_deg, e.psi_deg
+        )
     }
 
     /// Solves the cut's Rayleigh wave (free and metallized surface).

@@ -54,7 +54,9 @@ pub enum WaveError {
         density_kg_per_m3: f64,
     },
     /// A symmetric tensor (stiffness or permittivity) is not symmetric.
-    #[error("{tensor} of material `{material}` is not symmetric: entry ({row}, {col}) differs from ({col}, {row})")]
+    #[error(
+        "{tensor} of material `{material}` is not symmetric: entry ({row}, {col}) differs from ({col}, {row})"
+    )]
     NotSymmetric {
         /// The material.
         material: String,
@@ -66,7 +68,9 @@ pub enum WaveError {
         col: usize,
     },
     /// The stiffness or permittivity has a non-positive eigenvalue: the material is unstable.
-    #[error("{tensor} of material `{material}` is not positive definite (smallest eigenvalue {smallest_eigenvalue:e})")]
+    #[error(
+        "{tensor} of material `{material}` is not positive definite (smallest eigenvalue {smallest_eigenvalue:e})"
+    )]
     NotPositiveDefinite {
         /// The material.
         material: String,
@@ -77,7 +81,9 @@ pub enum WaveError {
     },
     /// The boundary determinant has no root below the limiting velocity: the only surface
     /// waves of this cut are leaky (they radiate into the bulk) or there is none.
-    #[error("no surface wave on the {surface} surface of `{cut}` below the limiting velocity {limiting_velocity_m_per_s:.3} m/s: the wave is leaky or absent")]
+    #[error(
+        "no surface wave on the {surface} surface of `{cut}` below the limiting velocity {limiting_velocity_m_per_s:.3} m/s: the wave is leaky or absent"
+    )]
     NoSurfaceWave {
         /// The cut (material and Euler angles).
         cut: String,
@@ -88,7 +94,9 @@ pub enum WaveError {
     },
     /// The surface wave found has no normal displacement, so it cannot be normalised to u_z
     /// (a pure shear-horizontal wave such as a Bleustein–Gulyaev wave).
-    #[error("the surface wave on the {surface} surface of `{cut}` at {velocity_m_per_s:.3} m/s has no normal displacement (|u_z|/|u| = {normal_fraction:e})")]
+    #[error(
+        "the surface wave on the {surface} surface of `{cut}` at {velocity_m_per_s:.3} m/s has no normal displacement (|u_z|/|u| = {normal_fraction:e})"
+    )]
     NoNormalDisplacement {
         /// The cut.
         cut: String,

@@ -44,7 +44,13 @@ impl Material {
         permittivity_f_per_m: [[f64; 3]; 3],
         density_kg_per_m3: f64,
     ) -> Result<Self, WaveError> {
-        let material = Self { name: name.into(), stiffness_pa, piezo_c_per_m2, permittivity_f_per_m, density_kg_per_m3 };
+        let material = Self {
+            name: name.into(),
+            stiffness_pa,
+            piezo_c_per_m2,
+            permittivity_f_per_m,
+            density_kg_per_m3,
+        };
         material.validate()?;
         Ok(material)
     }
@@ -60,9 +66,7 @@ impl Material {
     ) -> Result<Self, WaveError> {
         let mut c = [[0.0; 6]; 6];
         for i in 0..3 {
-            for j in 0..3 {
-                c[i][j] = lambda_pa;
-            }
+            c[i][..3].fill(lambda_pa);
             c[i][i] = lambda_pa + 2.0 * shear_modulus_pa;
             c[i + 3][i + 3] = shear_modulus_pa;
         }
@@ -136,7 +140,11 @@ impl Material {
     }
 
     fn check_finite(&self) -> Result<(), WaveError> {
-        let non_finite = |quantity: String, value: f64| WaveError::NonFinite { context: self.name.clone(), quantity, value };
+        let non_finite = |quantity: String, value: f64| WaveError::NonFinite {
+            context: self.name.clone(),
+            quantity,
+            value,
+        };
         for (i, row) in self.stiffness_pa.iter().enumerate() {
             for (j, &value) in row.iter().enumerate() {
                 if !value.is_finite() {
@@ -147,14 +155,20 @@ impl Material {
         for (i, row) in self.piezo_c_per_m2.iter().enumerate() {
             for (j, &value) in row.iter().enumerate() {
                 if !value.is_finite() {
-                    return Err(non_finite(format!("piezoelectric e_{}{}", i + 1, j + 1), value));
+                    return Err(non_finite(
+                        format!("piezoelectric e_{}{}", i + 1, j + 1),
+                        value,
+                    ));
                 }
             }
         }
         for (i, row) in self.permittivity_f_per_m.iter().enumerate() {
             for (j, &value) in row.iter().enumerate() {
                 if !value.is_finite() {
-                    return Err(non_finite(format!("permittivity eps_{}{}", i + 1, j + 1), value));
+                    return Err(non_finite(
+                        format!("permittivity eps_{}{}", i + 1, j + 1),
+                        value,
+                    ));
                 }
             }
         }
@@ -164,18 +178,31 @@ impl Material {
         Ok(())
     }
 
-    fn check_symmetric_positive(&self, tensor: &'static str, m: DMatrix<f64>) -> Result<(), WaveError> {
+    fn check_symmetric_positive(
+        &self,
+        tensor: &'static str,
+        m: DMatrix<f64>,
+    ) -> Result<(), WaveError> {
         let scale = m.amax();
         for i in 0..m.nrows() {
             for j in 0..i {
                 if (m[(i, j)] - m[(j, i)]).abs() > SYMMETRY_TOLERANCE * scale {
-                    return Err(WaveError::NotSymmetric { material: self.name.clone(), tensor, row: i + 1, col: j + 1 });
+                    return Err(WaveError::NotSymmetric {
+                        material: self.name.clone(),
+                        tensor,
+                        row: i + 1,
+                        col: j + 1,
+                    });
                 }
             }
         }
         let smallest = m.symmetric_eigenvalues().min();
         if smallest <= 0.0 {
-            return Err(WaveError::NotPositiveDefinite { material: self.name.clone(), tensor, smallest_eigenvalue: smallest });
+            return Err(WaveError::NotPositiveDefinite {
+                material: self.name.clone(),
+                tensor,
+                smallest_eigenvalue: smallest,
+            });
         }
         Ok(())
     }
@@ -227,10 +254,19 @@ mod tests {
     fn asymmetric_and_indefinite_stiffness_are_rejected() {
         let mut m = steel_like();
         m.stiffness_pa[0][4] = 1e9;
-        assert!(matches!(m.validate(), Err(WaveError::NotSymmetric { row: 5, col: 1, .. })));
+        assert!(matches!(
+            m.validate(),
+            Err(WaveError::NotSymmetric { row: 5, col: 1, .. })
+        ));
         let mut m = steel_like();
         m.stiffness_pa[3][3] = -1e9;
-        assert!(matches!(m.validate(), Err(WaveError::NotPositiveDefinite { tensor: "stiffness", .. })));
+        assert!(matches!(
+            m.validate(),
+            Err(WaveError::NotPositiveDefinite {
+                tensor: "stiffness",
+                ..
+            })
+        ));
     }
 
     #[test]
@@ -239,7 +275,12 @@ mod tests {
         let r = m.rotated(&EulerAngles::new(12.0, 57.0, -33.0));
         for i in 0..6 {
             for j in 0..6 {
-                assert!((r.stiffness_pa[i][j] - m.stiffness_pa[i][j]).abs() < 1e-13 * 160e9, "c_{}{}", i + 1, j + 1);
+                assert!(
+                    (r.stiffness_pa[i][j] - m.stiffness_pa[i][j]).abs() < 1e-13 * 160e9,
+                    "c_{}{}",
+                    i + 1,
+                    j + 1
+                );
             }
         }
     }

@@ -20,6 +20,9 @@ use crate::stroh::{C64, PartialWaves, Scales};
 use nalgebra::{Matrix4, Vector4};
 use std::f64::consts::PI;
 
+/// Smallest |u_z|/|u| at the surface for which a mode is normalised to u_z (dimensionless).
+const MIN_NORMAL_FRACTION: f64 = 1e-6;
+
 /// One decaying partial wave of a solved mode, in physical units normalised to u_z(0) = 1.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct PartialWave {
@@ -41,7 +44,12 @@ impl PartialWave {
     /// (u_x, u_y, u_z, φ [V/m]) at the surface as complex numbers.
     pub fn fields(&self) -> [C64; 4] {
         let c = |v: [f64; 2]| C64::new(v[0], v[1]);
-        [c(self.displacement[0]), c(self.displacement[1]), c(self.displacement[2]), c(self.potential_v_per_m)]
+        [
+            c(self.displacement[0]),
+            c(self.displacement[1]),
+            c(self.displacement[2]),
+            c(self.potential_v_per_m),
+        ]
     }
 }
 
@@ -60,7 +68,9 @@ pub struct PowerFlux {
 impl PowerFlux {
     /// Sum of the three parts (W/m per m² per Hz).
     pub fn total_w_per_m_per_m2_per_hz(&self) -> f64 {
-        self.mechanical_w_per_m_per_m2_per_hz + self.electrical_crystal_w_per_m_per_m2_per_hz + self.electrical_vacuum_w_per_m_per_m2_per_hz
+        self.mechanical_w_per_m_per_m2_per_hz
+            + self.electrical_crystal_w_per_m_per_m2_per_hz
+            + self.electrical_vacuum_w_per_m_per_m2_per_hz
     }
 }
 
@@ -126,15 +136,25 @@ impl SurfaceMode {
     ) -> Result<Self, WaveError> {
         let u_norm = surface_vector.fixed_rows::<3>(0).norm();
         let normal_fraction = surface_vector[2].norm() / u_norm;
-        if !(normal_fraction > 1e-6) {
-            return Err(WaveError::NoNormalDisplacement { cut: context.into(), surface, velocity_m_per_s, normal_fraction });
+        if normal_fraction.is_nan() || normal_fraction <= MIN_NORMAL_FRACTION {
+            return Err(WaveError::NoNormalDisplacement {
+                cut: context.into(),
+                surface,
+                velocity_m_per_s,
+                normal_fraction,
+            });
         }
         let u0 = surface_vector / surface_vector[2];
-        let amplitudes = waves.a.try_inverse().map(|inv| inv * u0).ok_or(WaveError::PartialWaves {
-            cut: context.into(),
-            velocity_m_per_s,
-            reason: "the partial-wave displacements are linearly dependent",
-        })?;
+        let amplitudes =
+            waves
+                .a
+                .try_inverse()
+                .map(|inv| inv * u0)
+                .ok_or(WaveError::PartialWaves {
+                    cut: context.into(),
+                    velocity_m_per_s,
+                    reason: "the partial-wave displacements are linearly dependent",
+                })?;
         let weighted = |m: &Matrix4<C64>| Matrix4::from_fn(|j, n| m[(j, n)] * amplitudes[n]);
         let (u, f) = (weighted(&waves.a), weighted(&waves.f));
         let potential_scale = scales.potential_v_per_m();
@@ -148,7 +168,9 @@ impl SurfaceMode {
             uy_over_uz_abs: u0[1].norm(),
             potential_over_uz_v_per_m: phi0.norm(),
             power_flux: power_flux(&waves.p, &u, &f, scales, phi0.norm()),
-            partial_waves: std::array::from_fn(|n| partial_wave(waves.p[n], &u, n, potential_scale)),
+            partial_waves: std::array::from_fn(|n| {
+                partial_wave(waves.p[n], &u, n, potential_scale)
+            }),
         })
     }
 
@@ -161,7 +183,12 @@ impl SurfaceMode {
                 *s += field * phase;
             }
         }
-        Fields { ux: sum[0], uy: sum[1], uz: sum[2], phi_v_per_m: sum[3] }
+        Fields {
+            ux: sum[0],
+            uy: sum[1],
+            uz: sum[2],
+            phi_v_per_m: sum[3],
+        }
     }
 
     /// The fields sampled at the given depths (wavelengths).
@@ -171,25 +198,63 @@ impl SurfaceMode {
             .iter()
             .map(|&d| {
                 let f = self.fields_at_depth(d);
-                DepthSample { depth_wavelengths: d, ux: pair(f.ux), uy: pair(f.uy), uz: pair(f.uz), phi_v_per_m: pair(f.phi_v_per_m) }
+                DepthSample {
+                    depth_wavelengths: d,
+                    ux: pair(f.ux),
+                    uy: pair(f.uy),
+                    uz: pair(f.uz),
+                    phi_v_per_m: pair(f.phi_v_per_m),
+                }
             })
             .collect()
     }
 
     /// Total power per unit beam width (W/m) at normal surface amplitude `amplitude_uz_m` (m, ≥ 0)
     /// and frequency `frequency_hz` (Hz, > 0).
-    pub fn power_per_width_w_per_m(&self, amplitude_uz_m: f64, frequency_hz: f64) -> Result<f64, WaveError> {
+    pub fn power_per_width_w_per_m(
+        &self,
+        amplitude_uz_m: f64,
+        frequency_hz: f64,
+    ) -> Result<f64, WaveError> {
         let check = |name, value: f64, ok: bool, requirement| {
-            if ok { Ok(()) } else { Err(WaveError::InvalidArgument { function: "power_per_width_w_per_m", name, value, requirement }) }
+            if ok {
+                Ok(())
+            } else {
+                Err(WaveError::InvalidArgument {
+                    function: "power_per_width_w_per_m",
+                    name,
+                    value,
+                    requirement,
+                })
+            }
         };
-        check("amplitude_uz_m", amplitude_uz_m, amplitude_uz_m.is_finite() && amplitude_uz_m >= 0.0, "finite and non-negative")?;
-        check("frequency_hz", frequency_hz, frequency_hz.is_finite() && frequency_hz > 0.0, "finite and positive")?;
-        Ok(self.power_flux.total_w_per_m_per_m2_per_hz() * frequency_hz * amplitude_uz_m * amplitude_uz_m)
+        check(
+            "amplitude_uz_m",
+            amplitude_uz_m,
+            amplitude_uz_m.is_finite() && amplitude_uz_m >= 0.0,
+            "finite and non-negative",
+        )?;
+        check(
+            "frequency_hz",
+            frequency_hz,
+            frequency_hz.is_finite() && frequency_hz > 0.0,
+            "finite and positive",
+        )?;
+        Ok(self.power_flux.total_w_per_m_per_m2_per_hz()
+            * frequency_hz
+            * amplitude_uz_m
+            * amplitude_uz_m)
     }
 }
 
 /// The closed-form depth integral of the Poynting flux (module formula), per hertz.
-fn power_flux(p: &[C64; 4], u: &Matrix4<C64>, f: &Matrix4<C64>, scales: &Scales, phi0_v_per_m: f64) -> PowerFlux {
+fn power_flux(
+    p: &[C64; 4],
+    u: &Matrix4<C64>,
+    f: &Matrix4<C64>,
+    scales: &Scales,
+    phi0_v_per_m: f64,
+) -> PowerFlux {
     let (mut mechanical, mut electrical) = (0.0, 0.0);
     for m in 0..4 {
         for n in 0..4 {
@@ -204,7 +269,11 @@ fn power_flux(p: &[C64; 4], u: &Matrix4<C64>, f: &Matrix4<C64>, scales: &Scales,
     PowerFlux {
         mechanical_w_per_m_per_m2_per_hz: per_hz * mechanical,
         electrical_crystal_w_per_m_per_m2_per_hz: per_hz * electrical,
-        electrical_vacuum_w_per_m_per_m2_per_hz: -0.5 * PI * VACUUM_PERMITTIVITY_F_PER_M * phi0_v_per_m * phi0_v_per_m,
+        electrical_vacuum_w_per_m_per_m2_per_hz: -0.5
+            * PI
+            * VACUUM_PERMITTIVITY_F_PER_M
+            * phi0_v_per_m
+            * phi0_v_per_m,
     }
 }
 

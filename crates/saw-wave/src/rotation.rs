@@ -40,7 +40,11 @@ pub struct EulerAngles {
 impl EulerAngles {
     /// Euler angles (φ, θ, ψ) in degrees.
     pub const fn new(phi_deg: f64, theta_deg: f64, psi_deg: f64) -> Self {
-        Self { phi_deg, theta_deg, psi_deg }
+        Self {
+            phi_deg,
+            theta_deg,
+            psi_deg,
+        }
     }
 
     /// The rotation matrix `a` with x′_i = a_ij x_j (rows: wave-frame axes in crystal coordinates).
@@ -150,7 +154,12 @@ mod tests {
         let a = EulerAngles::new(0.0, 38.0, 0.0).rotation_matrix();
         let (s, c) = 128f64.to_radians().sin_cos();
         let normal = a[2];
-        assert!((normal[0]).abs() < 1e-15 && (normal[1] - c).abs() < 1e-15 && (normal[2] - s).abs() < 1e-15, "normal {normal:?}");
+        assert!(
+            (normal[0]).abs() < 1e-15
+                && (normal[1] - c).abs() < 1e-15
+                && (normal[2] - s).abs() < 1e-15,
+            "normal {normal:?}"
+        );
         assert_eq!(a[0], [1.0, 0.0, 0.0], "propagation direction must stay X");
     }
 
@@ -163,7 +172,13 @@ mod tests {
         c[0][1] = 0.3;
         c[1][0] = 0.3;
         let rotated = rotate_stiffness(&c, &EulerAngles::new(90.0, 0.0, 0.0).rotation_matrix());
-        assert!((rotated[0][0] - 2.0).abs() < 1e-14 && (rotated[1][1] - 1.0).abs() < 1e-14, "c11/c22 {rotated:?}");
-        assert!((rotated[5][5] - 6.0).abs() < 1e-14 && (rotated[3][3] - 5.0).abs() < 1e-14, "c66/c44 {rotated:?}");
+        assert!(
+            (rotated[0][0] - 2.0).abs() < 1e-14 && (rotated[1][1] - 1.0).abs() < 1e-14,
+            "c11/c22 {rotated:?}"
+        );
+        assert!(
+            (rotated[5][5] - 6.0).abs() < 1e-14 && (rotated[3][3] - 5.0).abs() < 1e-14,
+            "c66/c44 {rotated:?}"
+        );
     }
 }

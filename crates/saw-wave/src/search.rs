@@ -35,7 +35,9 @@ pub(crate) fn limiting_velocity(system: &StrohSystem) -> Result<f64, &'static st
     }
     let mut hi = bulk;
     for i in 1..=LIMIT_SCAN_POINTS {
-        let v = bulk * (SCAN_START_FRACTION + (1.0 - SCAN_START_FRACTION) * i as f64 / LIMIT_SCAN_POINTS as f64);
+        let v = bulk
+            * (SCAN_START_FRACTION
+                + (1.0 - SCAN_START_FRACTION) * i as f64 / LIMIT_SCAN_POINTS as f64);
         if !bound(v)? {
             hi = v;
             break;
@@ -91,8 +93,16 @@ impl SignChange {
 }
 
 /// Brent's root finder on a sign-change bracket.
-pub(crate) fn brent<E>(mut f: impl FnMut(f64) -> Result<f64, E>, bracket: Bracket) -> Result<f64, E> {
-    let Bracket { mut a, mut b, mut fa, mut fb } = bracket;
+pub(crate) fn brent<E>(
+    mut f: impl FnMut(f64) -> Result<f64, E>,
+    bracket: Bracket,
+) -> Result<f64, E> {
+    let Bracket {
+        mut a,
+        mut b,
+        mut fa,
+        mut fb,
+    } = bracket;
     if fa.abs() < fb.abs() {
         (a, b, fa, fb) = (b, a, fb, fa);
     }
@@ -103,12 +113,18 @@ pub(crate) fn brent<E>(mut f: impl FnMut(f64) -> Result<f64, E>, bracket: Bracke
             break;
         }
         let mut s = if fa != fc && fb != fc {
-            a * fb * fc / ((fa - fb) * (fa - fc)) + b * fa * fc / ((fb - fa) * (fb - fc)) + c * fa * fb / ((fc - fa) * (fc - fb))
+            a * fb * fc / ((fa - fb) * (fa - fc))
+                + b * fa * fc / ((fb - fa) * (fb - fc))
+                + c * fa * fb / ((fc - fa) * (fc - fb))
         } else {
             b - fb * (b - a) / (fb - fa)
         };
         let outside = (s - (3.0 * a + b) / 4.0) * (s - b) >= 0.0;
-        let slow = if bisected { (s - b).abs() >= 0.5 * (b - c).abs() } else { (s - b).abs() >= 0.5 * (c - d).abs() };
+        let slow = if bisected {
+            (s - b).abs() >= 0.5 * (b - c).abs()
+        } else {
+            (s - b).abs() >= 0.5 * (c - d).abs()
+        };
         bisected = outside || slow;
         if bisected {
             s = 0.5 * (a + b);
@@ -134,7 +150,16 @@ mod tests {
     #[test]
     fn brent_finds_the_root_of_a_cubic_to_machine_precision() {
         let f = |x: f64| Ok::<_, ()>((x - 1.234_567_890_123) * (x * x + 1.0));
-        let root = brent(f, Bracket { a: 0.0, b: 3.0, fa: f(0.0).unwrap(), fb: f(3.0).unwrap() }).unwrap();
+        let root = brent(
+            f,
+            Bracket {
+                a: 0.0,
+                b: 3.0,
+                fa: f(0.0).unwrap(),
+                fb: f(3.0).unwrap(),
+            },
+        )
+        .unwrap();
         assert!((root - 1.234_567_890_123).abs() < 1e-13, "root {root}");
     }
 

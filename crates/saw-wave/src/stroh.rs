@@ -128,7 +128,9 @@ impl StrohSystem {
     /// The slowest bulk wave along x₁ (p = 0), piezoelectrically stiffened (scaled velocity).
     /// The limiting velocity is at most this.
     pub fn slowest_bulk_velocity_along_x1(&self) -> f64 {
-        let m = Matrix3::from_fn(|i, j| self.q[(i, j)] - self.q[(i, 3)] * self.q[(3, j)] / self.q[(3, 3)]);
+        let m = Matrix3::from_fn(|i, j| {
+            self.q[(i, j)] - self.q[(i, 3)] * self.q[(3, j)] / self.q[(3, 3)]
+        });
         m.symmetric_eigenvalues().min().max(0.0).sqrt()
     }
 
@@ -136,20 +138,28 @@ impl StrohSystem {
     pub fn roots(&self, v: f64) -> Option<[C64; 8]> {
         let rt = self.r.transpose();
         let mut n = SMatrix::<f64, 8, 8>::zeros();
-        n.fixed_view_mut::<4, 4>(0, 0).copy_from(&(-self.t_inv * rt));
+        n.fixed_view_mut::<4, 4>(0, 0)
+            .copy_from(&(-self.t_inv * rt));
         n.fixed_view_mut::<4, 4>(0, 4).copy_from(&self.t_inv);
-        n.fixed_view_mut::<4, 4>(4, 0).copy_from(&(self.r * self.t_inv * rt - self.q_inertial(v)));
-        n.fixed_view_mut::<4, 4>(4, 4).copy_from(&(-self.r * self.t_inv));
-        let eigenvalues = Schur::try_new(n, SCHUR_EPSILON, SCHUR_MAX_ITERATIONS)?.complex_eigenvalues();
+        n.fixed_view_mut::<4, 4>(4, 0)
+            .copy_from(&(self.r * self.t_inv * rt - self.q_inertial(v)));
+        n.fixed_view_mut::<4, 4>(4, 4)
+            .copy_from(&(-self.r * self.t_inv));
+        let eigenvalues =
+            Schur::try_new(n, SCHUR_EPSILON, SCHUR_MAX_ITERATIONS)?.complex_eigenvalues();
         let mut out = [C64::new(0.0, 0.0); 8];
-        out.iter_mut().zip(eigenvalues.iter()).for_each(|(o, e)| *o = *e);
+        out.iter_mut()
+            .zip(eigenvalues.iter())
+            .for_each(|(o, e)| *o = *e);
         Some(out)
     }
 
     /// The decaying roots if exactly four decay and four grow; `Ok(None)` above the limiting
     /// velocity (some root is real).
     pub fn decaying_roots(&self, v: f64) -> Result<Option<[C64; 4]>, &'static str> {
-        let roots = self.roots(v).ok_or("the Schur decomposition of the Stroh matrix did not converge")?;
+        let roots = self
+            .roots(v)
+            .ok_or("the Schur decomposition of the Stroh matrix did not converge")?;
         let bound = |p: &C64| p.im.abs() > BOUND_TOLERANCE * (1.0 + p.norm());
         if !roots.iter().all(bound) {
             return Ok(None);
@@ -167,7 +177,12 @@ impl StrohSystem {
         let Some(p) = self.decaying_roots(v)? else {
             return Ok(None);
         };
-        let mut waves = PartialWaves { p, a: Matrix4::zeros(), l: Matrix4::zeros(), f: Matrix4::zeros() };
+        let mut waves = PartialWaves {
+            p,
+            a: Matrix4::zeros(),
+            l: Matrix4::zeros(),
+            f: Matrix4::zeros(),
+        };
         for cluster in clusters(&p) {
             let mean = cluster.iter().map(|&i| p[i]).sum::<C64>() / cluster.len() as f64;
             let null = self.null_vectors(v, mean, cluster.len())?;
@@ -176,10 +191,16 @@ impl StrohSystem {
                 waves.a.set_column(i, &null.column(column));
             }
         }
-        let (q, r, t) = (self.q.cast::<C64>(), self.r.cast::<C64>(), self.t.cast::<C64>());
+        let (q, r, t) = (
+            self.q.cast::<C64>(),
+            self.r.cast::<C64>(),
+            self.t.cast::<C64>(),
+        );
         for i in 0..4 {
             let a = waves.a.column(i).into_owned();
-            waves.l.set_column(i, &((r.transpose() + t * waves.p[i]) * a));
+            waves
+                .l
+                .set_column(i, &((r.transpose() + t * waves.p[i]) * a));
             waves.f.set_column(i, &((q + r * waves.p[i]) * a));
         }
         Ok(Some(waves))
@@ -188,9 +209,13 @@ impl StrohSystem {
     /// The `count` right singular vectors of the smallest singular values of
     /// Q − v²Ĩ + p(R + Rᵀ) + p²T (columns 0..count of the result).
     fn null_vectors(&self, v: f64, p: C64, count: usize) -> Result<Matrix4<C64>, &'static str> {
-        let m = self.q_inertial(v).cast::<C64>() + (self.r + self.r.transpose()).cast::<C64>() * p + self.t.cast::<C64>() * (p * p);
+        let m = self.q_inertial(v).cast::<C64>()
+            + (self.r + self.r.transpose()).cast::<C64>() * p
+            + self.t.cast::<C64>() * (p * p);
         let svd = m.svd(false, true);
-        let v_t = svd.v_t.ok_or("the SVD of the Christoffel matrix returned no singular vectors")?;
+        let v_t = svd
+            .v_t
+            .ok_or("the SVD of the Christoffel matrix returned no singular vectors")?;
         let mut out = Matrix4::zeros();
         for column in 0..count {
             out.set_column(column, &v_t.row(3 - column).adjoint());
@@ -208,7 +233,9 @@ fn clusters(p: &[C64; 4]) -> Vec<Vec<usize>> {
             continue;
         }
         let group: Vec<usize> = (i..4)
-            .filter(|&j| !assigned[j] && (p[j] - p[i]).norm() < CLUSTER_TOLERANCE * (1.0 + p[i].norm()))
+            .filter(|&j| {
+                !assigned[j] && (p[j] - p[i]).norm() < CLUSTER_TOLERANCE * (1.0 + p[i].norm())
+            })
             .collect();
         group.iter().for_each(|&j| assigned[j] = true);
         out.push(group);

@@ -45,16 +45,24 @@ impl RayleighWave {
         check_angles(cut)?;
         cut.material.validate()?;
         let label = cut.label();
-        let system = StrohSystem::new(&cut.rotated_material()).ok_or_else(|| failure(&label, 0.0, "the x3-plane stiffness block T is singular"))?;
+        let system = StrohSystem::new(&cut.rotated_material())
+            .ok_or_else(|| failure(&label, 0.0, "the x3-plane stiffness block T is singular"))?;
         let v_ref = system.scales.velocity_m_per_s;
         let limiting = limiting_velocity(&system).map_err(|reason| failure(&label, 0.0, reason))?;
         let (free, metallized) = scan(&system, limiting, &label)?;
-        let no_wave = |surface| WaveError::NoSurfaceWave { cut: label.clone(), surface, limiting_velocity_m_per_s: limiting * v_ref };
+        let no_wave = |surface| WaveError::NoSurfaceWave {
+            cut: label.clone(),
+            surface,
+            limiting_velocity_m_per_s: limiting * v_ref,
+        };
         let free = free.ok_or_else(|| no_wave(Surface::Free))?;
         let metallized = metallized.ok_or_else(|| no_wave(Surface::Metallized))?;
         let free = build_mode(&system, Surface::Free, free, &label)?;
         let metallized = build_mode(&system, Surface::Metallized, metallized, &label)?;
-        let (v_free, v_met) = (free.phase_velocity_m_per_s, metallized.phase_velocity_m_per_s);
+        let (v_free, v_met) = (
+            free.phase_velocity_m_per_s,
+            metallized.phase_velocity_m_per_s,
+        );
         Ok(Self {
             cut: label,
             phase_velocity_free_m_per_s: v_free,
@@ -71,8 +79,13 @@ impl RayleighWave {
 
     /// Power per unit beam width (W/m) of the free-surface wave at normal amplitude
     /// `amplitude_uz_m` (m) and frequency `frequency_hz` (Hz).
-    pub fn power_per_width_w_per_m(&self, amplitude_uz_m: f64, frequency_hz: f64) -> Result<f64, WaveError> {
-        self.free.power_per_width_w_per_m(amplitude_uz_m, frequency_hz)
+    pub fn power_per_width_w_per_m(
+        &self,
+        amplitude_uz_m: f64,
+        frequency_hz: f64,
+    ) -> Result<f64, WaveError> {
+        self.free
+            .power_per_width_w_per_m(amplitude_uz_m, frequency_hz)
     }
 
     /// Depth profile of the free-surface wave (u_x, u_y, u_z, φ per unit u_z(0)) at depths in
@@ -83,14 +96,26 @@ impl RayleighWave {
 }
 
 fn failure(label: &str, velocity_m_per_s: f64, reason: &'static str) -> WaveError {
-    WaveError::PartialWaves { cut: label.to_owned(), velocity_m_per_s, reason }
+    WaveError::PartialWaves {
+        cut: label.to_owned(),
+        velocity_m_per_s,
+        reason,
+    }
 }
 
 fn check_angles(cut: &Cut) -> Result<(), WaveError> {
     let e = &cut.euler;
-    for (quantity, value) in [("Euler angle phi", e.phi_deg), ("Euler angle theta", e.theta_deg), ("Euler angle psi", e.psi_deg)] {
+    for (quantity, value) in [
+        ("Euler angle phi", e.phi_deg),
+        ("Euler angle theta", e.theta_deg),
+        ("Euler angle psi", e.psi_deg),
+    ] {
         if !value.is_finite() {
-            return Err(WaveError::NonFinite { context: cut.name.clone(), quantity: quantity.into(), value });
+            return Err(WaveError::NonFinite {
+                context: cut.name.clone(),
+                quantity: quantity.into(),
+                value,
+            });
         }
     }
     Ok(())
@@ -102,12 +127,28 @@ fn boundary(system: &StrohSystem, v: f64, label: &str) -> Result<BoundaryMatrice
     let waves = system
         .partial_waves(v)
         .map_err(|reason| failure(label, v_si, reason))?
-        .ok_or_else(|| failure(label, v_si, "a partial wave does not decay below the limiting velocity"))?;
-    BoundaryMatrices::new(&waves, system.vacuum_permittivity).ok_or_else(|| failure(label, v_si, "the partial-wave displacements are linearly dependent"))
+        .ok_or_else(|| {
+            failure(
+                label,
+                v_si,
+                "a partial wave does not decay below the limiting velocity",
+            )
+        })?;
+    BoundaryMatrices::new(&waves, system.vacuum_permittivity).ok_or_else(|| {
+        failure(
+            label,
+            v_si,
+            "the partial-wave displacements are linearly dependent",
+        )
+    })
 }
 
 /// Scans both determinants and refines the first sign change of each (scaled velocities).
-fn scan(system: &StrohSystem, limiting: f64, label: &str) -> Result<(Option<f64>, Option<f64>), WaveError> {
+fn scan(
+    system: &StrohSystem,
+    limiting: f64,
+    label: &str,
+) -> Result<(Option<f64>, Option<f64>), WaveError> {
     let (mut free, mut metallized) = (SignChange::default(), SignChange::default());
     for v in scan_velocities(limiting) {
         let b = boundary(system, v, label)?;
@@ -118,7 +159,9 @@ fn scan(system: &StrohSystem, limiting: f64, label: &str) -> Result<(Option<f64>
         }
     }
     let refine = |bracket: Option<_>, det: fn(&BoundaryMatrices) -> f64| {
-        bracket.map(|b| brent(|v| boundary(system, v, label).map(|m| det(&m)), b)).transpose()
+        bracket
+            .map(|b| brent(|v| boundary(system, v, label).map(|m| det(&m)), b))
+            .transpose()
     };
     Ok((
         refine(free.bracket, BoundaryMatrices::free_determinant)?,
@@ -126,18 +169,34 @@ fn scan(system: &StrohSystem, limiting: f64, label: &str) -> Result<(Option<f64>
     ))
 }
 
-fn build_mode(system: &StrohSystem, surface: Surface, v: f64, label: &str) -> Result<SurfaceMode, WaveError> {
+fn build_mode(
+    system: &StrohSystem,
+    surface: Surface,
+    v: f64,
+    label: &str,
+) -> Result<SurfaceMode, WaveError> {
     let v_si = v * system.scales.velocity_m_per_s;
     let waves = system
         .partial_waves(v)
         .map_err(|reason| failure(label, v_si, reason))?
         .ok_or_else(|| failure(label, v_si, "a partial wave does not decay at the root"))?;
-    let matrices = BoundaryMatrices::new(&waves, system.vacuum_permittivity)
-        .ok_or_else(|| failure(label, v_si, "the partial-wave displacements are linearly dependent"))?;
+    let matrices = BoundaryMatrices::new(&waves, system.vacuum_permittivity).ok_or_else(|| {
+        failure(
+            label,
+            v_si,
+            "the partial-wave displacements are linearly dependent",
+        )
+    })?;
     let vector = match surface {
         Surface::Free => matrices.free_surface_vector(),
         Surface::Metallized => matrices.metallized_surface_vector(),
     }
-    .ok_or_else(|| failure(label, v_si, "the SVD of the boundary matrix returned no singular vectors"))?;
+    .ok_or_else(|| {
+        failure(
+            label,
+            v_si,
+            "the SVD of the boundary matrix returned no singular vectors",
+        )
+    })?;
     SurfaceMode::new(surface, v_si, &waves, vector, &system.scales, label)
 }

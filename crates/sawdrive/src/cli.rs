@@ -37,9 +37,10 @@ pub enum Command {
     /// Validation studies.
     #[command(subcommand)]
     Validate(ValidateCommand),
-    /// Monte Carlo bands under the scene's [scatter] section (issue 15). Writes OUT/<scene>-uq/.
+    /// Monte Carlo bands of η, speed, thrust and power under the scene's [scatter] section.
+    /// Writes OUT/<scene>-uq/.
     Uq(UqArgs),
-    /// Optimise a texture (DESIGN.toml; issue 15). Writes OUT/<name>/.
+    /// Optimise a texture (DESIGN.toml: variables, constraints, objective). Writes OUT/<name>/.
     Design(DesignArgs),
 }
 

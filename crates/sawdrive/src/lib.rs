@@ -1,8 +1,4 @@
-//! sawdrive: the SAW-motor friction-drive simulator's scene files, pipeline and command line.
-//!
-//! The physics lives in the member crates: `contact-springs` (Johnson springs), `gmsh-mesh`,
-//! `elastic-fem`, `static-contact` (η) and `stick-slip` (dynamics). This crate reads scenes
-//! ([`scene`]), converts human units ([`units`]) and drives the stages.
+#![doc = include_str!("../README.md")]
 
 /// Version of the dynamic (stick/slip) numbers a run produces. Bump when the dynamic numbers
 /// change (integrators, model selection, period average, defaults they depend on): resumed sweeps
@@ -13,7 +9,7 @@ pub const DYNAMIC_MODEL_VERSION: u32 = 1;
 /// The command line's arguments (clap), here so that tests and docs can parse command lines
 /// (the README's examples are checked by `tests/readme_commands.rs`).
 pub mod cli;
-/// Design under scatter: `sawdrive uq` and `sawdrive design` (issue 15).
+/// Design under scatter: `sawdrive uq` and `sawdrive design`.
 pub mod design;
 pub mod output;
 pub mod pipeline;

@@ -1,4 +1,4 @@
-//! The whole-slider static model through the `sawdrive` binary (issue 13): the scene keys reach
+//! The whole-slider static model through the `sawdrive` binary: the scene keys reach
 //! the model and change what it computes, the JSON keeps the contract's keys for both models,
 //! bad input is one line naming the key with nothing earlier overwritten.
 //!

@@ -1,4 +1,4 @@
-//! The whole-slider stage's speed, one command (issue 13, point 5): for each preload mechanism
+//! The whole-slider stage's speed, one command: for each preload mechanism
 //! (rigid back, ball at the centre, pressure), the default slider (100 × 100 posts, 4 phases,
 //! one preload of 40 N): operator build, the 4 phases + η, wall and CPU time (user + sys of the
 //! process, all threads), CG iterations; the cost of an extra phase (1 → 8 phases); and one phase

@@ -1,4 +1,4 @@
-//! The whole-slider lattice model against a direct FEM of a small whole slider (issue 13, §3).
+//! The whole-slider lattice model against a direct FEM of a small whole slider.
 //!
 //! FEM: the slider of `meshes/slider-block.geo` (n × n posts of 20 µm at 40 µm under a Si body
 //! of the real thickness t = 0.5 mm with t-wide margins on all four sides, Tet4, gmsh), condensed
@@ -37,7 +37,7 @@
 //! 0.034 / 0.014 (3.2), (c) ball 0.018 / 0.009 (1.2), ball + σ 0.022 / 0.009 (1.9);
 //! 10 × 10 (62 711 nodes, ε = 0.96 %, ≈ 3.5 min, 0.8 GB): (a) 0.029 / 0.007 (4.2),
 //! (b) 0.059 / 0.008 (11.8), (c) 0.130 / 0.022 (6.8), ball + σ 0.102 / 0.021 (12.9); the
-//! contact fractions agree to 0.003. Session 6: (d) pressure 3 × 3 0.016 / 0.008 (1.00),
+//! contact fractions agree to 0.003. (d) pressure 3 × 3 0.016 / 0.008 (1.00),
 //! 10 × 10 0.038 / 0.009 (4.7);
 //! 8 × 8 at a 0.5 mm pitch, the real L/t = 10 (73 396 nodes, ε = 1.23 %, ≈ 6 min under load,
 //! 1.5 GB): (a) 0.053 / 0.011 (4.3), (b) 0.090 / 0.013 (10.1), (c) 0.214 / 0.033 (7.8),

@@ -114,7 +114,7 @@ fn bad_inputs_are_refused_naming_the_field() {
     );
 }
 
-/// Issue 13 §6 at the library level: each refusal is one line naming the scene key.
+/// At the library level: each refusal is one line naming the scene key.
 #[test]
 fn bad_scene_inputs_are_one_line_errors_naming_the_scene_key() {
     let free = |mechanism: Mechanism, imperfections: Imperfections| SliderParams {

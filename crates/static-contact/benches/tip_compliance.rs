@@ -1,4 +1,4 @@
-//! The default strip's tangential tip compliance (issue 12 point 5): partial forward solves on
+//! The default strip's tangential tip compliance: partial forward solves on
 //! the disk unknowns' elimination-tree paths (`BodyCompliance::tangential_compliance`) against
 //! full solves with the same factor (`tangential_compliance_by_solves`, SOLVE_BATCH_COLUMNS
 //! right-hand sides at a time), with the factorisation for scale. Wall and CPU time

@@ -264,7 +264,7 @@ pub(crate) fn condense_body(
 
 /// Threads of a body's numeric Cholesky factorisation and of its solves: one. faer 0.24's
 /// supernodal factor is left-looking with parallelism only inside each supernode's dense
-/// kernels; on the default strip two threads gave 0.61–1.0× the speed of one (sessions 7–8) and
+/// kernels; on the default strip two threads gave 0.61–1.0× the speed of one (measured) and
 /// cost ≈ 0.5 s more CPU (idle workers spinning). One thread also gives the same factor bits on
 /// any machine and thread count. Default 1.
 pub const DIRECT_FACTOR_THREADS: usize = 1;

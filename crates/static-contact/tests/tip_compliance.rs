@@ -1,4 +1,4 @@
-//! The strip's tangential tip compliance for the coupled dynamics (issue 14): from the slider's
+//! The strip's tangential tip compliance for the coupled dynamics: from the slider's
 //! existing factorisation plus the half-space, symmetric positive definite, its self term of the
 //! order of the Johnson tangential springs' series compliance, and the dropped normal–tangential
 //! cross terms small.

@@ -1,4 +1,4 @@
-//! Speed targets of issue 6: a 50-point speed–thrust curve with the period-average model in
+//! Speed targets: a 50-point speed–thrust curve with the period-average model in
 //! ≤ 20 ms, and a transient run of the default slider (10000 posts, 100 × 100 at 40 µm pitch)
 //! over 1000 wave periods in ≤ 2 s.
 //!

@@ -1,30 +1,4 @@
-//! Lumped dynamic stick/slip model of the SAW motor (docs/physics.md §4–5).
-//!
-//! A Rayleigh wave travels along +x on the stator (w = A_n sin θ, u = A_t cos θ, θ = ωt − kx,
-//! retrograde orbit); the slider's posts touch it through springs k_n, k_t and Coulomb friction
-//! (Jenkins elements), and the slider is driven along −x.
-//!
-//! * [`DynamicScene`] holds the input (SI): [`Wave`], [`PostContact`], [`Slider`],
-//!   [`ModelChoice`], [`Integrator`], [`SolveOptions`]; `validate()` returns typed errors.
-//! * [`solve`] runs the model the scene needs and returns a [`DynamicResult`] (serde
-//!   `Serialize`): stall thrust, no-load speed, speed–thrust curve, stick fraction, efficiency.
-//! * [`PeriodicAverageModel`]: one post period-averaged at imposed speed (closed-form
-//!   event-driven segments by default).
-//! * [`TransientModel`]: all phase groups and the slider integrated in time.
-//! * `plots` (cargo feature `charts`, on by default): SVG/PNG charts of a
-//!   result. The validation study (work-precision, stability maps) is in the `validation` crate.
-//!
-//! Inside the solvers lengths are scaled by A_n, time by 1/ω and forces by k_n A_n per post
-//! (N_eff k_n A_n for the slider), so every tolerance is relative.
-//!
-//! ```
-//! use stick_slip::{DynamicScene, solve};
-//! // Post springs of a 20 µm post (from Johnson's formulas, computed by another crate).
-//! let scene = DynamicScene::paper_default(1.8e6, 1.5e6);
-//! let result = solve(&scene).unwrap();
-//! assert!(result.stall_thrust_n > 0.0 && result.stall_thrust_n <= 0.3 * 40.0);
-//! assert!(result.no_load_speed_m_per_s <= result.crest_speed_m_per_s);
-//! ```
+#![doc = include_str!("../README.md")]
 
 mod contact;
 mod cost;

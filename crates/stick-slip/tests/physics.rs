@@ -1,4 +1,4 @@
-//! Physics checks of the lumped stick/slip model (issue 6, item 4; docs/physics.md §4–7).
+//! Physics checks of the lumped stick/slip model (docs/physics.md §4–7).
 
 #[path = "support/johnson.rs"]
 mod johnson;

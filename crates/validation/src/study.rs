@@ -29,9 +29,9 @@ use crate::stability::{
 /// processes on a shared machine. Default 2.
 pub const WORK_PRECISION_REPETITIONS: usize = 2;
 
-/// Acceptance: largest estimated relative FEM error. Dimensionless; 0.003 (issue 4).
+/// Acceptance: largest estimated relative FEM error. Dimensionless; 0.003.
 pub const ERROR_TOLERANCE: f64 = 0.003;
-/// Acceptance: largest |FEM / formula − 1|. Dimensionless; 0.005 (issue 4).
+/// Acceptance: largest |FEM / formula − 1|. Dimensionless; 0.005.
 pub const AGREEMENT_TOLERANCE: f64 = 0.005;
 
 /// What the work-precision comparison runs.
@@ -97,7 +97,7 @@ pub struct SpringsOptions {
 }
 
 impl Default for SpringsOptions {
-    /// The full study of issue 4: Si and LiNbO3, a = 10 and 25 µm, all four springs, three
+    /// The full study: Si and LiNbO3, a = 10 and 25 µm, all four springs, three
     /// Tet10 levels, truncation R/a = 25…200, work-precision and stability.
     fn default() -> Self {
         Self {

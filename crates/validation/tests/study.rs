@@ -132,7 +132,7 @@ fn fewer_than_three_levels_are_refused() {
     );
 }
 
-/// The full study of issue 4 (≈ 30 min on 2 cores): every case converged (estimated error
+/// The full springs study (≈ 30 min on 2 cores): every case converged (estimated error
 /// ≤ 0.3 %) and within 0.5 % of its formula.
 /// `cargo test --release -p validation --test study -- --ignored`
 #[test]

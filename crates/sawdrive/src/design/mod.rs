@@ -1,4 +1,4 @@
-//! Design under scatter (issue 15): the motor model the `design` crate's Monte Carlo and
+//! Design under scatter: the motor model the `design` crate's Monte Carlo and
 //! optimiser run on ([`motor`]), the `[scatter]` section ([`scatter`]), `sawdrive uq` ([`uq`])
 //! and `sawdrive design` ([`study`]).
 

@@ -304,7 +304,7 @@ fn fidelity_params(params: SliderParams, fidelity: Fidelity) -> SliderParams {
 /// Refuses the `[model]` settings that UQ and design could not honour, naming the key.
 ///
 /// A sample or design evaluation is a whole-slider contact solve and a curve of the lumped
-/// dynamic model (N_eff = η·N posts, `stick_slip`), never an FEM (issue 15 §1). The coupled model
+/// dynamic model (N_eff = η·N posts, `stick_slip`), never an FEM. The coupled model
 /// (`coupled_dynamics`) runs on the strip FEM's tip compliances, which no sample has, so:
 /// * `model.dynamics` = `periodic-average` or `transient`: used as given;
 /// * `auto`: the lumped model (which picks the period average or the transient by their effect),
@@ -411,7 +411,7 @@ mod tests {
     use crate::design::scatter::{ScatterSpec, split_scatter};
 
     /// Samples 174, 373, 887 and 957 of `sawdrive uq validation/design/scatter.toml --seed 1`
-    /// failed with a Zeno loop in stick-slip's event-driven post (issue 15); 957 still did with
+    /// failed with a Zeno loop in stick-slip's event-driven post; 957 still did with
     /// the current springs and η, until the post's event hysteresis. The whole slider (10 000
     /// posts) takes ≈ 2 s a sample: `cargo test -p sawdrive --lib zeno -- --ignored`.
     #[test]

@@ -322,7 +322,7 @@ pub fn split_scatter(
     // Where μ's spread came from: the scene-style name or the scatter one (both is an error).
     let mut friction_names = [false; 2];
     for o in overrides {
-        // `friction.scatter` is the scene-style name of `scatter.friction` (issue 15's contract).
+        // `friction.scatter` is the scene-style name of `scatter.friction`.
         let alias = o
             .strip_prefix("friction.scatter")
             .filter(|rest| rest.trim_start().starts_with('='));

@@ -1,4 +1,4 @@
-//! `sawdrive design DESIGN.toml` (issue 15 §2): a texture optimised for one output of the motor,
+//! `sawdrive design DESIGN.toml`: a texture optimised for one output of the motor,
 //! optionally robust to scatter (a quantile over Monte Carlo samples), searched with the cheap
 //! `lattice-patch` model and confirmed with the whole-slider `lattice-slider` model
 //! ([`design::multi_fidelity`]; method and tolerance in `design::optimise`).

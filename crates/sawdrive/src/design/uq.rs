@@ -1,4 +1,4 @@
-//! Monte Carlo propagation of a scene's scatter (issue 15 §1): N samples of the `[scatter]`
+//! Monte Carlo propagation of a scene's scatter: N samples of the `[scatter]`
 //! inputs ([`super::scatter`]), each evaluated by [`super::motor::evaluate`] (a whole-slider
 //! contact solve and a dynamic curve, no FEM), in parallel (rayon); bands (mean, P5/P50/P95 with
 //! 95 % order-statistic intervals), histograms, rank-correlation sensitivity.
@@ -99,7 +99,7 @@ pub struct CurveBand {
     pub thrust_p95_n: Vec<f64>,
 }
 
-/// The result of `sawdrive uq` (JSON keys per issue 15's contract).
+/// The result of `sawdrive uq` (its JSON keys are the command's contract).
 #[derive(Debug, Clone, Serialize)]
 pub struct UqReport {
     /// Scene name.

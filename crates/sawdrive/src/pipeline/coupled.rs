@@ -1,4 +1,4 @@
-//! Dynamic stage with the model choice of issue 14: the lumped model of N_eff = η·N independent
+//! Dynamic stage with its model choice: the lumped model of N_eff = η·N independent
 //! posts ([`run_dynamic`](super::run_dynamic)), the coupled model of the static strip's posts with their elastic
 //! interaction (`coupled_dynamics`), and `model.dynamics = "auto"` between them by the
 //! criterion of validation/coupled-dynamics (`coupled_dynamics::choose_model`).

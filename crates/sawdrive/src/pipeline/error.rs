@@ -32,7 +32,7 @@ pub enum PipelineError {
     /// Dynamic model.
     #[error("dynamic stage: {0}")]
     Dynamic(#[from] stick_slip::StickSlipError),
-    /// Coupled dynamic model (issue 14).
+    /// Coupled dynamic model.
     #[error("dynamic stage (coupled model): {0}")]
     Coupled(#[from] coupled_dynamics::CoupledError),
     /// Writing results.

@@ -1,4 +1,4 @@
-//! Static stage, whole-slider model (`static.model = "slider"`, issue 13): every post of the
+//! Static stage, whole-slider model (`static.model = "slider"`): every post of the
 //! slider on the frozen wave ([`slider_contact`], docs/physics.md §6), with the motor's
 //! imperfections and preload mechanism.
 //!

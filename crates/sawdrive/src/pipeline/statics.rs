@@ -173,7 +173,7 @@ pub struct StaticOutcome {
 }
 
 /// Layout version of a static cache entry (the physics is in the content hash, not here); 2: the
-/// report gained the FEM ordering flag and the stage report of issue 13.
+/// report gained the FEM ordering flag and the whole-slider stage report.
 const CACHE_FORMAT: u32 = 2;
 
 /// A static cache entry, `static-<content hash>.json`: the typed report and what verifies it.

@@ -44,7 +44,7 @@ pub struct Contact {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Dynamics {
     /// The cheapest model whose estimated error is within `model.lumped_tolerance` of the
-    /// coupled one (issue 14's criterion, `coupled_dynamics::choose_model`): the lumped model
+    /// coupled one (`coupled_dynamics::choose_model`): the lumped model
     /// (which itself picks the period average or the transient by their effect), or the coupled
     /// model when the lumped one's estimated error exceeds the tolerance.
     Auto,
