@@ -187,3 +187,39 @@ fn invalid_inputs_are_named_errors() {
         })
     ));
 }
+
+#[test]
+fn orientation_whose_wave_has_turned_leaky_reports_no_surface_wave() {
+    // LiNbO3, propagation in the crystal YZ plane 30° from Y toward −Z (Euler 0°, −30°, 90°): the
+    // surface wave of the neighbouring orientations closes in on the limiting velocity as θ falls
+    // through 0° (Z-cut: 3916 m/s against 3918.8 m/s) and has merged with the limiting bulk wave
+    // here; the free-surface determinant keeps its sign up to the limiting velocity.
+    let cut = Cut::new(
+        "leaky",
+        materials::lithium_niobate_kovacs_1990(),
+        EulerAngles::new(0.0, -30.0, 90.0),
+    );
+    match cut.solve() {
+        Err(WaveError::NoSurfaceWave {
+            limiting_velocity_m_per_s,
+            ..
+        }) => {
+            assert!(
+                (3000.0..4500.0).contains(&limiting_velocity_m_per_s),
+                "limiting velocity {limiting_velocity_m_per_s}"
+            );
+        }
+        other => panic!("expected NoSurfaceWave for a leaky orientation, got {other:?}"),
+    }
+    let zero = Cut::new(
+        "z-cut y-propagating",
+        materials::lithium_niobate_kovacs_1990(),
+        EulerAngles::new(0.0, 0.0, 90.0),
+    )
+    .solve()
+    .unwrap();
+    assert!(
+        zero.limiting_velocity_m_per_s - zero.phase_velocity_free_m_per_s < 5.0,
+        "Z-cut wave must sit just below the limiting velocity"
+    );
+}
