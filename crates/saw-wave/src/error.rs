@@ -118,7 +118,7 @@ pub enum WaveError {
         /// What failed.
         reason: &'static str,
     },
-    /// An argument of a power or profile helper is out of range.
+    /// An argument of a power or profile function is out of range.
     #[error("invalid argument {name} = {value} of {function}: {requirement}")]
     InvalidArgument {
         /// The function.
