@@ -208,6 +208,16 @@ impl fmt::Display for SpringsValidation {
             )?;
             writeln!(
                 f,
+                "    direct path:            {}",
+                st.singular_system.direct_without_check
+            )?;
+            writeln!(
+                f,
+                "    iterative path:         {}",
+                st.singular_system.iterative_without_check
+            )?;
+            writeln!(
+                f,
                 "Distorted interior nodes ({}), k_sn / formula:",
                 st.distortion_mesh
             )?;

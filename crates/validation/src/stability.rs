@@ -2,7 +2,9 @@
 //! locking vs Tet10), a singular system (a floating body), and badly shaped elements.
 
 use contact_springs::Material as SpringMaterial;
-use elastic_fem::{Constraints, Dirichlet, Model, SolverOptions, StaticProblem, solve_static};
+use elastic_fem::{
+    Constraints, Dirichlet, Model, SolverMethod, SolverOptions, StaticProblem, solve_static,
+};
 use serde::{Deserialize, Serialize};
 
 use crate::error::ValidationError;
@@ -60,12 +62,19 @@ pub fn locking_study(
 pub struct SingularSystemReport {
     /// What the rigid-mode check before factorising says.
     pub with_rigid_mode_check: String,
-    /// What the Cholesky pivot check says when the rigid-mode check is switched off.
+    /// What the solver `auto` picks says when the rigid-mode check is switched off.
     pub without_rigid_mode_check: String,
+    /// The direct path without the rigid-mode check: its Cholesky pivot check.
+    #[serde(default)]
+    pub direct_without_check: String,
+    /// The iterative path without the rigid-mode check: its null-space check at set-up.
+    #[serde(default)]
+    pub iterative_without_check: String,
 }
 
-/// Solves the floating punch through elastic-fem's `solve_static`, with and without its
-/// rigid-mode check, and returns both errors. An `Ok` solution is itself an error here.
+/// Solves the floating punch through elastic-fem's `solve_static` with its rigid-mode check,
+/// then without it by each path (`auto`, direct, iterative), and returns the errors. An `Ok`
+/// solution is itself an error here: every path must refuse a singular system.
 pub fn singular_system(
     mesh: &PunchMesh,
     material: &SpringMaterial,
@@ -93,9 +102,10 @@ pub fn singular_system(
         constraints: &constraints,
         load_n: &load,
     };
-    let attempt = |check: bool| -> Result<String, ValidationError> {
+    let attempt = |check: bool, method: SolverMethod| -> Result<String, ValidationError> {
         let options = SolverOptions {
             check_rigid_body_modes: check,
+            method,
             ..SolverOptions::default()
         };
         match solve_static(&problem, &options) {
@@ -103,15 +113,19 @@ pub fn singular_system(
             Ok(solution) => Err(ValidationError::BadPunchMesh {
                 mesh: mesh.source.clone(),
                 detail: format!(
-                    "a floating punch was solved without error (check {check}); first displacement {:e} m",
+                    "a floating punch was solved without error (rigid-mode check {check}, {} solver: {}); first displacement {:e} m",
+                    solution.choice.method.name(),
+                    solution.choice.reason,
                     solution.displacement_m.first().copied().unwrap_or(f64::NAN)
                 ),
             }),
         }
     };
     Ok(SingularSystemReport {
-        with_rigid_mode_check: attempt(true)?,
-        without_rigid_mode_check: attempt(false)?,
+        with_rigid_mode_check: attempt(true, SolverMethod::Auto)?,
+        without_rigid_mode_check: attempt(false, SolverMethod::Auto)?,
+        direct_without_check: attempt(false, SolverMethod::Direct)?,
+        iterative_without_check: attempt(false, SolverMethod::Iterative)?,
     })
 }
 

@@ -12,7 +12,7 @@ fn committed(name: &str) -> PunchMesh {
 }
 
 #[test]
-fn floating_punch_is_refused_with_the_missing_constraints_named_never_a_nan_result() {
+fn floating_punch_is_refused_by_every_solver_path_with_the_missing_constraints_named() {
     let full = committed("punch_a10um_R20a_tet4_5k.msh");
     let report = singular_system(&full, &Material::silicon())
         .expect("both attempts must fail with an error, not solve");
@@ -31,10 +31,20 @@ fn floating_punch_is_refused_with_the_missing_constraints_named_never_a_nan_resu
         !check.contains("translation z"),
         "translation z is fixed by the punch: {check}"
     );
-    let pivot = &report.without_rigid_mode_check;
+    let pivot = &report.direct_without_check;
     assert!(
-        pivot.contains("not positive definite") || pivot.contains("not finite"),
-        "factorisation message: {pivot}"
+        pivot.contains("not positive definite"),
+        "direct path, pivot check: {pivot}"
+    );
+    let null_space = &report.iterative_without_check;
+    assert!(
+        null_space.contains("singular"),
+        "iterative path, null-space check: {null_space}"
+    );
+    let auto = &report.without_rigid_mode_check;
+    assert!(
+        auto == pivot || auto == null_space,
+        "auto refuses by the check of the path it picks: {auto}"
     );
 }
 
