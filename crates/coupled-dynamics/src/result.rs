@@ -184,7 +184,7 @@ pub fn lumped_misfit(
     Ok((sum / curve.len() as f64).sqrt())
 }
 
-/// η_dyn by golden section on ln η over [`ETA_RANGE`]: (η, misfit).
+/// η_dyn by golden section on ln η over `ETA_RANGE`: (η, misfit).
 pub fn fit_eta_dyn(
     curve: &[CoupledPoint],
     stall_n: f64,

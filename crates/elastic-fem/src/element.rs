@@ -310,7 +310,7 @@ pub fn element_strain<const N: usize, S: TetShape<N>>(
     Some(voigt_strain(&displacement_gradient(u, &g)))
 }
 
-/// Displacement gradient H = Σ_a u_a ⊗ g_a (h[i][j] = ∂u_i/∂x_j) from nodal displacements `u`
+/// Displacement gradient H = Σ_a u_a ⊗ g_a (`h[i][j]` = ∂u_i/∂x_j) from nodal displacements `u`
 /// and shape-function gradients `g` (physical, or reference for H_ξ).
 pub fn displacement_gradient<const N: usize>(
     u: &[[f64; 3]; N],
@@ -328,7 +328,7 @@ pub fn displacement_gradient<const N: usize>(
 }
 
 /// Small strain in Voigt order (xx, yy, zz, yz, xz, xy; engineering shear) of the displacement
-/// gradient `h` (h[i][j] = ∂u_i/∂x_j).
+/// gradient `h` (`h[i][j]` = ∂u_i/∂x_j).
 pub fn voigt_strain(h: &[[f64; 3]; 3]) -> [f64; 6] {
     [
         h[0][0],

@@ -27,7 +27,7 @@
 //! steepest-descent rate while the set still changed. (2) When a step moves no post out of or into
 //! the set, f − τt already balances the preload (t is orthogonal to the modes on the set), the
 //! rebalancing is skipped and u = Cf is updated as u − τ·Ct, one operator application per
-//! iteration instead of two (recomputed from f every [`MAX_UPDATED_U`] iterations, after any
+//! iteration instead of two (recomputed from f every `MAX_UPDATED_U` iterations, after any
 //! change of the set, and before convergence is declared).
 
 use nalgebra::{Matrix3, Vector3};

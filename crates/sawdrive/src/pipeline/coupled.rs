@@ -40,7 +40,7 @@ pub struct DynamicStage {
     /// Every strip post's forces and contact mode over one steady period of the coupled model,
     /// at half its no-load speed (with the coupled run).
     pub coupled_histories: Option<PostHistories>,
-    /// Estimated relative error of the coupled run's time step ([`step_error_estimate`]).
+    /// Estimated relative error of the coupled run's time step (`step_error_estimate`).
     pub coupled_step_error_estimate: Option<f64>,
     /// Why this model runs (the `auto` decision, or the scene's choice).
     pub dynamics_reason: String,

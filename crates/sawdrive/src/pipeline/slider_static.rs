@@ -222,7 +222,7 @@ fn force_class(force_n: f64, mean_n: f64) -> usize {
 
 /// Writes the 2D post-force map of the first phase (θ₀ = 0) into `dir`: `post_forces.csv`
 /// (row, column, x_m, y_m, force_n, gap_m; rows along y, columns along x, positions from the
-/// slider's corner) and `post_force_map.png` (+ `.svg` up to [`SVG_MAP_MAX_POSTS`] posts).
+/// slider's corner) and `post_force_map.png` (+ `.svg` up to `SVG_MAP_MAX_POSTS` posts).
 pub fn write_slider_maps(stage: &SliderStage, dir: &Path) -> Result<Vec<PathBuf>, PipelineError> {
     let r = &stage.report;
     let (nx, ny) = (r.posts_x, r.posts_y);

@@ -216,7 +216,7 @@ pub const STRIP_AUTO_TOLERANCE: f64 = 1e-10;
 
 impl StaticSettings {
     /// The complementarity tolerance of `model`'s contact solver: the scene's `static.tolerance`
-    /// if given, else the model's own: [`STRIP_AUTO_TOLERANCE`] for the strip, the whole slider's
+    /// if given, else the model's own: `STRIP_AUTO_TOLERANCE` for the strip, the whole slider's
     /// accuracy-derived [`slider_contact::DEFAULT_TOLERANCE`] (its constrained CG pays for every
     /// digit: 1e-10 costs 1.5–1.8× the iterations of 1e-6, which already holds η to 2.3e-7).
     pub fn tolerance_for(&self, model: StaticModel) -> f64 {

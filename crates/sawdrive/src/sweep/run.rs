@@ -496,7 +496,7 @@ pub fn run_sweep(
 
 /// [`run_sweep`] that stops when `cancel` is set: no point or FEM condensation starts after
 /// it, the running points stop inside their stages and save nothing, and the sweep returns
-/// [`SweepRunError::Cancelled`] without writing `results.csv` or the charts ([`super::cancel`]).
+/// [`SweepRunError::Cancelled`] without writing `results.csv` or the charts (`sweep::cancel`).
 pub fn run_sweep_cancellable(
     sweep: &SweepFile,
     out_dir: &Path,
