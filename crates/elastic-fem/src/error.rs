@@ -206,10 +206,11 @@ pub enum FemError {
         rule: String,
     },
     /// The reduced matrix has a (near-)null space of rigid-body motions: the system is singular
-    /// or semi-definite, and the iterative solver refuses it (CG would return one of infinitely
-    /// many solutions of a consistent singular system without noticing).
+    /// or semi-definite, and both solver paths refuse it (CG would return one of infinitely
+    /// many solutions of a consistent singular system without noticing; the Cholesky pivot check
+    /// can miss it on a graded mesh).
     #[error(
-        "elastic-fem iterative solver: the system is singular: a rigid-body motion of the reduced unknowns has energy ratio qᵀKq / qᵀDq = {ratio:e} (≤ {tolerance:e}; D = diagonal of K); add Dirichlet conditions or ties that fix it"
+        "elastic-fem: the system is singular: a rigid-body motion of the reduced unknowns has energy ratio qᵀKq / qᵀDq = {ratio:e} (≤ {tolerance:e}; D = diagonal of K); add Dirichlet conditions or ties that fix it"
     )]
     SingularSystem {
         /// Smallest generalised Rayleigh quotient qᵀ K q / qᵀ D q over the rigid-body motions q.

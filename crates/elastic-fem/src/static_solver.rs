@@ -25,7 +25,9 @@
 use crate::assembly::assemble_stiffness;
 use crate::constraints::Constraints;
 use crate::error::{FemError, FemResult};
-use crate::iterative::{IterativeOptions, IterativeSolver};
+use crate::iterative::{
+    IterativeOptions, IterativeSolver, check_null_space_of, reduced_rigid_body_modes,
+};
 use crate::model::Connectivity;
 use crate::model::Model;
 use crate::pattern::StiffnessPattern;
@@ -506,6 +508,12 @@ fn solve_reduced(
             solve_by_pcg(model, reduced, a, q, options, &mut report)?;
         }
         _ => {
+            // The pivot check alone misses a free body on a graded mesh (iterative module docs).
+            check_null_space_of(
+                |x, y| k_red.mul_vec(x, y),
+                &k_red.diagonal(),
+                &reduced_rigid_body_modes(model, reduced.dof_map()),
+            )?;
             let symbolic = match analysed.take() {
                 Some(s) => s,
                 None => SymbolicCholesky::analyze(k_red, options.ordering)?,

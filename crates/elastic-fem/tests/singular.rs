@@ -1,7 +1,7 @@
 //! A floating body is refused by every solver path, with the rigid-mode pre-check switched off:
-//! the direct path by its Cholesky pivot check, the iterative paths (p-multigrid with a direct
-//! or AMG coarse solve, SA-AMG alone on Tet4) by their null-space check, and `auto` by whichever
-//! of them it picks. The body is a block with only u_z prescribed on its bottom face (a punch
+//! the direct path and the iterative paths (p-multigrid with a direct or AMG coarse solve,
+//! SA-AMG alone on Tet4) by their null-space check (the direct one also by its Cholesky pivot
+//! check), and `auto` by whichever of them it picks. The body is a block with only u_z prescribed on its bottom face (a punch
 //! pressed into a block that nothing else holds): translations x, y and the rotation about z
 //! are free, and the load (the prescribed u_z alone) is orthogonal to them, so the singular
 //! system is consistent and CG would "solve" it without a breakdown.
@@ -11,7 +11,7 @@ mod common;
 use common::{distort, model_of, steel};
 use elastic_fem::iterative::{CoarseSolver, IterativeSolver, NULL_SPACE_TOLERANCE};
 use elastic_fem::mesh_gen::{BoxFace, BoxMesh};
-use elastic_fem::sparse::FactorOptions;
+use elastic_fem::sparse::{FactorOptions, SymbolicCholesky};
 use elastic_fem::{
     Constraints, Dirichlet, DofMap, FemError, IterativeOptions, Model, ReducedSystem,
     SolverMethod, SolverOptions, StaticProblem, StiffnessPattern, assemble_stiffness,
@@ -73,7 +73,7 @@ fn assert_singular(result: Result<elastic_fem::StaticSolution, FemError>, path: 
 }
 
 #[test]
-fn direct_solver_refuses_a_floating_body_by_its_pivot_check() {
+fn direct_solver_refuses_a_floating_body_by_its_null_space_check() {
     let (model, constraints) = floating(&tet10(2));
     let result = solve_unchecked(
         &model,
@@ -83,10 +83,24 @@ fn direct_solver_refuses_a_floating_body_by_its_pivot_check() {
             ..SolverOptions::default()
         },
     );
+    assert_singular(result, "direct");
+}
+
+/// Behind the null-space check, the factorisation's own pivot check refuses the floating body
+/// too (on this small uniform mesh; a graded one can slip past it, hence the null-space check).
+#[test]
+fn cholesky_pivot_check_refuses_a_floating_body_on_a_uniform_mesh() {
+    let (model, constraints) = floating(&tet10(2));
+    let k = assemble_stiffness(&model, &StiffnessPattern::build(&model)).unwrap();
+    let map = DofMap::new(model.node_count(), &constraints).unwrap();
+    let reduced = ReducedSystem::new(&k, map).unwrap();
+    let k_red = reduced.reduce_matrix(&k).unwrap();
+    let symbolic = SymbolicCholesky::analyze(&k_red, SolverOptions::default().ordering).unwrap();
+    let result = symbolic.factor_with(&k_red, FactorOptions::default());
     assert!(
         matches!(result, Err(FemError::NotPositiveDefinite { .. })),
-        "direct path: {:?}",
-        result.map(|s| s.report)
+        "pivot check: {:?}",
+        result.err()
     );
 }
 
