@@ -64,7 +64,8 @@ pub struct SingularSystemReport {
     pub with_rigid_mode_check: String,
     /// What the solver `auto` picks says when the rigid-mode check is switched off.
     pub without_rigid_mode_check: String,
-    /// The direct path without the rigid-mode check: its Cholesky pivot check.
+    /// The direct path without the rigid-mode check: its null-space check (before the
+    /// Cholesky pivot check, which misses this graded mesh's free motions).
     #[serde(default)]
     pub direct_without_check: String,
     /// The iterative path without the rigid-mode check: its null-space check at set-up.
