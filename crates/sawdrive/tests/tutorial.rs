@@ -112,11 +112,30 @@ fn json_value(path: &Path, key: &str) -> f64 {
         .unwrap_or_else(|| panic!("{}: `{key}` is not a number: {value}", path.display()))
 }
 
+/// The fields of one CSV record (RFC 4180: a field in double quotes may hold commas and `""`).
+fn csv_fields(line: &str) -> Vec<String> {
+    let (mut fields, mut field, mut quoted, mut chars) =
+        (Vec::new(), String::new(), false, line.chars().peekable());
+    while let Some(c) = chars.next() {
+        match (quoted, c) {
+            (true, '"') if chars.peek() == Some(&'"') => {
+                field.push('"');
+                chars.next();
+            }
+            (_, '"') => quoted = !quoted,
+            (false, ',') => fields.push(std::mem::take(&mut field)),
+            (_, c) => field.push(c),
+        }
+    }
+    fields.push(field);
+    fields
+}
+
 /// `column=value; …; column` of a CSV file: the last column of the one row matching the filters.
 fn csv_value(path: &Path, key: &str) -> f64 {
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
+    let header = csv_fields(lines.next().unwrap_or_default());
     let column = |name: &str| {
         header
             .iter()
@@ -132,9 +151,9 @@ fn csv_value(path: &Path, key: &str) -> f64 {
             (column(name), value)
         })
         .collect();
-    let rows: Vec<Vec<&str>> = lines
-        .map(|l| l.split(',').collect::<Vec<_>>())
-        .filter(|row| filters.iter().all(|(i, v)| row.get(*i) == Some(v)))
+    let rows: Vec<Vec<String>> = lines
+        .map(csv_fields)
+        .filter(|row| filters.iter().all(|(i, v)| row.get(*i).map(String::as_str) == Some(*v)))
         .collect();
     assert_eq!(rows.len(), 1, "{}: `{key}` matches {} rows", path.display(), rows.len());
     rows[0][column(wanted)].parse().unwrap()
@@ -219,4 +238,5 @@ fn a_figure_holds_to_its_digits_or_half_a_percent() {
     assert!(holds(17.15, 2, 17.149));
     assert!(!holds(17.15, 2, 17.5));
     assert_eq!(quoted("12.00"), (12.0, 2));
+    assert_eq!(csv_fields(r#",20 um,"a, ""b""",0.5"#), ["", "20 um", r#"a, "b""#, "0.5"]);
 }
