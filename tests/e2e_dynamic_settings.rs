@@ -110,21 +110,24 @@ fn the_regularized_integrator_is_refused_with_its_estimated_cost() {
 fn a_time_step_with_the_auto_integrator_is_honoured_or_refused_never_ignored() {
     let out = tempfile::tempdir().unwrap();
     let auto = dynamic_json(out.path(), &[]);
-    let coarse = dynamic_json(out.path(), &["model.time_step=100ns"]);
+    let coarse = dynamic_json(out.path(), &["model.time_step=6ns"]);
     assert_eq!(
         auto["model"], "transient",
         "the small scene with a light slider runs the transient"
     );
     assert_ne!(
         auto["stall_thrust_n"], coarse["stall_thrust_n"],
-        "a 100 ns step (about one wave period) changes the stall thrust (it is passed to the transient's return mapping)"
+        "a 6 ns step (T/17, the coarsest accepted) changes the stall thrust (it is passed to the transient's return mapping)"
     );
     let warnings = coarse["warnings"].to_string();
     assert!(
-        warnings.contains("does not resolve the wave period"),
+        warnings.contains("T/50"),
         "the coarse step is warned about: {warnings}"
     );
-    dynamic_err(&["model.time_step=1e-30 s"], "post-steps");
+    for (step, says) in [("100ns", "T/1.041"), ("50ns", "T/2.08"), ("1e-30 s", "T/16384")] {
+        let stderr = dynamic_err(&[&format!("model.time_step={step}")], "model.time_step");
+        assert!(stderr.contains(says), "a step outside T/16384..T/16 is refused: {stderr}");
+    }
     // The paper motor runs the closed-form period average: no scheme takes a time step.
     let stderr = sawdrive_err(
         &[

@@ -131,7 +131,7 @@ fn validate_springs_writes_under_out_in_the_current_folder_by_default() {
     }
     let cwd = tempfile::tempdir().unwrap();
     let output = Command::new(env!("CARGO_BIN_EXE_sawdrive"))
-        .args(["validate", "springs", "--smoke", "--json"])
+        .args(["validate", "springs", "--level", "smoke", "--json"])
         .current_dir(cwd.path())
         .output()
         .unwrap();
@@ -142,9 +142,9 @@ fn validate_springs_writes_under_out_in_the_current_folder_by_default() {
     );
     assert!(
         cwd.path()
-            .join("out/validation/springs/cases.json")
+            .join("out/validation/springs/results/cases.json")
             .is_file(),
-        "cases.json in ./out/validation/springs"
+        "cases.json in ./out/validation/springs/results"
     );
 }
 

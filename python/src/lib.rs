@@ -24,7 +24,7 @@ use std::sync::{Arc, OnceLock};
 use std::time::Instant;
 
 use pyo3::prelude::*;
-use sawdrive::output::StagedDir;
+use sawdrive::output::{ResultKind, StagedDir};
 use sawdrive::pipeline::{
     RunOptions, ShouldStop, StaticOutcome, run_dynamic_stage, run_dynamic_stage_cancellable,
     run_pipeline_cancellable, run_static_cancellable, scene_springs, write_dynamic_stage_files,
@@ -195,7 +195,8 @@ fn static_stage<'py>(
         worker::check(cancel)?;
         let staged = match &out {
             Some(out) => {
-                let staged = StagedDir::create(&out.join(&scene.name).join("static"))?;
+                let staged =
+                    StagedDir::create(&out.join(&scene.name).join("static"), ResultKind::Static)?;
                 write_static_files(&outcome, staged.path())?;
                 Some(staged)
             }
@@ -283,7 +284,8 @@ fn dynamic_stage<'py>(
         worker::check(cancel)?;
         let staged = match &out {
             Some(out) => {
-                let staged = StagedDir::create(&out.join(&scene.name).join("dynamic"))?;
+                let staged =
+                    StagedDir::create(&out.join(&scene.name).join("dynamic"), ResultKind::Dynamic)?;
                 write_dynamic_stage_files(&scene.name, &stage, staged.path())?;
                 Some(staged)
             }
@@ -377,7 +379,7 @@ fn scratch_folder(out: Option<&Path>) -> Result<tempfile::TempDir, Failure> {
 
 /// Move the finished results folder `from` over `destination` with the library's staged swap.
 fn publish(from: &Path, destination: &Path) -> Result<String, Failure> {
-    let staged = StagedDir::create(destination)?;
+    let staged = StagedDir::create(destination, ResultKind::Run)?;
     let move_in =
         std::fs::remove_dir(staged.path()).and_then(|()| std::fs::rename(from, staged.path()));
     move_in.map_err(|e| {

@@ -84,9 +84,8 @@ fn uq<'py>(
     progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let (scene, scatter) = raise(py, uq_inputs(path, &overrides))?;
-    if samples == 0 {
-        let f = Failure::text(Kind::Argument, "--samples: must be ≥ 1");
-        return Err(f.into_pyerr(py));
+    if let Err(message) = sawdrive::design::uq::check_samples(samples) {
+        return Err(Failure::text(Kind::Argument, message).into_pyerr(py));
     }
     let options = UqOptions {
         samples,

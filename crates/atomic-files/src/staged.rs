@@ -107,6 +107,53 @@ pub fn recover(destination: &Path) -> Result<Vec<Recovery>, FileError> {
     Ok(restored)
 }
 
+/// File in every committed results folder, holding the kind of result (one line).
+pub const RESULT_MARKER: &str = ".sawdrive-result";
+
+/// The kind recorded in `folder`'s [`RESULT_MARKER`], if it has one.
+pub fn result_kind(folder: &Path) -> Option<String> {
+    let text = std::fs::read_to_string(folder.join(RESULT_MARKER)).ok()?;
+    Some(text.trim().to_owned())
+}
+
+/// May a results folder of `kind` replace `destination`? Yes if it does not exist, is empty,
+/// carries the same kind, or holds nothing but marked results (of any kind: a scene's folder
+/// after `static` and `dynamic` runs). A folder holding anything else, hidden files included, is
+/// refused: it is not ours to remove.
+fn check_replaceable(destination: &Path, kind: &str) -> Result<(), FileError> {
+    let refuse = |reason: String| FileError::NotAResult {
+        path: destination.to_owned(),
+        kind: kind.to_owned(),
+        reason,
+    };
+    let Ok(meta) = std::fs::symlink_metadata(destination) else {
+        return Ok(());
+    };
+    if !meta.is_dir() {
+        return Err(refuse("it exists and is not a folder".into()));
+    }
+    match result_kind(destination) {
+        Some(found) if found == kind => return Ok(()),
+        Some(found) => return Err(refuse(format!("it holds a {found} result"))),
+        None => {}
+    }
+    let entries = std::fs::read_dir(destination)
+        .map_err(FileError::io("list the earlier results", destination))?;
+    for entry in entries {
+        let entry = entry.map_err(FileError::io("list the earlier results", destination))?;
+        let name = entry.file_name();
+        let is_result =
+            entry.file_type().is_ok_and(|t| t.is_dir()) && result_kind(&entry.path()).is_some();
+        if !is_result {
+            return Err(refuse(format!(
+                "it holds {:?}",
+                name.to_string_lossy().chars().take(60).collect::<String>()
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// A results folder being written; replaces its destination on [`StagedDir::commit`], is removed
 /// if dropped uncommitted (the destination then stays untouched).
 #[derive(Debug)]
@@ -119,11 +166,18 @@ pub struct StagedDir {
 impl StagedDir {
     /// Start writing `destination`: recover after killed runs ([`recover`]; see
     /// [`StagedDir::recovered`]), create the parent folders and a fresh staging folder.
-    pub fn create(destination: &Path) -> Result<Self, FileError> {
+    ///
+    /// `kind` names the kind of result ("run", "sweep", ...): it is written into the folder as
+    /// [`RESULT_MARKER`], and an existing destination is replaced only if it carries the same
+    /// kind, is empty, or holds nothing but marked results (a scene's folder after `static` and
+    /// `dynamic` runs). Anything else is refused with
+    /// [`FileError::NotAResult`] before anything is written.
+    pub fn create(destination: &Path, kind: &str) -> Result<Self, FileError> {
         let (parent, _) = split(destination);
         std::fs::create_dir_all(&parent)
             .map_err(FileError::io("create the output folder", &parent))?;
         let recovered = recover(destination)?;
+        check_replaceable(destination, kind)?;
         let staging = hidden_sibling(destination, "staging", std::process::id());
         if staging.exists() {
             std::fs::remove_dir_all(&staging)
@@ -131,6 +185,8 @@ impl StagedDir {
         }
         std::fs::create_dir(&staging)
             .map_err(FileError::io("create the staging folder", &staging))?;
+        let marker = staging.join(RESULT_MARKER);
+        std::fs::write(&marker, format!("{kind}\n")).map_err(FileError::io("write", &marker))?;
         Ok(Self {
             staging,
             destination: destination.to_owned(),
@@ -221,6 +277,12 @@ mod tests {
         names
     }
 
+    /// A folder holding an earlier committed "run" result (its marker only).
+    fn earlier_run(dest: &Path) {
+        std::fs::create_dir(dest).unwrap();
+        std::fs::write(dest.join(RESULT_MARKER), "run\n").unwrap();
+    }
+
     fn has_proc() -> bool {
         Path::new("/proc").is_dir()
     }
@@ -229,9 +291,9 @@ mod tests {
     fn committed_folder_replaces_the_previous_results() {
         let root = tempfile::tempdir().unwrap();
         let dest = root.path().join("scene");
-        std::fs::create_dir(&dest).unwrap();
+        earlier_run(&dest);
         std::fs::write(dest.join("old.txt"), "old").unwrap();
-        let staged = StagedDir::create(&dest).unwrap();
+        let staged = StagedDir::create(&dest, "run").unwrap();
         staged.write("summary.json", "{}").unwrap();
         staged.commit().unwrap();
         assert!(dest.join("summary.json").exists() && !dest.join("old.txt").exists());
@@ -248,7 +310,7 @@ mod tests {
         let dest = root.path().join("scene");
         let stale = root.path().join(format!(".scene.staging-{DEAD_PID}"));
         std::fs::create_dir(&stale).unwrap();
-        let staged = StagedDir::create(&dest).unwrap();
+        let staged = StagedDir::create(&dest, "run").unwrap();
         if has_proc() {
             assert!(!stale.exists(), "stale staging folder removed");
         }
@@ -259,10 +321,10 @@ mod tests {
     fn abandoned_run_leaves_previous_results_untouched() {
         let root = tempfile::tempdir().unwrap();
         let dest = root.path().join("scene");
-        std::fs::create_dir(&dest).unwrap();
+        earlier_run(&dest);
         std::fs::write(dest.join("summary.json"), "good").unwrap();
         {
-            let staged = StagedDir::create(&dest).unwrap();
+            let staged = StagedDir::create(&dest, "run").unwrap();
             staged.write("summary.json", "half").unwrap();
         }
         assert_eq!(
@@ -284,8 +346,9 @@ mod tests {
         let previous = root.path().join(format!(".scene.previous-{DEAD_PID}"));
         std::fs::create_dir(&previous).unwrap();
         std::fs::write(previous.join("summary.json"), "earlier").unwrap();
+        std::fs::write(previous.join(RESULT_MARKER), "run\n").unwrap();
         std::fs::create_dir(root.path().join(format!(".scene.staging-{DEAD_PID}"))).unwrap();
-        let staged = StagedDir::create(&dest).unwrap();
+        let staged = StagedDir::create(&dest, "run").unwrap();
         assert_eq!(staged.recovered().len(), 1, "one folder restored");
         assert_eq!(staged.recovered()[0].from, previous);
         assert!(
@@ -312,7 +375,7 @@ mod tests {
         }
         let root = tempfile::tempdir().unwrap();
         let dest = root.path().join("scene");
-        std::fs::create_dir(&dest).unwrap();
+        earlier_run(&dest);
         std::fs::write(dest.join("summary.json"), "new").unwrap();
         std::fs::create_dir(root.path().join(format!(".scene.previous-{DEAD_PID}"))).unwrap();
         let restored = recover(&dest).unwrap();
@@ -339,9 +402,9 @@ mod tests {
     fn hook_runs_between_the_renames_with_the_earlier_results_aside() {
         let root = tempfile::tempdir().unwrap();
         let dest = root.path().join("scene");
-        std::fs::create_dir(&dest).unwrap();
+        earlier_run(&dest);
         std::fs::write(dest.join("a"), "earlier").unwrap();
-        let staged = StagedDir::create(&dest).unwrap();
+        let staged = StagedDir::create(&dest, "run").unwrap();
         let mut seen = None;
         staged
             .commit_with(|previous| {
@@ -352,5 +415,58 @@ mod tests {
             })
             .unwrap();
         assert_eq!(seen, Some((false, Some("earlier".into()))));
+    }
+
+    #[test]
+    fn a_folder_that_is_not_a_result_of_the_same_kind_is_refused_and_kept() {
+        let root = tempfile::tempdir().unwrap();
+        let user = root.path().join("user");
+        std::fs::create_dir(&user).unwrap();
+        std::fs::write(user.join("thesis.tex"), "mine").unwrap();
+        let other = root.path().join("other");
+        earlier_run(&other);
+        let file = root.path().join("file");
+        std::fs::write(&file, "mine").unwrap();
+        let hidden = root.path().join("hidden");
+        std::fs::create_dir(&hidden).unwrap();
+        std::fs::write(hidden.join(".cache"), "mine").unwrap();
+        for (dest, says) in [
+            (&user, "thesis.tex"),
+            (&other, "holds a run result"),
+            (&file, "not a folder"),
+            (&hidden, ".cache"),
+        ] {
+            let err = StagedDir::create(dest, "design").unwrap_err();
+            assert!(
+                matches!(err, FileError::NotAResult { .. }) && err.to_string().contains(says),
+                "{err}"
+            );
+        }
+        assert_eq!(
+            std::fs::read_to_string(user.join("thesis.tex")).unwrap(),
+            "mine"
+        );
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), "mine");
+        assert_eq!(
+            names_in(root.path()),
+            ["file", "hidden", "other", "user"],
+            "nothing staged"
+        );
+    }
+
+    #[test]
+    fn an_empty_folder_or_one_of_marked_results_is_replaced_and_marked() {
+        let root = tempfile::tempdir().unwrap();
+        let empty = root.path().join("empty");
+        std::fs::create_dir(&empty).unwrap();
+        let scene = root.path().join("scene");
+        std::fs::create_dir(&scene).unwrap();
+        let statics = scene.join("static");
+        std::fs::create_dir(&statics).unwrap();
+        std::fs::write(statics.join(RESULT_MARKER), "static\n").unwrap();
+        for dest in [&empty, &scene] {
+            StagedDir::create(dest, "run").unwrap().commit().unwrap();
+            assert_eq!(result_kind(dest).as_deref(), Some("run"));
+        }
     }
 }

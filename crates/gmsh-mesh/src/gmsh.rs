@@ -95,6 +95,7 @@ fn run_gmsh(
             .arg(format!("{value:e}"));
     }
     command.arg("-o").arg(tmp);
+    die_with_parent(&mut command);
     let output = command.output().map_err(|source| MeshError::GmshMissing {
         geometry: geo.to_path_buf(),
         program: options.program.display().to_string(),
@@ -122,3 +123,24 @@ fn run_gmsh(
         }),
     }
 }
+
+/// Make the child get SIGKILL when the thread that started it ends (the whole sawdrive process
+/// killed, or its meshing thread gone), so that a long gmsh run never outlives the run that
+/// asked for it (Linux `prctl(PR_SET_PDEATHSIG)`; elsewhere nothing is changed).
+#[cfg(target_os = "linux")]
+fn die_with_parent(command: &mut Command) {
+    use std::os::unix::process::CommandExt;
+    // SAFETY: the closure runs in the forked child before exec and only calls prctl, which is
+    // async-signal-safe; it allocates nothing and touches no lock.
+    unsafe {
+        command.pre_exec(|| {
+            if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL) == -1 {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        });
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn die_with_parent(_command: &mut Command) {}

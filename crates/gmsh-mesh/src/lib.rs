@@ -2,8 +2,10 @@
 
 mod assemble;
 mod atomic;
+pub mod cache;
 pub mod elevate;
 mod error;
+pub mod geo_scripts;
 pub mod geometry;
 pub mod gmsh;
 mod info;

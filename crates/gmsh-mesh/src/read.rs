@@ -1,6 +1,5 @@
 //! Reading MSH 4.1 files into a [`TetMesh`].
 
-use std::io::Read;
 use std::path::Path;
 
 use crate::assemble::assemble;
@@ -48,41 +47,29 @@ pub fn read_msh_with(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Te
 /// than `limit` bytes ([`MeshError::TooLarge`]); the read itself stops after `limit` + 1 bytes,
 /// so a file that grows while it is read cannot exceed the limit either.
 pub fn read_file_bounded(path: &Path, limit: u64) -> Result<Vec<u8>> {
-    let io = |source| MeshError::Io {
-        path: path.to_path_buf(),
-        action: "reading".to_string(),
-        source,
-    };
-    let too_large = |size: String| MeshError::TooLarge {
-        path: path.to_path_buf(),
-        size,
-        limit,
-    };
-    // stat before open: opening a FIFO would block until someone writes to it.
-    let meta = std::fs::metadata(path).map_err(io)?;
-    if !meta.is_file() {
-        let kind = if meta.is_dir() {
-            "a directory"
-        } else {
-            "a device, pipe or socket"
-        };
-        return Err(MeshError::NotAFile {
-            path: path.to_path_buf(),
-            kind,
-        });
-    }
-    if meta.len() > limit {
-        return Err(too_large(format!("{} bytes", meta.len())));
-    }
-    let file = std::fs::File::open(path).map_err(io)?;
-    let mut bytes = Vec::with_capacity(meta.len() as usize);
-    file.take(limit.saturating_add(1))
-        .read_to_end(&mut bytes)
-        .map_err(io)?;
-    if bytes.len() as u64 > limit {
-        return Err(too_large("the file (it grew while read)".into()));
-    }
-    Ok(bytes)
+    use atomic_files::{FileError, InputProblem};
+    atomic_files::read_input(path, limit).map_err(|e| match e {
+        FileError::BadInput {
+            path,
+            problem: InputProblem::NotAFile { kind },
+        } => MeshError::NotAFile { path, kind },
+        FileError::BadInput {
+            path,
+            problem: InputProblem::TooLarge { size_bytes, .. },
+        } => MeshError::TooLarge {
+            path,
+            size: format!("{size_bytes} bytes"),
+            limit,
+        },
+        other => {
+            let (path, source) = other.into_parts();
+            MeshError::Io {
+                path,
+                action: "reading".to_string(),
+                source,
+            }
+        }
+    })
 }
 
 /// Parse the bytes of an MSH 4.1 file; `name` labels the source in error messages. Texts

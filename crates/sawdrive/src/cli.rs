@@ -11,6 +11,11 @@ use clap::{Args, Parser, Subcommand};
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
+    /// Cache folder for generated meshes and gmsh scripts (default: $SAWDRIVE_CACHE, else
+    /// $XDG_CACHE_HOME/sawdrive, else $HOME/.cache/sawdrive). The FEM result cache of a run
+    /// stays in OUT/.cache.
+    #[arg(long, global = true, value_name = "DIR")]
+    pub cache: Option<PathBuf>,
 }
 
 #[derive(Debug, Subcommand)]
@@ -34,9 +39,9 @@ pub enum Command {
     Run(StageArgs),
     /// Run a sweep file: a grid of scene overrides, in parallel, resumable.
     Sweep(SweepArgs),
-    /// Validation studies.
-    #[command(subcommand)]
-    Validate(ValidateCommand),
+    /// Validation studies: `validate <case> --level smoke|quick|full`, `validate all`,
+    /// `validate --list`. A failing check exits non-zero naming it.
+    Validate(ValidateArgs),
     /// Monte Carlo bands of η, speed, thrust and power under the scene's [scatter] section.
     /// Writes OUT/<scene>-uq/.
     Uq(UqArgs),
@@ -116,50 +121,29 @@ pub struct SweepArgs {
     pub merge: bool,
 }
 
-#[derive(Debug, Subcommand)]
-pub enum ValidateCommand {
-    /// FEM of a rigid punch on a half-space against the four Johnson springs (k_pn, k_pt, k_sn,
-    /// k_st) for Si and LiNbO3, a = 10 and 25 µm: converged FEM value, error estimate, formula,
-    /// difference; charts. The full study takes ≈ 30 min on 2 cores (gmsh meshes the punches).
-    Springs(ValidateSpringsArgs),
-    /// Integrators of the stick/slip model: work-precision chart, stability maps, agreement of
-    /// the transient with the period average, paper trends.
-    StickSlip(ValidateStickSlipArgs),
-}
-
 #[derive(Debug, Args)]
-pub struct ValidateSpringsArgs {
-    /// Output folder for the charts and cases.json (relative to the current folder, like the
-    /// other commands' OUT; the committed study lives in validation/springs/).
-    #[arg(
-        long = "out",
-        default_value = "out/validation/springs",
-        value_name = "DIR"
-    )]
-    pub out: PathBuf,
-    /// A seconds-long smoke study (one radius, coarse meshes) instead of the full one.
-    #[arg(long)]
-    pub smoke: bool,
-    /// Print the cases as a JSON array.
-    #[arg(long)]
-    pub json: bool,
-}
-
-#[derive(Debug, Args)]
-pub struct ValidateStickSlipArgs {
-    /// Output folder for the charts and report.json.
-    #[arg(
-        long = "out",
-        default_value = "out/validation/stick-slip",
-        value_name = "DIR"
-    )]
-    pub out: PathBuf,
-    /// Study size: smoke (seconds), quick, full (the committed figures).
+pub struct ValidateArgs {
+    /// The case to run (`--list` names them), or `all`.
+    #[arg(required_unless_present = "list", value_name = "CASE")]
+    pub case: Option<String>,
+    /// Study size: smoke (seconds; all cases ≤ 3 min), quick (every code path of full on smaller
+    /// meshes, ≤ 5 min per case on 2 cores), full (the committed study).
     #[arg(long, default_value = "full", value_parser = ["smoke", "quick", "full"])]
     pub level: String,
-    /// Print the report as JSON.
+    /// Output folder of one case's charts and results; with `all`, each case writes OUT/<case>/
+    /// [default: out/validation/<case>].
+    #[arg(long = "out", value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Print the checks as JSON: {"checks": [{"case", "quantity", "value", "reference",
+    /// "tolerance", "pass", "source", "rule"}, …], "skipped": […]}.
     #[arg(long)]
     pub json: bool,
+    /// Name every case and what it validates.
+    #[arg(long)]
+    pub list: bool,
+    /// Write the Markdown table of every check of the run [default: validation/SUMMARY.md].
+    #[arg(long, value_name = "FILE", num_args = 0..=1, default_missing_value = "validation/SUMMARY.md")]
+    pub summary: Option<PathBuf>,
 }
 
 #[derive(Debug, Subcommand)]

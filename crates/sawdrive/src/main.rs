@@ -11,6 +11,9 @@ use clap::Parser;
 
 fn main() -> ExitCode {
     let cli = cli::Cli::parse();
+    if let Some(dir) = &cli.cache {
+        gmsh_mesh::cache::set_cache_dir(dir.clone());
+    }
     quiet_on_broken_pipe_panics();
     match catch_unwind(AssertUnwindSafe(|| commands::run(cli))) {
         Ok(Ok(())) => ExitCode::SUCCESS,

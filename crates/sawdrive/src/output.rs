@@ -21,6 +21,38 @@ pub(crate) fn io<'a>(
     OutputError::io(verb, path)
 }
 
+/// The kinds of results folder; a folder is replaced only by a result of its own kind
+/// ([`atomic_files::RESULT_MARKER`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ResultKind {
+    /// `OUT/<scene>/` of `run`.
+    Run,
+    /// `OUT/<scene>/static/` of `static`.
+    Static,
+    /// `OUT/<scene>/dynamic/` of `dynamic`.
+    Dynamic,
+    /// The cached VTU fields of a static solution.
+    Fields,
+    /// `OUT/<scene>-uq/` of `uq`.
+    Uq,
+    /// `OUT/<design>/` of `design`.
+    Design,
+}
+
+impl ResultKind {
+    /// The name written into the folder's marker.
+    pub fn name(self) -> &'static str {
+        match self {
+            ResultKind::Run => "run",
+            ResultKind::Static => "static",
+            ResultKind::Dynamic => "dynamic",
+            ResultKind::Fields => "fields",
+            ResultKind::Uq => "uq",
+            ResultKind::Design => "design",
+        }
+    }
+}
+
 /// A results folder being written ([`atomic_files::StagedDir`], telling the user on stderr when
 /// earlier results hidden by a killed run were restored).
 #[derive(Debug)]
@@ -28,9 +60,9 @@ pub struct StagedDir(atomic_files::StagedDir);
 
 impl StagedDir {
     /// Start writing `destination` (e.g. `out/paper-motor`). Fails early if the parent folder
-    /// cannot be created or written.
-    pub fn create(destination: &Path) -> Result<Self, OutputError> {
-        let staged = atomic_files::StagedDir::create(destination)?;
+    /// cannot be created or written, or if `destination` exists and is not a result of `kind`.
+    pub fn create(destination: &Path, kind: ResultKind) -> Result<Self, OutputError> {
+        let staged = atomic_files::StagedDir::create(destination, kind.name())?;
         for recovery in staged.recovered() {
             eprintln!("note: {recovery}");
         }
@@ -72,8 +104,147 @@ pub fn write_atomically(path: &Path, bytes: impl AsRef<[u8]>) -> Result<(), Outp
     atomic_files::write_atomically(path, bytes)
 }
 
+/// A value saved as JSON together with the SHA-256 of its compact JSON, so that a file edited
+/// or truncated by hand is recognised ([`read_verified_json`]) and recomputed, never merged.
+#[derive(Debug, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Verified<T> {
+    /// SHA-256 (hex) of `serde_json::to_vec(&value)`.
+    sha256: String,
+    value: T,
+}
+
+fn sha256_of_json<T: serde::Serialize>(value: &T) -> Result<String, serde_json::Error> {
+    use sha2::Digest;
+    let digest = sha2::Sha256::digest(serde_json::to_vec(value)?);
+    Ok(digest.iter().map(|b| format!("{b:02x}")).collect())
+}
+
+/// `value` as pretty JSON with its SHA-256 (the file format [`read_verified_json`] checks).
+pub fn to_verified_json<T: serde::Serialize>(value: &T) -> Result<Vec<u8>, serde_json::Error> {
+    let sha256 = sha256_of_json(value)?;
+    serde_json::to_vec_pretty(&Verified { sha256, value })
+}
+
+/// What [`read_verified_json`] found.
+#[derive(Debug, PartialEq)]
+pub enum Saved<T> {
+    /// No file.
+    Missing,
+    /// The file holds a value whose hash matches.
+    Valid(T),
+    /// The file exists but is not what was saved (unreadable, malformed or edited): why.
+    Altered(String),
+}
+
+/// Read a file written with [`to_verified_json`], checking its hash.
+pub fn read_verified_json<T>(path: &Path) -> Saved<T>
+where
+    T: serde::Serialize + serde::de::DeserializeOwned,
+{
+    let bytes = match std::fs::read(path) {
+        Ok(bytes) => bytes,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Saved::Missing,
+        Err(e) => return Saved::Altered(format!("cannot be read: {e}")),
+    };
+    let saved: Verified<T> = match serde_json::from_slice(&bytes) {
+        Ok(saved) => saved,
+        Err(e) => return Saved::Altered(format!("is not a saved result: {e}")),
+    };
+    match sha256_of_json(&saved.value) {
+        Ok(hash) if hash == saved.sha256 => Saved::Valid(saved.value),
+        _ => Saved::Altered("does not match its checksum (edited since it was saved)".into()),
+    }
+}
+
+/// One cell of a results table.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Cell {
+    /// User-given text (a label, a grid value as written): quoted as RFC 4180 needs, and
+    /// neutralised against spreadsheet formulas ([`neutralise_formula`]).
+    Text(String),
+    /// A number, written with Rust's shortest round-trip formatting (`NaN` for a missing value).
+    Number(f64),
+}
+
+/// A text cell starting with `=`, `+`, `-` or `@` (what a spreadsheet evaluates as a formula)
+/// gets a leading `'`, as OWASP recommends; the Python package strips it when reading back.
+pub fn neutralise_formula(text: &str) -> String {
+    if text.starts_with(['=', '+', '-', '@']) {
+        format!("'{text}")
+    } else {
+        text.to_owned()
+    }
+}
+
+/// A CSV table (header, then rows) written by the `csv` crate: RFC 4180 quoting of commas,
+/// quotes and line breaks, `\n` line ends.
+pub fn csv_table(header: &[&str], rows: impl IntoIterator<Item = Vec<Cell>>) -> String {
+    let mut writer = csv::WriterBuilder::new()
+        .terminator(csv::Terminator::Any(b'\n'))
+        .from_writer(Vec::new());
+    let record = |writer: &mut csv::Writer<Vec<u8>>, fields: Vec<String>| {
+        writer
+            .write_record(fields)
+            .expect("writing CSV to memory cannot fail");
+    };
+    record(
+        &mut writer,
+        header.iter().map(|h| (*h).to_owned()).collect(),
+    );
+    for row in rows {
+        let fields = row
+            .into_iter()
+            .map(|cell| match cell {
+                Cell::Text(t) => neutralise_formula(&t),
+                Cell::Number(v) => v.to_string(),
+            })
+            .collect();
+        record(&mut writer, fields);
+    }
+    let bytes = writer
+        .into_inner()
+        .expect("flushing CSV to memory cannot fail");
+    String::from_utf8(bytes).expect("CSV of UTF-8 fields is UTF-8")
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn an_edited_or_emptied_verified_file_is_recognised() {
+        let root = tempfile::tempdir().unwrap();
+        let path = root.path().join("p.json");
+        assert_eq!(read_verified_json::<Vec<f64>>(&path), Saved::Missing);
+        std::fs::write(&path, to_verified_json(&vec![1.5, 2.0]).unwrap()).unwrap();
+        assert_eq!(read_verified_json(&path), Saved::Valid(vec![1.5, 2.0]));
+        let text = std::fs::read_to_string(&path).unwrap();
+        std::fs::write(&path, text.replace("1.5", "9.5")).unwrap();
+        assert!(
+            matches!(read_verified_json::<Vec<f64>>(&path), Saved::Altered(m) if m.contains("checksum"))
+        );
+        std::fs::write(&path, "").unwrap();
+        assert!(matches!(
+            read_verified_json::<Vec<f64>>(&path),
+            Saved::Altered(_)
+        ));
+    }
+
+    #[test]
+    fn text_cells_are_quoted_and_formulas_neutralised() {
+        let table = csv_table(
+            &["label", "x"],
+            [
+                vec![Cell::Text("a,\"b\"\nc".into()), Cell::Number(0.5)],
+                vec![Cell::Text("=HYPERLINK(1)".into()), Cell::Number(f64::NAN)],
+                vec![Cell::Text("-5 N".into()), Cell::Number(-1.0)],
+            ],
+        );
+        assert_eq!(
+            table,
+            "label,x\n\"a,\"\"b\"\"\nc\",0.5\n'=HYPERLINK(1),NaN\n'-5 N,-1\n"
+        );
+    }
+
     use super::*;
 
     #[test]
@@ -88,10 +259,13 @@ mod tests {
     fn abandoned_run_leaves_previous_results_untouched() {
         let root = tempfile::tempdir().unwrap();
         let dest = root.path().join("scene");
-        std::fs::create_dir(&dest).unwrap();
+        StagedDir::create(&dest, ResultKind::Run)
+            .unwrap()
+            .commit()
+            .unwrap();
         std::fs::write(dest.join("summary.json"), "good").unwrap();
         {
-            let staged = StagedDir::create(&dest).unwrap();
+            let staged = StagedDir::create(&dest, ResultKind::Run).unwrap();
             staged.write("summary.json", "half").unwrap();
         }
         assert_eq!(

@@ -95,6 +95,7 @@ fn a_run_cancelled_in_the_dynamic_curve_leaves_the_earlier_results_folder_as_it_
     let out = tempfile::tempdir().unwrap();
     let folder = out.path().join(&scene.name);
     std::fs::create_dir_all(&folder).unwrap();
+    std::fs::write(folder.join(atomic_files::RESULT_MARKER), "run\n").unwrap();
     std::fs::write(folder.join("summary.json"), "earlier").unwrap();
     let options = RunOptions {
         out_dir: out.path().to_owned(),

@@ -1,5 +1,7 @@
 //! Choosing the `slider-strip` mesh of a run: a committed mesh of `meshes/` when its parameters
-//! match, otherwise gmsh ([`gmsh_mesh::gmsh::run_geo`]) into a cache directory, named by a hash
+//! match (embedded in the binary and written into the mesh cache, so that no run reads the
+//! checkout), otherwise gmsh ([`gmsh_mesh::gmsh::run_geo`]) on the embedded geometry script
+//! ([`gmsh_mesh::geo_scripts`]) into the mesh cache ([`gmsh_mesh::cache::meshes_dir`]), named by a hash
 //! of the geometry parameters so that a second run reuses it. Each cached mesh has its SHA-256
 //! recorded beside it (`NAME.msh.sha256`) and is verified before reuse: a swapped, edited or
 //! truncated cached mesh is regenerated, never used.
@@ -26,9 +28,12 @@ use crate::scene::StatorModel;
 /// Relative tolerance when comparing mesh parameters with a committed mesh's. Default 1e-9.
 pub const PARAMETER_MATCH_TOLERANCE: f64 = 1e-9;
 
-/// Committed `slider-strip` meshes and the parameters they were made with (meshes/README.md).
-const COMMITTED: &[(&str, &[(&str, f64)])] = &[(
+/// Committed `slider-strip` meshes (embedded bytes) and the parameters they were made with
+/// (meshes/README.md).
+#[allow(clippy::type_complexity)]
+const COMMITTED: &[(&str, &[u8], &[(&str, f64)])] = &[(
     "slider-strip_p40um_d20um_n10_tet4_10k.msh",
+    include_bytes!("../../../meshes/slider-strip_p40um_d20um_n10_tet4_10k.msh"),
     &[
         ("pitch", 40e-6),
         ("d", 20e-6),
@@ -46,7 +51,9 @@ const COMMITTED: &[(&str, &[(&str, f64)])] = &[(
     ],
 )];
 
-/// The workspace root: `$SAWDRIVE_ROOT`, else the one this crate was built in.
+/// The checkout this crate was built in (`$SAWDRIVE_ROOT` overrides): for tests and development
+/// tools that read committed files. No run-time path goes through it (runs use the embedded
+/// scripts and meshes and the cache folder), so a binary used elsewhere never looks here.
 pub fn workspace_root() -> PathBuf {
     std::env::var_os("SAWDRIVE_ROOT").map_or_else(
         || Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."),
@@ -186,9 +193,20 @@ fn same(a: f64, b: f64) -> bool {
 /// half-space stator model (its stator volume is then ignored), a whole-width mesh serves a
 /// half-width request (the strip model reads half or whole tip disks from the mesh), and a whole
 /// strip serves one that would be mirrored.
+/// Its path is `<mesh cache>/committed/FILE`, written from the embedded bytes when missing or
+/// different (None if that write fails: the mesh is then generated like any other).
 pub fn committed_mesh(params: &StaticParams) -> Option<PathBuf> {
+    let (file, bytes) = committed_match(params)?;
+    let path = cache_dir(params).join("committed").join(file);
+    gmsh_mesh::cache::write_if_different(&path, bytes).ok()?;
+    Some(path)
+}
+
+/// The committed mesh (file name, embedded bytes) usable for these parameters, if any
+/// ([`committed_mesh`] without writing it into the cache).
+fn committed_match(params: &StaticParams) -> Option<(&'static str, &'static [u8])> {
     let wanted = gmsh_parameters(params, params.element_order);
-    COMMITTED.iter().find_map(|(file, made)| {
+    COMMITTED.iter().find_map(|(file, bytes, made)| {
         let fits = wanted.iter().all(|(name, value)| {
             if *name == "half_y" || *name == "mirror_x" {
                 return true;
@@ -198,30 +216,28 @@ pub fn committed_mesh(params: &StaticParams) -> Option<PathBuf> {
             };
             (*name == "stator_depth" && params.stator == StatorModel::HalfSpace) || same(*value, *m)
         });
-        let path = workspace_root().join("meshes").join(file);
-        (fits && path.is_file()).then_some(path)
+        fits.then_some((*file, *bytes))
     })
 }
 
-/// The bytes of `meshes/GEOMETRY.geo` (empty if it cannot be read; meshing then fails with its
+/// The bytes of `meshes/GEOMETRY.geo` as embedded in the binary
+/// ([`gmsh_mesh::geo_scripts::source`]; empty for an unknown name, meshing then fails with its
 /// own error). Cached meshes and results are keyed by them, so editing the geometry script
 /// invalidates both.
 pub fn geometry_source(geometry: &str) -> Vec<u8> {
-    std::fs::read(
-        workspace_root()
-            .join("meshes")
-            .join(format!("{geometry}.geo")),
-    )
-    .unwrap_or_default()
+    gmsh_mesh::geo_scripts::source(geometry)
+        .unwrap_or_default()
+        .as_bytes()
+        .to_vec()
 }
 
-/// The cache directory for automatic meshes.
+/// The cache directory for automatic meshes: the run's `mesh_cache_dir`, else the mesh folder
+/// of the one cache ([`gmsh_mesh::cache::meshes_dir`]).
 pub fn cache_dir(params: &StaticParams) -> PathBuf {
     params
         .mesh_cache_dir
         .clone()
-        .or_else(|| std::env::var_os("SAWDRIVE_MESH_CACHE").map(PathBuf::from))
-        .unwrap_or_else(|| std::env::temp_dir().join("sawdrive-meshes"))
+        .unwrap_or_else(gmsh_mesh::cache::meshes_dir)
 }
 
 /// The mesh of a run and where it came from.
@@ -301,7 +317,7 @@ fn cached_mesh_problem(path: &Path) -> Option<String> {
 /// geometry script and the gmsh parameters. `None` when the run uses a given mesh file or a
 /// committed mesh (no meshing). Callers that mesh concurrently lock per file name.
 pub fn cached_mesh_path(params: &StaticParams) -> Option<PathBuf> {
-    let automatic = !matches!(params.mesh, MeshChoice::File(_)) && committed_mesh(params).is_none();
+    let automatic = !matches!(params.mesh, MeshChoice::File(_)) && committed_match(params).is_none();
     automatic.then(|| automatic_mesh_path(params))
 }
 
@@ -397,23 +413,29 @@ fn record_mesh_hash(mesh: &Path) -> Result<()> {
     std::fs::rename(&temporary, &target).map_err(write_error)
 }
 
-/// Meshes `meshes/GEOMETRY.geo` into OUT with gmsh (`-setnumber NAME VALUE` for each pair),
-/// through the workspace's one runner [`gmsh_mesh::gmsh::run_geo`] (binary MSH 4.1, one
-/// thread, written atomically). Errors carry gmsh's message, or how to install gmsh.
+/// Meshes the embedded `meshes/GEOMETRY.geo` ([`gmsh_mesh::geo_scripts::path`], written into
+/// the cache folder) into OUT with gmsh (`-setnumber NAME VALUE` for each pair), through the
+/// workspace's one runner [`gmsh_mesh::gmsh::run_geo`] (binary MSH 4.1, one thread, written
+/// atomically). Errors carry gmsh's message, or how to install gmsh.
 pub fn generate_mesh(geometry: &str, out: &Path, setnumbers: &[(&str, f64)]) -> Result<()> {
-    let geo = workspace_root()
-        .join("meshes")
-        .join(format!("{geometry}.geo"));
+    let meshing = |source: gmsh_mesh::MeshError| ContactError::Meshing {
+        geometry: geometry.into(),
+        source: Box::new(source),
+    };
+    let geo = gmsh_mesh::geo_scripts::path(geometry).map_err(|source| {
+        meshing(gmsh_mesh::MeshError::Io {
+            path: gmsh_mesh::cache::cache_dir().join("geo"),
+            action: format!("writing the embedded gmsh script {geometry}.geo"),
+            source,
+        })
+    })?;
     gmsh_mesh::gmsh::run_geo(
         &geo,
         out,
         setnumbers,
         &gmsh_mesh::gmsh::GmshOptions::default(),
     )
-    .map_err(|source| ContactError::Meshing {
-        geometry: geometry.into(),
-        source: Box::new(source),
-    })
+    .map_err(meshing)
 }
 
 #[cfg(test)]

@@ -1,5 +1,6 @@
 #![doc = include_str!("../README.md")]
 
+pub mod cases;
 pub mod error;
 pub mod family;
 pub mod mesh_cache;

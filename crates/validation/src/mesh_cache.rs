@@ -1,11 +1,13 @@
-//! Punch meshes generated on demand with gmsh from `meshes/punch.geo` and kept in a cache folder
-//! (never in `meshes/`): `$SAWDRIVE_MESH_CACHE`, or `target/sawdrive-meshes/` in the workspace.
+//! Punch meshes generated on demand with gmsh from `meshes/punch.geo` (embedded in the binary,
+//! [`gmsh_mesh::geo_scripts`]) and kept in the mesh folder of the one cache
+//! ([`gmsh_mesh::cache::meshes_dir`]: `<cache>/meshes`, the cache being `--cache DIR`,
+//! `$SAWDRIVE_CACHE`, `$XDG_CACHE_HOME/sawdrive` or `$HOME/.cache/sawdrive`), never in `meshes/`.
 //!
 //! gmsh runs through the workspace's one runner, [`gmsh_mesh::gmsh::run_geo`] (MSH 4.1 binary,
 //! one thread, so that a parameter set always gives the same mesh; written under a temporary
 //! name and renamed only when gmsh succeeded, so an interrupted run never leaves a partial mesh).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use gmsh_mesh::gmsh::{GmshOptions, run_geo};
 
@@ -14,26 +16,14 @@ use serde::{Deserialize, Serialize};
 use crate::error::ValidationError;
 use crate::punch_mesh::MeshSymmetry;
 
-/// Environment variable naming the mesh cache folder.
-pub const MESH_CACHE_ENV: &str = "SAWDRIVE_MESH_CACHE";
+/// Environment variable naming the mesh cache folder ([`gmsh_mesh::cache::MESH_CACHE_ENV`]).
+pub const MESH_CACHE_ENV: &str = gmsh_mesh::cache::MESH_CACHE_ENV;
 /// Environment variable naming the gmsh binary (as in `scripts/mesh.sh`).
 pub const GMSH_ENV: &str = gmsh_mesh::gmsh::GMSH_ENV;
 
-/// The workspace root (two levels above this crate).
-pub fn workspace_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-/// Default cache folder: `$SAWDRIVE_MESH_CACHE` or `<workspace>/target/sawdrive-meshes`.
+/// Default cache folder: [`gmsh_mesh::cache::meshes_dir`].
 pub fn default_cache_dir() -> PathBuf {
-    std::env::var_os(MESH_CACHE_ENV)
-        .map(PathBuf::from)
-        .unwrap_or_else(|| workspace_root().join("target/sawdrive-meshes"))
-}
-
-/// Default geometry: `<workspace>/meshes/punch.geo`.
-pub fn default_punch_geometry() -> PathBuf {
-    workspace_root().join("meshes/punch.geo")
+    gmsh_mesh::cache::meshes_dir()
 }
 
 /// Parameters of one `punch.geo` mesh (see meshes/README.md), lengths in units of a except `a`.
@@ -93,8 +83,9 @@ impl PunchMeshParameters {
 pub struct MeshCache {
     /// Cache folder (created if missing).
     pub dir: PathBuf,
-    /// The `punch.geo` geometry.
-    pub geometry: PathBuf,
+    /// The `punch.geo` geometry; `None` (default): the embedded script, written into the cache
+    /// folder when meshing ([`gmsh_mesh::geo_scripts::path`]).
+    pub geometry: Option<PathBuf>,
     /// gmsh binary.
     pub gmsh: String,
 }
@@ -103,7 +94,7 @@ impl Default for MeshCache {
     fn default() -> Self {
         Self {
             dir: default_cache_dir(),
-            geometry: default_punch_geometry(),
+            geometry: None,
             gmsh: std::env::var(GMSH_ENV).unwrap_or_else(|_| "gmsh".into()),
         }
     }
@@ -118,16 +109,25 @@ impl MeshCache {
             return Ok(path);
         }
         let setnumbers = parameters.setnumbers();
+        let geometry = match &self.geometry {
+            Some(g) => g.clone(),
+            None => gmsh_mesh::geo_scripts::path("punch").map_err(|e| {
+                ValidationError::MeshGeneration {
+                    command: "writing the embedded punch.geo into the cache".into(),
+                    detail: e.to_string(),
+                }
+            })?,
+        };
         let options = GmshOptions {
             program: PathBuf::from(&self.gmsh),
             ..GmshOptions::default()
         };
-        run_geo(&self.geometry, &path, &setnumbers, &options).map_err(|e| {
+        run_geo(&geometry, &path, &setnumbers, &options).map_err(|e| {
             ValidationError::MeshGeneration {
                 command: format!(
                     "{} {} {}",
                     self.gmsh,
-                    self.geometry.display(),
+                    geometry.display(),
                     setnumbers
                         .iter()
                         .map(|(n, v)| format!("-setnumber {n} {v:e}"))

@@ -2,7 +2,6 @@
 //! condition, bounds and tolerances against the exact formulas.
 
 use contact_springs::Material;
-use validation::mesh_cache::workspace_root;
 use validation::{AssembledPunch, MeshSymmetry, MirrorPlane, PunchMesh, PunchSolveOptions, Spring};
 
 fn committed(name: &str) -> PunchMesh {
@@ -189,4 +188,9 @@ fn tangential_springs_on_the_committed_half_mesh_are_told_apart() {
         (0.012..0.03).contains(&difference),
         "bonded / u_z-free tangential stiffness - 1 = {difference}"
     );
+}
+
+/// The checkout (tests read its committed meshes).
+fn workspace_root() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }

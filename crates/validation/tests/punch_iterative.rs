@@ -4,7 +4,6 @@
 
 use contact_springs::Material;
 use elastic_fem::SolverMethod;
-use validation::mesh_cache::workspace_root;
 use validation::{AssembledPunch, PunchMesh, PunchSolveOptions, Spring};
 
 /// Relative agreement of the stiffness (an energy uᵀ K u / δ², second order in the algebraic
@@ -68,4 +67,9 @@ fn iterative_and_direct_punch_stiffnesses_agree_on_the_committed_quarter_mesh() 
             );
         }
     }
+}
+
+/// The checkout (tests read its committed meshes).
+fn workspace_root() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }

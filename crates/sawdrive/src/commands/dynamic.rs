@@ -1,7 +1,7 @@
 //! `sawdrive dynamic`: the stick/slip model with the scene's η (or the static stage's).
 
 use anyhow::anyhow;
-use sawdrive::output::StagedDir;
+use sawdrive::output::{ResultKind, StagedDir};
 use sawdrive::pipeline::{run_dynamic_stage, run_static, scene_springs, write_dynamic_stage_files};
 use sawdrive::scene::load_scene;
 
@@ -23,7 +23,10 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
         (None, None) => unreachable!("the static stage runs when η is not given"),
     };
     let stage = run_dynamic_stage(&scene, &springs, eta, statics.as_ref(), cache.as_deref())?;
-    let staged = StagedDir::create(&args.out.join(&scene.name).join("dynamic"))?;
+    let staged = StagedDir::create(
+        &args.out.join(&scene.name).join("dynamic"),
+        ResultKind::Dynamic,
+    )?;
     write_dynamic_stage_files(&scene.name, &stage, staged.path())?;
     let folder = staged.commit()?;
     if args.json {

@@ -11,7 +11,7 @@ mod sweep;
 mod uq;
 mod validate;
 
-use crate::cli::{Cli, Command, MeshCommand, ValidateCommand};
+use crate::cli::{Cli, Command, MeshCommand};
 
 /// Run the parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
@@ -23,8 +23,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Dynamic(args) => dynamic::run(&args),
         Command::Run(args) => run::run(&args),
         Command::Sweep(args) => sweep::run(&args),
-        Command::Validate(ValidateCommand::StickSlip(args)) => validate::stick_slip(&args),
-        Command::Validate(ValidateCommand::Springs(args)) => validate::springs(&args),
+        Command::Validate(args) => validate::run(&args),
         Command::Uq(args) => uq::run(&args),
         Command::Design(args) => design::run(&args),
     }

@@ -2,7 +2,7 @@
 
 use std::io::Write;
 
-use sawdrive::output::StagedDir;
+use sawdrive::output::{ResultKind, StagedDir};
 use sawdrive::pipeline::{StaticDetails, run_static, scene_springs, write_static_files};
 use sawdrive::scene::load_scene;
 
@@ -18,7 +18,10 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
     let cache = (!args.no_cache).then(|| args.out.join(".cache"));
     let springs = scene_springs(&scene)?;
     let outcome = run_static(&scene, &springs, cache.as_deref(), true)?;
-    let staged = StagedDir::create(&args.out.join(&scene.name).join("static"))?;
+    let staged = StagedDir::create(
+        &args.out.join(&scene.name).join("static"),
+        ResultKind::Static,
+    )?;
     write_static_files(&outcome, staged.path())?;
     let folder = staged.commit()?;
     let mut out = std::io::stdout().lock();

@@ -8,9 +8,6 @@ use crate::cli::UqArgs;
 
 pub fn run(args: &UqArgs) -> anyhow::Result<()> {
     let (scene, scatter) = load_uq_inputs(args.input.scene.as_deref(), &args.input.overrides)?;
-    if args.samples == 0 {
-        anyhow::bail!("--samples: must be ≥ 1");
-    }
     let options = UqOptions {
         samples: args.samples,
         seed: args.seed,

@@ -380,10 +380,7 @@ pub fn load_uq_inputs(
     overrides: &[String],
 ) -> Result<(Scene, ScatterSpec), UqInputError> {
     let text = match path {
-        Some(p) => Some(std::fs::read_to_string(p).map_err(|source| SceneError::Io {
-            path: p.display().to_string(),
-            source,
-        })?),
+        Some(p) => Some(crate::scene::read_scene_file(p)?),
         None => None,
     };
     let (scene_text, overrides, table) =

@@ -55,7 +55,7 @@ use super::motor::{
 };
 use super::scatter::ScatterSpec;
 use super::uq::design_error;
-use crate::output::{StagedDir, write_atomically};
+use crate::output::{ResultKind, StagedDir, write_atomically};
 use crate::pipeline::PipelineError;
 use crate::scene::{Scene, load_scene};
 use crate::units::{Dimension, format_quantity, parse_quantity};
@@ -254,8 +254,8 @@ fn parse_optimiser(t: &Table) -> Result<OptimiserSettings, String> {
 impl DesignSpec {
     /// Reads and checks a design file; errors are one line naming the file and the key.
     pub fn read(path: &Path) -> Result<Self, String> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        let text = atomic_files::read_input_text(path, atomic_files::MAX_SETTINGS_FILE_BYTES)
+            .map_err(|e| e.to_string())?;
         Self::parse(&text, path.parent().unwrap_or(Path::new(".")))
             .map_err(|e| format!("{}: {e}", path.display()))
     }
@@ -300,10 +300,11 @@ impl DesignSpec {
         for (key, value) in &t {
             match key.as_str() {
                 "name" => {
-                    spec.name = value
+                    let name = value
                         .as_str()
-                        .ok_or_else(|| err(key, "expected a string"))?
-                        .to_owned()
+                        .ok_or_else(|| err(key, "expected a string"))?;
+                    atomic_files::check_name(name).map_err(|e| err(key, e.to_string()))?;
+                    spec.name = name.to_owned()
                 }
                 "scene" => {
                     spec.scene =
@@ -360,6 +361,15 @@ impl DesignSpec {
                     if n == 0 {
                         return Err(err(key, "must be ≥ 1"));
                     }
+                    if n > crate::design::uq::MAX_SAMPLES {
+                        return Err(err(
+                            key,
+                            format!(
+                                "{n} is more than the {} accepted",
+                                crate::design::uq::MAX_SAMPLES
+                            ),
+                        ));
+                    }
                     if key == "samples" {
                         spec.samples = n
                     } else {
@@ -377,6 +387,18 @@ impl DesignSpec {
         }
         if spec.quantile.is_none() && spec.scatter != ScatterSpec::default() {
             return Err("scatter: a [scatter] section needs `quantile` (the robust objective), else it would be ignored".into());
+        }
+        if spec.quantile.is_some() && spec.scatter == ScatterSpec::default() {
+            return Err("quantile: needs a [scatter] section (a quantile of identical samples is the nominal value), else it would be ignored".into());
+        }
+        if spec.cheap_samples > spec.samples {
+            return Err(err(
+                "cheap_samples",
+                format!(
+                    "{} is more than samples = {}: the cheap fidelity takes at most as many samples as the full one",
+                    spec.cheap_samples, spec.samples
+                ),
+            ));
         }
         Ok(spec)
     }
@@ -664,7 +686,7 @@ pub fn run_design(
         .scene_at(&spec.variables.iter().map(|v| v.at(0.5)).collect::<Vec<_>>())
         .map_err(bad)?;
     check_dynamics(&scene)?;
-    let staged = StagedDir::create(&out_dir.join(&spec.name))?;
+    let staged = StagedDir::create(&out_dir.join(&spec.name), ResultKind::Design)?;
     let timing = std::sync::Mutex::new(BTreeMap::<String, (usize, f64)>::new());
     let resumed = std::sync::atomic::AtomicUsize::new(0);
     let cache = out_dir.join(".design-evaluations");

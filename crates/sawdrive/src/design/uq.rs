@@ -22,7 +22,7 @@ use super::motor::{
     evaluate_with,
 };
 use super::scatter::ScatterSpec;
-use crate::output::{StagedDir, write_atomically};
+use crate::output::{ResultKind, StagedDir, write_atomically};
 use crate::pipeline::PipelineError;
 use crate::scene::Scene;
 
@@ -237,6 +237,20 @@ pub(crate) fn design_error(e: design::DesignError) -> PipelineError {
     }
 }
 
+/// Most Monte Carlo samples of one study (`uq --samples`, a design's `samples`): about 150 bytes
+/// of results each, and seconds of work each, so 10^5 samples are days of CPU time already.
+pub const MAX_SAMPLES: usize = 100_000;
+
+/// `--samples` within 1 to [`MAX_SAMPLES`], else the message that says so.
+pub fn check_samples(samples: usize) -> Result<(), String> {
+    if (1..=MAX_SAMPLES).contains(&samples) {
+        return Ok(());
+    }
+    Err(format!(
+        "--samples: {samples} is outside 1 to {MAX_SAMPLES} (each sample is a static and a dynamic solve; the band's quantiles converge long before)"
+    ))
+}
+
 /// Runs the UQ of `scene` under `scatter`; writes `OUT/<scene>-uq/` when complete.
 pub fn run_uq(
     scene: &Scene,
@@ -244,12 +258,10 @@ pub fn run_uq(
     options: &UqOptions,
 ) -> Result<(UqReport, PathBuf), PipelineError> {
     let start = Instant::now();
-    if options.samples == 0 {
-        return Err(PipelineError::Unsupported {
-            stage: "uq",
-            message: "--samples: must be ≥ 1".into(),
-        });
-    }
+    check_samples(options.samples).map_err(|message| PipelineError::Unsupported {
+        stage: "uq",
+        message,
+    })?;
     check_dynamics(scene)?;
     let inputs = scatter
         .inputs(scene)
@@ -258,7 +270,7 @@ pub fn run_uq(
             message,
         })?;
     let destination = options.out_dir.join(format!("{}-uq", scene.name));
-    let staged = StagedDir::create(&destination)?;
+    let staged = StagedDir::create(&destination, ResultKind::Uq)?;
     let cache = options.out_dir.join(".uq-samples").join(inputs_hash(
         scene,
         scatter,

@@ -12,7 +12,7 @@ use super::{
     DynamicStage, PipelineError, run_dynamic_stage_cancellable, run_static_cancellable,
     scene_springs, write_dynamic_stage_files, write_static_files,
 };
-use crate::output::StagedDir;
+use crate::output::{ResultKind, StagedDir};
 use crate::scene::Scene;
 
 /// Where and how a run writes.
@@ -88,6 +88,30 @@ pub struct RunSummary {
     pub files: Vec<String>,
 }
 
+impl RunSummary {
+    /// The headline figures are finite: a NaN or an infinity would be written as `null` and
+    /// read as a result. Refused naming the figure; nothing is committed.
+    fn check_finite(&self) -> Result<(), PipelineError> {
+        let figures = [
+            ("effective_contact_ratio", self.effective_contact_ratio),
+            ("effective_post_count", self.effective_post_count),
+            ("stall_thrust_n", self.stall_thrust_n),
+            ("no_load_speed_m_per_s", self.no_load_speed_m_per_s),
+            ("efficiency", self.efficiency),
+            ("stick_fraction", self.stick_fraction),
+        ];
+        match figures.iter().find(|(_, v)| !v.is_finite()) {
+            None => Ok(()),
+            Some((name, value)) => Err(PipelineError::Unsupported {
+                stage: "dynamic",
+                message: format!(
+                    "{name} came out as {value}: the scene's inputs lie outside the models' range (nothing was written)"
+                ),
+            }),
+        }
+    }
+}
+
 /// The coupled model's figures carried into the summary (the whole result is `coupled.json`).
 #[derive(Debug, Clone, Serialize)]
 pub struct CoupledFigures {
@@ -147,7 +171,7 @@ pub fn run_pipeline_cancellable(
 ) -> Result<(RunSummary, PathBuf), PipelineError> {
     let start = Instant::now();
     let destination = options.out_dir.join(&scene.name);
-    let staged = StagedDir::create(&destination)?;
+    let staged = StagedDir::create(&destination, ResultKind::Run)?;
     let bar = spinner(options.progress);
     let mut timings = StageTimings::default();
 
@@ -263,6 +287,7 @@ pub fn run_pipeline_cancellable(
         timings,
         files: names,
     };
+    summary.check_finite()?;
     staged.write("summary.json", serde_json::to_vec_pretty(&summary)?)?;
     let folder = staged.commit()?;
     bar.finish_and_clear();

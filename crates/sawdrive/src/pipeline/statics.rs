@@ -15,7 +15,7 @@ use static_contact::{ContactError, MeshChoice, StaticAnalysis, StaticParams, Sta
 
 use super::slider_static::{SliderStage, announce, run_slider_static, write_slider_maps};
 use super::{PipelineError, ShouldStop};
-use crate::output::{StagedDir, io};
+use crate::output::{ResultKind, StagedDir, io};
 use crate::scene::{Scene, StaticModel};
 
 /// Relative tolerance on equal x and y pitch (the strip model needs a square post lattice).
@@ -369,7 +369,7 @@ pub fn run_static_cancellable(
     announce(&analysis.notes);
     notes.extend(analysis.notes.iter().cloned());
     if let Some(dir) = &fields_dir {
-        let staged = StagedDir::create(dir)?;
+        let staged = StagedDir::create(dir, ResultKind::Fields)?;
         write_field_files(&analysis, staged.path())?;
         staged.commit()?;
     }
@@ -414,6 +414,10 @@ fn copy_files(from: &Path, dir: &Path) -> Result<Vec<PathBuf>, PipelineError> {
         let Some(name) = source.file_name() else {
             continue;
         };
+        // The cache folder's own marker (atomic_files::RESULT_MARKER) is not a field file.
+        if name.to_string_lossy().starts_with('.') {
+            continue;
+        }
         let target = dir.join(name);
         std::fs::copy(&source, &target).map_err(io("copy a cached field file", &source))?;
         files.push(target);

@@ -6,6 +6,7 @@
 //! naming the field.
 
 mod file;
+pub mod limits;
 mod merge;
 mod quantity;
 mod resolved;
@@ -68,6 +69,18 @@ pub enum SceneError {
     },
 }
 
+/// The text of a scene (or scene-with-scatter) file: a regular file of at most
+/// [`atomic_files::MAX_SETTINGS_FILE_BYTES`], else [`SceneError::Io`] naming it.
+pub fn read_scene_file(path: &Path) -> Result<String, SceneError> {
+    atomic_files::read_input_text(path, atomic_files::MAX_SETTINGS_FILE_BYTES).map_err(|e| {
+        let (path, source) = e.into_parts();
+        SceneError::Io {
+            path: path.display().to_string(),
+            source,
+        }
+    })
+}
+
 fn parse_table(text: &str, origin: &str) -> Result<toml::Table, SceneError> {
     text.parse::<toml::Table>().map_err(|e| SceneError::Syntax {
         origin: origin.to_owned(),
@@ -80,10 +93,7 @@ fn parse_table(text: &str, origin: &str) -> Result<toml::Table, SceneError> {
 pub fn load_scene(path: Option<&Path>, overrides: &[String]) -> Result<Scene, SceneError> {
     match path {
         Some(path) => {
-            let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
-                path: path.display().to_string(),
-                source,
-            })?;
+            let text = read_scene_file(path)?;
             load_scene_text(Some((path, &text)), overrides)
         }
         None => load_scene_text(None, overrides),
@@ -199,21 +209,10 @@ fn resolve_relative_height_map(table: &mut toml::Table, scene_path: &Path) {
     }
 }
 
-/// Scene names become directory names: letters, digits, `-`, `_`, `.`.
+/// Scene names become directory names: one safe path component ([`atomic_files::check_name`]).
 fn check_name(name: &str) -> Result<(), SceneError> {
-    let ok = !name.is_empty()
-        && !name.starts_with('.')
-        && name
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'));
-    if ok {
-        Ok(())
-    } else {
-        Err(SceneError::Invalid {
-            field: "name".into(),
-            message: format!(
-                "\"{name}\" must be non-empty and use only letters, digits, '-', '_', '.' (it names the output folder)"
-            ),
-        })
-    }
+    atomic_files::check_name(name).map_err(|e| SceneError::Invalid {
+        field: "name".into(),
+        message: format!("{e} (it names the output folder)"),
+    })
 }

@@ -9,7 +9,7 @@ use serde::Serialize;
 use static_contact::{FemSolver, StatorModel};
 use stick_slip::{IntegratorKind, ModelChoice, VerticalModel};
 
-use super::SceneError;
+use super::{SceneError, limits};
 use super::file::{CustomMaterial, LoadFile, MaterialSpec, SceneFile};
 use super::quantity::{AutoOr, EffectiveRatio};
 use crate::units::{Dimension, format_quantity};
@@ -489,6 +489,9 @@ impl Scene {
             "wavelength λ = c/f (m)",
             phase_velocity_m_per_s / frequency_hz,
         )?;
+        if let Some(d) = decay_length_m {
+            limits::decay_length(d, phase_velocity_m_per_s / frequency_hz)?;
+        }
         let wave = Wave {
             frequency_hz,
             normal_amplitude_m,
@@ -527,6 +530,7 @@ impl Scene {
             ));
         }
         let (count_x, count_y) = (p.count.along_x, p.count.along_y);
+        limits::post_counts(count_x, count_y)?;
         let (pitch_x_m, pitch_y_m) = (
             derived(
                 "posts.count",
@@ -595,12 +599,7 @@ impl Scene {
             ("friction.static", f.mu_static),
             ("friction.kinetic", f.mu_kinetic),
         ] {
-            if !(mu.is_finite() && mu >= 0.0) {
-                return Err(invalid(
-                    field,
-                    format!("friction coefficient must be ≥ 0, got {mu}"),
-                ));
-            }
+            limits::friction(field, mu)?;
         }
         if f.mu_kinetic > f.mu_static {
             return Err(invalid(
@@ -623,6 +622,7 @@ impl Scene {
             mechanism: preload_mechanism(&file.load, length_m, width_m)?,
         };
         let imperfections = imperfections(&file, &posts)?;
+        limits::imperfections(&imperfections, height_m)?;
 
         let contact = match file.contact.effective_ratio {
             EffectiveRatio::Fem => Contact {
@@ -661,16 +661,10 @@ impl Scene {
                     "applies only to the coupled model (dynamics = \"coupled\" or \"auto\"); the lumped models take model.time_step",
                 ));
             }
-            AutoOr::Value(n) if (n as usize) < coupled_dynamics::scene::MIN_STEPS_PER_PERIOD => {
-                return Err(invalid(
-                    "model.steps_per_period",
-                    format!(
-                        "{n} cannot resolve a post's contact arc: need at least {}",
-                        coupled_dynamics::scene::MIN_STEPS_PER_PERIOD
-                    ),
-                ));
+            AutoOr::Value(n) => {
+                limits::steps_per_period(n)?;
+                Some(n)
             }
-            AutoOr::Value(n) => Some(n),
         };
         let integrator = choice("model.integrator", &m.integrator, &IntegratorKind::NAMES)?;
         let vertical_dynamic = choice(
@@ -680,7 +674,11 @@ impl Scene {
         )?;
         let time_step_s = match m.time_step {
             AutoOr::Auto => None,
-            AutoOr::Value(t) => Some(positive("model.time_step", t.0)?),
+            AutoOr::Value(t) => {
+                let t = positive("model.time_step", t.0)?;
+                limits::time_step(t, frequency_hz)?;
+                Some(t)
+            }
         };
         let regularization_velocity_m_per_s = match m.regularization_velocity {
             AutoOr::Auto => None,
@@ -702,7 +700,11 @@ impl Scene {
                     "need at least 2 points on the speed–thrust curve",
                 ));
             }
-            AutoOr::Value(n) => Some(n),
+            AutoOr::Value(n) => {
+                let max = limits::MAX_CURVE_POINTS;
+                limits::at_most("model.curve_points", n.into(), max.into(), "curve points")?;
+                Some(n)
+            }
         };
         let periods = match m.periods {
             AutoOr::Auto => None,
@@ -766,6 +768,20 @@ impl Scene {
                 Some(t)
             }
         };
+        let phases = (st.phases.into(), limits::MAX_PHASES.into());
+        limits::at_most(
+            "static.phases",
+            phases.0,
+            phases.1,
+            "contact solves per static run",
+        )?;
+        let iterations = (st.max_iterations.into(), limits::MAX_ITERATIONS.into());
+        limits::at_most(
+            "static.max_iterations",
+            iterations.0,
+            iterations.1,
+            "iterations",
+        )?;
         if st.max_iterations == 0 {
             return Err(invalid("static.max_iterations", "must be ≥ 1"));
         }

@@ -22,6 +22,10 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
+/// Most points one sweep may have: each point is a pipeline run of a second or more, so 10 000
+/// points is hours of work on one machine; larger studies are split or sharded by the user.
+pub const MAX_SWEEP_POINTS: usize = 10_000;
+
 /// A sweep as written.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -127,10 +131,11 @@ impl SweepFile {
     /// Read and check a sweep file.
     pub fn load(path: &Path) -> Result<Self, SweepError> {
         let shown = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| SweepError::Io {
-            path: shown.clone(),
-            source,
-        })?;
+        let text = atomic_files::read_input_text(path, atomic_files::MAX_SETTINGS_FILE_BYTES)
+            .map_err(|e| SweepError::Io {
+                path: shown.clone(),
+                source: e.into_parts().1,
+            })?;
         let value: toml::Table = text
             .parse()
             .map_err(|e: toml::de::Error| SweepError::Field {
@@ -150,6 +155,10 @@ impl SweepFile {
                     .unwrap_or_default()
                     .to_owned(),
             })?;
+        sweep.check().map_err(|message| SweepError::Invalid {
+            path: shown.clone(),
+            message,
+        })?;
         if let Some((key, _)) = sweep.grid.iter().find(|(_, values)| values.is_empty()) {
             return Err(SweepError::Invalid {
                 path: shown,
@@ -168,6 +177,60 @@ impl SweepFile {
             sweep.scene = Some(path.parent().unwrap_or(Path::new(".")).join(scene));
         }
         Ok(sweep)
+    }
+
+    /// Names that become paths are one safe component, labels are printable and distinct,
+    /// chart series name a grid key, and the grid has at most [`MAX_SWEEP_POINTS`] points.
+    fn check(&self) -> Result<(), String> {
+        atomic_files::check_name(&self.name).map_err(|e| format!("name: {e}"))?;
+        for (i, chart) in self.charts.iter().enumerate() {
+            if let Some(file) = &chart.file {
+                atomic_files::check_name(file).map_err(|e| format!("charts[{i}].file: {e}"))?;
+            }
+            if let Some(series) = chart
+                .series
+                .as_ref()
+                .filter(|k| !self.grid.contains_key(*k))
+            {
+                return Err(format!(
+                    "charts[{i}].series: {series:?} is not a [grid] key (grid keys: {})",
+                    self.grid.keys().cloned().collect::<Vec<_>>().join(", ")
+                ));
+            }
+        }
+        let mut labels = std::collections::BTreeSet::new();
+        for (i, variant) in self.variants.iter().enumerate() {
+            if variant.label.chars().any(char::is_control) {
+                return Err(format!(
+                    "variants[{i}].label {:?}: control characters are refused",
+                    variant.label
+                ));
+            }
+            if !labels.insert(variant.label.as_str()) {
+                return Err(format!(
+                    "variants[{i}].label {:?} is used twice: each variant needs its own label",
+                    variant.label
+                ));
+            }
+        }
+        let points = self
+            .grid
+            .values()
+            .try_fold(self.variants.len().max(1), |n, v| {
+                n.checked_mul(v.len()).filter(|&n| n <= MAX_SWEEP_POINTS)
+            });
+        if points.is_none() {
+            return Err(format!(
+                "the grid has more than {MAX_SWEEP_POINTS} points ({} variants × {}): split it into several sweeps",
+                self.variants.len().max(1),
+                self.grid
+                    .iter()
+                    .map(|(k, v)| format!("{} {k}", v.len()))
+                    .collect::<Vec<_>>()
+                    .join(" × ")
+            ));
+        }
+        Ok(())
     }
 
     /// Every point: the variants (or one unnamed) crossed with the cartesian grid.
@@ -266,5 +329,55 @@ mod tests {
         assert!(err.contains("nothing to run"), "{err}");
         let err = sweep("name = \"s\"\ngrdi = 3\n").unwrap_err().to_string();
         assert!(err.contains("grdi"), "{err}");
+    }
+
+    #[test]
+    fn names_that_would_write_outside_out_are_refused() {
+        for (text, says) in [
+            ("name = \"../escaped\"", "name: \"../escaped\""),
+            ("name = \"..\"", "name:"),
+            ("name = \"/abs/path\"", "name:"),
+            ("name = \".cache\"", "name:"),
+            ("name = \"\"", "name:"),
+            (
+                "name = \"s\"\n[[charts]]\nx = \"preload_n\"\ny = \"speed_m_per_s\"\nfile = \"/any/path/victim\"",
+                "charts[0].file",
+            ),
+        ] {
+            let err = sweep(&format!("{text}\n[grid]\npreload = [\"5 N\"]\n"))
+                .unwrap_err()
+                .to_string();
+            assert!(err.contains(says), "{text}: {err}");
+        }
+    }
+
+    #[test]
+    fn settings_that_would_be_ignored_or_explode_are_refused() {
+        let err = sweep(
+            "name = \"s\"\n[grid]\npreload = [\"5 N\"]\n[[charts]]\nx = \"a\"\ny = \"b\"\nseries = \"friction\"\n",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(err.contains("not a [grid] key"), "{err}");
+        let err = sweep(
+            "name = \"s\"\n[[variants]]\nlabel = \"a\"\nset = {}\n[[variants]]\nlabel = \"a\"\nset = {}\n",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(err.contains("used twice"), "{err}");
+        let err = sweep("name = \"s\"\n[[variants]]\nlabel = \"a\\u001b[2J\"\nset = {}\n")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("control characters"), "{err}");
+        let values = vec!["1"; 101].join(", ");
+        let err = sweep(&format!(
+            "name = \"s\"\n[grid]\na = [{values}]\nb = [{values}]\nc = [{values}]\n"
+        ))
+        .unwrap_err()
+        .to_string();
+        assert!(
+            err.contains("more than 10000 points") && err.contains("101 a"),
+            "{err}"
+        );
     }
 }

@@ -8,7 +8,7 @@ mod run;
 mod shard;
 
 pub use cancel::Cancel;
-pub use file::{ChartSpec, SweepError, SweepFile, SweepPoint, Variant};
+pub use file::{ChartSpec, MAX_SWEEP_POINTS, SweepError, SweepFile, SweepPoint, Variant};
 pub use run::{
     MAX_JOBS, NUMERIC_COLUMNS, PointRow, SweepOutcome, SweepRunError, results_csv, run_sweep,
     run_sweep_cancellable,

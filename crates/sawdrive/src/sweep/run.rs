@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
 use super::{Cancel, SweepFile, SweepPoint};
-use crate::output::write_atomically;
+use crate::output::{Saved, read_verified_json, to_verified_json, write_atomically};
 use crate::pipeline::{RunOptions, run_pipeline_cancellable};
 use crate::scene::load_scene;
 
@@ -330,12 +330,30 @@ pub(super) fn prepare<'a>(
 }
 
 impl Prepared<'_> {
-    /// The saved result of point `i` (0-based), if its file exists and holds this point.
+    /// The file of point `i`'s saved result.
+    fn point_file(&self, i: usize) -> PathBuf {
+        self.points_dir.join(format!("{}.json", self.hashes[i]))
+    }
+
+    /// The saved result of point `i` (0-based), if its file exists, is intact (its checksum
+    /// matches) and holds this point.
     pub(super) fn saved(&self, i: usize) -> Option<PointRow> {
-        let hash = &self.hashes[i];
-        let bytes = std::fs::read(self.points_dir.join(format!("{hash}.json"))).ok()?;
-        let row: PointRow = serde_json::from_slice(&bytes).ok()?;
-        (row.hash == *hash).then_some(row)
+        match read_verified_json::<PointRow>(&self.point_file(i)) {
+            Saved::Valid(row) => (row.hash == self.hashes[i]).then_some(row),
+            Saved::Missing | Saved::Altered(_) => None,
+        }
+    }
+
+    /// A note for each selected point whose saved file exists but was altered: it is recomputed.
+    fn note_altered(&self, selected: &[usize]) {
+        for &i in selected {
+            if let Saved::Altered(why) = read_verified_json::<PointRow>(&self.point_file(i)) {
+                eprintln!(
+                    "note: {} {why}: the point is recomputed",
+                    self.point_file(i).display()
+                );
+            }
+        }
     }
 
     /// Run the points `selected` (0-based, ascending) that are not saved yet with `jobs`
@@ -352,6 +370,7 @@ impl Prepared<'_> {
     ) -> Result<PointsRun, SweepRunError> {
         std::fs::create_dir_all(&self.points_dir)
             .map_err(crate::output::io("create", &self.points_dir))?;
+        self.note_altered(selected);
         let saved: Vec<Option<PointRow>> = selected.iter().map(|&i| self.saved(i)).collect();
         let resumed = saved.iter().filter(|s| s.is_some()).count();
         let condensations = self.fill_static_cache(selected, &saved, rotation, cancel)?;
@@ -455,11 +474,10 @@ impl Prepared<'_> {
             Err(PointFailure::Cancelled) => return None,
             Err(PointFailure::Failed(e)) => return Some(Err(failed(e))),
         };
-        let saved = serde_json::to_vec_pretty(&row)
+        let saved = to_verified_json(&row)
             .map_err(|e| failed(e.to_string()))
             .and_then(|bytes| {
-                write_atomically(&self.points_dir.join(format!("{hash}.json")), bytes)
-                    .map_err(|e| failed(e.to_string()))
+                write_atomically(&self.point_file(i), bytes).map_err(|e| failed(e.to_string()))
             });
         Some(saved.map(|()| row))
     }
@@ -516,40 +534,31 @@ pub fn run_sweep_cancellable(
     })
 }
 
-/// All rows as CSV: variant, grid keys, numeric columns, wall time.
+/// All rows as CSV: variant, grid keys, numeric columns, wall time (RFC 4180, text cells
+/// neutralised against spreadsheet formulas: [`crate::output::csv_table`]).
 pub fn results_csv(sweep: &SweepFile, rows: &[PointRow]) -> String {
+    use crate::output::{Cell, csv_table};
     let grid_keys: Vec<&String> = sweep.grid.keys().collect();
-    let mut text = String::from("variant");
-    for k in &grid_keys {
-        text.push(',');
-        text.push_str(k);
-    }
-    for c in NUMERIC_COLUMNS {
-        text.push(',');
-        text.push_str(c);
-    }
-    text.push_str(",wall_time_s\n");
-    for row in rows {
-        text.push_str(&row.variant.replace(',', ";"));
-        for k in &grid_keys {
-            text.push(',');
-            text.push_str(
-                &row.grid
-                    .get(*k)
-                    .cloned()
-                    .unwrap_or_default()
-                    .replace(',', ";"),
-            );
-        }
-        for c in NUMERIC_COLUMNS {
-            text.push_str(&format!(
-                ",{}",
-                row.values.get(c).copied().unwrap_or(f64::NAN)
-            ));
-        }
-        text.push_str(&format!(",{}\n", row.wall_time_s));
-    }
-    text
+    let mut header = vec!["variant"];
+    header.extend(grid_keys.iter().map(|k| k.as_str()));
+    header.extend(NUMERIC_COLUMNS);
+    header.push("wall_time_s");
+    let cells = rows.iter().map(|row| {
+        let mut cells = vec![Cell::Text(row.variant.clone())];
+        cells.extend(
+            grid_keys
+                .iter()
+                .map(|k| Cell::Text(row.grid.get(*k).cloned().unwrap_or_default())),
+        );
+        cells.extend(
+            NUMERIC_COLUMNS
+                .iter()
+                .map(|c| Cell::Number(row.values.get(*c).copied().unwrap_or(f64::NAN))),
+        );
+        cells.push(Cell::Number(row.wall_time_s));
+        cells
+    });
+    csv_table(&header, cells)
 }
 
 fn write_charts(
@@ -621,7 +630,7 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         std::fs::write(
             dir.join(format!("{}.json", row.hash)),
-            serde_json::to_vec(&row).unwrap(),
+            crate::output::to_verified_json(&row).unwrap(),
         )
         .unwrap();
     }
@@ -682,6 +691,39 @@ mod tests {
         assert_eq!(
             outcome.rows[0].values["stall_thrust_n"], 123.0,
             "saved stall thrust reused"
+        );
+    }
+
+    #[test]
+    fn an_edited_or_emptied_point_file_is_recomputed_not_merged() {
+        let root = tempfile::tempdir().unwrap();
+        let sweep = one_point_sweep(root.path());
+        let out = root.path().join("out");
+        let computed = run_sweep(&sweep, &out, Some(1)).unwrap().rows[0].clone();
+        let file = out
+            .join(&sweep.name)
+            .join("points")
+            .join(format!("{}.json", computed.hash));
+        let text = std::fs::read_to_string(&file).unwrap();
+        let stall = computed.values["stall_thrust_n"].to_string();
+        assert!(
+            text.contains(&stall),
+            "the saved file holds the stall thrust"
+        );
+        for edited in [
+            text.replace(&stall, "123.0"),
+            text.replace("\"values\"", "\"valeus\""),
+            String::new(),
+        ] {
+            std::fs::write(&file, edited).unwrap();
+            let outcome = run_sweep(&sweep, &out, Some(1)).unwrap();
+            assert_eq!(outcome.resumed, 0, "an altered point is not resumed");
+            assert_eq!(outcome.rows[0].values, computed.values, "it is recomputed");
+        }
+        let outcome = run_sweep(&sweep, &out, Some(1)).unwrap();
+        assert_eq!(
+            outcome.resumed, 1,
+            "the recomputed point is saved intact again"
         );
     }
 

@@ -37,9 +37,9 @@ pub struct Shard {
 }
 
 impl Shard {
-    /// Whether point `i` (0-based, sweep order) belongs to this shard.
+    /// Whether point `i` (0-based, sweep order) belongs to this shard (never, for N = 0).
     pub fn owns(&self, i: usize) -> bool {
-        i % self.count + 1 == self.index
+        self.count > 0 && i % self.count + 1 == self.index
     }
 
     /// Refuse K outside 1..=N and more shards than the sweep's `points`.

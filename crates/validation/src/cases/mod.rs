@@ -1,0 +1,344 @@
+//! Every validation study as a case of one command, `sawdrive validate <case> --level L`.
+//!
+//! A case runs at one of three [`Level`]s: `full` (the study behind the committed numbers of
+//! `validation/<case>/`), `quick` (every code path of `full` — every solver `auto` can pick,
+//! every stability case, every model — on smaller meshes, ≤ 5 min on 2 cores) and `smoke` (a
+//! few seconds; all cases together ≤ 3 min). Each case returns [`Check`]s: a value, its
+//! reference, a tolerance, the rule comparing them, whether it passed and where the reference
+//! comes from. `--json` prints them as `{"checks": [...]}` ([`checks_json`]), and
+//! [`summary_markdown`] writes `validation/SUMMARY.md`.
+//!
+//! The cases ([`CASES`]) and their modules: `springs` ([`springs`]), `stick-slip`
+//! ([`stick_slip`]), `fem-peers` ([`fem_peers`]); `static-contact`, `whole-slider`,
+//! `coupled-dynamics`, `paper-figures` and `design` are listed with the command that
+//! regenerates them today ([`CaseInfo::regenerate`]) until their checks are ported.
+
+pub mod fem_peers;
+pub mod springs;
+pub mod stick_slip;
+
+use serde::{Deserialize, Serialize};
+
+/// How much of a study runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Level {
+    /// Seconds: the pipeline end to end on the coarsest inputs.
+    Smoke,
+    /// Every code path of `full` on smaller meshes (≤ 5 min per case on 2 cores).
+    Quick,
+    /// The committed study.
+    Full,
+}
+
+impl Level {
+    /// Parses `smoke`, `quick` or `full`.
+    pub fn parse(text: &str) -> Option<Self> {
+        match text {
+            "smoke" => Some(Self::Smoke),
+            "quick" => Some(Self::Quick),
+            "full" => Some(Self::Full),
+            _ => None,
+        }
+    }
+
+    /// The lower-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Smoke => "smoke",
+            Self::Quick => "quick",
+            Self::Full => "full",
+        }
+    }
+}
+
+/// How a check compares its value with its reference.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Rule {
+    /// |value / reference − 1| ≤ tolerance.
+    Relative,
+    /// value ≤ reference (tolerance unused, 0).
+    AtMost,
+    /// value ≥ reference (tolerance unused, 0).
+    AtLeast,
+}
+
+/// One checked quantity.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Check {
+    /// Case name (e.g. `springs`).
+    pub case: String,
+    /// What is checked, e.g. `k_pn (si, a = 10 um): FEM / formula`.
+    pub quantity: String,
+    /// The computed value.
+    pub value: f64,
+    /// The reference value (or bound, see `rule`).
+    pub reference: f64,
+    /// Relative tolerance of a [`Rule::Relative`] check (0 for bounds).
+    pub tolerance: f64,
+    /// Whether the check holds.
+    pub pass: bool,
+    /// Where the reference comes from (formula, paper, README section).
+    pub source: String,
+    /// How `value` is compared with `reference`.
+    pub rule: Rule,
+}
+
+impl Check {
+    /// |value / reference − 1| ≤ tolerance.
+    pub fn relative(
+        case: &str,
+        quantity: impl Into<String>,
+        value: f64,
+        reference: f64,
+        tolerance: f64,
+        source: impl Into<String>,
+    ) -> Self {
+        Self {
+            case: case.into(),
+            quantity: quantity.into(),
+            value,
+            reference,
+            tolerance,
+            pass: (value / reference - 1.0).abs() <= tolerance,
+            source: source.into(),
+            rule: Rule::Relative,
+        }
+    }
+
+    /// value ≤ bound.
+    pub fn at_most(
+        case: &str,
+        quantity: impl Into<String>,
+        value: f64,
+        bound: f64,
+        source: impl Into<String>,
+    ) -> Self {
+        Self {
+            case: case.into(),
+            quantity: quantity.into(),
+            value,
+            reference: bound,
+            tolerance: 0.0,
+            pass: value <= bound,
+            source: source.into(),
+            rule: Rule::AtMost,
+        }
+    }
+
+    /// value ≥ bound.
+    pub fn at_least(
+        case: &str,
+        quantity: impl Into<String>,
+        value: f64,
+        bound: f64,
+        source: impl Into<String>,
+    ) -> Self {
+        Self {
+            case: case.into(),
+            quantity: quantity.into(),
+            value,
+            reference: bound,
+            tolerance: 0.0,
+            pass: value >= bound,
+            source: source.into(),
+            rule: Rule::AtLeast,
+        }
+    }
+
+    /// One line naming the check and its numbers (for a failure message).
+    pub fn line(&self) -> String {
+        let comparison = match self.rule {
+            Rule::Relative => format!(
+                "{:e} vs reference {:e} (relative tolerance {:e})",
+                self.value, self.reference, self.tolerance
+            ),
+            Rule::AtMost => format!("{:e}, must be ≤ {:e}", self.value, self.reference),
+            Rule::AtLeast => format!("{:e}, must be ≥ {:e}", self.value, self.reference),
+        };
+        format!(
+            "{}: {}: {comparison} [{}]",
+            self.case, self.quantity, self.source
+        )
+    }
+}
+
+/// The outcome of one case at one level.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CaseOutcome {
+    /// Case name.
+    pub case: String,
+    /// Level run.
+    pub level: Level,
+    /// Checks (empty when skipped).
+    pub checks: Vec<Check>,
+    /// Why the case did not run (peers not installed, not ported), else `None`.
+    pub skipped: Option<String>,
+    /// Wall time (s).
+    pub wall_s: f64,
+}
+
+impl CaseOutcome {
+    /// The first failing check, if any.
+    pub fn first_failure(&self) -> Option<&Check> {
+        self.checks.iter().find(|c| !c.pass)
+    }
+}
+
+/// A case of `sawdrive validate`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CaseInfo {
+    /// Name on the command line and folder `validation/<name>/`.
+    pub name: &'static str,
+    /// What it validates.
+    pub description: &'static str,
+    /// The command that regenerates the committed study today, for cases whose checks are not
+    /// yet run by `sawdrive validate` (`None`: it runs them).
+    pub regenerate: Option<&'static str>,
+}
+
+/// Every case, in the order `validate all` runs them.
+pub const CASES: &[CaseInfo] = &[
+    CaseInfo {
+        name: "springs",
+        description: "FEM stiffness of a rigid punch on a half-space against the four Johnson springs; convergence, truncation, work-precision, stability (locking, floating punch, distorted meshes), both solver paths",
+        regenerate: None,
+    },
+    CaseInfo {
+        name: "stick-slip",
+        description: "integrators of the stick/slip post model: work-precision against the closed-form reference, transient against period average, stability maps, the paper's trends",
+        regenerate: None,
+    },
+    CaseInfo {
+        name: "static-contact",
+        description: "static FEM contact of the slider strip: refinement, post counts, diameters, preload, eta",
+        regenerate: Some("cargo run --release -p validation --example static_contact_report"),
+    },
+    CaseInfo {
+        name: "whole-slider",
+        description: "whole-slider static contact: mechanisms, eta against scatter, post force maps",
+        regenerate: Some("see validation/whole-slider/README.md"),
+    },
+    CaseInfo {
+        name: "coupled-dynamics",
+        description: "coupled slider dynamics: work-precision of the coupled integrator, whole-row comparison",
+        regenerate: Some("see validation/coupled-dynamics/README.md"),
+    },
+    CaseInfo {
+        name: "paper-figures",
+        description: "the paper's figures 7-12: stall thrust and no-load speed against preload, post count, diameter",
+        regenerate: Some("sawdrive sweep validation/paper-figures/<figure>.toml"),
+    },
+    CaseInfo {
+        name: "design",
+        description: "uncertainty quantification convergence and the optimiser on known optima",
+        regenerate: Some("see validation/design/README.md"),
+    },
+    CaseInfo {
+        name: "fem-peers",
+        description: "elastic-fem against peer FEM codes (scikit-fem, CalculiX) on the punch: agreement and time; needs the peers installed",
+        regenerate: None,
+    },
+];
+
+/// The case named `name`.
+pub fn case(name: &str) -> Option<&'static CaseInfo> {
+    CASES.iter().find(|c| c.name == name)
+}
+
+/// The outcome of a case whose checks `sawdrive validate` does not run yet: skipped, naming the
+/// command that regenerates it.
+pub fn not_ported(info: &CaseInfo, level: Level) -> CaseOutcome {
+    CaseOutcome {
+        case: info.name.into(),
+        level,
+        checks: Vec::new(),
+        skipped: Some(format!(
+            "checks not yet run by `sawdrive validate`; the study is regenerated by: {}",
+            info.regenerate.unwrap_or("(none)")
+        )),
+        wall_s: 0.0,
+    }
+}
+
+/// `{"checks": [...]}` of every outcome's checks, plus the skipped cases.
+pub fn checks_json(outcomes: &[CaseOutcome]) -> String {
+    #[derive(Serialize)]
+    struct Skipped<'a> {
+        case: &'a str,
+        level: Level,
+        reason: &'a str,
+    }
+    #[derive(Serialize)]
+    struct Out<'a> {
+        checks: Vec<&'a Check>,
+        skipped: Vec<Skipped<'a>>,
+    }
+    let out = Out {
+        checks: outcomes.iter().flat_map(|o| &o.checks).collect(),
+        skipped: outcomes
+            .iter()
+            .filter_map(|o| {
+                o.skipped.as_deref().map(|reason| Skipped {
+                    case: &o.case,
+                    level: o.level,
+                    reason,
+                })
+            })
+            .collect(),
+    };
+    serde_json::to_string_pretty(&out).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
+}
+
+/// Markdown table of every check (quantity, value, reference, tolerance, pass, level, commit),
+/// one section per case; skipped cases say why.
+pub fn summary_markdown(outcomes: &[CaseOutcome], commit: &str) -> String {
+    let mut s = String::new();
+    s += "# Validation summary\n\n";
+    s += "Generated by `sawdrive validate all --level full --summary validation/SUMMARY.md` \
+          (do not edit by hand). Rules: `relative` passes when |value / reference − 1| ≤ \
+          tolerance; `at_most` / `at_least` compare the value with the reference as a bound.\n\n";
+    let total = outcomes.iter().map(|o| o.checks.len()).sum::<usize>();
+    let failed = outcomes
+        .iter()
+        .flat_map(|o| &o.checks)
+        .filter(|c| !c.pass)
+        .count();
+    s += &format!(
+        "{total} checks, {failed} failing, {} case(s) skipped; commit `{commit}`.\n\n",
+        outcomes.iter().filter(|o| o.skipped.is_some()).count()
+    );
+    for o in outcomes {
+        s += &format!("## {} ({} level, {:.0} s)\n\n", o.case, o.level.name(), o.wall_s);
+        if let Some(reason) = &o.skipped {
+            s += &format!("Skipped: {reason}\n\n");
+            continue;
+        }
+        s += "| quantity | value | reference | tolerance | rule | pass | level | commit | source |\n";
+        s += "|---|---|---|---|---|---|---|---|---|\n";
+        for c in &o.checks {
+            let rule = match c.rule {
+                Rule::Relative => "relative",
+                Rule::AtMost => "at_most",
+                Rule::AtLeast => "at_least",
+            };
+            s += &format!(
+                "| {} | {:.6e} | {:.6e} | {} | {rule} | {} | {} | `{commit}` | {} |\n",
+                c.quantity,
+                c.value,
+                c.reference,
+                if c.rule == Rule::Relative {
+                    format!("{:.1e}", c.tolerance)
+                } else {
+                    "—".into()
+                },
+                if c.pass { "yes" } else { "**NO**" },
+                o.level.name(),
+                c.source
+            );
+        }
+        s += "\n";
+    }
+    s
+}
