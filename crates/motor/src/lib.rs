@@ -14,6 +14,10 @@ pub struct Motor {
     pub wave: Wave,
     /// Stator material (the half-space the wave travels on).
     pub stator: Material,
+    /// The stator's crystal cut: the substrate whose Rayleigh wave drives the slider (scene
+    /// key `stator.cut`; reading a motor without it gives the paper's 128° Y-X LiNbO3).
+    #[serde(default = "StatorCut::paper")]
+    pub stator_cut: StatorCut,
     /// The slider body.
     pub slider: SliderBody,
     /// The post array on the slider's face.
@@ -43,6 +47,7 @@ impl Motor {
                 PHASE_VELOCITY_M_PER_S,
             ),
             stator: Material::lithium_niobate(),
+            stator_cut: StatorCut::paper(),
             slider: SliderBody::with_geometric_mass(
                 slider_material,
                 SLIDER_SIDE_M,
@@ -98,6 +103,32 @@ impl Motor {
     }
 }
 
+/// The stator's crystal cut: a crystal constant set and the Euler angles of the wave frame
+/// (x₁ propagation, x₃ outward normal), as crate `saw-wave` defines them. This crate only
+/// describes the cut; `saw-wave` solves its Rayleigh wave.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StatorCut {
+    /// Name: a named cut (`128yx-linbo3`, `yz-linbo3`, `st-x-quartz`) or, for a cut given by
+    /// its Euler angles, the crystal and the angles.
+    pub name: String,
+    /// The crystal's constant set, e.g. `LiNbO3 (Kovacs et al. 1990)`.
+    pub crystal: String,
+    /// ZXZ Euler angles (φ, θ, ψ) of the wave frame (degrees).
+    pub euler_deg: [f64; 3],
+}
+
+impl StatorCut {
+    /// The paper's cut: 128° Y-X LiNbO3, Kovacs et al. constants, Euler (0°, 38°, 0°).
+    pub fn paper() -> Self {
+        Self {
+            name: paper::STATOR_CUT.into(),
+            crystal: paper::STATOR_CRYSTAL.into(),
+            euler_deg: paper::STATOR_CUT_EULER_DEG,
+        }
+    }
+}
+
 /// The stator's surface wave (docs/physics.md §4): a Rayleigh wave travelling along +x with an
 /// elliptical retrograde orbit, w = A_n sin θ, u = A_t cos θ, θ = ωt − kx.
 ///
@@ -106,6 +137,8 @@ impl Motor {
 /// * `burst_periods`: a finite burst of n periods: at each material point the wave is on for
 ///   0 ≤ θ < 2πn and the surface is at rest before and after (the burst front reaches the
 ///   slider centre at t = 0). `None`: continuous wave.
+/// * `aperture_m`: the beam's width across y, the IDT's aperture: the wave carries its power
+///   per unit width over this width (reading a wave without it gives the paper's 9 mm).
 ///
 /// Its JSON also carries the derived `tangential_velocity_m_per_s` (A_t ω) and `wavelength_m`
 /// for the reader; reading accepts and ignores them (they are recomputed).
@@ -125,6 +158,8 @@ pub struct Wave {
     pub decay_length_m: Option<f64>,
     /// Burst length in wave periods, if the drive is a finite burst.
     pub burst_periods: Option<f64>,
+    /// Width of the wave's beam across y (m): the aperture of the IDT that launches it.
+    pub aperture_m: f64,
 }
 
 /// A wave as written: the fields and the derived values, which reading ignores.
@@ -139,6 +174,8 @@ struct WaveJson {
     decay_length_m: Option<f64>,
     #[serde(default)]
     burst_periods: Option<f64>,
+    #[serde(default = "paper_aperture_m")]
+    aperture_m: f64,
     #[serde(default, rename = "tangential_velocity_m_per_s")]
     _tangential_velocity_m_per_s: Option<f64>,
     #[serde(default, rename = "wavelength_m")]
@@ -154,20 +191,26 @@ impl From<WaveJson> for Wave {
             phase_velocity_m_per_s: w.phase_velocity_m_per_s,
             decay_length_m: w.decay_length_m,
             burst_periods: w.burst_periods,
+            aperture_m: w.aperture_m,
         }
     }
+}
+
+fn paper_aperture_m() -> f64 {
+    paper::APERTURE_M
 }
 
 impl Serialize for Wave {
     fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         use serde::ser::SerializeStruct;
-        let mut s = serializer.serialize_struct("Wave", 8)?;
+        let mut s = serializer.serialize_struct("Wave", 9)?;
         s.serialize_field("frequency_hz", &self.frequency_hz)?;
         s.serialize_field("normal_amplitude_m", &self.normal_amplitude_m)?;
         s.serialize_field("tangential_amplitude_m", &self.tangential_amplitude_m)?;
         s.serialize_field("phase_velocity_m_per_s", &self.phase_velocity_m_per_s)?;
         s.serialize_field("decay_length_m", &self.decay_length_m)?;
         s.serialize_field("burst_periods", &self.burst_periods)?;
+        s.serialize_field("aperture_m", &self.aperture_m)?;
         s.serialize_field("tangential_velocity_m_per_s", &self.crest_speed_m_per_s())?;
         s.serialize_field("wavelength_m", &self.wavelength_m())?;
         s.end()
@@ -175,12 +218,14 @@ impl Serialize for Wave {
 }
 
 impl Wave {
-    /// The paper's wave: f = 9.61 MHz, A_n = 20 nm, V_t = 1.1 m/s, c = 3979 m/s, continuous.
+    /// The paper's wave: f = 9.61 MHz, A_n = 20 nm, V_t = 1.1 m/s, c = 3979 m/s, continuous, in a
+    /// 9 mm beam.
     pub fn paper_default() -> Self {
         Motor::paper().wave
     }
 
-    /// A continuous wave given the tangential *velocity* amplitude V_t (A_t = V_t/ω).
+    /// A continuous wave given the tangential *velocity* amplitude V_t (A_t = V_t/ω), in a beam
+    /// of the paper's aperture (9 mm).
     pub fn from_tangential_velocity(
         frequency_hz: f64,
         normal_amplitude_m: f64,
@@ -194,6 +239,7 @@ impl Wave {
             phase_velocity_m_per_s,
             decay_length_m: None,
             burst_periods: None,
+            aperture_m: paper::APERTURE_M,
         }
     }
 
@@ -527,6 +573,30 @@ mod tests {
         };
         let back: Motor = serde_json::from_str(&serde_json::to_string(&real).unwrap()).unwrap();
         assert_eq!(back, real, "imperfections and mechanism survive the JSON");
+    }
+
+    #[test]
+    fn the_cut_and_aperture_survive_the_json_and_default_to_the_papers() {
+        let mut m = Motor::paper();
+        assert_eq!(m.stator_cut.name, "128yx-linbo3");
+        assert_eq!(m.wave.aperture_m, 9e-3);
+        m.stator_cut = StatorCut {
+            name: "st-x-quartz".into(),
+            crystal: "alpha-quartz (Bechmann 1958)".into(),
+            euler_deg: [0.0, 132.75, 0.0],
+        };
+        m.wave.aperture_m = 2e-3;
+        let json = serde_json::to_value(&m).unwrap();
+        assert_eq!(json["wave"]["aperture_m"], 2e-3);
+        let back: Motor = serde_json::from_value(json.clone()).unwrap();
+        assert_eq!(back, m, "cut and aperture read back");
+        // A motor written before the cut and aperture were described reads as the paper's.
+        let mut old = json;
+        old.as_object_mut().unwrap().remove("stator_cut");
+        old["wave"].as_object_mut().unwrap().remove("aperture_m");
+        let back: Motor = serde_json::from_value(old).unwrap();
+        assert_eq!(back.stator_cut, StatorCut::paper());
+        assert_eq!(back.wave.aperture_m, paper::APERTURE_M);
     }
 
     #[test]

@@ -9,6 +9,15 @@ pub const NORMAL_AMPLITUDE_M: f64 = 20e-9;
 pub const TANGENTIAL_VELOCITY_M_PER_S: f64 = 1.1;
 /// Rayleigh wave speed on the free surface of 128° YX LiNbO3 (m/s).
 pub const PHASE_VELOCITY_M_PER_S: f64 = 3979.0;
+/// Aperture of the paper's IDT: the width of the wave's beam across y (m).
+pub const APERTURE_M: f64 = 9e-3;
+/// The stator's crystal cut: 128° rotated Y-cut LiNbO3, X propagation (crate `saw-wave`'s name).
+pub const STATOR_CUT: &str = "128yx-linbo3";
+/// The crystal constant set of [`STATOR_CUT`] (crate `saw-wave`'s name).
+pub const STATOR_CRYSTAL: &str = "LiNbO3 (Kovacs et al. 1990)";
+/// ZXZ Euler angles (φ, θ, ψ) of the wave frame of [`STATOR_CUT`] (degrees): a θ_Y-rotated
+/// Y-cut with X propagation is (0°, θ_Y − 90°, 0°).
+pub const STATOR_CUT_EULER_DEG: [f64; 3] = [0.0, 38.0, 0.0];
 /// Slider side, square (m).
 pub const SLIDER_SIDE_M: f64 = 5e-3;
 /// Slider body thickness (m).

@@ -25,6 +25,9 @@ pub enum Command {
     Scene(SceneArgs),
     /// The four Johnson springs of one post and their series values.
     Springs(SpringsArgs),
+    /// The Rayleigh wave of the stator's crystal cut: velocities (free, metallized), coupling
+    /// K², |u_x/u_z|, and the power it carries at the scene's amplitude and frequency.
+    Wave(WaveArgs),
     /// Mesh tools.
     #[command(subcommand)]
     Mesh(MeshCommand),
@@ -181,6 +184,18 @@ pub struct SceneArgs {
     pub input: SceneInput,
     /// With --resolve: print JSON instead of TOML.
     #[arg(long, requires = "resolve")]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct WaveArgs {
+    #[command(flatten)]
+    pub input: SceneInput,
+    /// Crystal cut, instead of the scene's stator.cut: 128yx-linbo3, yz-linbo3 or st-x-quartz.
+    #[arg(long, value_name = "CUT")]
+    pub cut: Option<String>,
+    /// Print JSON (SI units, unit in each key).
+    #[arg(long)]
     pub json: bool,
 }
 

@@ -10,6 +10,7 @@ mod statics;
 mod sweep;
 mod uq;
 mod validate;
+mod wave;
 
 use crate::cli::{Cli, Command, MeshCommand};
 
@@ -18,6 +19,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Scene(args) => scene::run(&args),
         Command::Springs(args) => springs::run(&args),
+        Command::Wave(args) => wave::run(&args),
         Command::Mesh(MeshCommand::Info(args)) => mesh::info(&args),
         Command::Static(args) => statics::run(&args),
         Command::Dynamic(args) => dynamic::run(&args),

@@ -18,6 +18,9 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
         println!("{}", serde_json::to_string_pretty(&summary)?);
         return Ok(());
     }
+    for w in &scene.warnings {
+        eprintln!("warning: {}: {}", w.parameter, w.message);
+    }
     let t = &summary.timings;
     println!(
         "{}: η = {:.4} ({}), N_eff = {:.0}",

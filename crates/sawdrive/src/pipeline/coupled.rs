@@ -345,8 +345,14 @@ pub fn run_dynamic_stage_cancellable(
     let (coupled, coupled_histories, coupled_step_error_estimate) = match (run_coupled, statics) {
         (true, Some(statics)) => {
             PipelineError::check(should_stop, "dynamic (coupled model)")?;
-            let (result, histories, step_error) =
+            let (mut result, histories, step_error) =
                 run_coupled_model(scene, statics, &lumped, cache_dir)?;
+            // The scene's own warnings lead the coupled model's, as they lead the lumped one's.
+            let scene_warnings = scene
+                .warnings
+                .iter()
+                .map(|w| format!("{}: {}", w.parameter, w.message));
+            result.warnings.splice(0..0, scene_warnings);
             (Some(result), Some(histories), step_error)
         }
         _ => (None, None, None),

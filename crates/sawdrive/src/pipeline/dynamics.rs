@@ -201,8 +201,11 @@ pub fn run_dynamic_cancellable(
     should_stop: super::ShouldStop<'_>,
 ) -> Result<DynamicRun, PipelineError> {
     let dynamic = dynamic_scene(scene, springs, effective_ratio)?;
-    let (result, histories) = stick_slip::solve_with_histories_cancellable(&dynamic, should_stop)
-        .map_err(name_scene_keys)?;
+    let (mut result, histories) =
+        stick_slip::solve_with_histories_cancellable(&dynamic, should_stop)
+            .map_err(name_scene_keys)?;
+    // The scene's own warnings (a wave value off the stator's cut, …) lead the model's.
+    result.warnings.splice(0..0, scene.warnings.iter().cloned());
     Ok(DynamicRun {
         scene: dynamic,
         result,

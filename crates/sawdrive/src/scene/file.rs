@@ -20,7 +20,7 @@ pub struct SceneFile {
     #[serde(default)]
     pub description: String,
     pub wave: WaveFile,
-    pub stator: BodyFile,
+    pub stator: StatorFile,
     pub slider: SliderFile,
     pub posts: PostsFile,
     pub friction: FrictionFile,
@@ -37,22 +37,72 @@ pub struct SceneFile {
 pub struct WaveFile {
     pub frequency: Frequency,
     pub normal_amplitude: Length,
-    /// Tangential velocity amplitude V_t = A_t ω (give this or `tangential_amplitude`).
-    pub tangential_velocity: Option<Velocity>,
-    /// Tangential displacement amplitude A_t (give this or `tangential_velocity`).
-    pub tangential_amplitude: Option<Length>,
-    pub phase_velocity: Velocity,
+    /// Tangential velocity amplitude V_t = A_t ω (give this or `tangential_amplitude`);
+    /// `"auto"`: A_t = |u_x/u_z| A_n of the stator's cut.
+    pub tangential_velocity: Option<AutoOr<Velocity>>,
+    /// Tangential displacement amplitude A_t (give this or `tangential_velocity`); `"auto"` as
+    /// for `tangential_velocity`.
+    pub tangential_amplitude: Option<AutoOr<Length>>,
+    /// Phase velocity c; `"auto"`: the free-surface Rayleigh velocity of the stator's cut.
+    pub phase_velocity: AutoOr<Velocity>,
+    /// Beam width across y (the IDT's aperture), e.g. `"9 mm"`.
+    pub aperture: Length,
     /// Amplitude decay length along x (none: no decay).
     pub decay_length: Option<Length>,
     /// Finite burst length in wave periods (none: continuous drive).
     pub burst_periods: Option<f64>,
 }
 
-/// A body given by its material.
+/// The stator: its material (contact compliance) and its crystal cut (the wave).
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct BodyFile {
+pub struct StatorFile {
     pub material: MaterialSpec,
+    /// The crystal cut whose Rayleigh wave drives the slider.
+    pub cut: CutSpec,
+}
+
+/// A crystal cut: a named cut (`"128yx-linbo3"`, `"yz-linbo3"`, `"st-x-quartz"`) or
+/// `{ crystal = "linbo3", euler = [φ, θ, ψ] }` (ZXZ Euler angles in degrees).
+#[derive(Debug, Clone, PartialEq)]
+pub enum CutSpec {
+    /// A named cut.
+    Named(String),
+    /// A crystal at given Euler angles.
+    Euler(EulerCut),
+}
+
+/// A crystal cut given by its Euler angles.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EulerCut {
+    /// `linbo3` (Kovacs et al. 1990), `linbo3-warner` (Warner et al. 1967) or `quartz`
+    /// (Bechmann 1958); default: the stator's material when it is `linbo3`.
+    pub crystal: Option<String>,
+    /// ZXZ Euler angles (φ, θ, ψ) of the wave frame, degrees.
+    pub euler: [f64; 3],
+}
+
+impl<'de> Deserialize<'de> for CutSpec {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct CutVisitor;
+        impl<'de> Visitor<'de> for CutVisitor {
+            type Value = CutSpec;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str(
+                    "a named cut (\"128yx-linbo3\", \"yz-linbo3\", \"st-x-quartz\") or a table { crystal, euler = [φ, θ, ψ] }",
+                )
+            }
+            fn visit_str<E: de::Error>(self, name: &str) -> Result<CutSpec, E> {
+                Ok(CutSpec::Named(name.to_owned()))
+            }
+            fn visit_map<M: MapAccess<'de>>(self, map: M) -> Result<CutSpec, M::Error> {
+                EulerCut::deserialize(de::value::MapAccessDeserializer::new(map))
+                    .map(CutSpec::Euler)
+            }
+        }
+        deserializer.deserialize_any(CutVisitor)
+    }
 }
 
 /// The slider body.

@@ -5,6 +5,7 @@
 //! `--set key=value` overrides. Unknown keys, missing units and out-of-range values are errors
 //! naming the field.
 
+mod crystal;
 mod file;
 pub mod limits;
 mod merge;
@@ -13,6 +14,7 @@ mod resolved;
 
 use std::path::Path;
 
+pub use crystal::{CUT_MISMATCH_WARNING_FRACTION, CrystalWave};
 pub use resolved::{
     Contact, DEFAULT_COUPLED_STEPS_PER_PERIOD, DEFAULT_CURVE_POINTS, DEFAULT_STATIC_MAX_ITERATIONS,
     DEFAULT_TRANSIENT_PERIODS, DEFAULT_VERTICAL_DAMPING_RATIO, Dynamics, Model, Scene, StaticModel,

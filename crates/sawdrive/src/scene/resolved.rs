@@ -7,11 +7,12 @@ use contact_springs::Material;
 use motor::{Friction, Imperfections, Load, Motor, PostArray, PreloadMechanism, SliderBody, Wave};
 use serde::Serialize;
 use static_contact::{FemSolver, StatorModel};
-use stick_slip::{IntegratorKind, ModelChoice, VerticalModel};
+use stick_slip::{IntegratorKind, ModelChoice, VerticalModel, Warning};
 
-use super::{SceneError, limits};
+use super::crystal::{self, CrystalWave};
 use super::file::{CustomMaterial, LoadFile, MaterialSpec, SceneFile};
 use super::quantity::{AutoOr, EffectiveRatio};
+use super::{SceneError, limits};
 use crate::units::{Dimension, format_quantity};
 
 /// One motor and how to simulate it, in SI units.
@@ -24,6 +25,16 @@ pub struct Scene {
     pub motor: Motor,
     /// Where `slider.mass_kg` came from: `geometry` (ρ·volume) or `given`.
     pub slider_mass_source: String,
+    /// The Rayleigh wave of the stator's cut (`stator.cut`), solved from the crystal constants.
+    pub crystal_wave: CrystalWave,
+    /// Where `wave.phase_velocity_m_per_s` came from: `cut` (`"auto"`) or `given`.
+    pub phase_velocity_source: String,
+    /// Where `wave.tangential_amplitude_m` came from: `cut` (`"auto"`: |u_x/u_z| A_n) or `given`.
+    pub tangential_amplitude_source: String,
+    /// What the scene gives that the program accepts but doubts, each naming its key: a wave
+    /// value more than 2 % off the cut's, a beam narrower than the post array, a stator material
+    /// that is not the cut's crystal. They reach `summary.json` and `dynamic --json`.
+    pub warnings: Vec<Warning>,
     pub contact: Contact,
     pub model: Model,
     #[serde(rename = "static")]
@@ -456,21 +467,74 @@ impl Scene {
         )?;
         derived("wave.frequency", "wave period 1/f (s)", 1.0 / frequency_hz)?;
         let normal_amplitude_m = positive("wave.normal_amplitude", w.normal_amplitude.0)?;
-        let tangential_amplitude_m = match (w.tangential_velocity, w.tangential_amplitude) {
-            (Some(v), None) => derived(
-                "wave.tangential_velocity",
-                "tangential amplitude V_t/ω (m)",
-                positive("wave.tangential_velocity", v.0)? / omega,
-            )?,
-            (None, Some(a)) => positive("wave.tangential_amplitude", a.0)?,
-            _ => {
-                return Err(invalid(
-                    "wave",
-                    "give exactly one of tangential_velocity or tangential_amplitude",
+        let cut = crystal::wave_cut(&file.stator.cut, &file.stator.material)?;
+        let (stator_cut, crystal_wave) = crystal::solve(&cut)?;
+        let mut warnings: Vec<Warning> = Vec::new();
+        warnings.extend(crystal::material_mismatch(&cut, &file.stator.material));
+        let cut_ratio = crystal_wave.displacement_ratio_ux_over_uz;
+        let (tangential_amplitude_m, tangential_key) =
+            match (w.tangential_velocity, w.tangential_amplitude) {
+                (Some(AutoOr::Auto), None) => (None, "wave.tangential_velocity"),
+                (None, Some(AutoOr::Auto)) => (None, "wave.tangential_amplitude"),
+                (Some(AutoOr::Value(v)), None) => (
+                    Some(derived(
+                        "wave.tangential_velocity",
+                        "tangential amplitude V_t/ω (m)",
+                        positive("wave.tangential_velocity", v.0)? / omega,
+                    )?),
+                    "wave.tangential_velocity",
+                ),
+                (None, Some(AutoOr::Value(a))) => (
+                    Some(positive("wave.tangential_amplitude", a.0)?),
+                    "wave.tangential_amplitude",
+                ),
+                _ => {
+                    return Err(invalid(
+                        "wave",
+                        "give exactly one of tangential_velocity or tangential_amplitude",
+                    ));
+                }
+            };
+        let tangential_amplitude_source = if tangential_amplitude_m.is_some() {
+            "given"
+        } else {
+            "cut"
+        };
+        let tangential_amplitude_m = match tangential_amplitude_m {
+            Some(a) => {
+                warnings.extend(crystal::mismatch(
+                    tangential_key,
+                    "tangential/normal amplitude ratio A_t/A_n",
+                    a / normal_amplitude_m,
+                    cut_ratio,
+                    &stator_cut.name,
+                    |r| format!("{r:.4}"),
                 ));
+                a
+            }
+            None => derived(
+                tangential_key,
+                "tangential amplitude |u_x/u_z| A_n (m)",
+                cut_ratio * normal_amplitude_m,
+            )?,
+        };
+        let cut_velocity = crystal_wave.phase_velocity_free_m_per_s;
+        let (phase_velocity_m_per_s, phase_velocity_source) = match w.phase_velocity {
+            AutoOr::Auto => (cut_velocity, "cut"),
+            AutoOr::Value(c) => {
+                let c = positive("wave.phase_velocity", c.0)?;
+                warnings.extend(crystal::mismatch(
+                    "wave.phase_velocity",
+                    "phase velocity",
+                    c,
+                    cut_velocity,
+                    &stator_cut.name,
+                    |v| format_quantity(v, Dimension::Velocity),
+                ));
+                (c, "given")
             }
         };
-        let phase_velocity_m_per_s = positive("wave.phase_velocity", w.phase_velocity.0)?;
+        let aperture_m = positive("wave.aperture", w.aperture.0)?;
         let decay_length_m = w
             .decay_length
             .map(|d| positive("wave.decay_length", d.0))
@@ -499,6 +563,7 @@ impl Scene {
             phase_velocity_m_per_s,
             decay_length_m,
             burst_periods,
+            aperture_m,
         };
 
         let stator = material("stator.material", &file.stator.material)?;
@@ -807,9 +872,23 @@ impl Scene {
             fem_solver: choice("static.fem_solver", &st.fem_solver, &FEM_SOLVER_NAMES)?,
         };
 
+        if posts.array_y_m > aperture_m {
+            let len = |v| format_quantity(v, Dimension::Length);
+            warnings.push(Warning::new(
+                "wave.aperture",
+                format!(
+                    "the beam ({}) is narrower than the post array across y (posts.array_y {}): \
+                     the dynamics drive every post with the full wave; only the power under the \
+                     array (sawdrive wave) is capped by the aperture",
+                    len(aperture_m),
+                    len(posts.array_y_m)
+                ),
+            ));
+        }
         let motor = Motor {
             wave,
             stator,
+            stator_cut,
             slider,
             posts,
             friction,
@@ -822,6 +901,10 @@ impl Scene {
             description: file.description,
             motor,
             slider_mass_source: mass_source.into(),
+            crystal_wave,
+            phase_velocity_source: phase_velocity_source.into(),
+            tangential_amplitude_source: tangential_amplitude_source.into(),
+            warnings,
             contact,
             model,
             static_fem,

@@ -1,0 +1,171 @@
+//! `sawdrive wave`: the Rayleigh wave of the stator's crystal cut and the power it carries.
+
+use anyhow::Context;
+use sawdrive::scene::load_scene;
+use sawdrive::units::{Dimension, format_quantity};
+use serde::Serialize;
+use stick_slip::Warning;
+
+use crate::cli::WaveArgs;
+
+/// `sawdrive wave --json`: SI, unit in each key.
+#[derive(Debug, Serialize)]
+struct WaveReport {
+    /// The scene's name.
+    scene: String,
+    /// The cut (`stator.cut`, or `--cut`).
+    cut: String,
+    /// The crystal's constant set, with its source.
+    constant_set: String,
+    /// ZXZ Euler angles (φ, θ, ψ) of the wave frame (degrees).
+    euler_deg: [f64; 3],
+    phase_velocity_free_m_per_s: f64,
+    phase_velocity_metallized_m_per_s: f64,
+    coupling_k2: f64,
+    /// |u_x/u_z| at the free surface.
+    displacement_ratio_ux_over_uz: f64,
+    /// arg(u_x/u_z) at the free surface (degrees; +90°: retrograde).
+    displacement_phase_ux_over_uz_deg: f64,
+    /// The scene's frequency and normal amplitude, at which the power is given.
+    frequency_hz: f64,
+    normal_amplitude_m: f64,
+    /// Power carried per unit beam width (free surface).
+    power_per_width_w_per_m: f64,
+    /// The beam width (`wave.aperture`).
+    aperture_m: f64,
+    /// The post array's width across y (`posts.array_y`).
+    array_width_m: f64,
+    /// Power flowing under the post array: per width × min(array width, aperture).
+    power_under_array_w: f64,
+    /// Power in the whole beam: per width × aperture.
+    power_in_beam_w: f64,
+    /// The phase velocity and tangential amplitude the scene's motor runs with, and where each
+    /// came from (`cut`: "auto"; `given`).
+    scene_phase_velocity_m_per_s: f64,
+    phase_velocity_source: String,
+    scene_tangential_amplitude_m: f64,
+    tangential_amplitude_source: String,
+    /// The scene's warnings (a given value more than 2 % off the cut's, a narrow beam, …).
+    warnings: Vec<Warning>,
+}
+
+pub fn run(args: &WaveArgs) -> anyhow::Result<()> {
+    let mut overrides = args.input.overrides.clone();
+    if let Some(cut) = &args.cut {
+        // Quoted as a TOML string, so that the name reaches stator.cut as written.
+        overrides.push(format!("stator.cut={}", toml::Value::String(cut.clone())));
+    }
+    let scene = load_scene(args.input.scene.as_deref(), &overrides).with_context(|| {
+        args.cut
+            .as_ref()
+            .map_or_else(String::new, |cut| format!("--cut {cut}"))
+    })?;
+    let motor = &scene.motor;
+    let (wave, crystal) = (&motor.wave, &scene.crystal_wave);
+    let per_width = crystal.power_per_width_w_per_m(wave.normal_amplitude_m, wave.frequency_hz);
+    let array_width_m = motor.posts.array_y_m;
+    let report = WaveReport {
+        scene: scene.name.clone(),
+        cut: motor.stator_cut.name.clone(),
+        constant_set: motor.stator_cut.crystal.clone(),
+        euler_deg: motor.stator_cut.euler_deg,
+        phase_velocity_free_m_per_s: crystal.phase_velocity_free_m_per_s,
+        phase_velocity_metallized_m_per_s: crystal.phase_velocity_metallized_m_per_s,
+        coupling_k2: crystal.coupling_k2,
+        displacement_ratio_ux_over_uz: crystal.displacement_ratio_ux_over_uz,
+        displacement_phase_ux_over_uz_deg: crystal.displacement_phase_ux_over_uz_deg,
+        frequency_hz: wave.frequency_hz,
+        normal_amplitude_m: wave.normal_amplitude_m,
+        power_per_width_w_per_m: per_width,
+        aperture_m: wave.aperture_m,
+        array_width_m,
+        power_under_array_w: per_width * array_width_m.min(wave.aperture_m),
+        power_in_beam_w: per_width * wave.aperture_m,
+        scene_phase_velocity_m_per_s: wave.phase_velocity_m_per_s,
+        phase_velocity_source: scene.phase_velocity_source.clone(),
+        scene_tangential_amplitude_m: wave.tangential_amplitude_m,
+        tangential_amplitude_source: scene.tangential_amplitude_source.clone(),
+        warnings: scene.warnings.clone(),
+    };
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+        return Ok(());
+    }
+    for w in &report.warnings {
+        eprintln!("warning: {}: {}", w.parameter, w.message);
+    }
+    let e = report.euler_deg;
+    println!(
+        "Rayleigh wave of {} ({}, Euler {}°, {}°, {}°)\n",
+        report.cut, report.constant_set, e[0], e[1], e[2]
+    );
+    let velocity = |v| format_quantity(v, Dimension::Velocity);
+    let length = |v| format_quantity(v, Dimension::Length);
+    let rows = [
+        (
+            "phase velocity, free surface",
+            velocity(report.phase_velocity_free_m_per_s),
+        ),
+        (
+            "phase velocity, metallized",
+            velocity(report.phase_velocity_metallized_m_per_s),
+        ),
+        (
+            "coupling K²",
+            format!("{:.3} %", 100.0 * report.coupling_k2),
+        ),
+        (
+            "|u_x/u_z| at the surface",
+            format!(
+                "{:.4} (phase {:.2}°)",
+                report.displacement_ratio_ux_over_uz, report.displacement_phase_ux_over_uz_deg
+            ),
+        ),
+        (
+            "power per beam width",
+            format!(
+                "{:.4e} W/m at {} and {}",
+                report.power_per_width_w_per_m,
+                length(report.normal_amplitude_m),
+                format_quantity(report.frequency_hz, Dimension::Frequency)
+            ),
+        ),
+        (
+            "power under the post array",
+            format!(
+                "{:.4} W ({} of {} array width in the beam)",
+                report.power_under_array_w,
+                length(array_width_m.min(report.aperture_m)),
+                length(array_width_m)
+            ),
+        ),
+        (
+            "power in the beam",
+            format!(
+                "{:.4} W ({} aperture)",
+                report.power_in_beam_w,
+                length(report.aperture_m)
+            ),
+        ),
+        (
+            "scene's phase velocity",
+            format!(
+                "{} ({})",
+                velocity(report.scene_phase_velocity_m_per_s),
+                report.phase_velocity_source
+            ),
+        ),
+        (
+            "scene's tangential amplitude",
+            format!(
+                "{} ({})",
+                length(report.scene_tangential_amplitude_m),
+                report.tangential_amplitude_source
+            ),
+        ),
+    ];
+    for (name, value) in rows {
+        println!("{name:<30} {value}");
+    }
+    Ok(())
+}
