@@ -45,6 +45,12 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<()> {
         let started = Instant::now();
         let mut outcome = run_case(info, level, &out, !args.json)?;
         outcome.wall_s = started.elapsed().as_secs_f64();
+        if !outcome.checks.is_empty() {
+            sawdrive::output::write_atomically(
+                &out.join("results/checks.json"),
+                cases::checks_json(std::slice::from_ref(&outcome)),
+            )?;
+        }
         if !args.json {
             print_outcome(&outcome, &out);
         }
@@ -136,6 +142,7 @@ fn run_case(
             )?;
             Ok(outcome(cases::stick_slip::checks(&report, level)))
         }
+        "design" => Ok(outcome(cases::design::run(level)?)),
         "fem-peers" => Ok(cases::fem_peers::run(level)),
         _ => Ok(cases::not_ported(info, level)),
     }
