@@ -31,9 +31,12 @@ fn assert_close(what: &str, value: f64, expected: f64, relative: f64) {
     );
 }
 
-/// Each named cut: (name, textbook free velocity (m/s) within 1 %, K² range of the published
-/// constant sets, |u_x/u_z| and power per width at 20 nm, 9.61 MHz of crates/saw-wave/README.md).
-const CUTS: [(&str, f64, (f64, f64), f64, f64); 3] = [
+/// A named cut: name, textbook free velocity (m/s, within 1 %), K² range of the published
+/// constant sets, |u_x/u_z| and power per width at 20 nm, 9.61 MHz of crates/saw-wave/README.md.
+type Expected = (&'static str, f64, (f64, f64), f64, f64);
+
+/// The three named cuts.
+const CUTS: [Expected; 3] = [
     ("128yx-linbo3", 3979.0, (0.053, 0.056), 0.898, 2447.0),
     (
         "yz-linbo3",

@@ -110,7 +110,7 @@ impl Motor {
 #[serde(deny_unknown_fields)]
 pub struct StatorCut {
     /// Name: a named cut (`128yx-linbo3`, `yz-linbo3`, `st-x-quartz`) or, for a cut given by
-    /// its Euler angles, the crystal and the angles.
+    /// its Euler angles, the crystal and `euler` (e.g. `linbo3 euler`).
     pub name: String,
     /// The crystal's constant set, e.g. `LiNbO3 (Kovacs et al. 1990)`.
     pub crystal: String,

@@ -46,8 +46,12 @@ impl CrystalWave {
     }
 }
 
-/// The crystals of `stator.cut = { crystal, euler }`: name, constant set.
-const CRYSTALS: [(&str, fn() -> Crystal); 3] = [
+/// A crystal of `stator.cut = { crystal, euler }`: its name and the constructor of its
+/// constant set.
+type NamedCrystal = (&'static str, fn() -> Crystal);
+
+/// The crystals of `stator.cut = { crystal, euler }`.
+const CRYSTALS: [NamedCrystal; 3] = [
     ("linbo3", materials::lithium_niobate_kovacs_1990),
     ("linbo3-warner", materials::lithium_niobate_warner_1967),
     ("quartz", materials::quartz_bechmann_1958),
@@ -94,7 +98,7 @@ pub fn wave_cut(spec: &CutSpec, stator_material: &MaterialSpec) -> Result<Cut, S
                 })?;
             let [phi, theta, psi] = e.euler;
             Ok(Cut::new(
-                format!("{crystal} euler ({phi}°, {theta}°, {psi}°)"),
+                format!("{crystal} euler"),
                 material,
                 EulerAngles::new(phi, theta, psi),
             ))
