@@ -143,6 +143,7 @@ fn run_case(
             Ok(outcome(cases::stick_slip::checks(&report, level)))
         }
         "design" => Ok(outcome(cases::design::run(level)?)),
+        "static-contact" => Ok(outcome(cases::static_contact::run(level, out)?)),
         "fem-peers" => Ok(cases::fem_peers::run(level)),
         _ => Ok(cases::not_ported(info, level)),
     }
