@@ -50,7 +50,8 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
         );
     }
     if let Some(coupled) = &stage.coupled {
-        for w in &coupled.warnings {
+        // The coupled warnings lead with the scene's, printed above with the lumped model's.
+        for w in coupled.warnings.iter().skip(scene.warnings.len()) {
             eprintln!("warning: {w}");
         }
         println!(

@@ -83,6 +83,9 @@ pub struct RunSummary {
     /// The coupled model's own figures, when it ran.
     pub coupled: Option<CoupledFigures>,
     pub curve: Vec<stick_slip::CurvePoint>,
+    /// The scene's warnings (a given wave value more than 2 % off the stator's cut, a beam
+    /// narrower than the post array, …; also in `scene.warnings`), then the lumped model's.
+    pub warnings: Vec<stick_slip::Warning>,
     pub timings: StageTimings,
     /// Files written, relative to the results folder.
     pub files: Vec<String>,
@@ -284,6 +287,7 @@ pub fn run_pipeline_cancellable(
         model_error_estimate: stage.model_error_estimate(),
         coupled: CoupledFigures::of(&stage),
         curve: stage.curve(),
+        warnings: stage.lumped.result.warnings.clone(),
         timings,
         files: names,
     };
