@@ -172,3 +172,17 @@ fn inputs_that_are_not_regular_files_are_refused_before_reading() {
     let args = ["design", "/dev/zero", "--out", out.to_str().unwrap()];
     refused_and_untouched(root.path(), &before, &args, "not a regular file");
 }
+
+#[test]
+fn a_scatter_spread_beyond_the_models_range_is_refused() {
+    let root = tempfile::tempdir().unwrap();
+    let before = sentinels(root.path());
+    let out = root.path().join("out");
+    for (set, key) in [
+        ("scatter.friction=1e300", "scatter.friction"),
+        ("scatter.bow=\"1 m\"", "scatter.bow"),
+    ] {
+        let args = ["uq", "--samples", "4", "--set", set, "--out", out.to_str().unwrap()];
+        refused_and_untouched(root.path(), &before, &args, key);
+    }
+}

@@ -21,6 +21,10 @@ pub use motor::HeightMap;
 /// The imperfections of a real slider (module doc; the motor's [`motor::Imperfections`]).
 pub use motor::Imperfections;
 
+/// Largest height-map CSV accepted (bytes): a line per post of at most ≈ 60 bytes for the
+/// largest lattice the scene accepts (2000 × 2000 posts).
+pub const MAX_HEIGHT_MAP_BYTES: u64 = 256 << 20;
+
 /// Reading a [`HeightMap`] from its CSV.
 pub trait HeightMapCsv: Sized {
     /// Reads a CSV of lines `row,column,height_m` (an optional header line whose first field is
@@ -34,9 +38,11 @@ pub trait HeightMapCsv: Sized {
 impl HeightMapCsv for HeightMap {
     fn read_csv(path: &Path, posts_x: usize, posts_y: usize) -> Result<Self> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| SliderError::HeightMap {
-            file: file.clone(),
-            detail: e.to_string(),
+        let text = atomic_files::read_input_text(path, MAX_HEIGHT_MAP_BYTES).map_err(|e| {
+            SliderError::HeightMap {
+                file: file.clone(),
+                detail: e.into_parts().1.to_string(),
+            }
         })?;
         Self::parse(&text, &file, posts_x, posts_y)
     }

@@ -143,6 +143,29 @@ impl ScatterSpec {
         Ok(s)
     }
 
+    /// Spreads within the range where the models hold (the bounds of `scene::limits`): friction
+    /// spread ≤ the largest coefficient, height scatter ≤ h/3, tilt and bow spreads ≤ h, preload
+    /// and diameter spreads below their nominal values.
+    fn check_physical(&self, scene: &Scene) -> Result<(), String> {
+        use crate::scene::limits::MAX_FRICTION;
+        let h = scene.motor.posts.height_m;
+        let checks = [
+            ("friction", self.friction, MAX_FRICTION, "the largest friction coefficient"),
+            ("height_scatter", self.height_scatter_m, h / 3.0, "a third of the post height"),
+            ("tilt_x", self.tilt_x_m, h, "the post height"),
+            ("tilt_y", self.tilt_y_m, h, "the post height"),
+            ("bow", self.bow_m, h, "the post height"),
+            ("preload", self.preload_n, scene.motor.load.preload_n, "the nominal preload"),
+            ("diameter", self.diameter_m, scene.motor.posts.diameter_m, "the nominal diameter"),
+        ];
+        match checks.iter().find(|(_, spread, max, _)| spread > max) {
+            None => Ok(()),
+            Some((key, spread, max, what)) => Err(format!(
+                "scatter.{key}: spread {spread:e} exceeds {what} ({max:e}, SI): the models do not hold there"
+            )),
+        }
+    }
+
     /// A distribution of spread `spread` around `nominal`, truncated below at `low`.
     fn around(&self, nominal: f64, spread: f64, low: f64) -> Distribution {
         match self.distribution {
@@ -162,6 +185,7 @@ impl ScatterSpec {
     /// The scattered inputs (names with units) around `scene`'s nominal values, validated;
     /// errors name `scatter.<key>`. Order: the fields of [`MotorSample`] except the seed.
     pub fn inputs(&self, scene: &Scene) -> Result<Vec<ScatterInput>, String> {
+        self.check_physical(scene)?;
         let zero_mean = |spread: f64| self.around(0.0, spread, -UNBOUNDED);
         let f = &scene.motor.friction;
         let list = [

@@ -110,7 +110,8 @@ pub enum SweepRunError {
     Chart(#[from] charts::ChartError),
     /// More worker threads asked for than [`MAX_JOBS`], or none.
     #[error(
-        "--jobs {jobs}: must be between 1 and {MAX_JOBS} worker threads (this machine has {cores} cores)"
+        "--jobs {jobs}: must be between 1 and {MAX_JOBS} worker threads (this machine has {cores} core{})",
+        if *cores == 1 { "" } else { "s" }
     )]
     Jobs {
         /// Jobs asked for.
@@ -143,8 +144,9 @@ pub enum SweepRunError {
     },
     /// A lock file of the shared FEM cache could not be created or locked.
     #[error(
-        "cannot lock {}: {source} (shards sharing OUT/.cache need a file system with file locks, e.g. NFSv4, or Lustre mounted with -o flock)",
-        path.display()
+        "cannot lock {}: {source}{}",
+        path.display(),
+        lock_hint(source)
     )]
     Lock {
         /// The lock file.
@@ -176,6 +178,20 @@ pub enum SweepRunError {
         /// The error.
         message: String,
     },
+}
+
+/// The file-system hint of a lock error: only where the file system refused locking itself
+/// (no lock support), not for a lock path that is a folder or unwritable.
+fn lock_hint(source: &std::io::Error) -> &'static str {
+    /// ENOLCK: no locks available (Linux).
+    const ENOLCK: i32 = 37;
+    let unsupported = source.kind() == std::io::ErrorKind::Unsupported
+        || source.raw_os_error() == Some(ENOLCK);
+    if unsupported {
+        " (shards sharing OUT/.cache need a file system with file locks, e.g. NFSv4, or Lustre mounted with -o flock)"
+    } else {
+        ""
+    }
 }
 
 /// Content hash of a point: model versions, scene file text and overrides.
