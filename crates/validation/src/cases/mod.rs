@@ -220,17 +220,17 @@ pub const CASES: &[CaseInfo] = &[
     CaseInfo {
         name: "whole-slider",
         description: "whole-slider static contact: mechanisms, eta against scatter, post force maps",
-        regenerate: Some("see validation/whole-slider/README.md"),
+        regenerate: Some("cargo run -p slider-contact --profile test --example study -- validation/whole-slider/results"),
     },
     CaseInfo {
         name: "coupled-dynamics",
         description: "coupled slider dynamics: work-precision of the coupled integrator, whole-row comparison",
-        regenerate: Some("see validation/coupled-dynamics/README.md"),
+        regenerate: Some("cargo test -p coupled-dynamics --test study -- --ignored --nocapture --test-threads 1"),
     },
     CaseInfo {
         name: "paper-figures",
         description: "the paper's figures 7-12: stall thrust and no-load speed against preload, post count, diameter",
-        regenerate: Some("sawdrive sweep validation/paper-figures/<figure>.toml"),
+        regenerate: Some("sawdrive sweep validation/paper-figures/<figure>.toml --out out (validation/paper-figures/README.md)"),
     },
     CaseInfo {
         name: "design",
