@@ -114,7 +114,8 @@ pub struct StaticParams {
     /// `direct` / `iterative` (hashed: the compliances differ by ≤ the PCG tolerance).
     #[serde(default, skip_serializing_if = "FemSolver::is_auto")]
     pub fem_solver: FemSolver,
-    /// Directory for automatic meshes (`None`: `$SAWDRIVE_MESH_CACHE` or the system temp dir).
+    /// Directory for automatic meshes (`None`: the mesh folder of the one cache,
+    /// `gmsh_mesh::cache::meshes_dir`).
     /// Not part of the content hash.
     #[serde(skip)]
     pub mesh_cache_dir: Option<PathBuf>,

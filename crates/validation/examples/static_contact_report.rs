@@ -7,7 +7,8 @@
 //! Sections: `single_post`, `stator`, `refinement`, `strip`, `high_preload`, `diameters`, `counts`. Results go to
 //! `validation/static-contact/results/<section>.json` (override the folder with `--out DIR`) and
 //! the force charts of the default scene to `validation/static-contact/figures/`. Meshes are made
-//! with gmsh into the mesh cache (`$SAWDRIVE_MESH_CACHE`, default: the system temp dir).
+//! with gmsh into the mesh cache (`gmsh_mesh::cache::meshes_dir`: `<cache>/meshes`, the cache being
+//! `--cache`, `$SAWDRIVE_CACHE`, `$XDG_CACHE_HOME/sawdrive` or `~/.cache/sawdrive`).
 
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};

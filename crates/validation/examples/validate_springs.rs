@@ -8,7 +8,7 @@
 //! `validation/springs`). `--json` prints the cases array instead of the table. `--smoke` runs
 //! the small pipeline check (coarse meshes; not for conclusions). `--from-json` reloads a
 //! results.json instead of computing (to redraw charts and the table). Meshes are cached in
-//! `$SAWDRIVE_MESH_CACHE` or `target/sawdrive-meshes/`. Exit status 1 if a case fails acceptance.
+//! the cache folder (`gmsh_mesh::cache::meshes_dir`). Exit status 1 if a case fails acceptance.
 
 use std::path::PathBuf;
 
