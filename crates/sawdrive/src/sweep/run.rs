@@ -327,7 +327,12 @@ pub(super) fn prepare<'a>(
         })?;
     }
     let scene_text = match &sweep.scene {
-        Some(path) => std::fs::read_to_string(path).unwrap_or_default(),
+        Some(path) => {
+            crate::scene::read_scene_file(path).map_err(|source| SweepRunError::Scene {
+                overrides: "(the scene file)".into(),
+                source,
+            })?
+        }
         None => crate::scene::DEFAULT_SCENE_TOML.to_owned(),
     };
     let hashes = points
