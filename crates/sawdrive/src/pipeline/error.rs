@@ -30,10 +30,10 @@ pub enum PipelineError {
         tolerance: f64,
     },
     /// Dynamic model.
-    #[error("dynamic stage: {0}")]
+    #[error("dynamic stage: {error}{hint}", error = .0, hint = dynamic_hint(matches!(.0, stick_slip::StickSlipError::NotConverged { .. })))]
     Dynamic(#[from] stick_slip::StickSlipError),
     /// Coupled dynamic model.
-    #[error("dynamic stage (coupled model): {0}")]
+    #[error("dynamic stage (coupled model): {error}{hint}", error = .0, hint = coupled_hint(matches!(.0, coupled_dynamics::CoupledError::NotConverged { .. })))]
     Coupled(#[from] coupled_dynamics::CoupledError),
     /// Writing results.
     #[error(transparent)]
@@ -77,3 +77,42 @@ impl PipelineError {
 /// contact solve, each dynamic curve point): the library crates' hook
 /// ([`stick_slip::ShouldStop`], [`static_contact::ShouldStop`]).
 pub type ShouldStop<'a> = &'a (dyn Fn() -> bool + Sync);
+
+/// The scene keys that set a lumped model's iterations, named when one did not converge.
+fn dynamic_hint(not_converged: bool) -> &'static str {
+    if not_converged {
+        "; the scene keys that set it: model.integrator, model.time_step, model.periods, model.dynamics (e.g. \"periodic-average\")"
+    } else {
+        ""
+    }
+}
+
+/// The scene keys that set the coupled model's contact solves, named when one did not converge.
+fn coupled_hint(not_converged: bool) -> &'static str {
+    if not_converged {
+        "; the scene keys that set it: model.steps_per_period, static.tolerance, model.dynamics (a lumped model)"
+    } else {
+        ""
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_dynamic_model_that_did_not_converge_names_the_scene_keys_that_set_it() {
+        let lumped = PipelineError::Dynamic(stick_slip::StickSlipError::NotConverged {
+            model: "transient",
+            what: "periodic steady state",
+            iterations: 50,
+            residual: 1e-3,
+        });
+        assert!(lumped.to_string().contains("model.time_step"), "{lumped}");
+        let other = PipelineError::Dynamic(stick_slip::StickSlipError::ModelNotApplicable {
+            model: "periodic-average",
+            reason: "a burst".into(),
+        });
+        assert!(!other.to_string().contains("scene keys"), "{other}");
+    }
+}
