@@ -365,9 +365,21 @@ fn validate_springs_smoke_reports_every_spring_as_json() {
     for spring in ["k_pn", "k_pt", "k_sn", "k_st"] {
         let check = checks
             .iter()
-            .find(|c| c["quantity"].as_str().is_some_and(|q| q.starts_with(spring)))
+            .find(|c| {
+                c["quantity"]
+                    .as_str()
+                    .is_some_and(|q| q.starts_with(spring))
+            })
             .unwrap_or_else(|| panic!("check of {spring}"));
-        for key in ["case", "quantity", "value", "reference", "tolerance", "pass", "source"] {
+        for key in [
+            "case",
+            "quantity",
+            "value",
+            "reference",
+            "tolerance",
+            "pass",
+            "source",
+        ] {
             assert!(!check[key].is_null(), "{spring}: key {key}");
         }
         assert_eq!(check["case"], "springs");

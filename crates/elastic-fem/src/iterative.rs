@@ -124,18 +124,17 @@ pub fn check_null_space_of(
     if n == 0 || modes.len() != n {
         return Ok(());
     }
-    if d.iter().any(|&v| !(v > 0.0)) {
+    if d.iter().any(|&v| v.is_nan() || v <= 0.0) {
         // A zero or negative diagonal entry: the unknown has no stiffness at all (or the matrix
         // is indefinite); the unit vector there is a null (or negative) direction.
-        let i = d.iter().position(|&v| !(v > 0.0)).unwrap_or(0);
+        let i = d.iter().position(|&v| v.is_nan() || v <= 0.0).unwrap_or(0);
         return Err(FemError::SingularSystem {
             ratio: d[i],
             tolerance: NULL_SPACE_TOLERANCE,
         });
     }
-    let d_dot = |x: &[f64], y: &[f64]| -> f64 {
-        x.iter().zip(y).zip(d).map(|((a, b), w)| a * b * w).sum()
-    };
+    let d_dot =
+        |x: &[f64], y: &[f64]| -> f64 { x.iter().zip(y).zip(d).map(|((a, b), w)| a * b * w).sum() };
     // Modified Gram–Schmidt in the D inner product.
     let mut basis: Vec<Vec<f64>> = Vec::with_capacity(6);
     for k in 0..6 {
@@ -168,7 +167,7 @@ pub fn check_null_space_of(
     }
     let h = 0.5 * (&h + h.transpose());
     let smallest = h.symmetric_eigenvalues().min();
-    if !(smallest > NULL_SPACE_TOLERANCE) {
+    if smallest.is_nan() || smallest <= NULL_SPACE_TOLERANCE {
         return Err(FemError::SingularSystem {
             ratio: smallest,
             tolerance: NULL_SPACE_TOLERANCE,

@@ -13,9 +13,8 @@ use elastic_fem::iterative::{CoarseSolver, IterativeSolver, NULL_SPACE_TOLERANCE
 use elastic_fem::mesh_gen::{BoxFace, BoxMesh};
 use elastic_fem::sparse::{FactorOptions, SymbolicCholesky};
 use elastic_fem::{
-    Constraints, Dirichlet, DofMap, FemError, IterativeOptions, Model, ReducedSystem,
-    SolverMethod, SolverOptions, StaticProblem, StiffnessPattern, assemble_stiffness,
-    solve_static,
+    Constraints, Dirichlet, DofMap, FemError, IterativeOptions, Model, ReducedSystem, SolverMethod,
+    SolverOptions, StaticProblem, StiffnessPattern, assemble_stiffness, solve_static,
 };
 
 /// The floating block: only u_z = −1 µm on the bottom face.
@@ -120,7 +119,10 @@ fn iterative_solver_refuses_a_floating_tet10_body_with_either_coarse_solve() {
                 ..SolverOptions::default()
             },
         );
-        assert_singular(result, &format!("p-multigrid, coarse {}", coarse_solver.name()));
+        assert_singular(
+            result,
+            &format!("p-multigrid, coarse {}", coarse_solver.name()),
+        );
     }
 }
 

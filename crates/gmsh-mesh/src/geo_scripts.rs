@@ -35,7 +35,11 @@ pub fn path(name: &str) -> std::io::Result<PathBuf> {
             std::io::ErrorKind::NotFound,
             format!(
                 "no embedded gmsh script `{name}` (known: {})",
-                SCRIPTS.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
+                SCRIPTS
+                    .iter()
+                    .map(|(n, _)| *n)
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ),
         )
     })?;

@@ -28,7 +28,8 @@ fn binary_holds_no_path_of_the_checkouts_crates_folder() {
         .position(|w| w == needle)
         .map(|at| String::from_utf8_lossy(&binary[at..(at + 200).min(binary.len())]).into_owned());
     assert_eq!(
-        found, None,
+        found,
+        None,
         "the binary names the checkout's crates folder {}",
         checkout_crates().display()
     );
@@ -109,14 +110,20 @@ impl Relocated {
 fn copied_binary_meshes_and_validates_from_an_empty_folder_into_its_cache() {
     let r = Relocated::new();
     // A meshed static run: the embedded slider-strip.geo and the mesh go to the XDG cache.
-    r.run(&["static", "scene.toml", "--no-cache", "--out", "out"], true);
+    r.run(
+        &["static", "scene.toml", "--no-cache", "--out", "out"],
+        true,
+    );
     assert!(
-        r.files("xdg/sawdrive/geo").contains(&"slider-strip.geo".into()),
+        r.files("xdg/sawdrive/geo")
+            .contains(&"slider-strip.geo".into()),
         "embedded gmsh script written into the cache: {:?}",
         r.files("xdg/sawdrive/geo")
     );
     assert!(
-        r.files("xdg/sawdrive/meshes").iter().any(|f| f.ends_with(".msh")),
+        r.files("xdg/sawdrive/meshes")
+            .iter()
+            .any(|f| f.ends_with(".msh")),
         "strip mesh in $XDG_CACHE_HOME/sawdrive/meshes: {:?}",
         r.files("xdg/sawdrive/meshes")
     );
@@ -128,19 +135,34 @@ fn copied_binary_meshes_and_validates_from_an_empty_folder_into_its_cache() {
         "{json}"
     );
     assert!(
-        r.files("xdg/sawdrive/meshes").iter().any(|f| f.starts_with("punch-")),
+        r.files("xdg/sawdrive/meshes")
+            .iter()
+            .any(|f| f.starts_with("punch-")),
         "punch meshes in the XDG cache"
     );
     // Without XDG_CACHE_HOME: $HOME/.cache/sawdrive.
-    r.run(&["static", "scene.toml", "--no-cache", "--out", "out2"], false);
+    r.run(
+        &["static", "scene.toml", "--no-cache", "--out", "out2"],
+        false,
+    );
     assert!(
-        r.files("home/.cache/sawdrive/meshes").iter().any(|f| f.ends_with(".msh")),
+        r.files("home/.cache/sawdrive/meshes")
+            .iter()
+            .any(|f| f.ends_with(".msh")),
         "strip mesh in $HOME/.cache/sawdrive/meshes"
     );
     // --cache overrides both.
     let flag = r.path("flag");
     r.run(
-        &["--cache", flag.to_str().unwrap(), "static", "scene.toml", "--no-cache", "--out", "out3"],
+        &[
+            "--cache",
+            flag.to_str().unwrap(),
+            "static",
+            "scene.toml",
+            "--no-cache",
+            "--out",
+            "out3",
+        ],
         true,
     );
     assert!(

@@ -317,7 +317,8 @@ fn cached_mesh_problem(path: &Path) -> Option<String> {
 /// geometry script and the gmsh parameters. `None` when the run uses a given mesh file or a
 /// committed mesh (no meshing). Callers that mesh concurrently lock per file name.
 pub fn cached_mesh_path(params: &StaticParams) -> Option<PathBuf> {
-    let automatic = !matches!(params.mesh, MeshChoice::File(_)) && committed_match(params).is_none();
+    let automatic =
+        !matches!(params.mesh, MeshChoice::File(_)) && committed_match(params).is_none();
     automatic.then(|| automatic_mesh_path(params))
 }
 

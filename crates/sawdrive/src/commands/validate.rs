@@ -19,9 +19,9 @@ pub const DEFAULT_OUT: &str = "out/validation";
 pub fn run(args: &ValidateArgs) -> anyhow::Result<()> {
     if args.list {
         for c in CASES {
-            let note = c
-                .regenerate
-                .map_or(String::new(), |r| format!(" [checks not yet ported; today: {r}]"));
+            let note = c.regenerate.map_or(String::new(), |r| {
+                format!(" [checks not yet ported; today: {r}]")
+            });
             println!("{:<17} {}{note}", c.name, c.description);
         }
         return Ok(());
@@ -66,7 +66,11 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<()> {
     if args.json {
         println!("{}", cases::checks_json(&outcomes));
     }
-    let failed: Vec<_> = outcomes.iter().flat_map(|o| &o.checks).filter(|c| !c.pass).collect();
+    let failed: Vec<_> = outcomes
+        .iter()
+        .flat_map(|o| &o.checks)
+        .filter(|c| !c.pass)
+        .collect();
     if let Some(first) = failed.first() {
         bail!(
             "validation check failed{}: {}",
@@ -136,10 +140,7 @@ fn run_case(
             let report = run_validation(&stick_slip_setup(level)?, &out.join("figures"))?;
             let results = out.join("results");
             std::fs::create_dir_all(&results)?;
-            std::fs::rename(
-                out.join("figures/report.json"),
-                results.join("report.json"),
-            )?;
+            std::fs::rename(out.join("figures/report.json"), results.join("report.json"))?;
             Ok(outcome(cases::stick_slip::checks(&report, level)))
         }
         "design" => Ok(outcome(cases::design::run(level)?)),
@@ -223,7 +224,10 @@ mod tests {
         assert_eq!(a.level, "full");
         assert_eq!(a.summary, None);
         let a = args(&["all", "--level", "smoke", "--summary"]);
-        assert_eq!(a.summary.as_deref(), Some(Path::new("validation/SUMMARY.md")));
+        assert_eq!(
+            a.summary.as_deref(),
+            Some(Path::new("validation/SUMMARY.md"))
+        );
         assert!(args(&["--list"]).list);
     }
 }

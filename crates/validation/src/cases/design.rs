@@ -114,7 +114,8 @@ pub fn run(level: Level) -> Result<Vec<Check>, ValidationError> {
         ));
     }
 
-    let integer = |x: &[f64]| -> Result<Outcome, String> { Ok(outcome(-(x[0] - 7.3).powi(2), None)) };
+    let integer =
+        |x: &[f64]| -> Result<Outcome, String> { Ok(outcome(-(x[0] - 7.3).powi(2), None)) };
     let r = optimise(
         &[variable("n", 1.0, 20.0, true)],
         &maximise,

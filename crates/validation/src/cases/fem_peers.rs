@@ -18,9 +18,8 @@ pub fn missing_peers() -> Vec<&'static str> {
             .is_ok_and(|s| s.success())
     };
     let on_path = |program: &str| {
-        std::env::var_os("PATH").is_some_and(|path| {
-            std::env::split_paths(&path).any(|dir| dir.join(program).is_file())
-        })
+        std::env::var_os("PATH")
+            .is_some_and(|path| std::env::split_paths(&path).any(|dir| dir.join(program).is_file()))
     };
     let mut missing = Vec::new();
     if !on_path("ccx") {

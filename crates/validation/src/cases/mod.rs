@@ -220,17 +220,23 @@ pub const CASES: &[CaseInfo] = &[
     CaseInfo {
         name: "whole-slider",
         description: "whole-slider static contact: mechanisms, eta against scatter, post force maps",
-        regenerate: Some("cargo run -p slider-contact --profile test --example study -- validation/whole-slider/results"),
+        regenerate: Some(
+            "cargo run -p slider-contact --profile test --example study -- validation/whole-slider/results",
+        ),
     },
     CaseInfo {
         name: "coupled-dynamics",
         description: "coupled slider dynamics: work-precision of the coupled integrator, whole-row comparison",
-        regenerate: Some("cargo test -p coupled-dynamics --test study -- --ignored --nocapture --test-threads 1"),
+        regenerate: Some(
+            "cargo test -p coupled-dynamics --test study -- --ignored --nocapture --test-threads 1",
+        ),
     },
     CaseInfo {
         name: "paper-figures",
         description: "the paper's figures 7-12: stall thrust and no-load speed against preload, post count, diameter",
-        regenerate: Some("sawdrive sweep validation/paper-figures/<figure>.toml --out out (validation/paper-figures/README.md)"),
+        regenerate: Some(
+            "sawdrive sweep validation/paper-figures/<figure>.toml --out out (validation/paper-figures/README.md)",
+        ),
     },
     CaseInfo {
         name: "design",
@@ -312,7 +318,12 @@ pub fn summary_markdown(outcomes: &[CaseOutcome], commit: &str) -> String {
         outcomes.iter().filter(|o| o.skipped.is_some()).count()
     );
     for o in outcomes {
-        s += &format!("## {} ({} level, {:.0} s)\n\n", o.case, o.level.name(), o.wall_s);
+        s += &format!(
+            "## {} ({} level, {:.0} s)\n\n",
+            o.case,
+            o.level.name(),
+            o.wall_s
+        );
         if let Some(reason) = &o.skipped {
             s += &format!("Skipped: {reason}\n\n");
             continue;

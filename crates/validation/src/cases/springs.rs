@@ -137,8 +137,16 @@ pub fn checks(study: &SpringsValidation, level: Level) -> Vec<Check> {
         }
     }
     if let (Some(t10), Some(t4)) = (
-        study.work_precision.iter().filter(|p| p.order == 2).max_by_key(|p| p.level),
-        study.work_precision.iter().filter(|p| p.order == 1).max_by_key(|p| p.level),
+        study
+            .work_precision
+            .iter()
+            .filter(|p| p.order == 2)
+            .max_by_key(|p| p.level),
+        study
+            .work_precision
+            .iter()
+            .filter(|p| p.order == 1)
+            .max_by_key(|p| p.level),
     ) {
         checks.push(Check::at_most(
             CASE,
@@ -232,14 +240,14 @@ fn solver_paths(options: &SpringsOptions) -> Result<Check, ValidationError> {
     );
     let mesh = PunchMesh::read(&options.cache.punch_mesh(&parameters)?)?;
     let assembled = AssembledPunch::new(&mesh, &material)?;
-    let solve = |method| -> Result<_, ValidationError> {
-        Ok(assembled.solve(
+    let solve = |method| {
+        assembled.solve(
             Spring::FrictionlessNormal,
             &PunchSolveOptions {
                 method,
                 ..options.solve
             },
-        )?)
+        )
     };
     let direct = solve(elastic_fem::SolverMethod::Direct)?;
     let iterative = solve(elastic_fem::SolverMethod::Iterative)?;

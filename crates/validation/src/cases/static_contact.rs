@@ -115,11 +115,14 @@ pub fn run(level: Level, out: &Path) -> Result<Vec<Check>, ValidationError> {
         path: path.clone(),
         source,
     })?;
-    std::fs::write(&path, serde_json::to_string_pretty(&json).unwrap_or_default() + "\n")
-        .map_err(|source| ValidationError::Io {
-            path: path.clone(),
-            source,
-        })?;
+    std::fs::write(
+        &path,
+        serde_json::to_string_pretty(&json).unwrap_or_default() + "\n",
+    )
+    .map_err(|source| ValidationError::Io {
+        path: path.clone(),
+        source,
+    })?;
     let source = "Johnson springs k_pn, k_sn (docs/physics.md §3); clamped far field 2a/(πR)";
     let mut checks = Vec::new();
     let (first, last) = (rows[0], rows[rows.len() - 1]);
