@@ -127,6 +127,14 @@ fn counts_and_steps_that_would_abort_or_mislead_are_refused_by_key() {
         (vec!["slider.bow=\"1 m\""], "slider.bow"),
         (vec!["friction.static=1e300"], "friction.static"),
         (vec!["wave.decay_length=\"1 nm\""], "wave.decay_length"),
+        (
+            vec![
+                "model.dynamics=coupled",
+                "model.steps_per_period=1000000000",
+            ],
+            "model.steps_per_period",
+        ),
+        (vec!["model.curve_points=1000000000"], "model.curve_points"),
     ] {
         let root = tempfile::tempdir().unwrap();
         let before = sentinels(root.path());
@@ -182,7 +190,85 @@ fn a_scatter_spread_beyond_the_models_range_is_refused() {
         ("scatter.friction=1e300", "scatter.friction"),
         ("scatter.bow=\"1 m\"", "scatter.bow"),
     ] {
-        let args = ["uq", "--samples", "4", "--set", set, "--out", out.to_str().unwrap()];
+        let args = [
+            "uq",
+            "--samples",
+            "4",
+            "--set",
+            set,
+            "--out",
+            out.to_str().unwrap(),
+        ];
         refused_and_untouched(root.path(), &before, &args, key);
+    }
+}
+
+#[test]
+fn height_map_heights_beyond_the_post_height_are_refused_naming_the_post() {
+    let root = tempfile::tempdir().unwrap();
+    let map = root.path().join("heights.csv");
+    let mut csv = String::from("row,column,height_m\n");
+    for row in 0..10 {
+        for column in 0..10 {
+            let h = if (row, column) == (3, 4) { 1.0 } else { 0.0 };
+            csv.push_str(&format!("{row},{column},{h}\n"));
+        }
+    }
+    std::fs::write(&map, csv).unwrap();
+    let before = sentinels(root.path());
+    let out = root.path().join("out");
+    let set = format!("posts.height_map={:?}", map.to_str().unwrap());
+    let scene = small_scene();
+    let args = [
+        "run",
+        scene.as_str(),
+        "--out",
+        out.to_str().unwrap(),
+        "--set",
+        "static.model=slider",
+        "--set",
+        &set,
+    ];
+    let stderr = sawdrive_err(&args, "posts.height_map");
+    assert!(stderr.contains("beyond"), "{stderr}");
+    assert_eq!(listing(root.path()), before, "nothing written");
+}
+
+#[test]
+fn design_settings_that_would_be_ignored_are_refused() {
+    let root = tempfile::tempdir().unwrap();
+    for (extra, needle) in [
+        ("quantile = 0.1\n", "quantile"),
+        ("samples = 4\ncheap_samples = 8\n", "cheap_samples"),
+        (
+            "[optimiser]\npresearch_points = 1000000000\n",
+            "optimiser.presearch_points",
+        ),
+    ] {
+        let design = root.path().join("d.toml");
+        let (top, table) = extra
+            .split_once("[optimiser]")
+            .map_or((extra, ""), |(a, b)| (a, b));
+        let optimiser = if table.is_empty() {
+            String::new()
+        } else {
+            format!("[optimiser]{table}")
+        };
+        std::fs::write(
+            &design,
+            format!("name = \"d\"\n{top}[variables]\npreload = [\"10 N\", \"100 N\"]\n{optimiser}"),
+        )
+        .unwrap();
+        let out = root.path().join("out");
+        sawdrive_err(
+            &[
+                "design",
+                design.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            needle,
+        );
+        assert!(!out.exists(), "nothing written for {needle}");
     }
 }

@@ -20,13 +20,15 @@ points it saved are kept for a rerun, as the command line's); :func:`static`, :f
 and :func:`run` stop before their next contact solve or speed–thrust curve point (transient
 run). Not interrupted, and finished in the background first: an FEM factorisation (seconds for
 the default strip), a gmsh mesh generation, the whole slider's static solve, the coupled dynamic
-model; :func:`uq` and :func:`design` finish in the background and commit their complete results
-folder. Errors are
+model; :func:`uq` finishes its samples in the background (saved for a rerun) and commits
+nothing; :func:`design` finishes in the background and commits its complete results folder.
+Errors are
 :mod:`sawdrive.errors` exceptions with the command line's one-line messages.
 """
 
 from __future__ import annotations
 
+import atexit
 import math
 import numbers
 import os
@@ -36,6 +38,10 @@ from typing import Any, Dict, Iterator, List, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from . import _native
+
+# Calls interrupted with Ctrl-C finish in the background; if the interpreter exits first, their
+# scratch folders (``OUT/.sawdrive-python-*``) are removed here.
+atexit.register(_native.remove_scratch_folders)
 from ._progress import ProgressArg, attached as _attached, callback
 from .errors import (
     ArgumentError,
@@ -569,8 +575,8 @@ def uq(
     ``seed``: same seed, same bits. ``patch``: the cheaper periodic-patch contact model.
     Samples are saved as they finish, so a rerun after an interrupt resumes.
 
-    Ctrl-C: the library has no cancellation point in a UQ yet; it finishes in the background
-    and then commits its complete results folder.
+    Ctrl-C: raises at once; the samples still finish in the background and are saved (a rerun
+    resumes them), but the results folder is never committed by an interrupted call.
     """
     if isinstance(samples, bool) or not isinstance(samples, numbers.Integral) or samples < 1:
         raise ArgumentError(f"--samples {samples!r}: must be ≥ 1")

@@ -353,9 +353,48 @@ fn run<'py>(
     )))
 }
 
+/// Scratch folders of calls still running (their work may go on in the background after an
+/// interrupt). [`remove_scratch_folders`] removes them when the interpreter exits, which would
+/// otherwise end the background work before it drops them.
+static LIVE_SCRATCH: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+/// A scratch folder, removed when dropped and, if the interpreter exits first, at exit.
+struct Scratch(tempfile::TempDir);
+
+impl Scratch {
+    fn new(dir: tempfile::TempDir) -> Self {
+        if let Ok(mut live) = LIVE_SCRATCH.lock() {
+            live.push(dir.path().to_owned());
+        }
+        Self(dir)
+    }
+
+    fn path(&self) -> &Path {
+        self.0.path()
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        if let Ok(mut live) = LIVE_SCRATCH.lock() {
+            live.retain(|p| p != self.0.path());
+        }
+    }
+}
+
+/// Remove the scratch folders of calls still running (registered with `atexit` by the Python
+/// package, so that an interrupted call leaves no folder behind when the interpreter exits).
+#[pyfunction]
+fn remove_scratch_folders() {
+    let live = LIVE_SCRATCH.lock().map(|mut l| std::mem::take(&mut *l)).unwrap_or_default();
+    for path in live {
+        let _ = std::fs::remove_dir_all(path);
+    }
+}
+
 /// A hidden temporary folder inside `out` (same file system, so the results move by rename),
 /// or in the system's temporary folder without `out`. Removed when dropped.
-fn scratch_folder(out: Option<&Path>) -> Result<tempfile::TempDir, Failure> {
+fn scratch_folder(out: Option<&Path>) -> Result<Scratch, Failure> {
     let io = |e: std::io::Error, what: &Path| {
         Failure::text(
             Kind::Pipeline,
@@ -368,11 +407,13 @@ fn scratch_folder(out: Option<&Path>) -> Result<tempfile::TempDir, Failure> {
             tempfile::Builder::new()
                 .prefix(".sawdrive-python-")
                 .tempdir_in(out)
+                .map(Scratch::new)
                 .map_err(|e| io(e, out))
         }
         None => tempfile::Builder::new()
             .prefix("sawdrive-python-")
             .tempdir()
+            .map(Scratch::new)
             .map_err(|e| io(e, &std::env::temp_dir())),
     }
 }
@@ -380,8 +421,9 @@ fn scratch_folder(out: Option<&Path>) -> Result<tempfile::TempDir, Failure> {
 /// Move the finished results folder `from` over `destination` with the library's staged swap.
 fn publish(from: &Path, destination: &Path) -> Result<String, Failure> {
     let staged = StagedDir::create(destination, ResultKind::Run)?;
+    // The fresh staging folder holds only its marker; `from`, a committed run result, has its own.
     let move_in =
-        std::fs::remove_dir(staged.path()).and_then(|()| std::fs::rename(from, staged.path()));
+        std::fs::remove_dir_all(staged.path()).and_then(|()| std::fs::rename(from, staged.path()));
     move_in.map_err(|e| {
         Failure::text(
             Kind::Pipeline,
@@ -438,6 +480,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run, m)?)?;
     studies::register(m)?;
     m.add_function(wrap_pyfunction!(time_rust_dynamic, m)?)?;
+    m.add_function(wrap_pyfunction!(remove_scratch_folders, m)?)?;
     m.add("DYNAMIC_MODEL_VERSION", sawdrive::DYNAMIC_MODEL_VERSION)?;
     Ok(())
 }

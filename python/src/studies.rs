@@ -4,8 +4,9 @@
 //! Cancellation: a sweep stops before its next point after an interrupt (the points saved so
 //! far are kept for a rerun; `results.csv` and the charts are not written). UQ and design have
 //! no cancellation point in the library yet: after an interrupt they run to their end in the
-//! background, and since `run_uq`/`run_design` commit their own results folder, that folder
-//! then appears complete (never half-written). UQ samples saved so far let a rerun resume.
+//! background. A UQ's results folder is committed here, on the calling thread, so an
+//! interrupted UQ commits nothing (its saved samples let a rerun resume); `run_design` still
+//! commits its own folder, which then appears complete (never half-written).
 
 use std::path::{Path, PathBuf};
 
@@ -13,7 +14,7 @@ use pyo3::prelude::*;
 use sawdrive::design::motor::Fidelity;
 use sawdrive::design::scatter::{ScatterSpec, UqInputError, load_uq_inputs};
 use sawdrive::design::study::{DesignSpec, run_design};
-use sawdrive::design::uq::{UqOptions, run_uq};
+use sawdrive::design::uq::{UqOptions, run_uq_staged};
 use sawdrive::scene::Scene;
 use sawdrive::sweep::{SweepFile, run_sweep_cancellable};
 use serde_json::json;
@@ -98,12 +99,13 @@ fn uq<'py>(
         },
         write_files: true,
     };
-    let value = worker::run(py, progress, None, move |_| {
-        let (report, folder) = run_uq(&scene, &scatter, &options)?;
-        let mut value = serde_json::to_value(&report)?;
-        value["folder"] = json!(folder.display().to_string());
-        Ok(value)
+    // The folder is committed here, on the calling thread: an interrupted call commits nothing.
+    let (mut value, staged) = worker::run(py, progress, None, move |_| {
+        let (report, staged) = run_uq_staged(&scene, &scatter, &options)?;
+        Ok((serde_json::to_value(&report)?, staged))
     })?;
+    let folder = staged.commit().map_err(|e| Failure::from(e).into_pyerr(py))?;
+    value["folder"] = json!(folder.display().to_string());
     convert::to_py(py, &value)
 }
 

@@ -3,6 +3,8 @@
 import json
 import os
 import signal
+import subprocess
+import sys
 import threading
 import time
 from pathlib import Path
@@ -145,6 +147,26 @@ def test_interrupted_run_keeps_the_earlier_results(tmp_path):
     wait_for_scratch_to_go(out)
     assert Path(first.folder, "summary.json").read_bytes() == before, "earlier results untouched"
     assert sorted(p.name for p in out.iterdir()) == ["small-strip"], "no half-written folder"
+
+
+def test_an_interrupted_run_leaves_no_scratch_folder_when_the_interpreter_exits(tmp_path):
+    # The interpreter exits right after the interrupt, before the background stage has ended
+    # (20000 periods: seconds of work): the folder is removed at exit, not left behind.
+    out = tmp_path / "out"
+    code = f"""
+import sawdrive
+scene = sawdrive.Scene.load({str(SMALL_SCENE)!r}).set("effective_ratio", {ETA})
+scene = scene.set("model.dynamics", "transient").set("model.periods", 20000)
+def interrupt(elapsed_s, done, total):
+    raise KeyboardInterrupt
+try:
+    sawdrive.run(scene, out={str(out)!r}, cache=False, progress=interrupt)
+except KeyboardInterrupt:
+    pass
+"""
+    subprocess.run([sys.executable, "-c", code], check=True, timeout=300, cwd=tmp_path)
+    assert out.is_dir(), "the call made its scratch folder in OUT"
+    assert not any(p.name.startswith(".sawdrive-python-") for p in out.iterdir()), "no litter"
 
 
 def test_an_interrupt_stops_the_dynamic_stage_instead_of_finishing_it_in_the_background(tmp_path):

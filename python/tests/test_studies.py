@@ -2,6 +2,7 @@
 on tiny inputs (4 samples of a 10 × 10 slider; a 3-point design search)."""
 
 import json
+import time
 
 import numpy as np
 import pytest
@@ -67,6 +68,7 @@ def test_uq_frames_hold_every_sample_and_band(tmp_path):
     "kwargs, named",
     [
         ({"samples": 0}, "--samples"),
+        ({"samples": 2**32}, "--samples"),
         ({"samples": 2, "scatter": {"heigth_scatter": "5 nm"}}, "heigth_scatter"),
         ({"samples": 2, "scatter": {"height_scatter": "5 parsec"}}, "height_scatter"),
     ],
@@ -98,3 +100,19 @@ def test_bad_design_file_is_a_value_error_naming_the_key(tmp_path):
         sawdrive.design(file, out=tmp_path / "out", progress=False)
     assert "variables.preload" in str(error.value)
     assert not (tmp_path / "out").exists()
+
+
+def test_an_interrupted_uq_commits_no_results_folder(tmp_path):
+    def interrupt(elapsed_s, done, total):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        sawdrive.uq(small_scene(), scatter=SCATTER, samples=64, out=tmp_path, progress=interrupt)
+    # The samples finish in the background (saved for a rerun); the staged folder is dropped.
+    deadline = time.monotonic() + 300
+    while any(".staging-" in p.name for p in tmp_path.iterdir()):
+        assert time.monotonic() < deadline, "the background UQ ended"
+        time.sleep(0.2)
+    assert not (tmp_path / "paper-motor-uq").exists(), "an interrupted call commits nothing"
+    again = sawdrive.uq(small_scene(), scatter=SCATTER, samples=64, out=tmp_path, progress=False)
+    assert again.data["resumed_samples"] == 64, "the samples computed in the background are kept"

@@ -197,11 +197,30 @@ impl Default for OptimiserSettings {
     }
 }
 
+/// Most evaluations any one count of the search may ask for (pre-search points, starts ×
+/// evaluations per start, finalists, refinement): each evaluation is a pipeline run of
+/// milliseconds to seconds, so 10^5 is already days of work.
+pub const MAX_EVALUATIONS: usize = 100_000;
+
 impl OptimiserSettings {
     /// Checks the settings; errors name `optimiser.<field>`.
     pub fn validate(&self) -> Result<()> {
         if self.presearch_points == 0 {
             return Err(invalid("optimiser.presearch_points", "must be ≥ 1"));
+        }
+        let starts_total = self.starts.saturating_mul(self.max_evaluations_per_start);
+        for (field, n) in [
+            ("optimiser.presearch_points", self.presearch_points),
+            ("optimiser.starts × max_evaluations_per_start", starts_total),
+            ("optimiser.finalists", self.finalists),
+            ("optimiser.refine_evaluations", self.refine_evaluations),
+        ] {
+            if n > MAX_EVALUATIONS {
+                return Err(invalid(
+                    field,
+                    format!("{n} evaluations is more than the {MAX_EVALUATIONS} accepted"),
+                ));
+            }
         }
         if self.finalists == 0 {
             return Err(invalid("optimiser.finalists", "must be ≥ 1"));
@@ -734,6 +753,31 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn evaluation_counts_beyond_the_bound_are_refused_before_any_search() {
+        for settings in [
+            OptimiserSettings {
+                presearch_points: 1_000_000_000,
+                ..Default::default()
+            },
+            OptimiserSettings {
+                starts: usize::MAX,
+                ..Default::default()
+            },
+            OptimiserSettings {
+                finalists: MAX_EVALUATIONS + 1,
+                ..Default::default()
+            },
+        ] {
+            let err = settings.validate().unwrap_err().to_string();
+            assert!(
+                err.contains("optimiser.") && err.contains("100000"),
+                "{err}"
+            );
+        }
+        assert!(OptimiserSettings::default().validate().is_ok());
+    }
 
     fn var(name: &str, lower: f64, upper: f64) -> Variable {
         Variable {

@@ -38,8 +38,35 @@ pub const MAX_MSH_FILE_BYTES: u64 = 2 << 30;
 /// Read the MSH 4.1 file at `path` (ASCII or binary).
 pub fn read_msh_with(path: impl AsRef<Path>, options: &ReadOptions) -> Result<TetMesh> {
     let path = path.as_ref();
+    check_head(path, options)?;
     let bytes = read_file_bounded(path, MAX_MSH_FILE_BYTES)?;
     parse_msh(&bytes, &path.display().to_string(), options)
+}
+
+/// Bytes read first to tell an MSH file (whose first non-blank byte starts a `$Section` tag)
+/// from anything else before the whole file is read.
+const HEAD_BYTES: u64 = 4096;
+
+/// Refuse a file that does not start like an MSH file after reading only its first
+/// [`HEAD_BYTES`], with the error the full parse would give there (a large file that is not a
+/// mesh is not read whole).
+fn check_head(path: &Path, options: &ReadOptions) -> Result<()> {
+    use std::io::Read;
+    let Ok(meta) = std::fs::metadata(path) else {
+        return Ok(()); // the bounded read names the error
+    };
+    if !meta.is_file() || meta.len() <= HEAD_BYTES {
+        return Ok(());
+    }
+    let mut head = Vec::new();
+    let read = std::fs::File::open(path).and_then(|f| f.take(HEAD_BYTES).read_to_end(&mut head));
+    if read.is_err() {
+        return Ok(());
+    }
+    match head.iter().find(|b| !b.is_ascii_whitespace()) {
+        Some(b'$') | None => Ok(()),
+        Some(_) => parse_msh(&head, &path.display().to_string(), options).map(drop),
+    }
 }
 
 /// The bytes of the regular file at `path`, refusing anything that is not a regular file

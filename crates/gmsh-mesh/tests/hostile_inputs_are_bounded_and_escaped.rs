@@ -79,3 +79,26 @@ fn physical_names_with_escape_bytes_are_escaped_in_errors_and_in_mesh_info() {
     let info = mesh_info(&path).expect("mesh info").to_string();
     assert_escaped(&info);
 }
+
+/// Peak resident memory of this process (kB), from /proc (Linux).
+fn peak_rss_kb() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    line.split_whitespace().nth(1)?.parse().ok()
+}
+
+#[test]
+fn a_large_file_that_is_not_a_mesh_is_refused_from_its_first_bytes() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("disk.img");
+    let file = std::fs::File::create(&path).expect("file");
+    std::fs::write(&path, b"not a mesh").expect("head");
+    // 1.5 GiB, sparse: reading it whole would raise the peak memory by as much.
+    file.set_len(3 << 29).expect("sparse length");
+    let before = peak_rss_kb();
+    let err = read_msh(&path).expect_err("not a mesh");
+    assert!(err.to_string().contains("$MeshFormat"), "names what an MSH file starts with: {err}");
+    if let (Some(before), Some(after)) = (before, peak_rss_kb()) {
+        assert!(after - before < 100_000, "read only the head: peak memory grew by {} kB", after - before);
+    }
+}

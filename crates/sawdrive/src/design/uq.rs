@@ -257,6 +257,19 @@ pub fn run_uq(
     scatter: &ScatterSpec,
     options: &UqOptions,
 ) -> Result<(UqReport, PathBuf), PipelineError> {
+    let (report, staged) = run_uq_staged(scene, scatter, options)?;
+    Ok((report, staged.commit()?))
+}
+
+/// [`run_uq`] up to the commit: the report and its complete results folder, still staged. A
+/// caller that may be interrupted (the Python package) commits it itself, so that an
+/// interrupted call commits nothing; dropped, the staged folder is removed. The samples are
+/// saved for resume either way.
+pub fn run_uq_staged(
+    scene: &Scene,
+    scatter: &ScatterSpec,
+    options: &UqOptions,
+) -> Result<(UqReport, StagedDir), PipelineError> {
     let start = Instant::now();
     check_samples(options.samples).map_err(|message| PipelineError::Unsupported {
         stage: "uq",
@@ -412,8 +425,7 @@ pub fn run_uq(
     report.files.push("summary.json".into());
     report.wall_time_s = start.elapsed().as_secs_f64();
     staged.write("summary.json", serde_json::to_vec_pretty(&report)?)?;
-    let folder = staged.commit()?;
-    Ok((report, folder))
+    Ok((report, staged))
 }
 
 fn samples_csv(report: &UqReport, records: &[SampleRecord]) -> String {
