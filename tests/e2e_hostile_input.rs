@@ -272,3 +272,70 @@ fn design_settings_that_would_be_ignored_are_refused() {
         assert!(!out.exists(), "nothing written for {needle}");
     }
 }
+
+#[cfg(target_os = "linux")]
+#[test]
+fn a_gmsh_child_dies_with_a_killed_sawdrive() {
+    use std::os::unix::fs::PermissionsExt;
+    let root = tempfile::tempdir().unwrap();
+    let pid_file = root.path().join("gmsh.pid");
+    let fake = root.path().join("gmsh");
+    // A gmsh that never finishes: it records its PID and sleeps.
+    std::fs::write(
+        &fake,
+        format!(
+            "#!/bin/sh\necho $$ > {}\nexec sleep 120\n",
+            pid_file.display()
+        ),
+    )
+    .unwrap();
+    std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let mut sawdrive = std::process::Command::new(env!("CARGO_BIN_EXE_sawdrive"))
+        .args(["static", "--out"])
+        .arg(root.path().join("out"))
+        .arg("--cache")
+        .arg(root.path().join("cache"))
+        .args(["--set", "posts.count=12x12", "--set", "posts.array=0.48mm"])
+        .args([
+            "--set",
+            "slider.length=0.5mm",
+            "--set",
+            "slider.width=0.5mm",
+        ])
+        .env("GMSH", &fake)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+    let pid = loop {
+        if let Some(pid) = std::fs::read_to_string(&pid_file)
+            .ok()
+            .and_then(|t| t.trim().parse::<u32>().ok())
+        {
+            break pid;
+        }
+        assert!(
+            std::time::Instant::now() < deadline,
+            "sawdrive started gmsh"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    sawdrive.kill().unwrap();
+    sawdrive.wait().unwrap();
+    let proc = std::path::PathBuf::from(format!("/proc/{pid}"));
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(10);
+    // A killed child may linger as a zombie until reaped by init: check its state, not its entry.
+    let alive = || {
+        std::fs::read_to_string(proc.join("stat"))
+            .ok()
+            .is_some_and(|s| !s.split(") ").nth(1).is_some_and(|r| r.starts_with('Z')))
+    };
+    while alive() {
+        assert!(
+            std::time::Instant::now() < deadline,
+            "gmsh {pid} still runs after sawdrive was killed"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+}

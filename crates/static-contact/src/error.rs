@@ -17,7 +17,7 @@ pub enum ContactError {
         reason: String,
     },
     /// The mesh could not be read, or lacks a group the scene needs.
-    #[error("mesh {file}: {source}")]
+    #[error("{}", mesh_message(file, source))]
     Mesh {
         /// Mesh file.
         file: String,
@@ -126,3 +126,33 @@ pub enum ContactError {
 
 /// Result alias of the crate.
 pub type Result<T> = std::result::Result<T, ContactError>;
+
+/// "mesh FILE: error", without repeating the file where the reader's error already starts
+/// with it.
+fn mesh_message(file: &str, source: &gmsh_mesh::MeshError) -> String {
+    let message = source.to_string();
+    if message.starts_with(file) {
+        format!("mesh {message}")
+    } else {
+        format!("mesh {file}: {message}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_mesh_error_names_its_file_once() {
+        let source = gmsh_mesh::MeshError::Io {
+            path: "/x.msh".into(),
+            action: "reading".into(),
+            source: std::io::Error::from(std::io::ErrorKind::NotFound),
+        };
+        let error = ContactError::Mesh {
+            file: "/x.msh".into(),
+            source: Box::new(source),
+        };
+        assert_eq!(error.to_string().matches("/x.msh").count(), 1, "{error}");
+    }
+}
