@@ -799,4 +799,23 @@ mod tests {
         }
         assert!(!out.exists(), "nothing written for refused --jobs");
     }
+
+    #[test]
+    fn messages_count_cores_in_english_and_blame_the_file_system_only_when_it_cannot_lock() {
+        let one = SweepRunError::Jobs { jobs: 0, cores: 1 }.to_string();
+        assert!(one.ends_with("has 1 core)"), "{one}");
+        let two = SweepRunError::Jobs { jobs: 0, cores: 2 }.to_string();
+        assert!(two.ends_with("has 2 cores)"), "{two}");
+        let lock = |source: std::io::Error| {
+            SweepRunError::Lock {
+                path: "OUT/.cache/locks/x".into(),
+                source,
+            }
+            .to_string()
+        };
+        let folder = lock(std::io::Error::from(std::io::ErrorKind::IsADirectory));
+        assert!(!folder.contains("file system"), "a folder is not the file system's fault: {folder}");
+        let unsupported = lock(std::io::Error::from_raw_os_error(37));
+        assert!(unsupported.contains("file system with file locks"), "{unsupported}");
+    }
 }
