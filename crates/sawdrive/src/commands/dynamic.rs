@@ -2,7 +2,9 @@
 
 use anyhow::anyhow;
 use sawdrive::output::{ResultKind, StagedDir};
-use sawdrive::pipeline::{run_dynamic_stage, run_static, scene_springs, write_dynamic_stage_files};
+use sawdrive::pipeline::{
+    check_dynamic_figures, run_dynamic_stage, run_static, scene_springs, write_dynamic_stage_files,
+};
 use sawdrive::scene::load_scene;
 
 use crate::cli::StageArgs;
@@ -23,6 +25,7 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
         (None, None) => unreachable!("the static stage runs when η is not given"),
     };
     let stage = run_dynamic_stage(&scene, &springs, eta, statics.as_ref(), cache.as_deref())?;
+    check_dynamic_figures(&stage)?;
     let staged = StagedDir::create(
         &args.out.join(&scene.name).join("dynamic"),
         ResultKind::Dynamic,

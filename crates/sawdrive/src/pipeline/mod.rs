@@ -20,7 +20,10 @@ pub use dynamics::{
     DynamicRun, dynamic_scene, run_dynamic, run_dynamic_cancellable, write_history_charts,
 };
 pub use error::{PipelineError, ShouldStop};
-pub use run::{RunOptions, RunSummary, StageTimings, run_pipeline, run_pipeline_cancellable};
+pub use run::{
+    RunOptions, RunSummary, StageTimings, check_dynamic_figures, run_pipeline,
+    run_pipeline_cancellable,
+};
 pub use slider_static::{
     SliderStage, run_slider_static, slider_content_hash, slider_params, write_slider_maps,
 };

@@ -95,23 +95,39 @@ impl RunSummary {
     /// The headline figures are finite: a NaN or an infinity would be written as `null` and
     /// read as a result. Refused naming the figure; nothing is committed.
     fn check_finite(&self) -> Result<(), PipelineError> {
-        let figures = [
+        check_finite_figures(&[
             ("effective_contact_ratio", self.effective_contact_ratio),
             ("effective_post_count", self.effective_post_count),
             ("stall_thrust_n", self.stall_thrust_n),
             ("no_load_speed_m_per_s", self.no_load_speed_m_per_s),
             ("efficiency", self.efficiency),
             ("stick_fraction", self.stick_fraction),
-        ];
-        match figures.iter().find(|(_, v)| !v.is_finite()) {
-            None => Ok(()),
-            Some((name, value)) => Err(PipelineError::Unsupported {
-                stage: "dynamic",
-                message: format!(
-                    "{name} came out as {value}: the scene's inputs lie outside the models' range (nothing was written)"
-                ),
-            }),
-        }
+        ])
+    }
+}
+
+/// The dynamic stage's headline figures (stall thrust, no-load speed, efficiency, stick
+/// fraction) are finite; see [`check_finite_figures`].
+pub fn check_dynamic_figures(stage: &super::DynamicStage) -> Result<(), PipelineError> {
+    check_finite_figures(&[
+        ("stall_thrust_n", stage.stall_thrust_n()),
+        ("no_load_speed_m_per_s", stage.no_load_speed_m_per_s()),
+        ("efficiency", stage.efficiency()),
+        ("stick_fraction", stage.stick_fraction()),
+    ])
+}
+
+/// Every named figure is a finite number, else an error naming the first that is not (JSON
+/// would write it as `null`, read as a result).
+fn check_finite_figures(figures: &[(&str, f64)]) -> Result<(), PipelineError> {
+    match figures.iter().find(|(_, v)| !v.is_finite()) {
+        None => Ok(()),
+        Some((name, value)) => Err(PipelineError::Unsupported {
+            stage: "dynamic",
+            message: format!(
+                "{name} came out as {value}: the scene's inputs lie outside the models' range (nothing was written)"
+            ),
+        }),
     }
 }
 
