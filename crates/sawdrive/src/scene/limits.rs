@@ -156,7 +156,7 @@ pub(super) fn imperfections(imp: &Imperfections, post_height_m: f64) -> Result<(
         ("slider.tilt_y", imp.tilt_y_m),
         ("slider.bow", imp.bow_m),
     ] {
-        if !(value.abs() <= post_height_m) {
+        if value.is_nan() || value.abs() > post_height_m {
             return Err(invalid(
                 field,
                 format!(
@@ -168,11 +168,11 @@ pub(super) fn imperfections(imp: &Imperfections, post_height_m: f64) -> Result<(
             ));
         }
     }
-    let map = imp
+    let mut map = imp
         .height_map
         .iter()
         .flat_map(|m| m.height_m.iter().enumerate());
-    if let Some((i, h)) = map.clone().find(|(_, h)| !(h.abs() <= post_height_m)) {
+    if let Some((i, h)) = map.find(|(_, h)| h.is_nan() || h.abs() > post_height_m) {
         let file = imp.height_map.as_ref().map_or("", |m| m.file.as_str());
         return Err(invalid(
             "posts.height_map",
