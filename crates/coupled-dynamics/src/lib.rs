@@ -1,5 +1,6 @@
 #![doc = include_str!("../README.md")]
 
+pub mod attenuation;
 pub mod boxqp;
 pub mod criterion;
 mod error;
@@ -7,6 +8,7 @@ pub mod model;
 pub mod result;
 pub mod scene;
 
+pub use attenuation::{AttenuatedPoint, AttenuationOptions, attenuated_at_speed};
 pub use criterion::{
     DEFAULT_AUTO_TOLERANCE, DynamicsChoice, LUMPED_ERROR_FACTOR, LumpedEvidence, ModelDecision,
     choose_model, lumped_error_estimate,

@@ -178,9 +178,16 @@ impl CoupledModel {
         let preload = scene.preload_n * scene.strip_share / force_n;
         let sigma = scene.wave_direction.sign();
         let kx: Vec<f64> = kx.iter().map(|v| sigma * v).collect();
+        // Local amplitude A_i/A₀ (1 unless the energy-conserving wave sets it); `1.0 *` keeps
+        // the constant-amplitude wave bit-identical.
+        let alpha: Vec<f64> = if scene.amplitude_scale.is_empty() {
+            vec![1.0; n]
+        } else {
+            scene.amplitude_scale.clone()
+        };
         let heights = |j: usize| -> DVector<f64> {
             let theta = scene.start_phase_rad + 2.0 * PI * j as f64 / m as f64;
-            DVector::from_fn(n, |i, _| (theta - kx[i]).sin())
+            DVector::from_fn(n, |i, _| alpha[i] * (theta - kx[i]).sin())
         };
         let (normals, approach) = match scene.preload_balance {
             PreloadBalance::Instant => {
@@ -206,7 +213,7 @@ impl CoupledModel {
                 let fine = |j: usize| -> DVector<f64> {
                     let theta = scene.start_phase_rad
                         + 2.0 * PI * j as f64 / (m * PERIOD_MEAN_REFINEMENT) as f64;
-                    DVector::from_fn(n, |i, _| (theta - kx[i]).sin())
+                    DVector::from_fn(n, |i, _| alpha[i] * (theta - kx[i]).sin())
                 };
                 let z = period_mean_approach(
                     &cn,
@@ -234,7 +241,7 @@ impl CoupledModel {
         let wave_cos = (0..=normals.len())
             .map(|j| {
                 let theta = scene.start_phase_rad + 2.0 * PI * j as f64 / normals.len() as f64;
-                DVector::from_fn(kx.len(), |i, _| (theta - kx[i]).cos())
+                DVector::from_fn(kx.len(), |i, _| alpha[i] * (theta - kx[i]).cos())
             })
             .collect();
         let extrapolate = (0..kx.len()).all(|i| normals.iter().any(|nj| nj[i] <= 0.0));
@@ -500,7 +507,9 @@ impl CoupledModel {
         -self.sigma
     }
 
-    /// One step from grid phase j to j+1.
+    /// One step from grid phase j to j+1 (with `per_post_stator_work`: each post's T̄_i·Δu_i
+    /// added to it).
+    #[allow(clippy::too_many_arguments)]
     fn step(
         &self,
         j: usize,
@@ -510,6 +519,7 @@ impl CoupledModel {
         state: &mut TipState,
         ints: &mut Integrals,
         stats: &mut SolverStats,
+        per_post_stator_work: Option<&mut DVector<f64>>,
     ) -> Result<()> {
         let m = self.normals.len();
         let n = self.kx.len();
@@ -572,6 +582,9 @@ impl CoupledModel {
         ints.time += h;
         ints.force_time += force.sum() * h;
         ints.stator_work += mid.dot(&du);
+        if let Some(work) = per_post_stator_work {
+            *work += mid.component_mul(&du);
+        }
         ints.power_flow += mid.component_mul(&du).abs().sum();
         ints.output_work += mid.sum() * v * h;
         ints.friction += mid.dot(&slip);
@@ -620,6 +633,43 @@ impl CoupledModel {
         Ok((point, PeriodState(state)))
     }
 
+    /// The steady point at `speed_m_per_s` (started from `start`, as [`Self::at_speed_from`])
+    /// and the time-mean stator power each post draws over one further steady period (W, whole
+    /// slider: the strip post's power over the strip share, so that the posts' sum is the
+    /// slider's stator power): P_i = ⟨T̄_i·Δu_i⟩ with the midpoint force, the same bookkeeping
+    /// as `stator_power_w`. The further period repeats the steady one to the periodicity
+    /// tolerance, so Σ P_i equals `stator_power_w` to ≈ 1e-11 of the power flow.
+    pub fn post_stator_power_from(
+        &self,
+        speed_m_per_s: f64,
+        start: Option<&PeriodState>,
+    ) -> Result<(CoupledPoint, Vec<f64>, PeriodState)> {
+        let (point, mut state, v, s, h) = self.steady(speed_m_per_s, start)?;
+        let period_start = PeriodState(state.clone());
+        let m = self.normals.len();
+        let mut ints = Integrals::default();
+        let mut stats = SolverStats::default();
+        let mut work = DVector::zeros(self.kx.len());
+        for j in 0..m {
+            self.step(
+                j,
+                v,
+                s,
+                h,
+                &mut state,
+                &mut ints,
+                &mut stats,
+                Some(&mut work),
+            )?;
+        }
+        let power = self.force_n * self.length_m * self.omega / ints.time / self.scene.strip_share;
+        Ok((
+            point,
+            work.iter().map(|w| w * power).collect(),
+            period_start,
+        ))
+    }
+
     /// Every post's normal and tangential force and contact mode over one steady period at
     /// `speed_m_per_s` (one sample per step, at the step's end), with the steady point itself
     /// (the [`Self::at_speed`] result, which the histories' solve has already found).
@@ -634,7 +684,7 @@ impl CoupledModel {
             ..PostHistories::default()
         };
         for j in 0..m {
-            self.step(j, v, s, h, &mut state, &mut ints, &mut stats)?;
+            self.step(j, v, s, h, &mut state, &mut ints, &mut stats, None)?;
             out.time_s.push((j + 1) as f64 * h * time_unit);
             out.normal_force_n.push(
                 self.normals[(j + 1) % m]
@@ -693,7 +743,7 @@ impl CoupledModel {
         let mut approach = Approach::default();
         while periods < MAX_PERIODS {
             for j in 0..m {
-                self.step(j, v, s, h, &mut state, &mut ints, &mut stats)?;
+                self.step(j, v, s, h, &mut state, &mut ints, &mut stats, None)?;
             }
             periods += 1;
             marks.push(ints);

@@ -81,6 +81,12 @@ pub struct CoupledScene {
     pub curve_points: usize,
     /// Natural-residual tolerance of each contact solve (relative). Default 1e-12.
     pub tolerance: f64,
+    /// Local wave amplitude at each post over the scene's amplitude, A_i/A₀ (normal and
+    /// tangential together, their ratio fixed), one per post in `post_x_m` order; empty: 1 at
+    /// every post (the constant-amplitude wave). Set by the energy-conserving wave
+    /// ([`crate::attenuation`]); the phase is unchanged (the wave velocity under the slider is
+    /// assumed unchanged).
+    pub amplitude_scale: Vec<f64>,
 }
 
 fn positive(parameter: &'static str, value: f64) -> Result<()> {
@@ -201,6 +207,26 @@ impl CoupledScene {
                 requirement: "must lie in (0, 1e-3)".into(),
             });
         }
+        if !self.amplitude_scale.is_empty() {
+            if self.amplitude_scale.len() != n {
+                return Err(CoupledError::DimensionMismatch {
+                    what: "amplitude_scale",
+                    expected: n,
+                    found: self.amplitude_scale.len(),
+                });
+            }
+            if let Some(a) = self
+                .amplitude_scale
+                .iter()
+                .find(|a| !(a.is_finite() && **a >= 0.0))
+            {
+                return Err(CoupledError::InvalidParameter {
+                    parameter: "amplitude_scale",
+                    value: *a,
+                    requirement: "must be finite and ≥ 0".into(),
+                });
+            }
+        }
         if !self.start_phase_rad.is_finite() {
             return Err(CoupledError::InvalidParameter {
                 parameter: "start_phase_rad",
@@ -263,6 +289,7 @@ impl CoupledScene {
             start_phase_rad: 0.0,
             curve_points: DEFAULT_CURVE_POINTS,
             tolerance: 1e-12,
+            amplitude_scale: Vec::new(),
         }
     }
 }

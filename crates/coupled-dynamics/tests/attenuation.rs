@@ -1,0 +1,111 @@
+//! The energy-conserving wave under the slider (`coupled_dynamics::attenuation`): the posts
+//! draw no more power than the wave brings, the wave's power balance closes, and a weak load
+//! recovers the constant-amplitude results.
+
+use coupled_dynamics::{AttenuationOptions, CoupledModel, CoupledScene, attenuated_at_speed};
+use stick_slip::Wave;
+
+const K_N: f64 = 1.8e6;
+const K_T: f64 = 1.5e6;
+const POSTS: usize = 12;
+
+/// A row of independent posts 0.37 λ apart (spread over the phase), one row: strip share 1.
+fn row(preload_n: f64) -> CoupledScene {
+    let wave = Wave::paper_default();
+    let x = (0..POSTS)
+        .map(|i| 0.37 * wave.wavelength_m() * i as f64)
+        .collect();
+    let mut scene = CoupledScene::independent_posts(wave, x, K_N, K_T, 0.3, 0.3, preload_n);
+    scene.steps_per_period = 64;
+    scene
+}
+
+fn relative(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs().max(1e-300)
+}
+
+#[test]
+fn unit_amplitude_profile_is_bit_identical_to_the_constant_wave() {
+    let scene = row(0.5);
+    let mut ones = scene.clone();
+    ones.amplitude_scale = vec![1.0; POSTS];
+    let a = CoupledModel::new(&scene).unwrap().at_speed(0.3).unwrap();
+    let b = CoupledModel::new(&ones).unwrap().at_speed(0.3).unwrap();
+    assert_eq!(a.thrust_n.to_bits(), b.thrust_n.to_bits());
+    assert_eq!(a.stator_power_w.to_bits(), b.stator_power_w.to_bits());
+}
+
+#[test]
+fn drawn_power_never_exceeds_the_wave_power_and_the_balance_closes() {
+    let scene = row(0.5);
+    let model = CoupledModel::new(&scene).unwrap();
+    let stall = model.at_speed(0.0).unwrap();
+    // A wave carrying 60 % of what the constant-amplitude posts would draw at stall: the
+    // unattenuated model violates energy conservation there.
+    let power_in = 0.6 * stall.stator_power_w;
+    assert!(stall.stator_power_w > power_in);
+    let options = AttenuationOptions::new(power_in);
+    for speed in [0.0, 0.05, 0.5] {
+        let p = attenuated_at_speed(&scene, speed, &options).unwrap();
+        let drawn = p.wave_power_in_w - p.wave_power_out_w;
+        println!(
+            "v = {speed}: thrust {:.6} N, stator {:.6e} W, in {:.6e} W, out {:.6e} W, \
+             iterations {}, balance {:.2e}, α {:?}",
+            p.point.thrust_n,
+            p.point.stator_power_w,
+            p.wave_power_in_w,
+            p.wave_power_out_w,
+            p.iterations,
+            p.balance_residual,
+            p.amplitude_scale
+        );
+        assert!(p.wave_power_out_w >= 0.0, "out {}", p.wave_power_out_w);
+        assert!(p.point.stator_power_w <= power_in * (1.0 + 1e-9));
+        assert!(p.balance_residual <= 1e-6, "balance {}", p.balance_residual);
+        assert!(relative(drawn, p.point.stator_power_w) <= 1e-6);
+        // Where every post draws power the amplitude falls along the wave; beyond the no-load
+        // speed the pushed slider feeds the wave and it grows (energy is still conserved).
+        if p.post_power_w.iter().all(|&w| w >= 0.0) {
+            assert!(p.amplitude_scale.windows(2).all(|w| w[1] <= w[0] + 1e-12));
+        }
+        assert!(p.last_change < 1e-8);
+    }
+    // The attenuated stall thrust is below the constant-amplitude one.
+    let attenuated = attenuated_at_speed(&scene, 0.0, &options).unwrap();
+    assert!(attenuated.point.thrust_n < stall.thrust_n);
+}
+
+#[test]
+fn a_weak_load_recovers_the_constant_amplitude_results() {
+    let scene = row(0.5);
+    let model = CoupledModel::new(&scene).unwrap();
+    for speed in [0.0, 0.3] {
+        let constant = model.at_speed(speed).unwrap();
+        // The posts draw 1e-8 of the wave's power.
+        let options = AttenuationOptions::new(1e8 * constant.stator_power_w.abs().max(1e-12));
+        let p = attenuated_at_speed(&scene, speed, &options).unwrap();
+        assert!(relative(p.point.thrust_n, constant.thrust_n) <= 1e-6);
+        assert!(relative(p.point.stator_power_w, constant.stator_power_w) <= 1e-6);
+        assert!(p.balance_residual <= 1e-6);
+    }
+}
+
+#[test]
+fn bad_attenuation_options_are_named() {
+    let scene = row(0.5);
+    let mut options = AttenuationOptions::new(-1.0);
+    let e = attenuated_at_speed(&scene, 0.0, &options)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("power_in_w"), "{e}");
+    options.power_in_w = 1.0;
+    options.relaxation = 0.0;
+    let e = attenuated_at_speed(&scene, 0.0, &options)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("relaxation"), "{e}");
+    let mut bad = scene.clone();
+    bad.amplitude_scale = vec![1.0; 3];
+    let e = CoupledModel::new(&bad).unwrap_err().to_string();
+    assert!(e.contains("amplitude_scale"), "{e}");
+}
