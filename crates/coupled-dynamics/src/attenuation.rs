@@ -177,3 +177,50 @@ pub fn attenuated_at_speed(
         context: format!("at speed {speed_m_per_s:.6e} m/s"),
     })
 }
+
+/// Stall thrust, no-load speed and the speed–thrust curve with the energy-conserving wave,
+/// every point self-consistent on its own (the profile depends on the operating point).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AttenuatedCurve {
+    /// F(0⁺) at the self-consistent profile (N); 0 if the slider is locked.
+    pub stall_thrust_n: f64,
+    /// Speed where the self-consistent thrust vanishes (m/s), Illinois regula falsi.
+    pub no_load_speed_m_per_s: f64,
+    /// Stall, then `curve_points` − 1 speeds up to the no-load speed.
+    pub curve: Vec<AttenuatedPoint>,
+    /// Most fixed-point iterations of a curve point.
+    pub max_iterations: usize,
+    /// Largest |P_in − P_out − stator power| / P_in over the curve.
+    pub max_balance_residual: f64,
+}
+
+/// [`attenuated_at_speed`] at stall, the no-load speed and the scene's `curve_points` speeds
+/// (k v₀/(points − 1)), each point iterated to self-consistency (rayon over the speeds; each
+/// point's iteration is sequential, so the bits do not depend on the thread count).
+pub fn solve_attenuated(
+    scene: &CoupledScene,
+    options: &AttenuationOptions,
+) -> Result<AttenuatedCurve> {
+    use rayon::prelude::*;
+    let stall = attenuated_at_speed(scene, 0.0, options)?;
+    let stall_n = stall.point.thrust_n;
+    let model = CoupledModel::new(scene)?;
+    let mut thrust = |speed: f64| -> Result<f64> {
+        Ok(attenuated_at_speed(scene, speed, options)?.point.thrust_n)
+    };
+    let no_load = model.regula_falsi(stall_n, &mut thrust)?;
+    let points = scene.curve_points;
+    let rest = (1..points)
+        .into_par_iter()
+        .map(|k| attenuated_at_speed(scene, no_load * k as f64 / (points - 1) as f64, options))
+        .collect::<Result<Vec<_>>>()?;
+    let mut curve = vec![stall];
+    curve.extend(rest);
+    Ok(AttenuatedCurve {
+        stall_thrust_n: stall_n.max(0.0),
+        no_load_speed_m_per_s: no_load,
+        max_iterations: curve.iter().map(|p| p.iterations).max().unwrap_or(0),
+        max_balance_residual: curve.iter().map(|p| p.balance_residual).fold(0.0, f64::max),
+        curve,
+    })
+}

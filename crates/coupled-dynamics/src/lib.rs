@@ -8,7 +8,9 @@ pub mod model;
 pub mod result;
 pub mod scene;
 
-pub use attenuation::{AttenuatedPoint, AttenuationOptions, attenuated_at_speed};
+pub use attenuation::{
+    AttenuatedCurve, AttenuatedPoint, AttenuationOptions, attenuated_at_speed, solve_attenuated,
+};
 pub use criterion::{
     DEFAULT_AUTO_TOLERANCE, DynamicsChoice, LUMPED_ERROR_FACTOR, LumpedEvidence, ModelDecision,
     choose_model, lumped_error_estimate,

@@ -848,7 +848,7 @@ impl CoupledModel {
     }
 
     /// The no-load speed by Illinois regula falsi with `thrust(v)` (N).
-    fn regula_falsi(
+    pub(crate) fn regula_falsi(
         &self,
         stall_n: f64,
         thrust: &mut dyn FnMut(f64) -> Result<f64>,

@@ -20,6 +20,68 @@ fn row(preload_n: f64) -> CoupledScene {
     scene
 }
 
+/// The default slider's row (100 posts at 40 µm of a 100 × 100 array, analytic compliance:
+/// Johnson post springs plus the half-space terms of all 100 rows, as the `curve` bench).
+fn default_row(preload_n: f64) -> CoupledScene {
+    use contact_springs::{Material, post_springs};
+    use nalgebra::DMatrix;
+    use static_contact::halfspace::{
+        RowLayout, StripPost, strip_compliance, strip_tangential_compliance,
+    };
+    let (pitch, radius, n) = (40e-6, 10e-6, 100);
+    let (si, ln) = (Material::silicon(), Material::lithium_niobate());
+    let springs = post_springs(&si, &ln, radius).unwrap();
+    let posts: Vec<StripPost> = (0..n)
+        .map(|i| StripPost {
+            x_m: (i as f64 - 0.5 * (n - 1) as f64) * pitch,
+            row: 0,
+        })
+        .collect();
+    let layout = RowLayout {
+        pitch_m: pitch,
+        strip_rows: 1,
+        slider_rows: 100,
+    };
+    let (g, nu) = (ln.shear_modulus_pa, ln.poisson_ratio);
+    let mut scene = CoupledScene::independent_posts(
+        Wave::paper_default(),
+        posts.iter().map(|p| p.x_m).collect(),
+        1.0,
+        1.0,
+        0.3,
+        0.3,
+        preload_n,
+    );
+    scene.normal_compliance_m_per_n = strip_compliance(g, nu, radius, &posts, &layout)
+        + DMatrix::identity(n, n) / springs.k_pn_n_per_m;
+    scene.tangential_compliance_m_per_n =
+        strip_tangential_compliance(g, nu, radius, &posts, &layout)
+            + DMatrix::identity(n, n) / springs.k_pt_n_per_m;
+    scene.strip_share = 0.01;
+    scene.steps_per_period = 128;
+    scene
+}
+
+/// `sawdrive wave --json`'s `power_under_array_w` for the paper wave (128° Y-X LiNbO3, 20 nm,
+/// 9.61 MHz, 2.4466 kW/m × the 4 mm array).
+const POWER_UNDER_ARRAY_W: f64 = 9.78634644379686;
+
+#[test]
+fn at_100_n_the_drawn_power_no_longer_exceeds_the_power_under_the_slider() {
+    let scene = default_row(100.0);
+    let constant = CoupledModel::new(&scene).unwrap().at_speed(0.0).unwrap();
+    // Constant amplitude: ≈ 22.7 W drawn from a wave that brings 9.8 W.
+    assert!(constant.stator_power_w > 2.0 * POWER_UNDER_ARRAY_W);
+    let p =
+        attenuated_at_speed(&scene, 0.0, &AttenuationOptions::new(POWER_UNDER_ARRAY_W)).unwrap();
+    assert!(p.point.stator_power_w < POWER_UNDER_ARRAY_W);
+    assert!(p.wave_power_out_w >= 0.0);
+    assert!(p.balance_residual <= 1e-6, "balance {}", p.balance_residual);
+    // The trailing posts see a weaker wave, so the stall thrust falls.
+    assert!(p.amplitude_scale[99] < 0.5 * p.amplitude_scale[0]);
+    assert!(p.point.thrust_n < 0.8 * constant.thrust_n);
+}
+
 fn relative(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs().max(1e-300)
 }

@@ -1,0 +1,110 @@
+//! The default slider's row (100 posts at 40 µm, analytic compliance as in the `curve` bench:
+//! Johnson post springs plus the half-space terms of all 100 rows) with and without the
+//! energy-conserving wave: stall thrust, no-load speed, max output power, stator power at
+//! stall, wave power in/out, fixed-point iterations and balance residual.
+//!
+//! `cargo run -p coupled-dynamics --example attenuated_row -- PRELOAD_N POWER_IN_W [POINTS]`
+//! (POWER_IN_W: `sawdrive wave --json`'s `power_under_array_w`, 9.786 W for the paper wave).
+
+use contact_springs::{Material, post_springs};
+use coupled_dynamics::{
+    AttenuationOptions, CoupledModel, CoupledScene, PreloadBalance, solve, solve_attenuated,
+};
+use nalgebra::DMatrix;
+use static_contact::halfspace::{
+    RowLayout, StripPost, strip_compliance, strip_tangential_compliance,
+};
+use stick_slip::Wave;
+
+const PITCH_M: f64 = 40e-6;
+const RADIUS_M: f64 = 10e-6;
+const ROWS: usize = 100;
+
+fn row_scene(n: usize, preload_n: f64) -> CoupledScene {
+    let si = Material::silicon();
+    let ln = Material::lithium_niobate();
+    let springs = post_springs(&si, &ln, RADIUS_M).unwrap();
+    let posts: Vec<StripPost> = (0..n)
+        .map(|i| StripPost {
+            x_m: (i as f64 - 0.5 * (n - 1) as f64) * PITCH_M,
+            row: 0,
+        })
+        .collect();
+    let layout = RowLayout {
+        pitch_m: PITCH_M,
+        strip_rows: 1,
+        slider_rows: ROWS,
+    };
+    let (g, nu) = (ln.shear_modulus_pa, ln.poisson_ratio);
+    let cn = strip_compliance(g, nu, RADIUS_M, &posts, &layout)
+        + DMatrix::identity(n, n) / springs.k_pn_n_per_m;
+    let ct = strip_tangential_compliance(g, nu, RADIUS_M, &posts, &layout)
+        + DMatrix::identity(n, n) / springs.k_pt_n_per_m;
+    let x = posts.iter().map(|p| p.x_m).collect();
+    let mut scene =
+        CoupledScene::independent_posts(Wave::paper_default(), x, 1.0, 1.0, 0.3, 0.3, preload_n);
+    scene.normal_compliance_m_per_n = cn;
+    scene.tangential_compliance_m_per_n = ct;
+    scene.strip_share = n as f64 / (ROWS * 100) as f64;
+    scene.preload_balance = PreloadBalance::Instant;
+    scene.steps_per_period = 128;
+    scene
+}
+
+fn main() {
+    let args: Vec<f64> = std::env::args()
+        .skip(1)
+        .map(|a| a.parse().expect("a number"))
+        .collect();
+    let (preload, power_in) = (args[0], args[1]);
+    let mut scene = row_scene(100, preload);
+    scene.curve_points = args.get(2).map_or(21, |p| *p as usize);
+    let started = std::time::Instant::now();
+    let constant = solve(&CoupledModel::new(&scene).unwrap(), None).unwrap();
+    let max_power = |p: &mut dyn Iterator<Item = f64>| p.fold(0.0, f64::max);
+    println!(
+        "constant amplitude, {preload} N: stall {:.4} N, no-load {:.4} m/s, max power {:.4} W, stator at stall {:.4} W ({:.1} s)",
+        constant.stall_thrust_n,
+        constant.no_load_speed_m_per_s,
+        max_power(&mut constant.curve.iter().map(|p| p.output_power_w)),
+        constant.curve[0].stator_power_w,
+        started.elapsed().as_secs_f64()
+    );
+    let started = std::time::Instant::now();
+    let a = solve_attenuated(&scene, &AttenuationOptions::new(power_in)).unwrap();
+    let stall = &a.curve[0];
+    println!(
+        "attenuated, {preload} N, P_in {power_in} W: stall {:.4} N, no-load {:.4} m/s, max power {:.4} W, stator at stall {:.4} W, wave in {:.4} W out {:.4} W, iterations ≤ {}, balance ≤ {:.2e} ({:.1} s)",
+        a.stall_thrust_n,
+        a.no_load_speed_m_per_s,
+        max_power(&mut a.curve.iter().map(|p| p.point.output_power_w)),
+        stall.point.stator_power_w,
+        stall.wave_power_in_w,
+        stall.wave_power_out_w,
+        a.max_iterations,
+        a.max_balance_residual,
+        started.elapsed().as_secs_f64()
+    );
+    for (c, p) in constant.curve.iter().zip(&a.curve) {
+        println!(
+            "  v {:.4} F {:.4} P {:.4} | v {:.4} F {:.4} P {:.4} drawn {:.4} out {:.4}",
+            c.speed_m_per_s,
+            c.thrust_n,
+            c.output_power_w,
+            p.point.speed_m_per_s,
+            p.point.thrust_n,
+            p.point.output_power_w,
+            p.point.stator_power_w,
+            p.wave_power_out_w
+        );
+    }
+    let alpha = &stall.amplitude_scale;
+    println!(
+        "amplitude at stall, A/A₀ every 10th post along the wave: {:?}",
+        alpha
+            .iter()
+            .step_by(10)
+            .map(|a| (a * 1e4).round() / 1e4)
+            .collect::<Vec<_>>()
+    );
+}
