@@ -4,7 +4,10 @@
 //! stall, wave power in/out, fixed-point iterations and balance residual.
 //!
 //! `cargo run -p coupled-dynamics --example attenuated_row -- PRELOAD_N POWER_IN_W [POINTS]`
-//! (POWER_IN_W: `sawdrive wave --json`'s `power_under_array_w`, 9.786 W for the paper wave).
+//! (POWER_IN_W: `sawdrive wave --json`'s `power_under_array_w`, 9.786 W for the paper wave);
+//! with `ATTENUATED_ROW_CHART=STEM` also STEM-amplitude.svg/.png (the amplitude along the slider
+//! at stall, at maximum output power and near no load) and STEM-speed-thrust.svg/.png (the
+//! curves with and without the energy-conserving wave).
 
 use contact_springs::{Material, post_springs};
 use coupled_dynamics::{
@@ -97,6 +100,67 @@ fn main() {
             p.point.stator_power_w,
             p.wave_power_out_w
         );
+    }
+    if let Ok(stem) = std::env::var("ATTENUATED_ROW_CHART") {
+        use charts::{Chart, Series, Style, write_chart};
+        let x0 = scene.post_x_m[0];
+        let profile = |p: &coupled_dynamics::AttenuatedPoint| -> Vec<(f64, f64)> {
+            scene
+                .post_x_m
+                .iter()
+                .zip(&p.amplitude_scale)
+                .map(|(x, a)| ((x - x0) * 1e3, a * scene.wave.normal_amplitude_m * 1e9))
+                .collect()
+        };
+        let best = a
+            .curve
+            .iter()
+            .max_by(|p, q| p.point.output_power_w.total_cmp(&q.point.output_power_w))
+            .unwrap();
+        let near_no_load = &a.curve[a.curve.len() - 2];
+        let mut amplitude = Chart::new(
+            format!("Normal amplitude along the slider, {preload} N, P_in = {power_in:.2} W"),
+            "distance from the leading edge (mm)",
+            "normal amplitude (nm)",
+        );
+        for (name, p) in [
+            ("stall".to_string(), stall),
+            (
+                format!("max power, {:.3} m/s", best.point.speed_m_per_s),
+                best,
+            ),
+            (
+                format!("near no load, {:.3} m/s", near_no_load.point.speed_m_per_s),
+                near_no_load,
+            ),
+        ] {
+            amplitude
+                .series
+                .push(Series::new(name, profile(p), Style::Line));
+        }
+        let mut curves = Chart::new("Speed–thrust", "speed (m/s)", "thrust (N)");
+        curves.series.push(Series::new(
+            "constant amplitude",
+            constant
+                .curve
+                .iter()
+                .map(|p| (p.speed_m_per_s, p.thrust_n))
+                .collect(),
+            Style::LineMarkers,
+        ));
+        curves.series.push(Series::new(
+            "energy-conserving wave",
+            a.curve
+                .iter()
+                .map(|p| (p.point.speed_m_per_s, p.point.thrust_n))
+                .collect(),
+            Style::LineMarkers,
+        ));
+        for (chart, suffix) in [(amplitude, "amplitude"), (curves, "speed-thrust")] {
+            let written =
+                write_chart(&chart, std::path::Path::new(&format!("{stem}-{suffix}"))).unwrap();
+            println!("wrote {written:?}");
+        }
     }
     let alpha = &stall.amplitude_scale;
     println!(
