@@ -87,7 +87,38 @@ pub struct Check {
     pub rule: Rule,
 }
 
+impl Rule {
+    /// Whether `value` passes against `reference` under this rule.
+    fn holds(self, value: f64, reference: f64, tolerance: f64) -> bool {
+        match self {
+            Rule::Relative => (value / reference - 1.0).abs() <= tolerance,
+            Rule::AtMost => value <= reference,
+            Rule::AtLeast => value >= reference,
+        }
+    }
+}
+
 impl Check {
+    /// A check of `value` against `reference` under `rule`; `pass` follows from the rule.
+    fn new(
+        case: &str,
+        quantity: impl Into<String>,
+        (value, reference, tolerance): (f64, f64, f64),
+        source: impl Into<String>,
+        rule: Rule,
+    ) -> Self {
+        Self {
+            case: case.into(),
+            quantity: quantity.into(),
+            value,
+            reference,
+            tolerance,
+            pass: rule.holds(value, reference, tolerance),
+            source: source.into(),
+            rule,
+        }
+    }
+
     /// |value / reference − 1| ≤ tolerance.
     pub fn relative(
         case: &str,
@@ -97,16 +128,8 @@ impl Check {
         tolerance: f64,
         source: impl Into<String>,
     ) -> Self {
-        Self {
-            case: case.into(),
-            quantity: quantity.into(),
-            value,
-            reference,
-            tolerance,
-            pass: (value / reference - 1.0).abs() <= tolerance,
-            source: source.into(),
-            rule: Rule::Relative,
-        }
+        let numbers = (value, reference, tolerance);
+        Self::new(case, quantity, numbers, source, Rule::Relative)
     }
 
     /// value ≤ bound.
@@ -117,16 +140,7 @@ impl Check {
         bound: f64,
         source: impl Into<String>,
     ) -> Self {
-        Self {
-            case: case.into(),
-            quantity: quantity.into(),
-            value,
-            reference: bound,
-            tolerance: 0.0,
-            pass: value <= bound,
-            source: source.into(),
-            rule: Rule::AtMost,
-        }
+        Self::new(case, quantity, (value, bound, 0.0), source, Rule::AtMost)
     }
 
     /// value ≥ bound.
@@ -137,16 +151,7 @@ impl Check {
         bound: f64,
         source: impl Into<String>,
     ) -> Self {
-        Self {
-            case: case.into(),
-            quantity: quantity.into(),
-            value,
-            reference: bound,
-            tolerance: 0.0,
-            pass: value >= bound,
-            source: source.into(),
-            rule: Rule::AtLeast,
-        }
+        Self::new(case, quantity, (value, bound, 0.0), source, Rule::AtLeast)
     }
 
     /// One line naming the check and its numbers (for a failure message).
