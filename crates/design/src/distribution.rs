@@ -3,12 +3,12 @@
 //! Each Monte Carlo sample k gets its own generator, seeded with [`sample_seed`]`(seed, k)`
 //! (a SplitMix64 step of `seed + k·φ`, φ the 64-bit golden ratio), so sample k is the same for
 //! any N ≥ k + 1 and any thread count, and the draws are bitwise identical for one seed.
-//! Normal deviates: Box–Muller ([`slider_contact::rng`]). Truncated normal: rejection from the
+//! Normal deviates: Box–Muller ([`motor::rng`]). Truncated normal: rejection from the
 //! parent normal (exact; refused when the interval holds less than
 //! [`MIN_TRUNCATED_MASS`] of the parent's probability, where rejection would stall).
 
 use serde::Serialize;
-use slider_contact::rng::SplitMix64;
+use motor::rng::SplitMix64;
 
 use crate::error::{Result, invalid};
 

@@ -43,7 +43,7 @@ use std::collections::HashMap;
 
 use rayon::prelude::*;
 use serde::Serialize;
-use slider_contact::rng::SplitMix64;
+use motor::rng::SplitMix64;
 
 use crate::error::{DesignError, Result, invalid};
 

@@ -140,7 +140,7 @@ pub fn histogram(values: &[f64], bins: usize, key: &str) -> Result<Histogram> {
 mod tests {
     use super::*;
     use crate::distribution::Distribution;
-    use slider_contact::rng::SplitMix64;
+    use motor::rng::SplitMix64;
 
     #[test]
     fn equal_samples_collapse_the_band_to_that_value_exactly() {

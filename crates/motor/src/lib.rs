@@ -1,6 +1,7 @@
 #![doc = include_str!("../README.md")]
 
 pub mod paper;
+pub mod rng;
 
 pub use contact_springs::Material;
 use serde::{Deserialize, Serialize};

@@ -14,7 +14,7 @@ use std::path::Path;
 
 use crate::error::{Result, SliderError, invalid};
 use crate::lattice::LatticeGeometry;
-use crate::rng::SplitMix64;
+use motor::rng::SplitMix64;
 
 /// A measured height map: one extra height (m) per post (the motor's [`motor::HeightMap`]).
 pub use motor::HeightMap;

@@ -9,7 +9,6 @@ pub mod lattice;
 pub mod layer;
 pub mod plate;
 pub mod precondition;
-pub mod rng;
 pub mod slider;
 pub mod solver;
 
