@@ -33,7 +33,8 @@
 //! **Singular systems** ([`check_null_space`]): CG on a consistent singular system (a body
 //! left free to move rigidly, its load orthogonal to that motion) converges to one of infinitely
 //! many solutions without any breakdown, so the set-up refuses such a matrix before building the
-//! hierarchy, whatever called it: the six rigid-body motions restricted to the reduced unknowns
+//! hierarchy, whatever called it, and so does [`IterativeSolver::refactor`] for new values on
+//! the same pattern: the six rigid-body motions restricted to the reduced unknowns
 //! (translations and rotations at each unknown's node, [`rigid_body_modes`]) are orthonormalised
 //! in the D inner product (D = diag K_red) and the smallest eigenvalue of the 6 × 6 projection
 //! QᵀK_red Q, i.e. the smallest generalised Rayleigh quotient qᵀKq / qᵀDq over their span, must
@@ -634,6 +635,9 @@ pub struct IterativeSolver {
     preconditioner: Preconditioner,
     /// Near-null space and node blocks of the AMG's finest level (kept for `refactor`).
     amg_input: Option<(Vec<[f64; 6]>, Vec<usize>)>,
+    /// Rigid-body modes of the reduced unknowns (kept so `refactor` runs the null-space check
+    /// on the new values too).
+    fine_modes: Vec<[f64; 6]>,
     factor: FactorOptions,
     options: IterativeOptions,
     setup: MultigridSetupTimes,
@@ -696,13 +700,14 @@ impl IterativeSolver {
             return Ok(Self {
                 a,
                 preconditioner: Preconditioner::Amg(amg),
+                fine_modes: b.clone(),
                 amg_input: Some((b, blocks)),
                 factor,
                 options: *options,
                 setup,
             });
         }
-        drop((fine_modes, fine_blocks));
+        drop(fine_blocks);
         let (p, coarse_dofs) = p_prolongation_with_dofs(model, dof_map)?;
         let pt = p.transpose();
         setup.transfer_s = lap(&mut clock);
@@ -738,6 +743,7 @@ impl IterativeSolver {
                 coarse,
             },
             amg_input,
+            fine_modes,
             factor,
             options: *options,
             setup,
@@ -746,7 +752,9 @@ impl IterativeSolver {
 
     /// Recomputes the fine matrix, coarse operator and smoothers for new values of `k_red`
     /// (same pattern), reusing the transfer operators and the coarse symbolic analysis (an AMG
-    /// hierarchy is rebuilt).
+    /// hierarchy is rebuilt). New values that leave a rigid-body motion without energy are
+    /// refused by the null-space check of the set-up ([`FemError::SingularSystem`]), and the
+    /// solver keeps its previous values.
     pub fn refactor(&mut self, k_red: &SymmetricMatrix) -> FemResult<()> {
         if k_red.dim() != self.a.dim() {
             return Err(FemError::PatternMismatch {
@@ -759,7 +767,9 @@ impl IterativeSolver {
         }
         let mut clock = std::time::Instant::now();
         let mut setup = MultigridSetupTimes::default();
-        self.a = CsrMatrix::from_symmetric(k_red)?;
+        let a = CsrMatrix::from_symmetric(k_red)?;
+        check_null_space(&a, &self.fine_modes)?;
+        self.a = a;
         setup.fine_csr_s = lap(&mut clock);
         let rebuild = |a: &CsrMatrix, input: &Option<(Vec<[f64; 6]>, Vec<usize>)>| {
             let (b, blocks) = input.clone().expect("AMG input kept at set-up");

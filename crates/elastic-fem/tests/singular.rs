@@ -197,3 +197,50 @@ fn auto_refuses_a_floating_body_when_it_picks_the_iterative_path() {
         .expect("a clamped block is not singular");
     assert_eq!(solution.choice.method, SolverMethod::Iterative);
 }
+
+/// Contact solvers re-factor the set-up solver with new values on the same pattern
+/// (`IterativeSolver::refactor`): new values that free a rigid-body motion are refused there
+/// too, and the solver keeps its previous values. The set-up matrix is the floating block's
+/// K_red plus 10 % of its diagonal (positive definite, same pattern: a spring to ground at every
+/// unknown); the re-factored one is the floating K_red itself.
+#[test]
+fn iterative_solver_refactor_refuses_values_that_free_a_rigid_body_motion() {
+    let (model, constraints) = floating(&tet10(2));
+    let k = assemble_stiffness(&model, &StiffnessPattern::build(&model)).unwrap();
+    let map = DofMap::new(model.node_count(), &constraints).unwrap();
+    let reduced = ReducedSystem::new(&k, map).unwrap();
+    let k_red = reduced.reduce_matrix(&k).unwrap();
+    let mut grounded = k_red.clone();
+    for (j, d) in k_red.diagonal().into_iter().enumerate() {
+        grounded.add_to_diagonal(j, 0.1 * d);
+    }
+    for coarse_solver in [CoarseSolver::Direct, CoarseSolver::Amg] {
+        let options = IterativeOptions {
+            coarse_solver,
+            ..IterativeOptions::default()
+        };
+        let mut solver = IterativeSolver::new(
+            &model,
+            reduced.dof_map(),
+            &grounded,
+            &options,
+            FactorOptions::default(),
+        )
+        .expect("a grounded block is not singular");
+        let result = solver.refactor(&k_red);
+        match result {
+            Err(FemError::SingularSystem { ratio, tolerance }) => assert!(
+                ratio <= tolerance,
+                "coarse {}: ratio {ratio:e}, tolerance {tolerance:e}",
+                coarse_solver.name()
+            ),
+            other => panic!(
+                "coarse {}: refactor with a free rigid-body motion must be refused, got {other:?}",
+                coarse_solver.name()
+            ),
+        }
+        solver
+            .refactor(&grounded)
+            .expect("re-factoring the grounded values again is accepted");
+    }
+}
