@@ -1,5 +1,6 @@
 #![doc = include_str!("../README.md")]
 
+pub mod attenuation;
 mod contact;
 mod cost;
 mod error;
@@ -18,6 +19,10 @@ mod solve;
 mod transient;
 mod wave;
 
+pub use attenuation::{
+    AttenuatedPeriodicModel, AttenuatedResult, AttenuatedRun, AttenuatedSample, AttenuationOptions,
+    AttenuationSetting,
+};
 pub use contact::{PAPER_FRICTION_COEFFICIENT, PostContact};
 pub use cost::{MAX_POST_STEPS, MAX_RUN_MEMORY_BYTES, MemoryEstimate, WorkEstimate};
 pub use error::{Result, StickSlipError, Warning};

@@ -84,20 +84,20 @@ impl SpeedSample {
 /// The period-average model of a scene.
 #[derive(Debug, Clone)]
 pub struct PeriodicAverageModel {
-    scene: DynamicScene,
-    params: PostParams,
+    pub(crate) scene: DynamicScene,
+    pub(crate) params: PostParams,
     /// `None`: closed-form event-driven post.
-    scheme: Option<StepScheme>,
+    pub(crate) scheme: Option<StepScheme>,
     /// A_n (m).
-    length_m: f64,
+    pub(crate) length_m: f64,
     /// ω (rad/s).
-    omega: f64,
+    pub(crate) omega: f64,
     /// k_n A_n (N).
-    force_n: f64,
+    pub(crate) force_n: f64,
     /// N_eff.
-    n_eff: f64,
-    reason: String,
-    warnings: Vec<Warning>,
+    pub(crate) n_eff: f64,
+    pub(crate) reason: String,
+    pub(crate) warnings: Vec<Warning>,
 }
 
 impl PeriodicAverageModel {
@@ -204,24 +204,29 @@ impl PeriodicAverageModel {
         self.scene.wave.crest_speed_m_per_s()
     }
 
-    fn scaled_velocity(&self, speed_m_per_s: f64) -> f64 {
+    pub(crate) fn scaled_velocity(&self, speed_m_per_s: f64) -> f64 {
         // Drive direction is −x.
         -speed_m_per_s / (self.length_m * self.omega)
     }
 
     fn steady_at(&self, speed_m_per_s: f64) -> Result<SteadyPost> {
-        let v = self.scaled_velocity(speed_m_per_s);
-        let analytic = AnalyticPost::new(self.params, v);
+        self.steady_with(self.params, self.scaled_velocity(speed_m_per_s))
+    }
+
+    /// Steady periodic post with parameters `params` at scaled velocity `v`, by the model's
+    /// scheme (closed form, or the fixed-step scheme started from the closed-form state).
+    pub(crate) fn steady_with(&self, params: PostParams, v: f64) -> Result<SteadyPost> {
+        let analytic = AnalyticPost::new(params, v);
         let Some(scheme) = self.scheme else {
             return analytic.steady();
         };
-        let stepped = SteppedPost::new(self.params, v, scheme)?;
-        let (theta0, mut start) = match self.params.height.half_arc {
+        let stepped = SteppedPost::new(params, v, scheme)?;
+        let (theta0, mut start) = match params.height.half_arc {
             Some(phi) => (0.5 * PI - phi, PostState::separated()),
             None => analytic.steady()?.start,
         };
         start.tip_velocity = if start.mode == Mode::Stick {
-            -self.params.tangential_ratio * theta0.sin()
+            -params.tangential_ratio * theta0.sin()
         } else {
             v
         };

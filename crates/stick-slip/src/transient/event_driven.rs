@@ -471,6 +471,10 @@ impl Stepper for EventDriven<'_> {
         "event-driven"
     }
 
+    fn group_stator_work(&self) -> Option<&[f64]> {
+        None
+    }
+
     fn step(&mut self, t_limit: f64, sums: &mut Sums) -> Result<()> {
         let sys = self.sys;
         let n = sys.groups.len();

@@ -3,6 +3,11 @@
 //! n × n array has n columns; columns a whole number of wavelengths apart merge further); with
 //! decay or a burst, equal x is needed. Posts with different gaps never share a group.
 //!
+//! With a tabulated amplitude profile (the energy-conserving wave, `crate::attenuation`) every
+//! column is its own group (columns with equal x mod λ see different amplitudes), and the
+//! profile's factor multiplies the group's amplitude; without one the groups and their
+//! amplitudes are exactly those of the exponential decay (or the constant wave).
+//!
 //! Effective contact ratio: each group's weight is its share of the posts, count/N, and all
 //! forces are in units of N_eff k_n A_n, so the slider sees N_eff = η·N posts (equivalently:
 //! every group's post count scaled by η).
@@ -33,10 +38,18 @@ pub(crate) struct Groups {
 impl Groups {
     /// Build the groups of a scene (positions scaled by A_n).
     pub fn build(scene: &DynamicScene) -> Self {
+        Self::build_with_profile(scene, None)
+    }
+
+    /// Build the groups with an amplitude factor per column (`profile[j]` for the j-th of
+    /// [`columns`], ascending x); `None`: the scene's own wave (decay or constant).
+    pub fn build_with_profile(scene: &DynamicScene, profile: Option<&[f64]>) -> Self {
         let lambda = scene.wave.wavelength_m();
         let k = scene.wave.wavenumber_rad_per_m();
         let a_n = scene.wave.normal_amplitude_m;
-        let by_phase = scene.wave.decay_length_m.is_none() && scene.wave.burst_periods.is_none();
+        let by_phase = scene.wave.decay_length_m.is_none()
+            && scene.wave.burst_periods.is_none()
+            && profile.is_none();
         let mut columns = scene
             .slider
             .layout
@@ -66,7 +79,7 @@ impl Groups {
         }
         let total: f64 = columns.iter().map(|c| c.2).sum();
         let mut groups = Self::default();
-        for (x, gap, count) in columns {
+        for (j, (x, gap, count)) in columns.into_iter().enumerate() {
             let phase = k * x;
             groups.weight.push(count / total);
             groups.count.push(count);
@@ -76,6 +89,9 @@ impl Groups {
             groups
                 .amplitude
                 .push(scene.wave.decay_length_m.map_or(1.0, |l| (-x / l).exp()));
+            if let Some(profile) = profile {
+                groups.amplitude[j] *= profile[j];
+            }
             groups.gap.push(gap / a_n);
         }
         groups
@@ -119,16 +135,47 @@ impl Phases {
     }
 }
 
+/// The columns the amplitude profile is tabulated on: (x (m), post count) in ascending x, every
+/// column of the layout (equal x and gap merged, never by phase).
+pub(crate) fn columns(scene: &DynamicScene) -> Vec<(f64, f64)> {
+    scene
+        .slider
+        .layout
+        .columns(
+            scene.wave.wavelength_m(),
+            scene.options.transient.uniform_phase_groups,
+        )
+        .into_iter()
+        .map(|(x, _, count)| (x, count))
+        .collect()
+}
+
 /// Period-mean total normal force Σ w ⟨N⟩ at tip height z (running wave), in units of
 /// N_eff k_n A_n.
 pub(crate) fn mean_total_normal(groups: &Groups, z: f64) -> f64 {
     use crate::mean_normal::{TipHeight, mean_normal};
     (0..groups.len())
         .map(|g| {
-            let a = groups.amplitude[g];
-            groups.weight[g] * a * mean_normal(TipHeight::from_c((z + groups.gap[g]) / a))
+            let (a, w) = (groups.amplitude[g], groups.weight[g]);
+            if a > 0.0 {
+                // (w·a)·⟨N⟩ in this order: the decay path's bits.
+                w * a * mean_normal(TipHeight::from_c((z + groups.gap[g]) / a))
+            } else {
+                w * mean_normal_at(a, z + groups.gap[g])
+            }
         })
         .sum()
+}
+
+/// Period-mean normal force of one post under a wave of amplitude `a` (of A_n) at tip height
+/// `z` (+ gap), in k_n A_n: a⟨N⟩(z/a), and ⟨−z⟩₊ on the still stator (a = 0).
+pub(crate) fn mean_normal_at(a: f64, z: f64) -> f64 {
+    use crate::mean_normal::{TipHeight, mean_normal};
+    if a > 0.0 {
+        a * mean_normal(TipHeight::from_c(z / a))
+    } else {
+        (-z).max(0.0)
+    }
 }
 
 /// Tip height z with Σ w ⟨N⟩(z) = `preload` (running wave), by bisection-safeguarded secant

@@ -36,6 +36,8 @@ pub(crate) struct MassivePosts<'a> {
     mode: Vec<Mode>,
     normal: Vec<f64>,
     phases: Phases,
+    /// Stator work of each group since the start (weighted).
+    group_work: Vec<f64>,
 }
 
 impl<'a> MassivePosts<'a> {
@@ -80,6 +82,7 @@ impl<'a> MassivePosts<'a> {
             mode: vec![Mode::Stick; n],
             normal,
             phases,
+            group_work: vec![0.0; n],
         })
     }
 }
@@ -176,6 +179,7 @@ impl Stepper for MassivePosts<'_> {
                 }
             };
             step_sums.stator_work += weight * friction_work;
+            self.group_work[g] += weight * friction_work;
             step_sums.power_flow += weight * friction_work.abs();
             step_sums.dissipation += weight * dissipated;
             step_sums.normal_time += weight * normal1 * h;
@@ -232,5 +236,9 @@ impl Stepper for MassivePosts<'_> {
 
     fn totals(&self) -> (f64, f64) {
         self.sys.spring_totals(&self.deflection, &self.normal)
+    }
+
+    fn group_stator_work(&self) -> Option<&[f64]> {
+        Some(&self.group_work)
     }
 }

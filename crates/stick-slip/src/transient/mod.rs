@@ -4,7 +4,7 @@
 //! responses.
 
 mod event_driven;
-mod groups;
+pub(crate) mod groups;
 mod massive;
 mod return_mapping;
 mod system;
@@ -232,21 +232,39 @@ impl TransientModel {
     /// Run at one external load (N) from `start`; `record` keeps the slider history and the
     /// first group's force history over the last periods.
     pub fn run(&self, load_n: f64, start: TransientStart, record: bool) -> Result<TransientRun> {
+        let speed = self.initial_speed(load_n, start)?;
+        Ok(self.run_from(load_n, speed, record, None)?.0)
+    }
+
+    /// The initial slider speed of a run (m/s, drive direction).
+    pub(crate) fn initial_speed(&self, load_n: f64, start: TransientStart) -> Result<f64> {
         crate::error::require_finite("load_n", load_n)?;
+        Ok(match start {
+            TransientStart::Rest => 0.0,
+            TransientStart::Estimate => match &self.estimate {
+                Some(estimate) => estimate.at_load(load_n)?.map_or(0.0, |s| s.speed_m_per_s),
+                None => 0.0,
+            },
+        })
+    }
+
+    /// A run from `initial_speed` (m/s) with an amplitude factor per column (`profile`) or the
+    /// scene's own wave; also returns each group's mean stator power over the averaging window
+    /// (W, whole slider; `None` if the stepper does not keep it per group).
+    pub(crate) fn run_from(
+        &self,
+        load_n: f64,
+        initial_speed: f64,
+        record: bool,
+        profile: Option<&[f64]>,
+    ) -> Result<(TransientRun, Option<Vec<f64>>)> {
         let scene = &self.scene;
         let options = &scene.options.transient;
         let a_n = scene.wave.normal_amplitude_m;
         let omega = scene.wave.angular_frequency_rad_per_s();
         let force_unit = scene.slider.effective_post_count() * scene.contact.k_n_n_per_m * a_n;
         let post_force = scene.contact.k_n_n_per_m * a_n;
-        let sys = System::new(scene, load_n);
-        let initial_speed = match start {
-            TransientStart::Rest => 0.0,
-            TransientStart::Estimate => match &self.estimate {
-                Some(estimate) => estimate.at_load(load_n)?.map_or(0.0, |s| s.speed_m_per_s),
-                None => 0.0,
-            },
-        };
+        let sys = System::new(scene, load_n, profile);
         let start_state = SliderState {
             t: sys.t_start,
             x: 0.0,
@@ -268,7 +286,11 @@ impl TransientModel {
         let mut records = Vec::with_capacity(periods);
         let mut peak_speed = f64::NEG_INFINITY;
         let t_unit = 1.0 / omega;
+        let mut window_start_work: Option<Vec<f64>> = None;
         for j in 0..periods {
+            if j == periods - window {
+                window_start_work = stepper.group_stator_work().map(<[f64]>::to_vec);
+            }
             let t_end = sys.t_start + 2.0 * PI * (j + 1) as f64;
             let first = stepper.state();
             let stored0 = stepper.stored_energy();
@@ -381,7 +403,17 @@ impl TransientModel {
             h.speed_m_per_s = mean_speed * a_n * omega;
         }
         let total_dx: f64 = records.iter().map(|r| r.dx).sum();
-        Ok(TransientRun {
+        let group_power = match (window_start_work, stepper.group_stator_work()) {
+            (Some(before), Some(after)) => Some(
+                before
+                    .iter()
+                    .zip(after)
+                    .map(|(b, a)| (a - b) / time * power_unit)
+                    .collect(),
+            ),
+            _ => None,
+        };
+        let run = TransientRun {
             load_n,
             speed_m_per_s: mean_speed * a_n * omega,
             velocity_x_m_per_s: -mean_speed * a_n * omega,
@@ -422,7 +454,8 @@ impl TransientModel {
                 .collect(),
             slider_history,
             post_history,
-        })
+        };
+        Ok((run, group_power))
     }
 
     fn curve_point(run: &TransientRun) -> CurvePoint {

@@ -40,6 +40,8 @@ pub(crate) struct ReturnMapping<'a> {
     threshold: Vec<f64>,
     /// Status during the active-set iteration: 0 stuck, ±1 slipping, [`SEPARATED`].
     status: Vec<i8>,
+    /// Stator work of each group since the start (weighted).
+    group_work: Vec<f64>,
 }
 
 /// Status code of a separated group in the active-set iteration.
@@ -68,6 +70,7 @@ impl<'a> ReturnMapping<'a> {
             trial: vec![0.0; n],
             threshold: vec![0.0; n],
             status: vec![0; n],
+            group_work: vec![0.0; n],
         }
     }
 
@@ -262,6 +265,7 @@ impl Stepper for ReturnMapping<'_> {
             step_sums.force_time += w * force * h;
             step_sums.normal_time += w * normal * h;
             step_sums.stator_work += w * stator;
+            self.group_work[g] += w * stator;
             step_sums.power_flow += w * stator.abs();
             step_sums.output_work += w * force * v1 * h;
             step_sums.dissipation += w * force * (trial - e);
@@ -307,5 +311,9 @@ impl Stepper for ReturnMapping<'_> {
 
     fn totals(&self) -> (f64, f64) {
         self.sys.spring_totals(&self.deflection, &self.normal)
+    }
+
+    fn group_stator_work(&self) -> Option<&[f64]> {
+        Some(&self.group_work)
     }
 }

@@ -37,8 +37,10 @@ pub(crate) struct System {
 }
 
 impl System {
-    pub fn new(scene: &DynamicScene, load_n: f64) -> Self {
-        let groups = Groups::build(scene);
+    /// The system of `scene` at external load `load_n` (N), with an amplitude factor per column
+    /// (`profile`, `Groups::build_with_profile`) or the scene's own wave.
+    pub fn new(scene: &DynamicScene, load_n: f64, profile: Option<&[f64]>) -> Self {
+        let groups = Groups::build_with_profile(scene, profile);
         let wave = crate::wave::scaled(&scene.wave);
         let omega = scene.wave.angular_frequency_rad_per_s();
         let n_eff = scene.slider.effective_post_count();
@@ -173,4 +175,7 @@ pub(crate) trait Stepper {
     fn steps(&self) -> u64;
     /// Integrator name.
     fn name(&self) -> &'static str;
+    /// Stator work Σ w F·Δu of each group since the start (weighted, solver units), for the
+    /// energy-conserving wave; `None` where the stepper does not keep it per group.
+    fn group_stator_work(&self) -> Option<&[f64]>;
 }
