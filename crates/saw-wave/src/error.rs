@@ -118,6 +118,27 @@ pub enum WaveError {
         /// What failed.
         reason: &'static str,
     },
+    /// A field of an interdigital transducer, of its metallisation or of its drive is out of
+    /// range (named as in [`crate::idt::Idt`] and [`crate::idt::Idt::drive`]).
+    #[error("invalid interdigital transducer {field} = {value}: {requirement}")]
+    InvalidIdt {
+        /// The field (e.g. `finger_width_m`, `metallisation.thickness_m`, `drive_voltage_peak_v`).
+        field: &'static str,
+        /// Its value.
+        value: f64,
+        /// What it must satisfy.
+        requirement: &'static str,
+    },
+    /// A transducer substrate was built from a wave solved for another cut.
+    #[error(
+        "the wave was solved for `{wave_cut}`, not for the cut `{cut}` of the transducer substrate"
+    )]
+    MismatchedWave {
+        /// The cut given.
+        cut: String,
+        /// The cut the wave belongs to.
+        wave_cut: String,
+    },
     /// An argument of a power or profile function is out of range.
     #[error("invalid argument {name} = {value} of {function}: {requirement}")]
     InvalidArgument {

@@ -3,6 +3,7 @@
 mod boundary;
 mod cut;
 mod error;
+pub mod idt;
 mod material;
 pub mod materials;
 mod mode;
@@ -13,6 +14,7 @@ mod wave;
 
 pub use cut::Cut;
 pub use error::{Surface, WaveError};
+pub use idt::{ElectrodeMetal, Idt, IdtResponse, IdtSubstrate, Metallisation};
 pub use material::{Material, VACUUM_PERMITTIVITY_F_PER_M};
 pub use mode::{DepthSample, Fields, PartialWave, PowerFlux, SurfaceMode};
 pub use rotation::EulerAngles;

@@ -124,6 +124,20 @@ impl Material {
         }
     }
 
+    /// Constant-stress permittivity ε^T = ε^S + e·s^E·eᵀ, s^E = (c^E)⁻¹ (F/m, same frame as
+    /// `self`; IEEE Std 176-1987); `None` if the stiffness is singular.
+    pub fn permittivity_stress_free_f_per_m(&self) -> Option<[[f64; 3]; 3]> {
+        let compliance =
+            nalgebra::Matrix6::from_fn(|i, j| self.stiffness_pa[i][j]).try_inverse()?;
+        let e = nalgebra::Matrix3x6::from_fn(|i, j| self.piezo_c_per_m2[i][j]);
+        let added = e * compliance * e.transpose();
+        Some(std::array::from_fn(|i| {
+            std::array::from_fn(|j| {
+                self.permittivity_f_per_m[i][j] + 0.5 * (added[(i, j)] + added[(j, i)])
+            })
+        }))
+    }
+
     /// Checks finiteness, positive density, symmetry and positive definiteness.
     pub fn validate(&self) -> Result<(), WaveError> {
         self.check_finite()?;
