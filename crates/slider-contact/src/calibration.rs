@@ -12,6 +12,13 @@
 //! does not: the 2 µm post column, the bonded base and the FEM's own discretisation. The
 //! differential compliances C_ii − C_ij of the FEM and of the lattice, which do not depend on
 //! s_post, test the far field (the split); [`NearFieldCalibration::differential`] lists them.
+//!
+//! **Tangential** ([`calibrate_tangential_near_field`]): the same construction on the strip
+//! FEM's condensed tangential compliance of the slider body (`BodyCompliance::
+//! tangential_compliance`, C_xx = WᵀK⁻¹W from the same factor) with the tangential body kernel
+//! ([`crate::TangentialKernel::body_mutual`], Cerruti + ΔK_t; x forces are even under the strip's
+//! y mirrors, so the image rows carry the same force): s_t,post = C^FEM_t,ii − (C^lat_t,ii −
+//! s_t,post), averaged over the central posts, the differential compliances listed as the check.
 
 use serde::{Deserialize, Serialize};
 use static_contact::StripModel;
@@ -42,7 +49,7 @@ pub struct DifferentialCheck {
 pub struct NearFieldCalibration {
     /// s_post (m/N).
     pub slider_self_compliance_m_per_n: f64,
-    /// Johnson's 1/k_pn for comparison (m/N).
+    /// Johnson's 1/k_pn (normal) or 1/k_pt (tangential) for comparison (m/N).
     pub johnson_m_per_n: f64,
     /// Central posts averaged.
     pub posts: Vec<usize>,
@@ -73,6 +80,61 @@ pub fn calibrate_near_field(
     strip: &StripModel,
     slider_thickness_m: f64,
 ) -> Result<NearFieldCalibration> {
+    let spec = row_spec(strip, slider_thickness_m)?;
+    let kernel = LatticeKernel::new(&spec)?;
+    let cfg = &strip.config;
+    let johnson = contact_springs::k_pn(&cfg.slider_material, cfg.post_radius_m)
+        .map_err(|e| invalid("post_diameter_m", 2.0 * cfg.post_radius_m, e.to_string()))?;
+    Ok(calibrate(
+        strip,
+        &spec,
+        &strip.slider.compliance_m_per_n,
+        |dx, dy| {
+            if dx.hypot(dy) < 0.5 * cfg.post_radius_m {
+                kernel.parts().layer_at_zero_m_per_n
+            } else {
+                kernel.body_mutual(dx.hypot(dy))
+            }
+        },
+        1.0 / johnson,
+    ))
+}
+
+/// Calibrates the tangential s_t,post on a one-row strip FEM (module doc): one set of partial
+/// forward solves on the strip's slider factor (the tangential columns), then as
+/// [`calibrate_near_field`]. `johnson_m_per_n` of the result is 1/k_pt.
+pub fn calibrate_tangential_near_field(
+    strip: &StripModel,
+    slider_thickness_m: f64,
+) -> Result<NearFieldCalibration> {
+    let spec = row_spec(strip, slider_thickness_m)?;
+    let kernel = crate::tangential::TangentialKernel::new(
+        &spec,
+        NearField::Value {
+            slider_self_compliance_m_per_n: 0.0,
+        },
+    )?;
+    let fem = strip.slider.tangential_compliance()?.tangential_m_per_n;
+    let cfg = &strip.config;
+    let johnson = contact_springs::k_pt(&cfg.slider_material, cfg.post_radius_m)
+        .map_err(|e| invalid("post_diameter_m", 2.0 * cfg.post_radius_m, e.to_string()))?;
+    Ok(calibrate(
+        strip,
+        &spec,
+        &fem,
+        |dx, dy| {
+            if dx.hypot(dy) < 0.5 * cfg.post_radius_m {
+                kernel.body_layer(0.0, 0.0)
+            } else {
+                kernel.body_mutual(dx, dy)
+            }
+        },
+        1.0 / johnson,
+    ))
+}
+
+/// The lattice spec of the strip's row with enough image rows for the body's far field.
+fn row_spec(strip: &StripModel, slider_thickness_m: f64) -> Result<OperatorSpec> {
     if strip.strip_rows != 1 {
         return Err(invalid(
             "strip_rows",
@@ -81,12 +143,11 @@ pub fn calibrate_near_field(
         ));
     }
     let cfg = &strip.config;
-    let n = strip.post_count();
     let p = cfg.pitch_m;
-    let rows = (TABLE_MIN_RANGE_OVER_T * slider_thickness_m / p).ceil() as i64;
+    let rows = image_rows(p, slider_thickness_m);
     let x_span = strip.posts.last().map_or(0.0, |q| q.x_m) - strip.posts[0].x_m;
     let posts_x = ((x_span / p).round() as usize + 1).max(1);
-    let kernel = LatticeKernel::new(&OperatorSpec {
+    Ok(OperatorSpec {
         geometry: LatticeGeometry {
             posts_x,
             posts_y: 2 * rows as usize + 1,
@@ -101,21 +162,30 @@ pub fn calibrate_near_field(
         near_field: NearField::Value {
             slider_self_compliance_m_per_n: 0.0,
         },
-    })?;
+    })
+}
+
+/// Image rows on each side of the strip's row: the bonded body's far field has decayed there.
+fn image_rows(pitch_m: f64, slider_thickness_m: f64) -> i64 {
+    (TABLE_MIN_RANGE_OVER_T * slider_thickness_m / pitch_m).ceil() as i64
+}
+
+/// s_post from the FEM matrix `fem` (m/N) and the body kernel `body(dx, dy)` (its r → 0 value
+/// the layer correction at the origin), with the differential checks.
+fn calibrate(
+    strip: &StripModel,
+    spec: &OperatorSpec,
+    fem: &nalgebra::DMatrix<f64>,
+    body: impl Fn(f64, f64) -> f64,
+    johnson_m_per_n: f64,
+) -> NearFieldCalibration {
+    let n = strip.post_count();
+    let p = strip.config.pitch_m;
+    let rows = image_rows(p, spec.slider_thickness_m);
     let lattice = |i: usize, j: usize| -> f64 {
         let dx = strip.posts[i].x_m - strip.posts[j].x_m;
-        (-rows..=rows)
-            .map(|m| {
-                let r = dx.hypot(m as f64 * p);
-                if r < 0.5 * cfg.post_radius_m {
-                    kernel.parts().layer_at_zero_m_per_n
-                } else {
-                    kernel.body_mutual(r)
-                }
-            })
-            .sum()
+        (-rows..=rows).map(|m| body(dx, m as f64 * p)).sum()
     };
-    let fem = &strip.slider.compliance_m_per_n;
     let count = ((CENTRAL_FRACTION * n as f64).round() as usize).max(1);
     let first = (n - count) / 2;
     let posts: Vec<usize> = (first..first + count).collect();
@@ -134,12 +204,10 @@ pub fn calibrate_near_field(
             lattice_m_per_n: s_post + lattice(i, i) - lattice(i, j),
         })
         .collect();
-    let johnson = contact_springs::k_pn(&cfg.slider_material, cfg.post_radius_m)
-        .map_err(|e| invalid("post_diameter_m", 2.0 * cfg.post_radius_m, e.to_string()))?;
-    Ok(NearFieldCalibration {
+    NearFieldCalibration {
         slider_self_compliance_m_per_n: s_post,
-        johnson_m_per_n: 1.0 / johnson,
+        johnson_m_per_n,
         posts,
         differential,
-    })
+    }
 }

@@ -372,8 +372,22 @@ impl LatticeOperator {
 
     /// The operator of a tabulated kernel.
     pub fn from_kernel(kernel: &LatticeKernel) -> Self {
-        let g = &kernel.spec.geometry;
-        let (nx, ny) = (g.posts_x, g.posts_y);
+        Self::from_offsets(&kernel.spec.geometry, kernel.parts, |di, dj| {
+            kernel.at_offset(di, dj)
+        })
+    }
+
+    /// The operator of any kernel c(di, dj) on `geometry`'s lattice that is even in each offset
+    /// separately, c(−di, dj) = c(di, dj) = c(di, −dj) (the normal kernel, radial, and the
+    /// tangential one, which depends on di² and dj²): its padded-grid spectrum is then real
+    /// (the one FFT convolution of the lattice for every direction). `parts` are the diagonal's
+    /// (C_ii = `parts.total_m_per_n()`, which must equal c(0, 0)).
+    pub fn from_offsets(
+        geometry: &LatticeGeometry,
+        parts: DiagonalParts,
+        kernel: impl Fn(i64, i64) -> f64,
+    ) -> Self {
+        let (nx, ny) = (geometry.posts_x, geometry.posts_y);
         let (px, py) = (padded_length(nx), padded_length(ny));
         let mut planner = FftPlanner::new();
         let mut op = Self {
@@ -382,12 +396,12 @@ impl LatticeOperator {
             px,
             py,
             spectrum: Vec::new(),
-            diagonal_m_per_n: kernel.parts.total_m_per_n(),
+            diagonal_m_per_n: parts.total_m_per_n(),
             fft_x: planner.plan_fft_forward(px),
             fft_y: planner.plan_fft_forward(py),
             ifft_x: planner.plan_fft_inverse(px),
             ifft_y: planner.plan_fft_inverse(py),
-            parts: kernel.parts,
+            parts,
         };
         // Kernel on the padded grid at wrapped offsets; offsets of |d| ≥ n (never used by the
         // linear convolution) also get c(d), so that the grid kernel stays even and its spectrum
@@ -402,7 +416,7 @@ impl LatticeOperator {
         let mut a: Vec<Complex<f64>> = (0..px * py)
             .map(|idx| {
                 let (r, c) = (idx / py, idx % py);
-                Complex::new(kernel.at_offset(wrap(r, px), wrap(c, py)), 0.0)
+                Complex::new(kernel(wrap(r, px), wrap(c, py)), 0.0)
             })
             .collect();
         op.fft_y.process(&mut a);

@@ -11,9 +11,12 @@ pub mod plate;
 pub mod precondition;
 pub mod slider;
 pub mod solver;
+pub mod tangential;
 
 pub use balanced::BalancedCg;
-pub use calibration::{NearFieldCalibration, calibrate_near_field};
+pub use calibration::{
+    NearFieldCalibration, calibrate_near_field, calibrate_tangential_near_field,
+};
 pub use error::{Result, SliderError};
 pub use heights::{HeightMap, HeightMapCsv, Imperfections, ImperfectionsExt};
 pub use lattice::{
@@ -26,3 +29,6 @@ pub use slider::{
     FreeBack, Mechanism, MechanismExt, SliderModel, SliderParams, SliderReport, SliderSnapshot, run,
 };
 pub use solver::{CgOptions, CgSolution, ConstrainedCg, DEFAULT_TOLERANCE};
+pub use tangential::{
+    NEGLIGIBLE_DUNDURS_BETA, TangentialKernel, coupling_negligible, dundurs_beta,
+};

@@ -496,10 +496,30 @@ impl SliderModel {
     /// Solves one phase.
     pub fn solve_phase(&self, preload_n: f64, phase_rad: Option<f64>) -> Result<SliderSnapshot> {
         let h = self.obstacle_heights(phase_rad);
-        let scale = self.length_scale(preload_n, &h);
-        let sol = match &self.free_back {
+        let sol = self
+            .solve_heights(preload_n, &h)
+            .map_err(|e| with_context(e, preload_n, phase_rad))?;
+        Ok(snapshot(phase_rad, h, sol))
+    }
+
+    /// Solves the contact of every post on given obstacle heights h_i (m, lattice order; the
+    /// post offsets δ_i already included, e.g. [`Self::obstacle_heights`] with a local wave
+    /// amplitude) under `preload_n`, with this slider's operator and preload mechanism (rigid
+    /// back: Σf = P; free back: P and its moments about the load point, the preload's own plate
+    /// deflection subtracted): the static stage's solve, also used by the coupled dynamics of
+    /// the whole slider at every grid phase.
+    pub fn solve_heights(&self, preload_n: f64, h: &[f64]) -> Result<CgSolution> {
+        if h.len() != self.operator.len() {
+            return Err(invalid(
+                "obstacle_height_m",
+                h.len() as f64,
+                format!("one height per post ({} posts)", self.operator.len()),
+            ));
+        }
+        let scale = self.length_scale(preload_n, h);
+        match &self.free_back {
             None => {
-                ConstrainedCg::new(self.params.solver).solve(&self.operator, &h, preload_n, scale)
+                ConstrainedCg::new(self.params.solver).solve(&self.operator, h, preload_n, scale)
             }
             Some(back) => {
                 // gap = z + θ·φ − h + (C + G) f + w_load: the load's deflection lowers the obstacle.
@@ -523,8 +543,6 @@ impl SliderModel {
                     .solve_preconditioned(&op, pre, &shifted, preload_n, scale, &back.arms)
             }
         }
-        .map_err(|e| with_context(e, preload_n, phase_rad))?;
-        Ok(snapshot(phase_rad, h, sol))
     }
 
     /// All phases of one preload, and η.
