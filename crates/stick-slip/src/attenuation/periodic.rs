@@ -323,10 +323,15 @@ impl AttenuatedPeriodicModel {
                 }
             }
         };
-        let mut hi = crest;
+        // The attenuated wave is weaker under the trailing bins: the constant-amplitude speed at
+        // the load is a close upper bracket (expanded if not).
+        let mut hi = match self.base.at_load(load_n)? {
+            Some(s) if s.speed_m_per_s > 0.0 => s.speed_m_per_s,
+            _ => crest,
+        };
         let mut expansions = 0;
         while excess(hi) > 0.0 {
-            if expansions == 6 {
+            if expansions == 12 {
                 return Err(StickSlipError::NotConverged {
                     model: "periodic-average with the energy-conserving wave",
                     what: "bracket of the load speed (thrust still positive beyond the crest speed)",
@@ -334,7 +339,7 @@ impl AttenuatedPeriodicModel {
                     residual: hi,
                 });
             }
-            hi *= 1.5;
+            hi *= 1.25;
             expansions += 1;
         }
         let root = bracketed_root(&mut excess, 0.0, hi, ATTENUATED_SPEED_TOLERANCE * crest);
