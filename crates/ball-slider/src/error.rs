@@ -33,7 +33,9 @@ pub enum BallError {
         reason: &'static str,
     },
     /// A tangential load at or above the friction limit asked of a partial-slip formula.
-    #[error("tangential load {load_n} N is not below the friction limit μN = {limit_n} N: the contact slides (no partial-slip state)")]
+    #[error(
+        "tangential load {load_n} N is not below the friction limit μN = {limit_n} N: the contact slides (no partial-slip state)"
+    )]
     TangentialLoadBeyondFriction {
         /// The tangential load asked for (N).
         load_n: f64,
@@ -41,7 +43,9 @@ pub enum BallError {
         limit_n: f64,
     },
     /// The contact grew beyond the spring bed laid for it.
-    #[error("contact half-width {contact_m} m exceeds the spring bed's extent {bed_m} m at t = {time_s} s: the ball pressed far deeper than its static approach plus the wave")]
+    #[error(
+        "contact half-width {contact_m} m exceeds the spring bed's extent {bed_m} m at t = {time_s} s: the ball pressed far deeper than its static approach plus the wave"
+    )]
     ContactBeyondBed {
         /// Contact radius reached (m).
         contact_m: f64,
@@ -52,7 +56,9 @@ pub enum BallError {
     },
     /// The implicit step's fixed point did not converge: the step is too long for the
     /// ball–contact resonance.
-    #[error("implicit step at t = {time_s} s did not converge in {iterations} iterations (last change {change:e} of the scale); use more steps per period")]
+    #[error(
+        "implicit step at t = {time_s} s did not converge in {iterations} iterations (last change {change:e} of the scale); use more steps per period"
+    )]
     StepDidNotConverge {
         /// Time of the step (s).
         time_s: f64,
@@ -62,7 +68,9 @@ pub enum BallError {
         change: f64,
     },
     /// The contact at imposed speed did not become periodic.
-    #[error("contact at imposed speed {speed_m_per_s} m/s not periodic after {periods} periods (state change {change:e})")]
+    #[error(
+        "contact at imposed speed {speed_m_per_s} m/s not periodic after {periods} periods (state change {change:e})"
+    )]
     NotPeriodic {
         /// Imposed speed (m/s).
         speed_m_per_s: f64,

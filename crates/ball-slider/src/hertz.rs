@@ -36,8 +36,8 @@ pub fn effective_modulus_pa(a: &Material, b: &Material) -> f64 {
 pub fn dundurs_beta(a: &Material, b: &Material) -> f64 {
     let num = (1.0 - 2.0 * a.poisson_ratio) / a.shear_modulus_pa
         - (1.0 - 2.0 * b.poisson_ratio) / b.shear_modulus_pa;
-    let den = (1.0 - a.poisson_ratio) / a.shear_modulus_pa
-        + (1.0 - b.poisson_ratio) / b.shear_modulus_pa;
+    let den =
+        (1.0 - a.poisson_ratio) / a.shear_modulus_pa + (1.0 - b.poisson_ratio) / b.shear_modulus_pa;
     0.5 * num / den
 }
 

@@ -142,7 +142,11 @@ impl SpringBed {
 
     /// Stored tangential energy Σ½k e_i².
     pub fn energy(&self) -> f64 {
-        0.5 * self.stiffness * self.deflection[..self.active].iter().map(|e| e * e).sum::<f64>()
+        0.5 * self.stiffness
+            * self.deflection[..self.active]
+                .iter()
+                .map(|e| e * e)
+                .sum::<f64>()
     }
 
     /// Deflections (read only).
@@ -253,7 +257,13 @@ mod tests {
         let step = bed.commit(0.8, 0.9);
         let work = step.mean_force * 0.9;
         let closure = work - step.energy_change - step.dissipation;
-        assert!(closure.abs() < 1e-14, "tangential work − ΔU − D = {closure}");
-        assert!((bed.energy() - u0 - step.energy_change).abs() < 1e-14, "stored energy change");
+        assert!(
+            closure.abs() < 1e-14,
+            "tangential work − ΔU − D = {closure}"
+        );
+        assert!(
+            (bed.energy() - u0 - step.energy_change).abs() < 1e-14,
+            "stored energy change"
+        );
     }
 }

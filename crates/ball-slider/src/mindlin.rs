@@ -157,7 +157,9 @@ impl MindlinContact {
         // For small q the bracket's terms cancel to O(q³): use its series
         // 5q³/162 · (1 + 2q/3 + 7q²/15 + O(q³)).
         if q < 1e-3 {
-            return Ok(scale * (5.0 * q.powi(3) / 162.0) * (1.0 + 2.0 * q / 3.0 + 7.0 * q * q / 15.0));
+            return Ok(scale
+                * (5.0 * q.powi(3) / 162.0)
+                * (1.0 + 2.0 * q / 3.0 + 7.0 * q * q / 15.0));
         }
         Ok(scale * bracket)
     }

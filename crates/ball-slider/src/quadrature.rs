@@ -84,7 +84,10 @@ mod tests {
         let rule = GaussLegendre::new(8);
         let got = rule.integrate(-1.0, 2.0, 1, |x| x.powi(15) - 3.0 * x.powi(4));
         let exact = (2f64.powi(16) - 1.0) / 16.0 - 3.0 * (32.0 + 1.0) / 5.0;
-        assert!((got - exact).abs() < 1e-10 * exact.abs(), "∫x¹⁵−3x⁴: {got} vs {exact}");
+        assert!(
+            (got - exact).abs() < 1e-10 * exact.abs(),
+            "∫x¹⁵−3x⁴: {got} vs {exact}"
+        );
     }
 
     #[test]

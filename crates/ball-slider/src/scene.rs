@@ -66,9 +66,8 @@ impl BallSlider {
 
     /// The moving mass (kg): given, or ρπd³/6.
     pub fn mass_kg(&self) -> f64 {
-        self.moving_mass_kg.unwrap_or_else(|| {
-            self.material.density_kg_per_m3 * PI * self.diameter_m.powi(3) / 6.0
-        })
+        self.moving_mass_kg
+            .unwrap_or_else(|| self.material.density_kg_per_m3 * PI * self.diameter_m.powi(3) / 6.0)
     }
 }
 

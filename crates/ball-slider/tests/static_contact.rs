@@ -26,7 +26,11 @@ fn hertz_pressure_integrates_to_the_normal_force() {
         h.pressure_pa(r) * 2.0 * PI * r * a * phi.cos()
     });
     let err = (force - h.normal_force_n).abs() / h.normal_force_n;
-    assert!(err < 1e-10, "∫p dA = {force} N vs N = {} N (rel. {err:e})", h.normal_force_n);
+    assert!(
+        err < 1e-10,
+        "∫p dA = {force} N vs N = {} N (rel. {err:e})",
+        h.normal_force_n
+    );
 }
 
 #[test]
@@ -34,23 +38,40 @@ fn hertz_contact_radius_approach_and_stiffness_match_closed_forms() {
     let h = contact().hertz;
     let (r, e) = (h.radius_m, h.effective_modulus_pa);
     let a = (3.0 * h.normal_force_n * r / (4.0 * e)).cbrt();
-    assert!((h.contact_radius_m - a).abs() < 1e-15 * a, "contact radius a");
-    assert!((h.approach_m - a * a / r).abs() < 1e-15 * h.approach_m, "approach δ = a²/R");
+    assert!(
+        (h.contact_radius_m - a).abs() < 1e-15 * a,
+        "contact radius a"
+    );
+    assert!(
+        (h.approach_m - a * a / r).abs() < 1e-15 * h.approach_m,
+        "approach δ = a²/R"
+    );
     let back = hertz::force_at_approach_n(r, e, h.approach_m);
     assert!((back - h.normal_force_n).abs() < 1e-13, "N(δ(N)) = {back}");
     let d = h.approach_m;
     let step = 1e-4 * d;
-    let k_fd = (hertz::force_at_approach_n(r, e, d + step) - hertz::force_at_approach_n(r, e, d - step))
+    let k_fd = (hertz::force_at_approach_n(r, e, d + step)
+        - hertz::force_at_approach_n(r, e, d - step))
         / (2.0 * step);
-    assert!((k_fd - h.normal_stiffness_n_per_m).abs() < 1e-7 * k_fd, "k_n = 2aE* vs dN/dδ {k_fd}");
+    assert!(
+        (k_fd - h.normal_stiffness_n_per_m).abs() < 1e-7 * k_fd,
+        "k_n = 2aE* vs dN/dδ {k_fd}"
+    );
     let p0 = 2.0 * a * e / (PI * r);
-    assert!((h.peak_pressure_pa - p0).abs() < 1e-12 * p0, "p₀ = 3N/2πa² = 2aE*/πR");
+    assert!(
+        (h.peak_pressure_pa - p0).abs() < 1e-12 * p0,
+        "p₀ = 3N/2πa² = 2aE*/πR"
+    );
     // δ = d t² makes N(δ) dδ a polynomial in t (∝ t⁴): Gauss–Legendre is exact.
     let rule = GaussLegendre::new(12);
     let energy = rule.integrate(0.0, 1.0, 1, |t| {
         hertz::force_at_approach_n(r, e, d * t * t) * 2.0 * d * t
     });
-    assert!((energy - h.energy_j()).abs() < 1e-10 * energy, "U = ∫N dδ: {energy} vs {}", h.energy_j());
+    assert!(
+        (energy - h.energy_j()).abs() < 1e-10 * energy,
+        "U = ∫N dδ: {energy} vs {}",
+        h.energy_j()
+    );
 }
 
 /// ∫₀ᵃ q(r) w(r) dr of the Cattaneo traction at load Q, split at the stick radius c with
@@ -82,10 +103,16 @@ fn mindlin_compliance_matches_integral_of_the_traction_distribution() {
         let delta = traction_integral(&m, load, |_| 1.0) / (2.0 * m.effective_shear_modulus_pa);
         let closed = m.compliance_m(load).unwrap();
         let err = (delta - closed).abs() / closed;
-        assert!(err < 1e-10, "δ_t at Q/μN = {q}: Cerruti integral {delta} vs closed form {closed} (rel. {err:e})");
+        assert!(
+            err < 1e-10,
+            "δ_t at Q/μN = {q}: Cerruti integral {delta} vs closed form {closed} (rel. {err:e})"
+        );
         let resultant = traction_integral(&m, load, |r| 2.0 * PI * r);
         let err = (resultant - load).abs() / load;
-        assert!(err < 1e-10, "∫q dA = {resultant} vs Q = {load} (rel. {err:e})");
+        assert!(
+            err < 1e-10,
+            "∫q dA = {resultant} vs Q = {load} (rel. {err:e})"
+        );
     }
 }
 
@@ -119,7 +146,10 @@ fn loop_energy_matches_integral_of_q_d_delta_around_the_loop() {
         let closed = m.loop_energy_j(q_star).unwrap();
         let numeric = loop_integral(&m, q_star);
         let err = (closed - numeric).abs() / numeric.abs();
-        assert!(err < 1e-8, "loop energy at Q*/μN = {q}: closed {closed:e} vs ∮Q dδ {numeric:e} (rel. {err:e})");
+        assert!(
+            err < 1e-8,
+            "loop energy at Q*/μN = {q}: closed {closed:e} vs ∮Q dδ {numeric:e} (rel. {err:e})"
+        );
     }
 }
 
@@ -128,9 +158,18 @@ fn loop_branches_close_at_the_reversal_points_and_follow_masing() {
     let m = contact();
     let q_star = 0.6 * m.friction_limit_n();
     let top = m.compliance_m(q_star).unwrap();
-    assert!((m.unloading_m(q_star, q_star).unwrap() - top).abs() < 1e-20, "unloading starts at (Q*, δ(Q*))");
-    assert!((m.unloading_m(q_star, -q_star).unwrap() + top).abs() < 1e-20, "unloading ends at (−Q*, −δ(Q*))");
-    assert!((m.reloading_m(q_star, q_star).unwrap() - top).abs() < 1e-20, "reloading closes the loop");
+    assert!(
+        (m.unloading_m(q_star, q_star).unwrap() - top).abs() < 1e-20,
+        "unloading starts at (Q*, δ(Q*))"
+    );
+    assert!(
+        (m.unloading_m(q_star, -q_star).unwrap() + top).abs() < 1e-20,
+        "unloading ends at (−Q*, −δ(Q*))"
+    );
+    assert!(
+        (m.reloading_m(q_star, q_star).unwrap() - top).abs() < 1e-20,
+        "reloading closes the loop"
+    );
     // Masing: the unloading branch is the virgin curve scaled by 2 about the reversal point.
     let q = 0.1 * m.friction_limit_n();
     let masing = top - 2.0 * m.compliance_m((q_star - q) / 2.0).unwrap();
@@ -143,10 +182,14 @@ fn loop_energy_small_amplitude_follows_mindlins_cubic_law() {
     let s = m.friction_limit_n();
     for q in [1e-5, 1e-4, 5e-4, 2e-3] {
         let q_star = q * s;
-        let cubic = q_star.powi(3)
-            / (36.0 * s * m.hertz.contact_radius_m * m.effective_shear_modulus_pa);
+        let cubic =
+            q_star.powi(3) / (36.0 * s * m.hertz.contact_radius_m * m.effective_shear_modulus_pa);
         let w = m.loop_energy_j(q_star).unwrap();
-        assert!((w / cubic - 1.0).abs() < 2.0 * q, "W/(Q*³/36μNaG*) at q = {q}: {}", w / cubic);
+        assert!(
+            (w / cubic - 1.0).abs() < 2.0 * q,
+            "W/(Q*³/36μNaG*) at q = {q}: {}",
+            w / cubic
+        );
     }
 }
 
@@ -155,11 +198,21 @@ fn full_slip_limit_reaches_zero_stick_radius_and_zero_tangent_stiffness() {
     let m = contact();
     let s = m.friction_limit_n();
     let c = m.stick_radius_m(s * (1.0 - 1e-12)).unwrap();
-    assert!(c < 1e-4 * m.hertz.contact_radius_m, "stick radius near full slip: {c}");
-    assert_eq!(m.tangent_stiffness_n_per_m(s).unwrap(), 0.0, "tangent stiffness at Q = μN");
+    assert!(
+        c < 1e-4 * m.hertz.contact_radius_m,
+        "stick radius near full slip: {c}"
+    );
+    assert_eq!(
+        m.tangent_stiffness_n_per_m(s).unwrap(),
+        0.0,
+        "tangent stiffness at Q = μN"
+    );
     assert!((m.compliance_m(s).unwrap() - m.full_slip_displacement_m()).abs() < 1e-22);
     assert!(
-        (m.tangent_stiffness_n_per_m(0.0).unwrap() - 8.0 * m.effective_shear_modulus_pa * m.hertz.contact_radius_m).abs() < 1e-6,
+        (m.tangent_stiffness_n_per_m(0.0).unwrap()
+            - 8.0 * m.effective_shear_modulus_pa * m.hertz.contact_radius_m)
+            .abs()
+            < 1e-6,
         "initial stiffness 8G*a"
     );
     match m.stick_radius_m(s) {
@@ -167,7 +220,11 @@ fn full_slip_limit_reaches_zero_stick_radius_and_zero_tangent_stiffness() {
         other => panic!("Q = μN must be refused by the partial-slip stick radius, got {other:?}"),
     }
     assert!(m.compliance_m(1.01 * s).is_err(), "Q > μN refused");
-    assert!((m.loop_energy_j(s).unwrap() - 0.8 * s * m.full_slip_displacement_m()).abs() < 1e-12 * s * m.full_slip_displacement_m(), "full-slip loop energy 4μN·C/5");
+    assert!(
+        (m.loop_energy_j(s).unwrap() - 0.8 * s * m.full_slip_displacement_m()).abs()
+            < 1e-12 * s * m.full_slip_displacement_m(),
+        "full-slip loop energy 4μN·C/5"
+    );
 }
 
 #[test]
@@ -175,7 +232,14 @@ fn dundurs_beta_is_small_for_steel_on_linbo3_and_zero_for_like_bodies() {
     let (steel, ln) = (bearing_steel(), Material::lithium_niobate());
     let beta = hertz::dundurs_beta(&steel, &ln);
     assert!((beta + 0.0632).abs() < 5e-4, "β steel/LiNbO3 = {beta}");
-    assert_eq!(hertz::dundurs_beta(&steel, &steel), 0.0, "β of identical bodies");
+    assert_eq!(
+        hertz::dundurs_beta(&steel, &steel),
+        0.0,
+        "β of identical bodies"
+    );
     let si = Material::silicon();
-    assert!((hertz::dundurs_beta(&si, &ln).abs() - 0.021).abs() < 1e-3, "β Si/LiNbO3 as docs/physics.md §5.2");
+    assert!(
+        (hertz::dundurs_beta(&si, &ln).abs() - 0.021).abs() < 1e-3,
+        "β Si/LiNbO3 as docs/physics.md §5.2"
+    );
 }

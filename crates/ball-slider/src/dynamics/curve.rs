@@ -165,7 +165,11 @@ pub struct BallModel {
 }
 
 fn relative_residual(stator: f64, friction: f64, mech: f64, stored: f64) -> f64 {
-    let scale = stator.abs().max(friction.abs()).max(mech.abs()).max(stored.abs());
+    let scale = stator
+        .abs()
+        .max(friction.abs())
+        .max(mech.abs())
+        .max(stored.abs());
     if scale == 0.0 {
         0.0
     } else {
@@ -267,7 +271,9 @@ impl BallModel {
         let (v1, v2) = (-b1.distance / b1.time * su, -b2.distance / b2.time * su);
         let drift = (v2 - v1).abs() / v2.abs().max(1e-3 * self.crest_speed_m_per_s());
         let pu = k.power_unit_w() / (b1.time + b2.time);
-        let stator = (b1.stator_tangential + b1.stator_normal + b2.stator_tangential + b2.stator_normal) * pu;
+        let stator =
+            (b1.stator_tangential + b1.stator_normal + b2.stator_tangential + b2.stator_normal)
+                * pu;
         let friction = (b1.dissipation + b2.dissipation) * pu;
         let mech = (b1.output + b2.output) * pu;
         let stored = (e1 + e2) * pu;
@@ -399,7 +405,12 @@ pub fn solve(scene: &BallScene) -> Result<BallResult> {
     let all = curve.iter().chain(operating_point.iter());
     let all_steady = all.clone().all(|p| p.free.is_none_or(|f| f.steady));
     let max_energy_residual = all
-        .flat_map(|p| [p.energy_residual.abs(), p.free.map_or(0.0, |f| f.energy_residual.abs())])
+        .flat_map(|p| {
+            [
+                p.energy_residual.abs(),
+                p.free.map_or(0.0, |f| f.energy_residual.abs()),
+            ]
+        })
         .fold(0.0, f64::max);
     Ok(BallResult {
         static_contact,
@@ -409,7 +420,10 @@ pub fn solve(scene: &BallScene) -> Result<BallResult> {
         no_load_speed_m_per_s: no_load.unwrap_or(0.0),
         crest_speed_m_per_s: model.crest_speed_m_per_s(),
         friction_limit_n: scene.friction_coefficient * scene.preload_n,
-        max_mechanical_power_w: curve.iter().map(|p| p.mechanical_power_w).fold(0.0, f64::max),
+        max_mechanical_power_w: curve
+            .iter()
+            .map(|p| p.mechanical_power_w)
+            .fold(0.0, f64::max),
         max_efficiency: curve.iter().map(|p| p.efficiency).fold(0.0, f64::max),
         curve,
         operating_point,

@@ -256,11 +256,18 @@ pub(crate) fn discrete_gradient(k: f64, d0: f64, d1: f64) -> f64 {
         (false, false) => 0.0,
         (true, true) => {
             let (s0, s1) = (d0.sqrt(), d1.sqrt());
-            let sum4 = s1.powi(4) + s1.powi(3) * s0 + s1 * s1 * s0 * s0 + s1 * s0.powi(3) + s0.powi(4);
+            let sum4 =
+                s1.powi(4) + s1.powi(3) * s0 + s1 * s1 * s0 * s0 + s1 * s0.powi(3) + s0.powi(4);
             0.4 * k * sum4 / (s0 + s1)
         }
         _ => {
-            let u = |d: f64| if d > 0.0 { 0.4 * k * d * d * d.sqrt() } else { 0.0 };
+            let u = |d: f64| {
+                if d > 0.0 {
+                    0.4 * k * d * d * d.sqrt()
+                } else {
+                    0.0
+                }
+            };
             (u(d1) - u(d0)) / (d1 - d0)
         }
     }
@@ -306,10 +313,16 @@ mod tests {
             let u = |d: f64| if d > 0.0 { 0.4 * k * d.powf(2.5) } else { 0.0 };
             let got = discrete_gradient(k, d0, d1) * (d1 - d0);
             let want = u(d1) - u(d0);
-            assert!((got - want).abs() < 1e-14 * (1.0 + want.abs()), "ΔU at ({d0}, {d1}): {got} vs {want}");
+            assert!(
+                (got - want).abs() < 1e-14 * (1.0 + want.abs()),
+                "ΔU at ({d0}, {d1}): {got} vs {want}"
+            );
         }
         let tiny = discrete_gradient(k, 0.49, 0.49);
-        assert!((tiny - k * 0.49f64.powf(1.5)).abs() < 1e-14, "N at equal approaches");
+        assert!(
+            (tiny - k * 0.49f64.powf(1.5)).abs() < 1e-14,
+            "N at equal approaches"
+        );
     }
 
     #[test]
@@ -324,7 +337,10 @@ mod tests {
                 })
                 .sum::<f64>()
                 / 64.0;
-            assert!((mean - 1.0).abs() < 1e-12, "mean normal force at K̂ = {k}: {mean}");
+            assert!(
+                (mean - 1.0).abs() < 1e-12,
+                "mean normal force at K̂ = {k}: {mean}"
+            );
         }
     }
 }

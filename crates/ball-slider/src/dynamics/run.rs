@@ -55,7 +55,10 @@ pub(crate) fn imposed(k: &Kernel, drive: f64) -> Result<Periodic> {
         // The phase grid is exactly periodic: snap the round-off of n steps of 2π/n.
         s.theta = 0.0;
         let e = s.bed.deflections();
-        let scale = e.iter().fold(0.0f64, |m, x| m.max(x.abs())).max(f64::MIN_POSITIVE);
+        let scale = e
+            .iter()
+            .fold(0.0f64, |m, x| m.max(x.abs()))
+            .max(f64::MIN_POSITIVE);
         change = e
             .iter()
             .zip(&previous)
