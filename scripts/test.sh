@@ -8,15 +8,19 @@ scripts/install-deps.sh
 if [ "${CI:-}" = true ]; then export CARGO_INCREMENTAL=0; fi
 cargo test --workspace "$@"
 # Validation studies through the one command (the test build's binary, no extra build): every
-# case at smoke level (seconds), then the quick level of the cases whose code paths smoke does
-# not reach: springs (work-precision Tet4 vs Tet10, locking, the floating punch refused by every
-# solver path, distorted meshes) and stick-slip (return-mapping order, stability maps). A failing
-# check exits non-zero naming it. Then the binary copied away from the checkout meshes into its
-# XDG/HOME cache and passes the quick springs study.
+# case at smoke level, then the quick level of the cases whose code paths smoke does not reach:
+# springs (work-precision Tet4 vs Tet10, locking, the floating punch refused by every solver
+# path, distorted meshes), stick-slip (return-mapping order, stability maps), whole-slider (tilt
+# and bow, every mechanism with scatter) and coupled-dynamics (the default 100-post row: its
+# step convergence and the energy-conserving wave at 100 N). paper-figures' quick level only
+# adds grid points on the path its smoke points take. A failing check exits non-zero naming it.
+# Then the binary copied away from the checkout meshes into its XDG/HOME cache and passes the
+# quick springs study.
 validate_out="$(mktemp -d)"
 target/debug/sawdrive validate all --level smoke --out "$validate_out/smoke"
-target/debug/sawdrive validate springs --level quick --out "$validate_out/springs"
-target/debug/sawdrive validate stick-slip --level quick --out "$validate_out/stick-slip"
+for case in springs stick-slip whole-slider coupled-dynamics; do
+  target/debug/sawdrive validate "$case" --level quick --out "$validate_out/$case"
+done
 rm -rf "$validate_out"
 cargo test -p sawdrive --test relocated_binary -- --ignored
 cargo check -p stick-slip -p static-contact --no-default-features  # solvers build without plotting (feature `charts` off)

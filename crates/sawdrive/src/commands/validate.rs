@@ -45,6 +45,8 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<()> {
         let started = Instant::now();
         let mut outcome = run_case(info, level, &out, !args.json)?;
         outcome.wall_s = started.elapsed().as_secs_f64();
+        cases::drop_png_duplicates(&out)
+            .with_context(|| format!("removing PNG copies of SVG figures in {}", out.display()))?;
         if !outcome.checks.is_empty() {
             sawdrive::output::write_atomically(
                 &out.join("results/checks.json"),
@@ -145,9 +147,63 @@ fn run_case(
         }
         "design" => Ok(outcome(cases::design::run(level)?)),
         "static-contact" => Ok(outcome(cases::static_contact::run(level, out)?)),
+        "whole-slider" => Ok(outcome(cases::whole_slider::run(level, out)?)),
+        "coupled-dynamics" => Ok(outcome(cases::coupled_dynamics::run(
+            level,
+            out,
+            &whole_row_point,
+        )?)),
+        "paper-figures" => Ok(outcome(cases::paper_figures::run(
+            level,
+            out,
+            &pipeline_point,
+        )?)),
         "fem-peers" => Ok(cases::fem_peers::run(level)),
         _ => Ok(cases::not_ported(info, level)),
     }
+}
+
+/// The pipeline of one scene as a sweep point (no files besides the FEM cache,
+/// `out/validation/.cache` under the working folder, shared by every run from it).
+fn pipeline_summary(sets: &[String]) -> Result<sawdrive::pipeline::RunSummary, String> {
+    let scene = load_scene(None, sets).map_err(|e| format!("{e:#}"))?;
+    let options = sawdrive::pipeline::RunOptions {
+        out_dir: std::env::temp_dir().join(format!("sawdrive-validate-{}", std::process::id())),
+        cache_dir: Some(Path::new(DEFAULT_OUT).join(".cache")),
+        progress: false,
+        write_files: false,
+    };
+    let (summary, folder) =
+        sawdrive::pipeline::run_pipeline(&scene, &options).map_err(|e| e.to_string())?;
+    let _ = std::fs::remove_dir_all(folder);
+    Ok(summary)
+}
+
+/// The coupled-dynamics case's runner: one whole-row scene, coupled and lumped figures.
+fn whole_row_point(sets: &[String]) -> Result<cases::coupled_dynamics::WholeRowFigures, String> {
+    let summary = pipeline_summary(sets)?;
+    let coupled = summary
+        .coupled
+        .as_ref()
+        .ok_or("the scene did not run the coupled model (model.dynamics = coupled)")?;
+    Ok(cases::coupled_dynamics::WholeRowFigures {
+        stall_thrust_n: summary.stall_thrust_n,
+        no_load_speed_m_per_s: summary.no_load_speed_m_per_s,
+        lumped_stall_thrust_n: coupled.lumped.stall_thrust_n,
+        lumped_no_load_speed_m_per_s: coupled.lumped.no_load_speed_m_per_s,
+        lumped_error_estimate: summary.lumped_error_estimate.unwrap_or(f64::NAN),
+        energy_balance_residual: coupled.energy_balance_residual,
+    })
+}
+
+/// The paper-figures case's runner: the default scene with `sets` through the whole pipeline.
+fn pipeline_point(sets: &[String]) -> Result<cases::paper_figures::PointFigures, String> {
+    let summary = pipeline_summary(sets)?;
+    Ok(cases::paper_figures::PointFigures {
+        stall_thrust_n: summary.stall_thrust_n,
+        no_load_speed_m_per_s: summary.no_load_speed_m_per_s,
+        effective_contact_ratio: summary.effective_contact_ratio,
+    })
 }
 
 /// The stick-slip study's inputs from the paper scene: the springs of 20 µm and 50 µm posts.

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Can a sharper `lumped_error_estimate` keep the lumped model where it is within 2 %?
 
-Reads the two studies of this folder (results/sliders.csv: short strips; whole-row.csv: whole
+Reads the two studies of this folder (results/sliders.csv: short strips; results/whole-row.csv: whole
 rows) and, for estimates of the form C * r_fit^a * (V_crest / v0_lumped)^b with C the envelope
 (the smallest C that bounds the measured error of every scene with a moving slider), prints how
 many scenes each form would send to the lumped model at the 2 % tolerance, how many are really
@@ -21,7 +21,7 @@ FORMS = [(1, 1), (1, 1.5), (1, 2), (1, 2.5), (1.5, 2), (2, 1)]
 
 
 def scenes():
-    strip = list(csv.DictReader(open(os.path.join(HERE, "results", "sliders.csv"))))
+    strip = list(csv.DictReader(open(os.path.join(HERE, "..", "results", "sliders.csv"))))
     first = strip[0]
     v0 = float(first["lumped_static_no_load_speed_m_per_s"])
     crest = float(first["lumped_error_estimate"]) / FACTOR / float(first["eta_fit_misfit"]) * v0
@@ -29,7 +29,7 @@ def scenes():
     for x in strip:
         rows.append(("short strip", x["posts_per_side"], x["preload_n"], float(x["lumped_static_error"]),
                      float(x["lumped_error_estimate"]), float(x["lumped_static_no_load_speed_m_per_s"])))
-    for x in csv.DictReader(open(os.path.join(HERE, "whole-row.csv"))):
+    for x in csv.DictReader(open(os.path.join(HERE, "..", "results", "whole-row.csv"))):
         rows.append(("whole row", x["posts"], x["preload_n"], float(x["lumped_error"]),
                      float(x["lumped_error_estimate"]), float(x["no_load_lumped_m_per_s"])))
     # (study, posts, preload, measured error, r_fit, V_crest / v0)
