@@ -48,6 +48,9 @@ pub enum CoupledError {
     /// The normal contact problem (static-contact's solver).
     #[error("normal contact: {0}")]
     Static(#[from] static_contact::ContactError),
+    /// The whole slider's static contact or compliance operator (slider-contact).
+    #[error("whole slider: {0}")]
+    Slider(#[from] slider_contact::SliderError),
     /// The lumped model used for η_dyn.
     #[error("lumped model: {0}")]
     Lumped(#[from] stick_slip::StickSlipError),

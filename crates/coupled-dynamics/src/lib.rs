@@ -7,6 +7,7 @@ mod error;
 pub mod model;
 pub mod result;
 pub mod scene;
+pub mod slider;
 
 pub use attenuation::{
     AttenuatedCurve, AttenuatedPoint, AttenuationOptions, attenuated_at_speed, solve_attenuated,
@@ -16,6 +17,11 @@ pub use criterion::{
     choose_model, lumped_error_estimate,
 };
 pub use error::{CoupledError, Result};
-pub use model::{CoupledModel, CoupledPoint, PeriodState, PostHistories, PostMode};
+pub use model::{
+    ComplianceProduct, CoupledModel, CoupledPoint, PeriodState, PostHistories, PostMeans, PostMode,
+};
 pub use result::{CoupledResult, fit_eta_dyn, lumped_misfit, solve};
 pub use scene::{CoupledScene, PreloadBalance, WaveDirection};
+pub use slider::{
+    NormalContact, RigidBackContact, SliderDynamics, SliderDynamicsResult, SliderMaps, SliderScene,
+};

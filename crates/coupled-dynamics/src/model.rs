@@ -32,6 +32,7 @@
 //! ½ΔTᵀĈ_tΔT, first order in h (reported separately).
 
 use std::f64::consts::PI;
+use std::sync::Arc;
 use std::time::Instant;
 
 use nalgebra::{DMatrix, DVector};
@@ -57,6 +58,124 @@ const APPROACH_BISECTIONS: usize = 200;
 /// edges: error O((2π/(rM))²), ≈ 1e-8 relative at r = 32, M = 128), so that the approach is
 /// that of the continuous period mean, as in the lumped model. Default 32.
 pub const PERIOD_MEAN_REFINEMENT: usize = 32;
+
+/// A tangential compliance C_t (m/N) given by its product: the whole slider's lattice operator
+/// (`slider_contact::LatticeOperator::tangential`, an FFT convolution) or any other
+/// symmetric positive definite operator of the posts.
+pub trait ComplianceProduct: Send + Sync {
+    /// Number of posts.
+    fn posts(&self) -> usize;
+    /// u = C_t f (m for f in N; `u` overwritten).
+    fn apply(&self, force_n: &[f64], out_m: &mut [f64]);
+}
+
+impl<T: slider_contact::ComplianceOperator + Send + Sync> ComplianceProduct for T {
+    fn posts(&self) -> usize {
+        self.len()
+    }
+    fn apply(&self, force_n: &[f64], out_m: &mut [f64]) {
+        slider_contact::ComplianceOperator::apply(self, force_n, out_m);
+    }
+}
+
+/// Ĉ_t = k_ref C_t, dense (the strip) or as a product (the whole slider).
+#[derive(Clone)]
+enum Tangential {
+    Dense(DMatrix<f64>),
+    Operator {
+        op: Arc<dyn ComplianceProduct>,
+        k_ref: f64,
+    },
+}
+
+impl std::fmt::Debug for Tangential {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Dense(m) => write!(f, "Dense({} × {})", m.nrows(), m.ncols()),
+            Self::Operator { op, k_ref } => {
+                write!(f, "Operator({} posts, k_ref {k_ref:e})", op.posts())
+            }
+        }
+    }
+}
+
+impl boxqp::SymmetricProduct for Tangential {
+    fn size(&self) -> usize {
+        match self {
+            Self::Dense(m) => m.nrows(),
+            Self::Operator { op, .. } => op.posts(),
+        }
+    }
+    fn product(&self, x: &[f64], y: &mut [f64]) {
+        match self {
+            Self::Dense(m) => {
+                let v = m * DVector::from_column_slice(x);
+                y.copy_from_slice(v.as_slice());
+            }
+            Self::Operator { op, k_ref } => {
+                op.apply(x, y);
+                y.iter_mut().for_each(|v| *v *= k_ref);
+            }
+        }
+    }
+}
+
+impl Tangential {
+    fn times(&self, x: &DVector<f64>) -> DVector<f64> {
+        match self {
+            Self::Dense(m) => m * x,
+            Self::Operator { .. } => {
+                let mut y = DVector::zeros(x.len());
+                boxqp::SymmetricProduct::product(self, x.as_slice(), y.as_mut_slice());
+                y
+            }
+        }
+    }
+}
+
+/// Per-post sums over one steady period (solver units), for the maps of the whole slider.
+#[derive(Debug, Clone)]
+pub(crate) struct PostSums {
+    /// Σ T̄_i·Δu_i: stator work.
+    pub stator_work: DVector<f64>,
+    /// Σ T̄_i·Δs_i: friction work.
+    pub friction_work: DVector<f64>,
+    /// Σ N_i h: normal impulse.
+    pub normal_impulse: DVector<f64>,
+    /// Time slipping.
+    pub slip_time: DVector<f64>,
+    /// Time in contact.
+    pub contact_time: DVector<f64>,
+}
+
+impl PostSums {
+    fn new(n: usize) -> Self {
+        Self {
+            stator_work: DVector::zeros(n),
+            friction_work: DVector::zeros(n),
+            normal_impulse: DVector::zeros(n),
+            slip_time: DVector::zeros(n),
+            contact_time: DVector::zeros(n),
+        }
+    }
+}
+
+/// Time means of every post over one steady period at one speed, whole slider (SI).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PostMeans {
+    /// Imposed speed along the drive direction (m/s).
+    pub speed_m_per_s: f64,
+    /// Time-mean normal force of each post (N).
+    pub mean_normal_force_n: Vec<f64>,
+    /// Time slipping over time in contact of each post (0 for a post never in contact).
+    pub slip_fraction: Vec<f64>,
+    /// Time in contact over the period of each post.
+    pub contact_fraction: Vec<f64>,
+    /// Time-mean friction power dissipated at each post's tip (W): where the slider wears.
+    pub friction_power_w: Vec<f64>,
+    /// Time-mean stator power each post draws (W).
+    pub stator_power_w: Vec<f64>,
+}
 
 /// Contact state of a post during a step.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -135,7 +254,11 @@ pub struct PostHistories {
 pub struct CoupledModel {
     scene: CoupledScene,
     /// Ĉ_t.
-    ct: DMatrix<f64>,
+    ct: Tangential,
+    /// Largest change of a tip force between two period starts (of the friction scale) that
+    /// counts as periodic: [`PERIODIC_TOLERANCE`], or ≥ 100× the step tolerance where the steps
+    /// are solved iteratively (the whole slider).
+    periodic_tolerance: f64,
     /// σ k x_i (rad), σ = ±1 the wave direction: θ_i = θ_r − σ k x_i.
     kx: Vec<f64>,
     /// σ.
@@ -164,7 +287,20 @@ pub struct CoupledModel {
 impl CoupledModel {
     /// Validate the scene and solve the normal problem on the phase grid.
     pub fn new(scene: &CoupledScene) -> Result<Self> {
+        Self::new_from(scene, None)
+    }
+
+    /// [`Self::new`] whose normal solves (with `preload_balance = Instant`) start from the
+    /// contact sets of `start` at the same grid phase, a model of a nearby scene (the same
+    /// posts and step count, e.g. another amplitude profile of the energy-conserving wave):
+    /// the same normal forces to the active-set tolerance, in one or two equality solves per
+    /// phase instead of a cold active-set search. `None`: the cold start of [`Self::new`].
+    pub fn new_from(scene: &CoupledScene, start: Option<&CoupledModel>) -> Result<Self> {
         scene.validate()?;
+        let start = start.filter(|s| {
+            s.normals.len() == scene.steps_per_period
+                && s.normals.iter().all(|f| f.len() == scene.post_x_m.len())
+        });
         let started = Instant::now();
         let n = scene.post_x_m.len();
         let k_ref = n as f64 / scene.normal_compliance_m_per_n.diagonal().sum();
@@ -198,12 +334,15 @@ impl CoupledModel {
                 let mut normals = Vec::with_capacity(m);
                 let mut approach = Vec::with_capacity(m);
                 for j in 0..m {
-                    let solution = solver.solve(&ContactProblem {
+                    let warm: Option<Vec<bool>> =
+                        start.map(|s| s.normals[j].iter().map(|f| *f > 0.0).collect());
+                    let problem = ContactProblem {
                         compliance_m_per_n: cn.clone(),
                         obstacle_height_m: heights(j).as_slice().to_vec(),
                         preload_n: preload,
                         length_scale_m: Some(1.0),
-                    })?;
+                    };
+                    let solution = solver.solve_from(&problem, warm.as_deref())?;
                     normals.push(DVector::from_vec(solution.force_n));
                     approach.push(solution.reference_height_m);
                 }
@@ -238,6 +377,95 @@ impl CoupledModel {
                 (normals, vec![z; m])
             }
         };
+        let ct = Tangential::Dense(ct);
+        Ok(Self::assemble(scene, k_ref, normals, approach, ct, started))
+    }
+
+    /// The model of a scene whose normal forces on the phase grid and tangential compliance
+    /// come from elsewhere (the whole slider, [`crate::slider`]): `normals_n[j]` the post forces
+    /// (N, scene order) and `approach_m[j]` the rigid approach (m) at grid phase j = 0..M
+    /// (θ_j = start_phase + 2πj/M), `tangential` the tangential compliance C_t (m/N) as a
+    /// product, `k_ref` the force scale's stiffness (N/m). The scene's dense compliances are not
+    /// read (they may be empty); its settings are validated.
+    pub fn from_normal_grid(
+        scene: &CoupledScene,
+        k_ref_n_per_m: f64,
+        normals_n: Vec<Vec<f64>>,
+        approach_m: Vec<f64>,
+        tangential: Arc<dyn ComplianceProduct>,
+    ) -> Result<Self> {
+        scene.validate_settings()?;
+        let started = Instant::now();
+        let n = scene.post_x_m.len();
+        if normals_n.len() != scene.steps_per_period || approach_m.len() != normals_n.len() {
+            return Err(CoupledError::DimensionMismatch {
+                what: "normal grid (phases)",
+                expected: scene.steps_per_period,
+                found: normals_n.len().min(approach_m.len()),
+            });
+        }
+        if let Some(row) = normals_n.iter().find(|row| row.len() != n) {
+            return Err(CoupledError::DimensionMismatch {
+                what: "normal grid (posts)",
+                expected: n,
+                found: row.len(),
+            });
+        }
+        if tangential.posts() != n {
+            return Err(CoupledError::DimensionMismatch {
+                what: "tangential compliance operator",
+                expected: n,
+                found: tangential.posts(),
+            });
+        }
+        if !(k_ref_n_per_m > 0.0 && k_ref_n_per_m.is_finite()) {
+            return Err(CoupledError::InvalidParameter {
+                parameter: "k_ref_n_per_m",
+                value: k_ref_n_per_m,
+                requirement: "must be finite and > 0".into(),
+            });
+        }
+        let force_n = k_ref_n_per_m * scene.wave.normal_amplitude_m;
+        let normals = normals_n
+            .into_iter()
+            .map(|row| DVector::from_iterator(n, row.into_iter().map(|f| f / force_n)))
+            .collect();
+        let approach = approach_m
+            .iter()
+            .map(|z| z / scene.wave.normal_amplitude_m)
+            .collect();
+        let ct = Tangential::Operator {
+            op: tangential,
+            k_ref: k_ref_n_per_m,
+        };
+        Ok(Self::assemble(
+            scene,
+            k_ref_n_per_m,
+            normals,
+            approach,
+            ct,
+            started,
+        ))
+    }
+
+    fn assemble(
+        scene: &CoupledScene,
+        k_ref: f64,
+        normals: Vec<DVector<f64>>,
+        approach: Vec<f64>,
+        ct: Tangential,
+        started: Instant,
+    ) -> Self {
+        let n = scene.post_x_m.len();
+        let length_m = scene.wave.normal_amplitude_m;
+        let k = scene.wave.wavenumber_rad_per_m();
+        let sigma = scene.wave_direction.sign();
+        let kx: Vec<f64> = scene.post_x_m.iter().map(|x| sigma * (k * x)).collect();
+        let alpha: Vec<f64> = if scene.amplitude_scale.is_empty() {
+            vec![1.0; n]
+        } else {
+            scene.amplitude_scale.clone()
+        };
         let wave_cos = (0..=normals.len())
             .map(|j| {
                 let theta = scene.start_phase_rad + 2.0 * PI * j as f64 / normals.len() as f64;
@@ -245,10 +473,15 @@ impl CoupledModel {
             })
             .collect();
         let extrapolate = (0..kx.len()).all(|i| normals.iter().any(|nj| nj[i] <= 0.0));
-        Ok(Self {
+        let periodic_tolerance = match ct {
+            Tangential::Dense(_) => PERIODIC_TOLERANCE,
+            Tangential::Operator { .. } => PERIODIC_TOLERANCE.max(100.0 * scene.tolerance),
+        };
+        Self {
             extrapolate,
             scene: scene.clone(),
             ct,
+            periodic_tolerance,
             kx,
             sigma,
             a_t: scene.wave.tangential_amplitude_m / length_m,
@@ -256,11 +489,11 @@ impl CoupledModel {
             wave_cos,
             normals,
             approach,
-            force_n,
+            force_n: k_ref * length_m,
             length_m,
             omega: scene.wave.angular_frequency_rad_per_s(),
             normal_wall_s: started.elapsed().as_secs_f64(),
-        })
+        }
     }
 
     /// The scene.
@@ -519,7 +752,7 @@ impl CoupledModel {
         state: &mut TipState,
         ints: &mut Integrals,
         stats: &mut SolverStats,
-        per_post_stator_work: Option<&mut DVector<f64>>,
+        per_post: Option<&mut PostSums>,
     ) -> Result<()> {
         let m = self.normals.len();
         let n = self.kx.len();
@@ -541,19 +774,31 @@ impl CoupledModel {
             let hi: Vec<f64> = (0..n).map(|i| mu[i] * normal[i].max(0.0)).collect();
             let lo: Vec<f64> = hi.iter().map(|x| -x).collect();
             let scale = hi.iter().fold(b.amax(), |a, &x| a.max(x));
-            let solution =
-                boxqp::solve(&self.ct, &b, &lo, &hi, &mut state.active, scale, tolerance).map_err(
-                    |(iterations, residual)| CoupledError::NotConverged {
-                        what: "frictional contact step",
-                        iterations,
-                        residual,
-                        tolerance,
-                        context: format!(
-                            "at speed {:.6e} m/s, grid step {j}",
-                            -v * self.length_m * self.omega
-                        ),
-                    },
-                )?;
+            let solved = match &self.ct {
+                Tangential::Dense(ct) => {
+                    boxqp::solve(ct, &b, &lo, &hi, &mut state.active, scale, tolerance)
+                }
+                op => boxqp::solve_operator(
+                    op,
+                    &b,
+                    &lo,
+                    &hi,
+                    &mut state.active,
+                    &state.force,
+                    scale,
+                    tolerance,
+                ),
+            };
+            let solution = solved.map_err(|(iterations, residual)| CoupledError::NotConverged {
+                what: "frictional contact step",
+                iterations,
+                residual,
+                tolerance,
+                context: format!(
+                    "at speed {:.6e} m/s, grid step {j}",
+                    -v * self.length_m * self.omega
+                ),
+            })?;
             stats.max_residual = stats.max_residual.max(solution.residual);
             stats.iterations += solution.iterations;
             stats.fallback_steps += usize::from(solution.fallback);
@@ -582,8 +827,18 @@ impl CoupledModel {
         ints.time += h;
         ints.force_time += force.sum() * h;
         ints.stator_work += mid.dot(&du);
-        if let Some(work) = per_post_stator_work {
-            *work += mid.component_mul(&du);
+        if let Some(sums) = per_post {
+            sums.stator_work += mid.component_mul(&du);
+            sums.friction_work += mid.component_mul(&slip);
+            sums.normal_impulse += normal * h;
+            for i in 0..n {
+                if normal[i] > 0.0 {
+                    sums.contact_time[i] += h;
+                    if slip[i].abs() > slip_tolerance {
+                        sums.slip_time[i] += h;
+                    }
+                }
+            }
         }
         ints.power_flow += mid.component_mul(&du).abs().sum();
         ints.output_work += mid.sum() * v * h;
@@ -644,12 +899,27 @@ impl CoupledModel {
         speed_m_per_s: f64,
         start: Option<&PeriodState>,
     ) -> Result<(CoupledPoint, Vec<f64>, PeriodState)> {
+        let (point, means, period_start) = self.post_means_from(speed_m_per_s, start)?;
+        Ok((point, means.stator_power_w, period_start))
+    }
+
+    /// The steady point at `speed_m_per_s` (started from `start`, as [`Self::at_speed_from`])
+    /// and every post's time means over one further steady period ([`PostMeans`]: normal force,
+    /// slip and contact fractions, friction and stator power, whole slider: a strip post's
+    /// powers and forces over the strip share), with the state at that period's start. The
+    /// powers use the midpoint force as the point's (Σ friction_power_w = friction_dissipation_w
+    /// and Σ stator_power_w = stator_power_w to the periodicity tolerance).
+    pub fn post_means_from(
+        &self,
+        speed_m_per_s: f64,
+        start: Option<&PeriodState>,
+    ) -> Result<(CoupledPoint, PostMeans, PeriodState)> {
         let (point, mut state, v, s, h) = self.steady(speed_m_per_s, start)?;
         let period_start = PeriodState(state.clone());
         let m = self.normals.len();
         let mut ints = Integrals::default();
         let mut stats = SolverStats::default();
-        let mut work = DVector::zeros(self.kx.len());
+        let mut sums = PostSums::new(self.kx.len());
         for j in 0..m {
             self.step(
                 j,
@@ -659,21 +929,53 @@ impl CoupledModel {
                 &mut state,
                 &mut ints,
                 &mut stats,
-                Some(&mut work),
+                Some(&mut sums),
             )?;
         }
-        let power = self.force_n * self.length_m * self.omega / ints.time / self.scene.strip_share;
-        Ok((
-            point,
-            work.iter().map(|w| w * power).collect(),
-            period_start,
-        ))
+        let share = self.scene.strip_share;
+        let power = self.force_n * self.length_m * self.omega / ints.time / share;
+        let means = PostMeans {
+            speed_m_per_s,
+            mean_normal_force_n: sums
+                .normal_impulse
+                .iter()
+                .map(|x| x / ints.time * self.force_n / share)
+                .collect(),
+            slip_fraction: sums
+                .slip_time
+                .iter()
+                .zip(&sums.contact_time)
+                .map(|(s, c)| if *c > 0.0 { s / c } else { 0.0 })
+                .collect(),
+            contact_fraction: sums.contact_time.iter().map(|c| c / ints.time).collect(),
+            friction_power_w: sums.friction_work.iter().map(|w| w * power).collect(),
+            stator_power_w: sums.stator_work.iter().map(|w| w * power).collect(),
+        };
+        Ok((point, means, period_start))
     }
 
     /// Every post's normal and tangential force and contact mode over one steady period at
     /// `speed_m_per_s` (one sample per step, at the step's end), with the steady point itself
     /// (the [`Self::at_speed`] result, which the histories' solve has already found).
     pub fn post_histories(&self, speed_m_per_s: f64) -> Result<(CoupledPoint, PostHistories)> {
+        let all: Vec<usize> = (0..self.kx.len()).collect();
+        self.post_histories_of(speed_m_per_s, &all)
+    }
+
+    /// [`Self::post_histories`] of the posts `posts` only (scene indices, in that order in
+    /// every sample): the whole slider's 10⁴ posts × M samples would be 10⁶ values per force.
+    pub fn post_histories_of(
+        &self,
+        speed_m_per_s: f64,
+        posts: &[usize],
+    ) -> Result<(CoupledPoint, PostHistories)> {
+        if let Some(&p) = posts.iter().find(|&&p| p >= self.kx.len()) {
+            return Err(CoupledError::InvalidParameter {
+                parameter: "posts",
+                value: p as f64,
+                requirement: format!("post indices below {}", self.kx.len()),
+            });
+        }
         let (point, mut state, v, s, h) = self.steady(speed_m_per_s, None)?;
         let m = self.normals.len();
         let mut ints = Integrals::default();
@@ -686,20 +988,17 @@ impl CoupledModel {
         for j in 0..m {
             self.step(j, v, s, h, &mut state, &mut ints, &mut stats, None)?;
             out.time_s.push((j + 1) as f64 * h * time_unit);
-            out.normal_force_n.push(
-                self.normals[(j + 1) % m]
-                    .iter()
-                    .map(|x| x * self.force_n)
-                    .collect(),
-            );
+            let normal = &self.normals[(j + 1) % m];
+            out.normal_force_n
+                .push(posts.iter().map(|&i| normal[i] * self.force_n).collect());
             out.tangential_force_n.push(
-                state
-                    .force
+                posts
                     .iter()
-                    .map(|x| -self.sigma * x * self.force_n)
+                    .map(|&i| -self.sigma * state.force[i] * self.force_n)
                     .collect(),
             );
-            out.mode.push(state.mode.clone());
+            out.mode
+                .push(posts.iter().map(|&i| state.mode[i]).collect());
         }
         Ok((point, out))
     }
@@ -751,7 +1050,7 @@ impl CoupledModel {
             let change = difference.amax();
             let same_modes = state.mode == previous.1;
             if periods >= 2
-                && change <= PERIODIC_TOLERANCE * friction_scale.max(1e-300)
+                && change <= self.periodic_tolerance * friction_scale.max(1e-300)
                 && same_modes
             {
                 converged = true;
@@ -761,7 +1060,7 @@ impl CoupledModel {
                 && let Some(jump) = approach.record(difference, same_modes)
             {
                 state.force += jump;
-                state.compliance_force = &self.ct * &state.force;
+                state.compliance_force = self.ct.times(&state.force);
             }
             previous = (state.force.clone(), state.mode.clone());
         }

@@ -120,6 +120,23 @@ fn spd(what: &'static str, m: &DMatrix<f64>, n: usize) -> Result<()> {
 impl CoupledScene {
     /// Check every field; errors name it.
     pub fn validate(&self) -> Result<()> {
+        self.validate_settings()?;
+        let n = self.post_x_m.len();
+        spd(
+            "normal_compliance_m_per_n",
+            &self.normal_compliance_m_per_n,
+            n,
+        )?;
+        spd(
+            "tangential_compliance_m_per_n",
+            &self.tangential_compliance_m_per_n,
+            n,
+        )
+    }
+
+    /// Check every field but the dense compliances (the whole slider's model brings its own
+    /// compliance operators, [`crate::slider`]); errors name the field.
+    pub fn validate_settings(&self) -> Result<()> {
         let n = self.post_x_m.len();
         if n == 0 {
             return Err(CoupledError::DimensionMismatch {
@@ -135,16 +152,6 @@ impl CoupledScene {
                 requirement: "must be finite".into(),
             });
         }
-        spd(
-            "normal_compliance_m_per_n",
-            &self.normal_compliance_m_per_n,
-            n,
-        )?;
-        spd(
-            "tangential_compliance_m_per_n",
-            &self.tangential_compliance_m_per_n,
-            n,
-        )?;
         positive("wave.frequency_hz", self.wave.frequency_hz)?;
         positive("wave.normal_amplitude_m", self.wave.normal_amplitude_m)?;
         positive(

@@ -1,0 +1,380 @@
+//! Coupled stick/slip of **every post of the whole slider** (the post lattice of
+//! `slider-contact`, 10⁴ posts for the paper's slider) on its own static state: post-height
+//! scatter, height map, tilt, bow and preload mechanism, as the static stage solves them.
+//!
+//! Model: the strip's coupled model ([`crate::model`]) with its two compliances replaced by the
+//! whole slider's:
+//!
+//! - **normal** (Goodman's approximation: independent of friction and speed, so solved once per
+//!   scene on the phase grid θ_j = θ₀ + 2πj/M): at every grid phase the static stage's own
+//!   contact solve ([`NormalContact`]; for a [`slider_contact::SliderModel`] its
+//!   `solve_heights`: the lattice operator, constrained CG, Σf = P on a rigid back, P and both
+//!   moments on a free back with the plate's bending) on the obstacle
+//!   h_i = δ_i + α_i A_n sin(θ_j − σ k x_i), δ_i the post's height offset of the static stage,
+//!   α_i its local wave amplitude (1, or the energy-conserving wave's profile);
+//! - **tangential**: the lattice operator C_t of `slider_contact::tangential` (Cerruti
+//!   half-space terms of both bodies, the bonded layer's correction, FFT convolution), each
+//!   step's box QP solved matrix-free ([`crate::boxqp::solve_operator`]: the strip's primal–dual
+//!   active set, CG on the free block, warm-started from the previous step's forces and sets).
+//!
+//! Everything else — Coulomb law with μ_s/μ_k per post, the imposed speed's Doppler-shifted
+//! step, periodic steady state with its extrapolation, midpoint-force energy bookkeeping
+//! (stator = output + friction to round-off), stall thrust, no-load speed, the curve's warm
+//! chains, η_dyn — is the strip model's code, unchanged ([`CoupledModel::from_normal_grid`]).
+//! The strip is the one-row limit: a 1 × n slider on the same compliances gives the strip's
+//! results, and an ideal lattice periodic in y gives them exactly (tests `slider_dynamics`).
+//!
+//! Outputs beyond the strip's: 2D maps per post ([`SliderMaps`]: time-mean normal force, slip
+//! fraction, contact fraction, friction power — where the slider wears first — and stator
+//! power) at stall and at half the no-load speed.
+//!
+//! **Normal–tangential coupling**: dropped, as in the strip model; for Si on LiNbO3 Dundurs'
+//! β = 0.021 (`slider_contact::dundurs_beta`), and a warning is given when |β| exceeds
+//! `slider_contact::NEGLIGIBLE_DUNDURS_BETA`. The tangential compliance of a free back is the
+//! bonded layer's (the back moves rigidly in x with the imposed speed; its in-plane stretching
+//! under the friction forces, O(t/L) of the layer's shear, is not modelled).
+//!
+//! **Energy-conserving wave**: [`SliderScene::amplitude_scale`] carries α_i per post (lattice
+//! order; the strip's `CoupledScene::amplitude_scale` convention), and
+//! [`CoupledModel::post_means_from`] each post's drawn stator power: the inputs of the
+//! fixed point of [`crate::attenuation`], which today rebuilds a strip model from a
+//! `CoupledScene` and so cannot be called for the slider (see the crate README).
+//!
+//! Valid where the strip model is (quasi-static posts, rigid heavy slider at an imposed speed,
+//! continuous wave) and the lattice operators are (loads ≫ a apart, ≥ t from the slider's
+//! edges for the body's local part).
+
+mod maps;
+
+use std::f64::consts::PI;
+use std::sync::Arc;
+use std::time::Instant;
+
+use rayon::prelude::*;
+use serde::Serialize;
+use slider_contact::{
+    CgOptions, ComplianceOperator, ConstrainedCg, LatticeGeometry, LatticeOperator, NearField,
+    SliderModel,
+};
+use stick_slip::{DynamicScene, Wave};
+
+pub use maps::SliderMaps;
+
+use crate::error::{CoupledError, Result};
+use crate::model::{ComplianceProduct, CoupledModel};
+use crate::result::{CoupledResult, solve};
+use crate::scene::{
+    CoupledScene, DEFAULT_CURVE_POINTS, DEFAULT_STEPS_PER_PERIOD, PreloadBalance, WaveDirection,
+};
+
+/// Default natural-residual tolerance of the whole slider's step solves (relative to the
+/// friction scale): the CG solves reach it in ≈ √κ log(1/ε) products; the periodicity rule is
+/// 100× it. Default 1e-10.
+pub const DEFAULT_SLIDER_TOLERANCE: f64 = 1e-10;
+
+/// The whole slider's dynamic scene (SI).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SliderScene {
+    /// The post lattice (post i along x, j along y is post i·n_y + j).
+    pub geometry: LatticeGeometry,
+    /// Each post's height offset δ_i (m, lattice order): scatter, height map, tilt, bow
+    /// (`SliderModel::post_offset_m` of the static stage).
+    pub post_offset_m: Vec<f64>,
+    /// The travelling wave (continuous, no decay).
+    pub wave: Wave,
+    /// Static friction coefficient μ_s.
+    pub mu_static: f64,
+    /// Kinetic friction coefficient μ_k ≤ μ_s.
+    pub mu_kinetic: f64,
+    /// Preload (N).
+    pub preload_n: f64,
+    /// Direction of the wave.
+    pub wave_direction: WaveDirection,
+    /// Nominal steps per wave period.
+    pub steps_per_period: usize,
+    /// Phase of the slider's x = 0 edge at the first grid step (rad).
+    pub start_phase_rad: f64,
+    /// Points of the speed–thrust curve.
+    pub curve_points: usize,
+    /// Natural-residual tolerance of each step's solve (relative).
+    pub tolerance: f64,
+    /// Local wave amplitude A_i/A₀ per post (lattice order); empty: 1 everywhere.
+    pub amplitude_scale: Vec<f64>,
+}
+
+impl SliderScene {
+    /// The scene of a static stage's slider (its lattice, post offsets and preload) driven by
+    /// `wave` with friction μ_s, μ_k; defaults otherwise.
+    pub fn for_static(model: &SliderModel, wave: Wave, mu_static: f64, mu_kinetic: f64) -> Self {
+        Self {
+            geometry: model.params.geometry(),
+            post_offset_m: model.post_offset_m.clone(),
+            wave,
+            mu_static,
+            mu_kinetic,
+            preload_n: model.params.preload_n,
+            wave_direction: WaveDirection::PlusX,
+            steps_per_period: DEFAULT_STEPS_PER_PERIOD,
+            start_phase_rad: 0.0,
+            curve_points: DEFAULT_CURVE_POINTS,
+            tolerance: DEFAULT_SLIDER_TOLERANCE,
+            amplitude_scale: Vec::new(),
+        }
+    }
+
+    /// Post centres x (m) from the slider's −x edge, lattice order.
+    pub fn post_x_m(&self) -> Vec<f64> {
+        let g = &self.geometry;
+        (0..g.posts_x)
+            .flat_map(|i| std::iter::repeat_n(g.x_m(i), g.posts_y))
+            .collect()
+    }
+
+    /// The strip model's settings for these posts (its dense compliances empty: the slider's
+    /// are operators).
+    pub fn coupled_settings(&self) -> CoupledScene {
+        CoupledScene {
+            wave: self.wave.clone(),
+            post_x_m: self.post_x_m(),
+            normal_compliance_m_per_n: nalgebra::DMatrix::zeros(0, 0),
+            tangential_compliance_m_per_n: nalgebra::DMatrix::zeros(0, 0),
+            mu_static: self.mu_static,
+            mu_kinetic: self.mu_kinetic,
+            preload_n: self.preload_n,
+            wave_direction: self.wave_direction,
+            strip_share: 1.0,
+            preload_balance: PreloadBalance::Instant,
+            steps_per_period: self.steps_per_period,
+            start_phase_rad: self.start_phase_rad,
+            curve_points: self.curve_points,
+            tolerance: self.tolerance,
+            amplitude_scale: self.amplitude_scale.clone(),
+        }
+    }
+
+    /// Obstacle heights h_i = δ_i + α_i A_n sin(θ − σ k x_i) (m) at reference phase θ.
+    pub fn obstacle_heights_m(&self, phase_rad: f64) -> Vec<f64> {
+        let k = self.wave.wavenumber_rad_per_m();
+        let sigma = self.wave_direction.sign();
+        let a = self.wave.normal_amplitude_m;
+        self.post_x_m()
+            .iter()
+            .enumerate()
+            .map(|(i, x)| {
+                let alpha = self.amplitude_scale.get(i).copied().unwrap_or(1.0);
+                self.post_offset_m[i] + alpha * a * (phase_rad - sigma * (k * x)).sin()
+            })
+            .collect()
+    }
+
+    fn validate(&self) -> Result<()> {
+        self.geometry.validate()?;
+        if self.post_offset_m.len() != self.geometry.len() {
+            return Err(CoupledError::DimensionMismatch {
+                what: "post_offset_m",
+                expected: self.geometry.len(),
+                found: self.post_offset_m.len(),
+            });
+        }
+        if let Some(d) = self.post_offset_m.iter().find(|d| !d.is_finite()) {
+            return Err(CoupledError::InvalidParameter {
+                parameter: "post_offset_m",
+                value: *d,
+                requirement: "must be finite".into(),
+            });
+        }
+        self.coupled_settings().validate_settings()
+    }
+}
+
+/// The normal contact of all posts at one instant: post forces for given obstacle heights.
+pub trait NormalContact: Sync {
+    /// Number of posts.
+    fn posts(&self) -> usize;
+    /// A representative normal self compliance C_ii (m/N): the solver's force scale.
+    fn self_compliance_m_per_n(&self) -> f64;
+    /// Post forces f_i ≥ 0 (N, lattice order) and the rigid approach z (m) for obstacle
+    /// heights h (m) under the preload (N).
+    fn solve_contact(&self, heights_m: &[f64], preload_n: f64) -> Result<(Vec<f64>, f64)>;
+}
+
+impl NormalContact for SliderModel {
+    fn posts(&self) -> usize {
+        self.operator.len()
+    }
+    fn self_compliance_m_per_n(&self) -> f64 {
+        self.operator.parts().total_m_per_n()
+    }
+    fn solve_contact(&self, heights_m: &[f64], preload_n: f64) -> Result<(Vec<f64>, f64)> {
+        let s = self.solve_heights(preload_n, heights_m)?;
+        Ok((s.force_n, s.reference_height_m))
+    }
+}
+
+/// A rigid back on any normal compliance operator, solved by the constrained CG of
+/// `slider-contact` (Σf = P): tests and hand-made lattices.
+#[derive(Debug, Clone)]
+pub struct RigidBackContact<C> {
+    /// C_n (m/N).
+    pub operator: C,
+    /// CG options.
+    pub options: CgOptions,
+    /// Gap scale of the solve (m), e.g. the wave amplitude.
+    pub length_scale_m: f64,
+}
+
+impl<C: ComplianceOperator + Sync> NormalContact for RigidBackContact<C> {
+    fn posts(&self) -> usize {
+        self.operator.len()
+    }
+    fn self_compliance_m_per_n(&self) -> f64 {
+        let d = self.operator.diagonal();
+        d.iter().sum::<f64>() / d.len().max(1) as f64
+    }
+    fn solve_contact(&self, heights_m: &[f64], preload_n: f64) -> Result<(Vec<f64>, f64)> {
+        let s = ConstrainedCg::new(self.options).solve(
+            &self.operator,
+            heights_m,
+            preload_n,
+            self.length_scale_m,
+        )?;
+        Ok((s.force_n, s.reference_height_m))
+    }
+}
+
+/// The whole slider's coupled model, normal forces on the phase grid solved.
+#[derive(Debug, Clone)]
+pub struct SliderDynamics {
+    scene: SliderScene,
+    model: CoupledModel,
+    dundurs_beta: Option<f64>,
+    normal_grid_wall_s: f64,
+}
+
+/// The whole slider's coupled run: the strip's result for the whole slider plus its maps.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SliderDynamicsResult {
+    /// Curve, stall, no-load speed, energy balance, η_dyn, … (`posts` = every post).
+    #[serde(flatten)]
+    pub coupled: CoupledResult,
+    /// Posts along x.
+    pub posts_x: usize,
+    /// Posts along y.
+    pub posts_y: usize,
+    /// Dundurs' β of the bodies (normal–tangential coupling dropped), if known.
+    pub dundurs_beta: Option<f64>,
+    /// Maps at stall and at half the no-load speed.
+    pub maps: Vec<SliderMaps>,
+    /// Wall time of the normal solves on the phase grid (s).
+    pub normal_grid_wall_s: f64,
+}
+
+impl SliderDynamics {
+    /// Builds the model: validates the scene, solves the normal contact at every grid phase
+    /// with `normal` (in parallel over the phases) and takes `tangential` as C_t.
+    pub fn new(
+        scene: &SliderScene,
+        normal: &dyn NormalContact,
+        tangential: Arc<dyn ComplianceProduct>,
+    ) -> Result<Self> {
+        scene.validate()?;
+        let n = scene.geometry.len();
+        if normal.posts() != n {
+            return Err(CoupledError::DimensionMismatch {
+                what: "normal contact operator",
+                expected: n,
+                found: normal.posts(),
+            });
+        }
+        let started = Instant::now();
+        let m = scene.steps_per_period;
+        let grid = (0..m)
+            .into_par_iter()
+            .map(|j| {
+                let theta = scene.start_phase_rad + 2.0 * PI * j as f64 / m as f64;
+                normal.solve_contact(&scene.obstacle_heights_m(theta), scene.preload_n)
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let (normals, approach): (Vec<Vec<f64>>, Vec<f64>) = grid.into_iter().unzip();
+        let normal_grid_wall_s = started.elapsed().as_secs_f64();
+        let model = CoupledModel::from_normal_grid(
+            &scene.coupled_settings(),
+            1.0 / normal.self_compliance_m_per_n(),
+            normals,
+            approach,
+            tangential,
+        )?;
+        Ok(Self {
+            scene: scene.clone(),
+            model,
+            dundurs_beta: None,
+            normal_grid_wall_s,
+        })
+    }
+
+    /// The model of a static stage's slider: its normal contact (operator, offsets, preload
+    /// mechanism) and the tangential lattice operator of the same lattice and bodies with the
+    /// slider side's tangential near field `tangential_near_field` (Johnson's 1/k_pt, or
+    /// calibrated on the strip FEM: `slider_contact::calibrate_tangential_near_field`).
+    pub fn for_slider(
+        scene: &SliderScene,
+        static_model: &SliderModel,
+        tangential_near_field: NearField,
+    ) -> Result<Self> {
+        let spec = static_model.params.operator_spec();
+        let tangential = LatticeOperator::tangential(&spec, tangential_near_field)?;
+        let mut out = Self::new(scene, static_model, Arc::new(tangential))?;
+        out.dundurs_beta = Some(slider_contact::dundurs_beta(&spec));
+        Ok(out)
+    }
+
+    /// The scene.
+    pub fn scene(&self) -> &SliderScene {
+        &self.scene
+    }
+
+    /// The coupled model (steady points, curve, histories: the strip model's API).
+    pub fn model(&self) -> &CoupledModel {
+        &self.model
+    }
+
+    /// Wall time of the normal solves on the phase grid (s).
+    pub fn normal_grid_wall_s(&self) -> f64 {
+        self.normal_grid_wall_s
+    }
+
+    /// The maps at an imposed speed (m/s) along the drive direction, from rest.
+    pub fn maps_at(&self, speed_m_per_s: f64) -> Result<SliderMaps> {
+        let (point, means, _) = self.model.post_means_from(speed_m_per_s, None)?;
+        Ok(SliderMaps::new(&self.scene.geometry, point, means))
+    }
+
+    /// Stall thrust, no-load speed, curve, energy balance, η_dyn (with `lumped`, the lumped
+    /// scene of the same motor), and the maps at stall and at half the no-load speed.
+    pub fn solve(&self, lumped: Option<&DynamicScene>) -> Result<SliderDynamicsResult> {
+        let mut coupled = solve(&self.model, lumped)?;
+        let half = 0.5 * coupled.no_load_speed_m_per_s;
+        let maps = [0.0, half]
+            .par_iter()
+            .map(|&v| self.maps_at(v))
+            .collect::<Result<Vec<_>>>()?;
+        if let Some(beta) = self
+            .dundurs_beta
+            .filter(|b| b.abs() > slider_contact::NEGLIGIBLE_DUNDURS_BETA)
+        {
+            coupled.warnings.push(format!(
+                "Dundurs β = {beta:.3} exceeds {}: the normal–tangential coupling the model drops is not negligible",
+                slider_contact::NEGLIGIBLE_DUNDURS_BETA
+            ));
+        }
+        coupled.wall_time_s += self.normal_grid_wall_s;
+        Ok(SliderDynamicsResult {
+            coupled,
+            posts_x: self.scene.geometry.posts_x,
+            posts_y: self.scene.geometry.posts_y,
+            dundurs_beta: self.dundurs_beta,
+            maps,
+            normal_grid_wall_s: self.normal_grid_wall_s,
+        })
+    }
+}

@@ -1,0 +1,345 @@
+//! The whole slider's coupled model against the strip's, and its own books: a one-row slider is
+//! the strip model on the same compliances; an ideal lattice periodic in y reproduces the strip
+//! exactly (every row the same); the energy balance closes and the maps add up to the point's
+//! totals under scatter; friction's two limits (locked posts, no friction).
+
+use std::sync::Arc;
+
+use coupled_dynamics::{
+    CoupledModel, CoupledScene, RigidBackContact, SliderDynamics, SliderScene, solve,
+};
+use nalgebra::DMatrix;
+use slider_contact::{
+    CgOptions, LatticeGeometry, LatticeKernel, NearField, OperatorSpec, SliderModel, SliderParams,
+    TangentialKernel,
+};
+use stick_slip::Wave;
+
+const PITCH_M: f64 = 40e-6;
+/// Preload per post (N): the paper's 40 N over 10⁴ posts.
+const PRELOAD_PER_POST_N: f64 = 4e-3;
+
+fn spec(nx: usize, ny: usize) -> OperatorSpec {
+    OperatorSpec {
+        geometry: LatticeGeometry {
+            posts_x: nx,
+            posts_y: ny,
+            pitch_m: PITCH_M,
+            post_radius_m: 10e-6,
+            slider_length_m: nx as f64 * PITCH_M,
+            slider_width_m: ny as f64 * PITCH_M,
+        },
+        slider_material: contact_springs::Material::silicon(),
+        stator_material: contact_springs::Material::lithium_niobate(),
+        slider_thickness_m: 0.5e-3,
+        near_field: NearField::Johnson,
+    }
+}
+
+fn slider_scene(geometry: LatticeGeometry, offsets: Vec<f64>) -> SliderScene {
+    let n = geometry.len();
+    SliderScene {
+        geometry,
+        post_offset_m: offsets,
+        wave: Wave::paper_default(),
+        mu_static: 0.35,
+        mu_kinetic: 0.3,
+        preload_n: PRELOAD_PER_POST_N * n as f64,
+        wave_direction: coupled_dynamics::WaveDirection::PlusX,
+        steps_per_period: 64,
+        start_phase_rad: 0.0,
+        curve_points: 5,
+        tolerance: 1e-12,
+        amplitude_scale: Vec::new(),
+    }
+}
+
+fn tight() -> CgOptions {
+    CgOptions {
+        tolerance: 1e-13,
+        ..CgOptions::default()
+    }
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs().max(1e-300)
+}
+
+/// A 1 × 16 slider (one row, rigid back, no scatter) through the whole slider's path (lattice
+/// operators by FFT, slider-contact's CG per phase, the matrix-free box QP) against the strip
+/// model on the dense matrices of the same kernels (static-contact's active set, the factored
+/// box QP). Measured: stall thrust, no-load speed and every curve point within 2e-9.
+#[test]
+fn a_one_row_slider_is_the_strip_model_on_the_same_compliances() {
+    let s = spec(16, 1);
+    let params = SliderParams {
+        posts_x: 16,
+        posts_y: 1,
+        post_pitch_m: PITCH_M,
+        slider_length_m: 16.0 * PITCH_M,
+        slider_width_m: PITCH_M,
+        preload_n: 16.0 * PRELOAD_PER_POST_N,
+        solver: tight(),
+        ..SliderParams::default()
+    };
+    let static_model = SliderModel::build(&params).unwrap();
+    let scene = slider_scene(s.geometry, static_model.post_offset_m.clone());
+    let slider = SliderDynamics::for_slider(&scene, &static_model, NearField::Johnson).unwrap();
+    let ours = slider.solve(None).unwrap();
+
+    let mut strip = scene.coupled_settings();
+    strip.normal_compliance_m_per_n = LatticeKernel::new(&s).unwrap().to_dense();
+    strip.tangential_compliance_m_per_n = TangentialKernel::new(&s, NearField::Johnson)
+        .unwrap()
+        .to_dense();
+    let reference = solve(&CoupledModel::new(&strip).unwrap(), None).unwrap();
+    compare(&ours.coupled, &reference, 2e-9, "one-row slider vs strip");
+    assert_eq!(ours.dundurs_beta.map(|b| b > 0.02 && b < 0.022), Some(true));
+}
+
+fn compare(
+    a: &coupled_dynamics::CoupledResult,
+    b: &coupled_dynamics::CoupledResult,
+    tol: f64,
+    what: &str,
+) {
+    let curve = a
+        .curve
+        .iter()
+        .zip(&b.curve)
+        .map(|(p, q)| (p.thrust_n - q.thrust_n).abs() / b.stall_thrust_n)
+        .fold(0.0, f64::max);
+    println!(
+        "{what}: stall {:.12} vs {:.12} N ({:.1e}), no-load {:.12} vs {:.12} m/s ({:.1e}), curve {curve:.1e} of the stall thrust",
+        a.stall_thrust_n,
+        b.stall_thrust_n,
+        rel(a.stall_thrust_n, b.stall_thrust_n),
+        a.no_load_speed_m_per_s,
+        b.no_load_speed_m_per_s,
+        rel(a.no_load_speed_m_per_s, b.no_load_speed_m_per_s)
+    );
+    assert!(
+        rel(a.stall_thrust_n, b.stall_thrust_n) < tol,
+        "{what}: stall thrust {} vs {}",
+        a.stall_thrust_n,
+        b.stall_thrust_n
+    );
+    assert!(
+        rel(a.no_load_speed_m_per_s, b.no_load_speed_m_per_s) < tol,
+        "{what}: no-load speed {} vs {}",
+        a.no_load_speed_m_per_s,
+        b.no_load_speed_m_per_s
+    );
+    for (p, q) in a.curve.iter().zip(&b.curve) {
+        assert!(
+            (p.thrust_n - q.thrust_n).abs() < tol * b.stall_thrust_n,
+            "{what}: thrust at {} m/s: {} vs {}",
+            p.speed_m_per_s,
+            p.thrust_n,
+            q.thrust_n
+        );
+        assert!(
+            (p.stator_power_w - q.stator_power_w).abs() < 1e-6 * q.stator_power_w.abs().max(1e-9),
+            "{what}: stator power at {} m/s: {} vs {}",
+            p.speed_m_per_s,
+            p.stator_power_w,
+            q.stator_power_w
+        );
+    }
+}
+
+/// The lattice kernel wrapped on a torus of `ny` rows (odd): c(di, dj) summed over the images
+/// dj + m·ny, |m| ≤ `images`. Circulant in y, so an ideal lattice's rows are all alike.
+fn periodic(kernel: impl Fn(i64, i64) -> f64, nx: usize, ny: usize, images: i64) -> DMatrix<f64> {
+    let n = nx * ny;
+    let half = (ny / 2) as i64;
+    DMatrix::from_fn(n, n, |p, q| {
+        let (ip, jp) = ((p / ny) as i64, (p % ny) as i64);
+        let (iq, jq) = ((q / ny) as i64, (q % ny) as i64);
+        let dj = (jp - jq + half).rem_euclid(ny as i64) - half;
+        (-images..=images)
+            .map(|m| kernel(ip - iq, dj + m * ny as i64))
+            .sum()
+    })
+}
+
+/// An ideal 10 × 5 lattice periodic in y (both compliances circulant over the rows) gives every
+/// row the strip's forces: the strip of one row with the row-summed compliances and a fifth of
+/// the preload. The identity is exact in exact arithmetic (each instant's normal problem and each
+/// step's box QP are strictly convex, so their unique solutions share the lattice's symmetry);
+/// measured agreement ≤ 2e-9 (the iterative solves' tolerance).
+#[test]
+fn an_ideal_periodic_lattice_reproduces_the_strip_exactly() {
+    let (nx, ny) = (10, 5);
+    let s = spec(nx, 41);
+    let normal_kernel = LatticeKernel::new(&s).unwrap();
+    let tangential_kernel = TangentialKernel::new(&s, NearField::Johnson).unwrap();
+    let cn = periodic(|a, b| normal_kernel.at_offset(a, b), nx, ny, 4);
+    let ct = periodic(|a, b| tangential_kernel.at_offset(a, b), nx, ny, 4);
+    assert!(
+        cn.clone().cholesky().is_some() && ct.clone().cholesky().is_some(),
+        "SPD"
+    );
+    let geometry = spec(nx, ny).geometry;
+    let scene = slider_scene(geometry, vec![0.0; nx * ny]);
+    let normal = RigidBackContact {
+        operator: cn.clone(),
+        options: tight(),
+        length_scale_m: scene.wave.normal_amplitude_m,
+    };
+    let slider = SliderDynamics::new(&scene, &normal, Arc::new(ct.clone())).unwrap();
+    let ours = slider.solve(None).unwrap();
+
+    // The strip: row 0's posts, compliance to all rows loaded alike.
+    let row_sum = |c: &DMatrix<f64>| {
+        DMatrix::from_fn(nx, nx, |i, k| {
+            (0..ny).map(|l| c[(i * ny, k * ny + l)]).sum()
+        })
+    };
+    let x: Vec<f64> = (0..nx).map(|i| geometry.x_m(i)).collect();
+    let mut strip = CoupledScene {
+        post_x_m: x,
+        normal_compliance_m_per_n: row_sum(&cn),
+        tangential_compliance_m_per_n: row_sum(&ct),
+        strip_share: 1.0 / ny as f64,
+        ..scene.coupled_settings()
+    };
+    strip.amplitude_scale.clear();
+    let reference = solve(&CoupledModel::new(&strip).unwrap(), None).unwrap();
+    compare(&ours.coupled, &reference, 2e-9, "periodic lattice vs strip");
+    // Every row carries the same mean force.
+    let map = &ours.maps[1];
+    for i in 0..nx {
+        let row = &map.means.mean_normal_force_n[i * ny..(i + 1) * ny];
+        let spread = row.iter().fold(0.0f64, |m, f| m.max((f - row[0]).abs()));
+        assert!(
+            spread <= 1e-9 * PRELOAD_PER_POST_N,
+            "column {i}: mean normal forces of the rows differ by {spread:e} N"
+        );
+    }
+}
+
+/// Under post-height scatter (every post different) the stepped energy books close, the maps add
+/// up to the point's totals and the preload is carried at every instant.
+#[test]
+fn the_energy_balance_closes_and_the_maps_add_up_under_scatter() {
+    let params = SliderParams {
+        posts_x: 12,
+        posts_y: 6,
+        post_pitch_m: PITCH_M,
+        slider_length_m: 12.0 * PITCH_M,
+        slider_width_m: 6.0 * PITCH_M,
+        preload_n: 72.0 * PRELOAD_PER_POST_N,
+        imperfections: motor::Imperfections {
+            height_scatter_m: 3e-9,
+            ..motor::Imperfections::default()
+        },
+        solver: tight(),
+        ..SliderParams::default()
+    };
+    let static_model = SliderModel::build(&params).unwrap();
+    assert!(
+        static_model.post_offset_m.iter().any(|d| d.abs() > 1e-9),
+        "the scatter reaches the posts"
+    );
+    let mut scene = SliderScene::for_static(&static_model, Wave::paper_default(), 0.35, 0.3);
+    scene.steps_per_period = 64;
+    scene.curve_points = 4;
+    let slider = SliderDynamics::for_slider(&scene, &static_model, NearField::Johnson).unwrap();
+    let result = slider.solve(None).unwrap();
+    assert!(result.coupled.stall_thrust_n > 0.0, "the slider is driven");
+    assert!(
+        result.coupled.energy_balance_residual < 1e-9,
+        "energy balance residual {}",
+        result.coupled.energy_balance_residual
+    );
+    for map in &result.maps {
+        let p = &map.point;
+        assert!(
+            (p.stator_power_w - p.output_power_w - p.friction_dissipation_w).abs()
+                <= 1e-9 * p.stator_power_w.abs().max(p.friction_dissipation_w),
+            "stator = output + friction at {} m/s",
+            p.speed_m_per_s
+        );
+        assert!(
+            rel(map.total_friction_power_w(), p.friction_dissipation_w) < 1e-6,
+            "Σ post friction power {} vs friction dissipation {}",
+            map.total_friction_power_w(),
+            p.friction_dissipation_w
+        );
+        let stator: f64 = map.means.stator_power_w.iter().sum();
+        assert!(
+            rel(stator, p.stator_power_w) < 1e-6,
+            "Σ post stator power {stator} vs {}",
+            p.stator_power_w
+        );
+        let carried: f64 = map.means.mean_normal_force_n.iter().sum();
+        assert!(
+            rel(carried, scene.preload_n) < 1e-9,
+            "time-mean normal forces carry {carried} N of {} N",
+            scene.preload_n
+        );
+        assert!(
+            map.means
+                .friction_power_w
+                .iter()
+                .all(|w| *w >= -1e-12 * p.friction_dissipation_w),
+            "friction power is dissipated at every post"
+        );
+    }
+    for j in 0..scene.steps_per_period {
+        let total = slider.model().strip_normal_force_n(j);
+        assert!(
+            rel(total, scene.preload_n) < 1e-9,
+            "Σ N at grid phase {j}: {total}"
+        );
+    }
+}
+
+/// Friction's limits on the whole slider: with μ → 0 nothing is transmitted (thrust ≤ μP, every
+/// post in contact slips); with a large μ the posts stick wherever they touch at stall.
+#[test]
+fn friction_limits_no_thrust_without_friction_and_sticking_posts_with_much() {
+    let g = spec(8, 3).geometry;
+    let kernel_n = LatticeKernel::new(&spec(8, 3)).unwrap();
+    let normal = RigidBackContact {
+        operator: kernel_n.to_dense(),
+        options: tight(),
+        length_scale_m: 20e-9,
+    };
+    let ct = TangentialKernel::new(&spec(8, 3), NearField::Johnson)
+        .unwrap()
+        .operator();
+    let ct = Arc::new(ct);
+    let mut scene = slider_scene(g, vec![0.0; g.len()]);
+    scene.mu_static = 1e-6;
+    scene.mu_kinetic = 1e-6;
+    let slick = SliderDynamics::new(&scene, &normal, ct.clone()).unwrap();
+    let stall = slick.maps_at(0.0).unwrap();
+    assert!(
+        stall.point.thrust_n.abs() <= 1e-6 * scene.preload_n * (1.0 + 1e-9),
+        "thrust {} exceeds μP",
+        stall.point.thrust_n
+    );
+    for (k, (s, c)) in stall
+        .means
+        .slip_fraction
+        .iter()
+        .zip(&stall.means.contact_fraction)
+        .enumerate()
+    {
+        assert!(
+            *c == 0.0 || *s > 0.9,
+            "post {k} slips {s} of its contact time with μ → 0"
+        );
+    }
+    scene.mu_static = 50.0;
+    scene.mu_kinetic = 50.0;
+    let locked = SliderDynamics::new(&scene, &normal, ct).unwrap();
+    let stall = locked.maps_at(0.0).unwrap();
+    assert!(
+        stall.point.stick_fraction > 0.95,
+        "stick fraction {} with μ = 50",
+        stall.point.stick_fraction
+    );
+}
