@@ -7,6 +7,7 @@ pub mod iwan;
 pub mod mindlin;
 pub mod quadrature;
 mod scene;
+pub mod study;
 
 pub use dynamics::{
     BallModel, BallResult, CurvePoint, FreeCheck, MAX_RESONANCE_STEP, SpeedPoint, StaticSummary,

@@ -236,3 +236,21 @@ fn spring_refinement_converges_the_curve() {
         "errors must fall with springs: {errs:?}"
     );
 }
+
+#[test]
+fn validation_study_runs_at_smoke_size() {
+    let study = ball_slider::study::run(ball_slider::study::StudySize::Smoke).unwrap();
+    assert_eq!(study.amplitude_sweep.len(), 2);
+    let (small, large) = (
+        &study.amplitude_sweep[0].result,
+        &study.amplitude_sweep[1].result,
+    );
+    assert!(
+        large.no_load_speed_m_per_s > small.no_load_speed_m_per_s,
+        "a larger wave drives faster"
+    );
+    assert!(
+        study.preload_sweep[0].result.drives && !study.preload_sweep[1].result.drives,
+        "20 mN drives, 1 N holds"
+    );
+}

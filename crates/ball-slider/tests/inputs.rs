@@ -2,6 +2,9 @@
 
 use ball_slider::{BallError, BallModel, BallScene, BallSlider, solve};
 
+/// A field name and how to spoil it.
+type Spoil = (&'static str, Box<dyn Fn(&mut BallScene)>);
+
 fn field_of(scene: &BallScene) -> &'static str {
     match scene.validate() {
         Err(BallError::InvalidParameter { field, .. }) => field,
@@ -13,7 +16,7 @@ fn field_of(scene: &BallScene) -> &'static str {
 
 #[test]
 fn bad_input_is_refused_naming_the_field() {
-    let cases: Vec<(&str, Box<dyn Fn(&mut BallScene)>)> = vec![
+    let cases: Vec<Spoil> = vec![
         ("ball.diameter_m", Box::new(|s| s.ball.diameter_m = -2e-3)),
         (
             "ball.diameter_m",
