@@ -3,7 +3,8 @@
 //! 50 µm posts), each point the whole `sawdrive` pipeline (contact springs → static FEM η at that
 //! preload and array → the lumped period-average model, as `validation/paper-figures/*.toml`
 //! set it), and checks of the trends the paper states and of the numbers it gives
-//! (validation/paper-figures/README.md; paper text `/work/shared/paper/`, Sec. 4).
+//! (validation/paper-figures/README.md; the paper:
+//! `/work/shared/paper/saw-motor-friction-drive.txt`, Secs 2–4).
 //!
 //! The pipeline lives in the `sawdrive` crate, which links this one; the case therefore takes
 //! a [`PointRunner`]: a function that runs one scene (the default scene with `--set KEY=VALUE`
@@ -18,14 +19,15 @@
 //!   the thrust falls at ≥ 70 N;
 //! * Figs 11, 12: the 20 µm slider is faster than the 50 µm one at every preload and stronger
 //!   at ≥ 55 N;
-//! * every no-load speed ≤ the crest speed A_t ω = 1.1 m/s (the paper's bound);
-//! * the paper's motor (Sec. 4): no-load speed about 1.1 m/s at light preload — ours at 10 N
-//!   within [`ANCHOR_SPEED_TOLERANCE`] of 1.1 m/s; thrust 10–12 N on the 60 × 14 × 1 mm stator —
-//!   ours at 40 N within [`ANCHOR_THRUST_TOLERANCE`] of 11 N (the paper's figures are not
-//!   tabulated; these are the numbers its text states).
+//! * every no-load speed ≤ the crest velocity 1.1 m/s (the paper's Sec. 2: the speed limit is
+//!   the crest velocity; Sec. 3: 1.1 m/s for its 20 nm wave), and at 10 N the 10 000-post
+//!   slider's within [`ANCHOR_SPEED_TOLERANCE`] of it (the limit approached at light preload);
+//! * the largest stall thrust ≥ the [`DEMONSTRATED_THRUST_N`] = 10 N the paper's motor
+//!   demonstrated (Sec. 1). The paper's figures are not tabulated; these are the numbers its
+//!   text states.
 //!
 //! Levels: smoke — two points (20 µm × 10 000 and 50 µm × 1 600 at 40 N: speed order, bound,
-//! thrust anchor); quick and full — the three figures' grids of the sweep files (5 × 5, 4 × 5,
+//! demonstrated thrust); quick and full — the three figures' grids of the sweep files (5 × 5, 4 × 5,
 //! 2 × 9 points; shared points run once). Writes `results/<figure>.csv` and
 //! `figures/<figure>_{stall_thrust,no_load_speed}.svg`.
 
@@ -41,10 +43,11 @@ const CASE: &str = "paper-figures";
 
 /// |stall / μP − 1| at 10 N for the 10 000-post slider. 0.01.
 pub const FRICTION_LIMIT_TOLERANCE: f64 = 0.01;
-/// |v₀ / 1.1 m/s − 1| at 10 N preload (the paper's "about 1.1 m/s"). 0.1.
+/// |v₀ / 1.1 m/s − 1| at 10 N preload: the crest velocity is the speed limit, approached at
+/// light preload (measured 1.02 m/s, 7 % below). 0.1.
 pub const ANCHOR_SPEED_TOLERANCE: f64 = 0.1;
-/// |F_stall / 11 N − 1| at 40 N (the paper's 10–12 N). 0.1.
-pub const ANCHOR_THRUST_TOLERANCE: f64 = 0.1;
+/// The thrust the paper's motor demonstrated (N; its Sec. 1, ref. [4]).
+pub const DEMONSTRATED_THRUST_N: f64 = 10.0;
 /// The crest speed A_t ω of the paper's wave (m/s).
 pub const CREST_SPEED_M_PER_S: f64 = 1.1;
 
@@ -244,7 +247,7 @@ fn trend_checks(figure: &Figure, table: &[Vec<PointFigures>]) -> Vec<Check> {
             format!("{}, {p} N: largest no-load speed (m/s)", figure.name),
             fastest,
             CREST_SPEED_M_PER_S,
-            "crest speed A_t ω = 1.1 m/s bounds the speed (the paper, Sec. 2; docs/physics.md)",
+            "the paper, Sec. 2: the speed limit is the crest velocity (1.1 m/s, Sec. 3)",
         ));
     }
     checks
@@ -252,35 +255,32 @@ fn trend_checks(figure: &Figure, table: &[Vec<PointFigures>]) -> Vec<Check> {
 
 fn anchor_checks(memo: &BTreeMap<Key, PointFigures>) -> Vec<Check> {
     let mut checks = Vec::new();
-    let default = |p: f64| memo.get(&(20, 100, p.to_bits()));
-    if let Some(point) = default(10.0) {
+    if let Some(point) = memo.get(&(20, 100, 10f64.to_bits())) {
         checks.push(Check::relative(
             CASE,
             "20 µm × 10 000, 10 N: stall thrust over μP = 3 N (friction-limited)",
             point.stall_thrust_n,
             3.0,
             FRICTION_LIMIT_TOLERANCE,
-            "the paper's Fig. 7: thrust friction-limited at low preload",
+            "the paper, Sec. 2: the output force is limited by preload × friction coefficient (Fig. 7 at low preload)",
         ));
         checks.push(Check::relative(
             CASE,
-            "20 µm × 10 000, 10 N: no-load speed (m/s) against the paper's ≈ 1.1 m/s",
+            "20 µm × 10 000, 10 N: no-load speed (m/s) against the crest velocity 1.1 m/s",
             point.no_load_speed_m_per_s,
-            1.1,
+            CREST_SPEED_M_PER_S,
             ANCHOR_SPEED_TOLERANCE,
-            "the paper's motor, Sec. 4 (no-load speed about 1.1 m/s)",
+            "the paper, Sec. 2: the speed limit is the crest velocity, 1.1 m/s for its 20 nm wave (Sec. 3); approached at light preload",
         ));
     }
-    if let Some(point) = default(40.0) {
-        checks.push(Check::relative(
-            CASE,
-            "20 µm × 10 000, 40 N: stall thrust (N) against the paper's 10–12 N",
-            point.stall_thrust_n,
-            11.0,
-            ANCHOR_THRUST_TOLERANCE,
-            "the paper, Sec. 4 (10–12 N on the 60 × 14 × 1 mm stator)",
-        ));
-    }
+    let strongest = memo.values().map(|p| p.stall_thrust_n).fold(0.0, f64::max);
+    checks.push(Check::at_least(
+        CASE,
+        "largest stall thrust over the points run (N), against the 10 N the motor demonstrated",
+        strongest,
+        DEMONSTRATED_THRUST_N,
+        "the paper, Sec. 1: thrust of 10 N demonstrated on the 60 × 14 × 1 mm stator (its ref. [4])",
+    ));
     checks
 }
 
