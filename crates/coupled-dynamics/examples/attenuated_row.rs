@@ -90,7 +90,7 @@ fn main() {
     );
     for (c, p) in constant.curve.iter().zip(&a.curve) {
         println!(
-            "  v {:.4} F {:.4} P {:.4} | v {:.4} F {:.4} P {:.4} drawn {:.4} out {:.4}",
+            "  v {:.4} F {:.4} P {:.4} | v {:.4} F {:.4} P {:.4} drawn {:.4} out {:.4} iterations {}",
             c.speed_m_per_s,
             c.thrust_n,
             c.output_power_w,
@@ -98,7 +98,8 @@ fn main() {
             p.point.thrust_n,
             p.point.output_power_w,
             p.point.stator_power_w,
-            p.wave_power_out_w
+            p.wave_power_out_w,
+            p.iterations
         );
     }
     if let Ok(stem) = std::env::var("ATTENUATED_ROW_CHART") {

@@ -207,16 +207,35 @@ impl ActiveSetSolver {
 
     /// Solves the problem; [`ContactError::NotConverged`] if the iteration limit is reached.
     pub fn solve(&self, problem: &ContactProblem) -> Result<ContactSolution> {
+        self.solve_from(problem, None)
+    }
+
+    /// [`Self::solve`] whose primal–dual phase starts from the contact set `start` (e.g. the
+    /// solution of a nearby problem: a sequence of problems whose obstacles change a little
+    /// then needs one or two equality solves each). The solution is the same (the problem's is
+    /// unique for a positive definite compliance); only the path to it changes. `None`, a set
+    /// of the wrong length or an empty set: the cold start of [`Self::solve`].
+    pub fn solve_from(
+        &self,
+        problem: &ContactProblem,
+        start: Option<&[bool]>,
+    ) -> Result<ContactSolution> {
         Self::validate(problem)?;
         let s = Self::scale(problem);
         let n = s.h.len();
         let mut log = Vec::new();
-        // Start: the post on the highest obstacle carries everything.
+        // Cold start: the post on the highest obstacle carries everything.
         let top = (0..n)
             .max_by(|&a, &b| s.h[a].total_cmp(&s.h[b]))
             .unwrap_or(0);
-        let mut active = vec![false; n];
-        active[top] = true;
+        let mut active = match start {
+            Some(set) if set.len() == n && set.iter().any(|&a| a) => set.to_vec(),
+            _ => {
+                let mut cold = vec![false; n];
+                cold[top] = true;
+                cold
+            }
+        };
         let mut seen: HashSet<Vec<bool>> = HashSet::new();
         let mut iteration = 0;
         // Phase 1: primal–dual active set.
