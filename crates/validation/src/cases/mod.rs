@@ -16,6 +16,7 @@
 //! output folder, the layout of `validation/<case>/`.
 
 pub mod coupled_dynamics;
+pub mod coupled_strips;
 pub mod design;
 pub mod fem_peers;
 pub mod paper_figures;
