@@ -507,6 +507,8 @@ fn main() -> AnyResult<()> {
                 );
             }
         };
+        // The case's figures are SVG (the chart writer draws a PNG copy too).
+        validation::cases::drop_png_duplicates(&figures)?;
         let path = out_dir.join(format!("{section}.json"));
         std::fs::write(&path, serde_json::to_string_pretty(&value)? + "\n")?;
         println!("wrote {}", path.display());

@@ -66,6 +66,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         {
             eprintln!("wrote {}", file.display());
         }
+        // The case's figures are SVG (the chart writer draws a PNG copy too).
+        validation::cases::drop_png_duplicates(dir)?;
     }
     if json {
         println!("{}", validation.cases_json()?);
