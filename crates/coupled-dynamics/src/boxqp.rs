@@ -484,7 +484,7 @@ fn conjugate_gradient(
         a.product(p.as_slice(), ap.as_mut_slice());
         masked(&mut ap);
         let pap = p.dot(&ap);
-        if !(pap > 0.0) {
+        if pap.is_nan() || pap <= 0.0 {
             return Err(r.amax());
         }
         let alpha = rr / pap;

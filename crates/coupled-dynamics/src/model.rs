@@ -656,6 +656,9 @@ struct TipState {
     compliance_force: DVector<f64>,
     mode: Vec<PostMode>,
     active: ActiveSet,
+    /// The last step's force change (the matrix-free solve's first guess is force + change:
+    /// exact for tips whose force ramps linearly).
+    change: DVector<f64>,
 }
 
 /// The tips' state at the start of a steady period (forces, modes, the contact solver's warm
@@ -784,7 +787,7 @@ impl CoupledModel {
                     &lo,
                     &hi,
                     &mut state.active,
-                    &state.force,
+                    &(&state.force + &state.change),
                     scale,
                     tolerance,
                 ),
@@ -862,6 +865,9 @@ impl CoupledModel {
                     ints.stick_time += h;
                 }
             }
+        }
+        if matches!(self.ct, Tangential::Operator { .. }) {
+            state.change = dforce;
         }
         state.force = force;
         state.compliance_force = compliance_force;
@@ -1028,6 +1034,7 @@ impl CoupledModel {
                 compliance_force: DVector::zeros(n),
                 mode: vec![PostMode::Separated; n],
                 active: ActiveSet::new(n),
+                change: DVector::zeros(n),
             },
             |p| p.0.clone(),
         );

@@ -1,0 +1,350 @@
+//! The whole slider's coupled stick/slip (every post of the lattice) on the paper motor's static
+//! state, with the cost per step and per curve point, the results as JSON and the per-post maps
+//! as SVG.
+//!
+//! `cargo run -p coupled-dynamics --profile test --example whole_slider -- [--side N] [--steps M]
+//! [--points K] [--scatter-nm S] [--preload-n P] [--tolerance T] [--point-only] [--out DIR]`
+//!
+//! Defaults: the paper's 100 × 100 posts (`--side` makes an N × N corner-free sub-slider of the
+//! same pitch, slider size N·pitch + the paper's margins), 64 steps per period, 8 curve points,
+//! ideal posts, 40 N, rigid back, Johnson near fields, step tolerance 1e-10. `--point-only`: the normal grid, the
+//! stall point and one point at half the crest speed (the timing of one curve point), no curve.
+//! `--out DIR` writes DIR/results/whole_slider_<side>.json and DIR/figures/*.svg (maps of the
+//! time-mean normal force, slip fraction and friction power per post at half the no-load speed,
+//! and the friction power at stall).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use coupled_dynamics::{SliderDynamics, SliderMaps, SliderScene};
+use motor::Motor;
+use slider_contact::{NearField, SliderModel, SliderParams};
+
+struct Args {
+    side: usize,
+    steps: usize,
+    points: usize,
+    scatter_m: f64,
+    preload_n: f64,
+    point_only: bool,
+    tolerance: f64,
+    out: Option<PathBuf>,
+}
+
+fn parse() -> Result<Args, String> {
+    let mut a = Args {
+        side: 100,
+        steps: 64,
+        points: 8,
+        scatter_m: 0.0,
+        preload_n: 40.0,
+        point_only: false,
+        tolerance: coupled_dynamics::slider::DEFAULT_SLIDER_TOLERANCE,
+        out: None,
+    };
+    let mut it = std::env::args().skip(1);
+    while let Some(key) = it.next() {
+        let mut value = || it.next().ok_or_else(|| format!("{key} needs a value"));
+        let number = |s: String| s.parse::<f64>().map_err(|e| format!("{key}: {e}"));
+        match key.as_str() {
+            "--side" => a.side = number(value()?)? as usize,
+            "--steps" => a.steps = number(value()?)? as usize,
+            "--points" => a.points = number(value()?)? as usize,
+            "--scatter-nm" => a.scatter_m = number(value()?)? * 1e-9,
+            "--preload-n" => a.preload_n = number(value()?)?,
+            "--point-only" => a.point_only = true,
+            "--tolerance" => a.tolerance = number(value()?)?,
+            "--out" => a.out = Some(PathBuf::from(value()?)),
+            other => return Err(format!("unknown argument {other}")),
+        }
+    }
+    Ok(a)
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args = parse()?;
+    let motor = Motor::paper();
+    let mut params = SliderParams::for_motor(&motor);
+    let margin_x = params.slider_length_m - params.posts_x as f64 * params.post_pitch_m;
+    let margin_y = params.slider_width_m - params.posts_y as f64 * params.post_pitch_m;
+    let share = (args.side * args.side) as f64 / (params.posts_x * params.posts_y) as f64;
+    params.posts_x = args.side;
+    params.posts_y = args.side;
+    params.slider_length_m = args.side as f64 * params.post_pitch_m + margin_x;
+    params.slider_width_m = args.side as f64 * params.post_pitch_m + margin_y;
+    params.preload_n = args.preload_n * share;
+    params.imperfections.height_scatter_m = args.scatter_m;
+    let started = Instant::now();
+    let static_model = SliderModel::build(&params)?;
+    let build_s = started.elapsed().as_secs_f64();
+    let mut scene = SliderScene::for_static(
+        &static_model,
+        motor.wave.clone(),
+        motor.friction.mu_static,
+        motor.friction.mu_kinetic,
+    );
+    scene.steps_per_period = args.steps;
+    scene.curve_points = args.points;
+    scene.tolerance = args.tolerance;
+    let started = Instant::now();
+    let slider = SliderDynamics::for_slider(&scene, &static_model, NearField::Johnson)?;
+    let model_s = started.elapsed().as_secs_f64();
+    let n = args.side * args.side;
+    println!(
+        "{} × {} posts, {} steps per period, P = {:.4} N: operators {build_s:.2} s, normal grid {:.2} s ({:.1} ms per phase)",
+        args.side,
+        args.side,
+        args.steps,
+        params.preload_n,
+        model_s,
+        1e3 * slider.normal_grid_wall_s() / args.steps as f64
+    );
+    let crest = slider.model().crest_speed_m_per_s();
+    if args.point_only {
+        for speed in [0.0, 0.5 * crest] {
+            let t = Instant::now();
+            let (p, _) = slider.model().at_speed_from(speed, None)?;
+            let s = t.elapsed().as_secs_f64();
+            let steps = p.periods * args.steps;
+            println!(
+                "v = {speed:.4} m/s: thrust {:.5} N (per post {:.4e}), {} periods, {:.2} s, {:.2} ms per step, {:.1} solver iterations per step, balance {:.1e}, solver residual {:.1e}",
+                p.thrust_n,
+                p.thrust_n / n as f64,
+                p.periods,
+                s,
+                1e3 * s / steps as f64,
+                p.solver_iterations as f64 / steps as f64,
+                p.energy_balance_residual,
+                p.max_solver_residual
+            );
+        }
+        return Ok(());
+    }
+    let t = Instant::now();
+    let strip = strip_reference(&static_model, &scene)?;
+    println!(
+        "strip of the middle row (same kernels, the {} rows loaded alike): stall thrust {:.4} N, no-load speed {:.4} m/s ({:.1} s)",
+        args.side,
+        strip.stall_thrust_n,
+        strip.no_load_speed_m_per_s,
+        t.elapsed().as_secs_f64()
+    );
+    let t = Instant::now();
+    let result = slider.solve(None)?;
+    let solve_s = t.elapsed().as_secs_f64();
+    let c = &result.coupled;
+    let periods: usize = c.curve.iter().map(|p| p.periods).sum();
+    println!(
+        "stall thrust {:.4} N, no-load speed {:.4} m/s, max energy balance residual {:.1e}, \
+         curve + maps {solve_s:.1} s ({} points, {periods} periods, {:.2} ms per step)",
+        c.stall_thrust_n,
+        c.no_load_speed_m_per_s,
+        c.energy_balance_residual,
+        c.curve.len(),
+        1e3 * solve_s / (periods * args.steps) as f64
+    );
+    for p in &c.curve {
+        println!(
+            "  v {:.4} m/s  F {:.4} N  stick {:.3}  stator {:.3} W  periods {}",
+            p.speed_m_per_s, p.thrust_n, p.stick_fraction, p.stator_power_w, p.periods
+        );
+    }
+    for m in &result.maps {
+        let (i, j) = m.hottest_post();
+        println!(
+            "maps at {:.4} m/s: friction {:.4} W, hottest post ({i}, {j}) {:.3e} W, mean normal force {:.3e} … {:.3e} N",
+            m.means.speed_m_per_s,
+            m.total_friction_power_w(),
+            m.means.friction_power_w[i * m.posts_y + j],
+            min(&m.means.mean_normal_force_n),
+            max(&m.means.mean_normal_force_n)
+        );
+    }
+    if let Some(out) = &args.out {
+        write_outputs(out, &args, &result, &strip, build_s, model_s, solve_s)?;
+    }
+    Ok(())
+}
+
+/// The strip model of the slider's middle row on the same lattice kernels: C_strip(i, k) = the
+/// displacement of post (i, middle) when every post of column k carries a unit force (the
+/// strip's rows all alike), normal and tangential; the strip's share 1/n_y. The difference to
+/// the whole slider is the edge effect (rows near the slider's y edges carry differently).
+fn strip_reference(
+    model: &SliderModel,
+    scene: &SliderScene,
+) -> Result<coupled_dynamics::CoupledResult, Box<dyn std::error::Error>> {
+    use slider_contact::{ComplianceOperator, LatticeOperator};
+    let g = scene.geometry;
+    let (nx, ny) = (g.posts_x, g.posts_y);
+    let tangential =
+        LatticeOperator::tangential(&model.params.operator_spec(), NearField::Johnson)?;
+    let row = |op: &dyn ComplianceOperator| {
+        let mut c = nalgebra::DMatrix::zeros(nx, nx);
+        let (mut f, mut u) = (vec![0.0; nx * ny], vec![0.0; nx * ny]);
+        for k in 0..nx {
+            f.iter_mut().for_each(|x| *x = 0.0);
+            f[k * ny..(k + 1) * ny].iter_mut().for_each(|x| *x = 1.0);
+            op.apply(&f, &mut u);
+            for i in 0..nx {
+                c[(i, k)] = u[i * ny + ny / 2];
+            }
+        }
+        (&c + c.transpose()) * 0.5
+    };
+    let mut strip = scene.coupled_settings();
+    strip.post_x_m = (0..nx).map(|i| g.x_m(i)).collect();
+    strip.normal_compliance_m_per_n = row(&model.operator);
+    strip.tangential_compliance_m_per_n = row(&tangential);
+    strip.strip_share = 1.0 / ny as f64;
+    strip.tolerance = 1e-12;
+    Ok(coupled_dynamics::solve(
+        &coupled_dynamics::CoupledModel::new(&strip)?,
+        None,
+    )?)
+}
+
+fn min(v: &[f64]) -> f64 {
+    v.iter().copied().fold(f64::INFINITY, f64::min)
+}
+
+fn max(v: &[f64]) -> f64 {
+    v.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+}
+
+fn write_outputs(
+    out: &Path,
+    args: &Args,
+    result: &coupled_dynamics::SliderDynamicsResult,
+    strip: &coupled_dynamics::CoupledResult,
+    build_s: f64,
+    model_s: f64,
+    solve_s: f64,
+) -> Result<(), Box<dyn std::error::Error>> {
+    std::fs::create_dir_all(out.join("results"))?;
+    std::fs::create_dir_all(out.join("figures"))?;
+    let json = serde_json::json!({
+        "command": format!(
+            "cargo run -p coupled-dynamics --profile test --example whole_slider -- --side {} --steps {} --points {} --scatter-nm {} --preload-n {} --tolerance {:e} --out DIR",
+            args.side, args.steps, args.points, args.scatter_m * 1e9, args.preload_n, args.tolerance
+        ),
+        "operators_s": build_s,
+        "normal_grid_s": model_s,
+        "curve_and_maps_s": solve_s,
+        "result": result,
+        "strip_reference": strip,
+    });
+    let tag = format!(
+        "side{}_{}n{}",
+        args.side,
+        args.preload_n,
+        if args.scatter_m > 0.0 {
+            format!("_scatter{}nm", args.scatter_m * 1e9)
+        } else {
+            String::new()
+        }
+    );
+    atomic_files::write_atomically(
+        &out.join("results").join(format!("whole_slider_{tag}.json")),
+        serde_json::to_vec_pretty(&json)?,
+    )?;
+    let [stall, half] = [&result.maps[0], &result.maps[1]];
+    let speed = format!("{:.3} m/s", half.means.speed_m_per_s);
+    for (name, map, field, unit) in [
+        (
+            "mean_normal_force",
+            half,
+            &half.means.mean_normal_force_n,
+            "N",
+        ),
+        ("slip_fraction", half, &half.means.slip_fraction, ""),
+        ("friction_power", half, &half.means.friction_power_w, "W"),
+        (
+            "friction_power_stall",
+            stall,
+            &stall.means.friction_power_w,
+            "W",
+        ),
+    ] {
+        let title = format!(
+            "{name} per post at {}",
+            if name.ends_with("stall") {
+                "stall".to_string()
+            } else {
+                speed.clone()
+            }
+        );
+        atomic_files::write_atomically(
+            &out.join("figures").join(format!("{name}_{tag}.svg")),
+            heat_map(map, field, &title, unit),
+        )?;
+    }
+    Ok(())
+}
+
+/// An SVG heat map of a per-post field (lattice order) on the posts' positions: x to the right
+/// (the wave travels along +x), y up; colours from dark blue (min) through green to yellow (max).
+fn heat_map(map: &SliderMaps, field: &[f64], title: &str, unit: &str) -> String {
+    let (nx, ny) = (map.posts_x, map.posts_y);
+    let cell = (600.0 / nx.max(ny) as f64).max(1.0);
+    let (w, h) = (cell * nx as f64, cell * ny as f64);
+    let (lo, hi) = (min(field), max(field));
+    let colour = |v: f64| {
+        let t = if hi > lo { (v - lo) / (hi - lo) } else { 0.5 };
+        let stops = [
+            (0.0, [68, 1, 84]),
+            (0.5, [33, 145, 140]),
+            (1.0, [253, 231, 37]),
+        ];
+        let k = if t <= 0.5 { 0 } else { 1 };
+        let u = ((t - stops[k].0) / 0.5).clamp(0.0, 1.0);
+        let c: Vec<u8> = (0..3)
+            .map(|i| {
+                (stops[k].1[i] as f64 + u * (stops[k + 1].1[i] as f64 - stops[k].1[i] as f64)) as u8
+            })
+            .collect();
+        format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2])
+    };
+    let mut s = String::new();
+    let _ = write!(
+        s,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{}" height="{}" font-family="sans-serif" font-size="13">"#,
+        w + 140.0,
+        h + 60.0
+    );
+    let _ = write!(s, r#"<text x="10" y="20">{title}</text>"#);
+    for i in 0..nx {
+        for j in 0..ny {
+            let _ = write!(
+                s,
+                r#"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="{}"/>"#,
+                10.0 + i as f64 * cell,
+                30.0 + (ny - 1 - j) as f64 * cell,
+                cell + 0.05,
+                cell + 0.05,
+                colour(field[i * ny + j])
+            );
+        }
+    }
+    for k in 0..=10 {
+        let v = lo + (hi - lo) * k as f64 / 10.0;
+        let y = 30.0 + h - h * k as f64 / 10.0;
+        let _ = write!(
+            s,
+            r#"<rect x="{:.1}" y="{:.1}" width="16" height="{:.1}" fill="{}"/><text x="{:.1}" y="{:.1}">{v:.3e} {unit}</text>"#,
+            w + 20.0,
+            y - h / 10.0,
+            h / 10.0,
+            colour(v),
+            w + 40.0,
+            y + 4.0
+        );
+    }
+    let _ = write!(
+        s,
+        r#"<text x="10" y="{:.1}">x → (wave direction), {nx} × {ny} posts</text></svg>"#,
+        h + 50.0
+    );
+    s
+}
