@@ -145,3 +145,42 @@ impl From<sawdrive::sweep::SweepRunError> for Failure {
         Failure::new(kind, &error)
     }
 }
+
+impl From<design::StudyError> for Failure {
+    /// Bad study input (`[scatter]`, a design file) is a scene error, an unreadable file a file
+    /// error, a failed model run a pipeline error — as the errors inside say.
+    fn from(error: design::StudyError) -> Self {
+        use design::StudyError as E;
+        let kind = match &error {
+            E::Input { .. } | E::Conflict(_) => Kind::Scene,
+            E::File { source, .. } => return Failure::new(Failure::from_ref(source).kind, &error),
+            E::Io(_) => Kind::File,
+            E::Model(inner) => model_kind(inner.as_ref()),
+            _ => Kind::Pipeline,
+        };
+        Failure::new(kind, &error)
+    }
+}
+
+impl Failure {
+    /// The kind a study error would get (for an error inside a design file's).
+    fn from_ref(error: &design::StudyError) -> Self {
+        use design::StudyError as E;
+        let kind = match error {
+            E::Input { .. } | E::Conflict(_) | E::File { .. } => Kind::Scene,
+            E::Io(_) => Kind::File,
+            E::Model(inner) => model_kind(inner.as_ref()),
+            _ => Kind::Pipeline,
+        };
+        Failure::new(kind, error)
+    }
+}
+
+/// The kind of the evaluator's error: the scene's (file or content) or the pipeline's.
+fn model_kind(error: &(dyn std::error::Error + Send + Sync + 'static)) -> Kind {
+    match error.downcast_ref::<sawdrive::scene::SceneError>() {
+        Some(sawdrive::scene::SceneError::Io { .. }) => Kind::File,
+        Some(_) => Kind::Scene,
+        None => Kind::Pipeline,
+    }
+}

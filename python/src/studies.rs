@@ -10,11 +10,12 @@
 
 use std::path::{Path, PathBuf};
 
+use design::ModelFidelity as Fidelity;
+use design::scatter::{ScatterSpec, load_uq_inputs};
+use design::study::{DesignSpec, run_design};
+use design::uq::{UqOptions, run_uq_staged};
 use pyo3::prelude::*;
-use sawdrive::design::motor::Fidelity;
-use sawdrive::design::scatter::{ScatterSpec, UqInputError, load_uq_inputs};
-use sawdrive::design::study::{DesignSpec, run_design};
-use sawdrive::design::uq::{UqOptions, run_uq_staged};
+use sawdrive::pipeline::evaluate::SceneEvaluator;
 use sawdrive::scene::Scene;
 use sawdrive::sweep::{SweepFile, run_sweep_cancellable};
 use serde_json::json;
@@ -63,10 +64,7 @@ fn sweep_points<'py>(py: Python<'py>, file: &str) -> PyResult<Bound<'py, PyAny>>
 
 /// The scene and scatter of `sawdrive uq [SCENE] --set …`, read as the command reads them.
 fn uq_inputs(path: Option<&str>, overrides: &[String]) -> Result<(Scene, ScatterSpec), Failure> {
-    load_uq_inputs(path.map(Path::new), overrides).map_err(|e| match e {
-        UqInputError::Scene(e) => Failure::from(e),
-        UqInputError::Scatter(message) => Failure::text(Kind::Scene, message),
-    })
+    load_uq_inputs(&SceneEvaluator, path.map(Path::new), overrides).map_err(Failure::from)
 }
 
 /// `sawdrive uq [SCENE] --samples N --seed S --out OUT [--patch] --json`: the report as a dict
@@ -85,8 +83,8 @@ fn uq<'py>(
     progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let (scene, scatter) = raise(py, uq_inputs(path, &overrides))?;
-    if let Err(message) = sawdrive::design::uq::check_samples(samples) {
-        return Err(Failure::text(Kind::Argument, message).into_pyerr(py));
+    if let Err(e) = design::uq::check_samples(samples) {
+        return Err(Failure::new(Kind::Argument, &e).into_pyerr(py));
     }
     let options = UqOptions {
         samples,
@@ -101,10 +99,12 @@ fn uq<'py>(
     };
     // The folder is committed here, on the calling thread: an interrupted call commits nothing.
     let (mut value, staged) = worker::run(py, progress, None, move |_| {
-        let (report, staged) = run_uq_staged(&scene, &scatter, &options)?;
+        let (report, staged) = run_uq_staged(&SceneEvaluator, &scene, &scatter, &options)?;
         Ok((serde_json::to_value(&report)?, staged))
     })?;
-    let folder = staged.commit().map_err(|e| Failure::from(e).into_pyerr(py))?;
+    let folder = staged
+        .commit()
+        .map_err(|e| Failure::from(e).into_pyerr(py))?;
     value["folder"] = json!(folder.display().to_string());
     convert::to_py(py, &value)
 }
@@ -120,11 +120,11 @@ fn design<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     let spec = raise(
         py,
-        DesignSpec::read(Path::new(file)).map_err(|m| Failure::text(Kind::Scene, m)),
+        DesignSpec::read(&SceneEvaluator, Path::new(file)).map_err(Failure::from),
     )?;
     let out = PathBuf::from(out);
     let value = worker::run(py, progress, None, move |_| {
-        let (report, folder) = run_design(&spec, &out, true)?;
+        let (report, folder) = run_design(&SceneEvaluator, &spec, &out, true)?;
         let mut value = serde_json::to_value(&report)?;
         value["folder"] = json!(folder.display().to_string());
         Ok(value)

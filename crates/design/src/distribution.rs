@@ -7,8 +7,8 @@
 //! parent normal (exact; refused when the interval holds less than
 //! [`MIN_TRUNCATED_MASS`] of the parent's probability, where rejection would stall).
 
-use serde::Serialize;
 use motor::rng::SplitMix64;
+use serde::Serialize;
 
 use crate::error::{Result, invalid};
 

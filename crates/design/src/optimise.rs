@@ -41,9 +41,9 @@
 use std::collections::BTreeMap;
 use std::collections::HashMap;
 
+use motor::rng::SplitMix64;
 use rayon::prelude::*;
 use serde::Serialize;
-use motor::rng::SplitMix64;
 
 use crate::error::{DesignError, Result, invalid};
 
@@ -294,9 +294,10 @@ struct Evaluator<'a, F> {
     log: Vec<Evaluation>,
 }
 
-impl<F> Evaluator<'_, F>
+impl<F, M> Evaluator<'_, F>
 where
-    F: Fn(&[f64]) -> std::result::Result<Outcome, String> + Sync,
+    F: Fn(&[f64]) -> std::result::Result<Outcome, M> + Sync,
+    M: std::fmt::Display,
 {
     fn eval(&mut self, u: &[f64]) -> Outcome {
         let x: Vec<f64> = self
@@ -309,7 +310,7 @@ where
         if let Some(o) = self.seen.get(&key) {
             return o.clone();
         }
-        let outcome = (self.model)(&x).unwrap_or_else(failed);
+        let outcome = (self.model)(&x).unwrap_or_else(|e| failed(e.to_string()));
         self.seen.insert(key, outcome.clone());
         self.log.push(Evaluation {
             x,
@@ -322,14 +323,15 @@ where
 }
 
 /// One Nelder–Mead run from unit point `start`.
-fn nelder_mead<F>(
+fn nelder_mead<F, M>(
     ev: &mut Evaluator<'_, F>,
     start: &[f64],
     (step, budget): (f64, usize),
     settings: &OptimiserSettings,
     sense: Sense,
 ) where
-    F: Fn(&[f64]) -> std::result::Result<Outcome, String> + Sync,
+    F: Fn(&[f64]) -> std::result::Result<Outcome, M> + Sync,
+    M: std::fmt::Display,
 {
     let n = start.len();
     let clamp = |p: Vec<f64>| p.into_iter().map(|v| v.clamp(0.0, 1.0)).collect::<Vec<_>>();
@@ -442,7 +444,7 @@ fn best_of(evaluations: &[Evaluation], sense: Sense) -> Result<Evaluation> {
 
 /// Pre-search + Nelder–Mead of `model` (design values → outcome) over `variables`.
 /// A model error at a point is recorded as an infeasible evaluation (`evaluation failed: …`).
-pub fn optimise<F>(
+pub fn optimise<F, M>(
     variables: &[Variable],
     objective: &Objective,
     settings: &OptimiserSettings,
@@ -450,7 +452,8 @@ pub fn optimise<F>(
     model: &F,
 ) -> Result<SearchResult>
 where
-    F: Fn(&[f64]) -> std::result::Result<Outcome, String> + Sync,
+    F: Fn(&[f64]) -> std::result::Result<Outcome, M> + Sync,
+    M: std::fmt::Display,
 {
     if variables.is_empty() {
         return Err(invalid("variables", "at least one design variable"));
@@ -466,7 +469,7 @@ where
         .map(|u| {
             let x: Vec<f64> = variables.iter().zip(u).map(|(v, &u)| v.at(u)).collect();
             Evaluation {
-                outcome: model(&x).unwrap_or_else(failed),
+                outcome: model(&x).unwrap_or_else(|e| failed(e.to_string())),
                 x,
                 fidelity: fidelity.to_owned(),
                 stage: "presearch",
@@ -517,7 +520,7 @@ where
 /// cheap model is used only to choose where the full model looks: every number of the optimum
 /// is the full model's. A finalist infeasible at full fidelity is reported as such in the
 /// evaluations; if all are, the error names their violated constraints.
-pub fn multi_fidelity<C, F>(
+pub fn multi_fidelity<C, F, M>(
     variables: &[Variable],
     objective: &Objective,
     settings: &OptimiserSettings,
@@ -525,8 +528,9 @@ pub fn multi_fidelity<C, F>(
     (full_name, full): (&str, &F),
 ) -> Result<SearchResult>
 where
-    C: Fn(&[f64]) -> std::result::Result<Outcome, String> + Sync,
-    F: Fn(&[f64]) -> std::result::Result<Outcome, String> + Sync,
+    C: Fn(&[f64]) -> std::result::Result<Outcome, M> + Sync,
+    F: Fn(&[f64]) -> std::result::Result<Outcome, M> + Sync,
+    M: std::fmt::Display,
 {
     let search = optimise(variables, objective, settings, cheap_name, cheap)?;
     let mut ranked: Vec<&Evaluation> = search
@@ -591,7 +595,7 @@ where
 /// The full-fidelity refinement: a compass search on `full` from the best confirmed finalist
 /// `start` ([`compass_search`]), the finalists' outcomes reused. Its evaluations are tagged
 /// `refine`.
-fn refine<F>(
+fn refine<F, M>(
     variables: &[Variable],
     sense: Sense,
     settings: &OptimiserSettings,
@@ -600,7 +604,8 @@ fn refine<F>(
     start: &[f64],
 ) -> Vec<Evaluation>
 where
-    F: Fn(&[f64]) -> std::result::Result<Outcome, String> + Sync,
+    F: Fn(&[f64]) -> std::result::Result<Outcome, M> + Sync,
+    M: std::fmt::Display,
 {
     if settings.refine_evaluations == 0 {
         return Vec::new();
@@ -637,13 +642,14 @@ where
 /// after `refine_evaluations` new evaluations. s starts at [`REFINE_INITIAL_STEP`]. Unlike
 /// Nelder–Mead it needs no smoothness (the full model's objective has steps in P where the
 /// stick/slip regime changes) and, at convergence, no neighbour at ± the final step is better.
-fn compass_search<F>(
+fn compass_search<F, M>(
     ev: &mut Evaluator<'_, F>,
     start: &[f64],
     settings: &OptimiserSettings,
     sense: Sense,
 ) where
-    F: Fn(&[f64]) -> std::result::Result<Outcome, String> + Sync,
+    F: Fn(&[f64]) -> std::result::Result<Outcome, M> + Sync,
+    M: std::fmt::Display,
 {
     let mut best = (start.to_vec(), ev.eval(start));
     let mut step = REFINE_INITIAL_STEP;
@@ -695,7 +701,7 @@ pub struct VariableSensitivity {
 /// Finite-difference sensitivity of `model`'s objective at `x` to each variable, with steps of
 /// `step_fraction` of each range (at least 1 for integers), one-sided at a bound or where the
 /// neighbour violates a constraint (derivative 0 when both neighbours do).
-pub fn local_sensitivity<F>(
+pub fn local_sensitivity<F, M>(
     variables: &[Variable],
     x: &[f64],
     objective_at_x: f64,
@@ -703,7 +709,8 @@ pub fn local_sensitivity<F>(
     model: &F,
 ) -> Result<Vec<VariableSensitivity>>
 where
-    F: Fn(&[f64]) -> std::result::Result<Outcome, String> + Sync,
+    F: Fn(&[f64]) -> std::result::Result<Outcome, M> + Sync,
+    M: std::fmt::Display,
 {
     variables
         .iter()
@@ -720,9 +727,9 @@ where
                 }
                 let mut y = x.to_vec();
                 y[k] = value;
-                let o = model(&y).map_err(|message| DesignError::Evaluation {
+                let o = model(&y).map_err(|e| DesignError::Evaluation {
                     point: point_label(variables, &y),
-                    message,
+                    message: e.to_string(),
                 })?;
                 // An infeasible neighbour (a constraint's boundary): one-sided difference.
                 Ok(if o.feasible() {

@@ -81,7 +81,7 @@ mod tests {
             (spearman(&x, &z).unwrap() + 1.0).abs() < 1e-12,
             "ρ of a falling map"
         );
-        assert_eq!(spearman(&x, &vec![1.0; 20]), None, "ρ with a constant");
+        assert_eq!(spearman(&x, &[1.0; 20]), None, "ρ with a constant");
     }
 
     #[test]

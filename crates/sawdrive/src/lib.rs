@@ -11,8 +11,6 @@ pub const DYNAMIC_MODEL_VERSION: u32 = 1;
 /// help text of the command line (`OUT/<scene>/`, `[scatter]`), plain text rather than Markdown.
 #[allow(rustdoc::invalid_html_tags, rustdoc::broken_intra_doc_links)]
 pub mod cli;
-/// Design under scatter: `sawdrive uq` and `sawdrive design`.
-pub mod design;
 pub mod output;
 pub mod pipeline;
 pub mod scene;

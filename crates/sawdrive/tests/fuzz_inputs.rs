@@ -7,9 +7,10 @@
 
 use std::path::Path;
 
+use design::scatter::load_uq_inputs;
+use design::study::DesignSpec;
 use proptest::prelude::*;
-use sawdrive::design::scatter::load_uq_inputs;
-use sawdrive::design::study::DesignSpec;
+use sawdrive::pipeline::evaluate::SceneEvaluator;
 use sawdrive::sweep::{MAX_SWEEP_POINTS, Shard, SweepFile};
 use slider_contact::HeightMapCsv;
 
@@ -29,8 +30,24 @@ fn config() -> ProptestConfig {
 fn text() -> impl Strategy<Value = String> {
     prop_oneof![
         prop::sample::select(vec![
-            "", ".", "..", "../x", "/abs", ".cache", "a/b", "ok-name", "a\u{1b}[2J", "x\ny",
-            "20 um", "1 m", "-5 N", "1e300", "nan", "auto", "100000x100000", "=cmd()",
+            "",
+            ".",
+            "..",
+            "../x",
+            "/abs",
+            ".cache",
+            "a/b",
+            "ok-name",
+            "a\u{1b}[2J",
+            "x\ny",
+            "20 um",
+            "1 m",
+            "-5 N",
+            "1e300",
+            "nan",
+            "auto",
+            "100000x100000",
+            "=cmd()",
         ])
         .prop_map(String::from),
         "[ -~]{0,12}",
@@ -54,9 +71,22 @@ fn value() -> impl Strategy<Value = String> {
 /// Keys the input formats know, and some they do not.
 fn key() -> impl Strategy<Value = String> {
     prop::sample::select(vec![
-        "preload", "friction", "posts.diameter", "posts.count", "post_diameter",
-        "posts_per_side", "samples", "cheap_samples", "quantile", "name", "file", "series",
-        "label", "height", "tilt", "unknown_key",
+        "preload",
+        "friction",
+        "posts.diameter",
+        "posts.count",
+        "post_diameter",
+        "posts_per_side",
+        "samples",
+        "cheap_samples",
+        "quantile",
+        "name",
+        "file",
+        "series",
+        "label",
+        "height",
+        "tilt",
+        "unknown_key",
     ])
     .prop_map(String::from)
 }
@@ -109,7 +139,7 @@ proptest! {
         for (k, v) in &variables {
             toml.push_str(&format!("{k} = {v}\n"));
         }
-        if let Ok(spec) = DesignSpec::parse(&toml, Path::new(".")) {
+        if let Ok(spec) = DesignSpec::parse(&SceneEvaluator, &toml, Path::new(".")) {
             prop_assert!(atomic_files::check_name(&spec.name).is_ok());
             prop_assert!(spec.cheap_samples <= spec.samples);
         }
@@ -124,7 +154,7 @@ proptest! {
         for (k, v) in &entries {
             toml.push_str(&format!("{k:?} = {v}\n"));
         }
-        let _ = load_uq_inputs(Some(&write(dir.path(), "u.toml", &toml)), &[]);
+        let _ = load_uq_inputs(&SceneEvaluator, Some(&write(dir.path(), "u.toml", &toml)), &[]);
     }
 
     #[test]

@@ -1,12 +1,15 @@
-//! `sawdrive design`: the texture optimiser.
+//! `sawdrive design`: the texture optimiser (crate `design`'s study on the library's motor
+//! model, [`SceneEvaluator`]).
 
-use sawdrive::design::study::{DesignSpec, describe_variables, run_design};
+use design::study::{DesignSpec, describe_variables, run_design};
+use sawdrive::pipeline::evaluate::SceneEvaluator;
 
 use crate::cli::DesignArgs;
 
 pub fn run(args: &DesignArgs) -> anyhow::Result<()> {
-    let spec = DesignSpec::read(&args.design).map_err(anyhow::Error::msg)?;
-    let (report, folder) = run_design(&spec, &args.out, true)?;
+    let ev = SceneEvaluator;
+    let spec = DesignSpec::read(&ev, &args.design)?;
+    let (report, folder) = run_design(&ev, &spec, &args.out, true)?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
         return Ok(());
@@ -15,7 +18,7 @@ pub fn run(args: &DesignArgs) -> anyhow::Result<()> {
     println!(
         "{}: optimum {}",
         report.name,
-        describe_variables(&o.variables)
+        describe_variables(&ev, &spec, &o.variables)
     );
     println!(
         "  {} = {:.6} ({}, stage {}{})",

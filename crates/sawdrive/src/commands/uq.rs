@@ -1,13 +1,16 @@
-//! `sawdrive uq`: Monte Carlo bands of a scene under its `[scatter]` section.
+//! `sawdrive uq`: Monte Carlo bands of a scene under its `[scatter]` section (crate `design`'s
+//! study on the library's motor model, [`SceneEvaluator`]).
 
-use sawdrive::design::motor::Fidelity;
-use sawdrive::design::scatter::load_uq_inputs;
-use sawdrive::design::uq::{UqOptions, run_uq};
+use design::ModelFidelity as Fidelity;
+use design::scatter::load_uq_inputs;
+use design::uq::{UqOptions, run_uq};
+use sawdrive::pipeline::evaluate::SceneEvaluator;
 
 use crate::cli::UqArgs;
 
 pub fn run(args: &UqArgs) -> anyhow::Result<()> {
-    let (scene, scatter) = load_uq_inputs(args.input.scene.as_deref(), &args.input.overrides)?;
+    let ev = SceneEvaluator;
+    let (scene, scatter) = load_uq_inputs(&ev, args.input.scene.as_deref(), &args.input.overrides)?;
     let options = UqOptions {
         samples: args.samples,
         seed: args.seed,
@@ -19,7 +22,7 @@ pub fn run(args: &UqArgs) -> anyhow::Result<()> {
         },
         write_files: true,
     };
-    let (report, folder) = run_uq(&scene, &scatter, &options)?;
+    let (report, folder) = run_uq(&ev, &scene, &scatter, &options)?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
         return Ok(());

@@ -6,6 +6,7 @@
 
 mod coupled;
 mod dynamics;
+pub mod evaluate;
 mod error;
 mod run;
 mod slider_static;

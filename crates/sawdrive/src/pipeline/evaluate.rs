@@ -1,4 +1,6 @@
-//! One motor evaluation for Monte Carlo and design: a scene with one sample's perturbations →
+//! The `sawdrive` library's [`design::Evaluator`]: one motor evaluation for Monte Carlo and
+//! design, the glue between the studies of crate `design` (which never links the FEM or the
+//! whole-slider model) and the pipeline's stages. A scene with one sample's perturbations →
 //! whole-slider static contact (η, `slider_contact`, no FEM: the lattice operator with Johnson's
 //! near field) → Johnson springs → period-average/transient speed–thrust curve (`stick_slip`)
 //! → η, stall thrust, no-load speed, maximum output power, efficiency.
@@ -8,133 +10,31 @@
 //! rows' share), whose η is within ≈ 1 % of the whole slider's for identical rows
 //! (validation/whole-slider: 0.8265 at 10 rows vs 0.8160 at 100) at ≈ 1/10 of the cost; it does
 //! not see a tilt across y. When the scene gives η as a number (`contact.effective_ratio`),
-//! no static solve runs and height scatter, tilt and bow are refused (they could not act).
+//! no static solve runs and height scatter, tilt and bow are refused (they could not act): the
+//! one "η given or from the static model" branch of the studies.
+//!
+//! Units: the studies' input files give human values by scene key ("20 um" for
+//! `posts.diameter`); [`SceneEvaluator::quantity`] parses them with the scene's units
+//! (`crate::units`, the one home of unit parsing), so `design` never parses a unit.
+//! Validity: that of the whole-slider static model and the lumped dynamic model
+//! (docs/physics.md); the coupled model is refused ([`check_dynamics`]).
 
-use contact_springs::PostSprings;
+use std::path::Path;
 use std::time::Instant;
 
-use serde::{Deserialize, Serialize};
+use contact_springs::PostSprings;
+use design::evaluator::{
+    CurvePoint, EvaluationCost, Evaluator, Fidelity, ModelError, MotorOutputs, MotorSample,
+    SceneFacts, VariableKind,
+};
 use slider_contact::{Imperfections, ImperfectionsExt, SliderModel, SliderParams};
-use stick_slip::CurvePoint;
 
 use crate::pipeline::{PipelineError, dynamic_scene, scene_springs};
 use crate::scene::{Dynamics, Scene};
+use crate::units::{Dimension, format_quantity, parse_quantity};
 
 /// Rows of posts (along y) the `patch` fidelity solves.
 pub const PATCH_ROWS: u32 = 8;
-
-/// Which static model computed η.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Fidelity {
-    /// η given by the scene (no static solve).
-    Given,
-    /// [`PATCH_ROWS`] rows of the lattice model.
-    Patch,
-    /// Every post of the lattice model.
-    Slider,
-}
-
-impl Fidelity {
-    /// Label written next to every number.
-    pub fn label(self) -> &'static str {
-        match self {
-            Self::Given => "given-eta",
-            Self::Patch => "lattice-patch",
-            Self::Slider => "lattice-slider",
-        }
-    }
-}
-
-/// One sample's (or design's) values of the scattered inputs, SI.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct MotorSample {
-    /// Preload P (N).
-    pub preload_n: f64,
-    /// Post diameter (m).
-    pub post_diameter_m: f64,
-    /// μ_s.
-    pub mu_static: f64,
-    /// μ_k (≤ μ_s).
-    pub mu_kinetic: f64,
-    /// Tilt τ_x (m).
-    pub tilt_x_m: f64,
-    /// Tilt τ_y (m).
-    pub tilt_y_m: f64,
-    /// Bow b (m).
-    pub bow_m: f64,
-    /// σ of the per-post height scatter (m).
-    pub height_scatter_m: f64,
-    /// Seed of this sample's post heights.
-    pub scatter_seed: u64,
-}
-
-impl MotorSample {
-    /// The scene's own values, ideal posts.
-    pub fn nominal(scene: &Scene) -> Self {
-        Self {
-            preload_n: scene.motor.load.preload_n,
-            post_diameter_m: scene.motor.posts.diameter_m,
-            mu_static: scene.motor.friction.mu_static,
-            mu_kinetic: scene.motor.friction.mu_kinetic,
-            tilt_x_m: 0.0,
-            tilt_y_m: 0.0,
-            bow_m: 0.0,
-            height_scatter_m: 0.0,
-            scatter_seed: 0,
-        }
-    }
-
-    fn has_shape(&self) -> bool {
-        self.tilt_x_m != 0.0
-            || self.tilt_y_m != 0.0
-            || self.bow_m != 0.0
-            || self.height_scatter_m != 0.0
-    }
-}
-
-/// The outputs of one evaluation (SI, unit in the name).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct MotorOutputs {
-    /// η.
-    pub effective_contact_ratio: f64,
-    /// Stall thrust (N).
-    pub stall_thrust_n: f64,
-    /// No-load speed (m/s).
-    pub no_load_speed_m_per_s: f64,
-    /// Largest thrust × speed along the curve (W).
-    pub max_output_power_w: f64,
-    /// Largest efficiency along the curve.
-    pub efficiency: f64,
-    /// Fraction of posts in contact (mean over phases; `None` when η was given).
-    pub contact_fraction: Option<f64>,
-    /// The speed–thrust curve.
-    pub curve: Vec<CurvePoint>,
-    /// Where the evaluation's time went.
-    pub cost: EvaluationCost,
-}
-
-/// Output names (with units) in the order of [`MotorOutputs::values`].
-pub const OUTPUT_NAMES: [&str; 5] = [
-    "effective_contact_ratio",
-    "stall_thrust_n",
-    "no_load_speed_m_per_s",
-    "max_output_power_w",
-    "efficiency",
-];
-
-impl MotorOutputs {
-    /// The scalar outputs in the order of [`OUTPUT_NAMES`].
-    pub fn values(&self) -> [f64; 5] {
-        [
-            self.effective_contact_ratio,
-            self.stall_thrust_n,
-            self.no_load_speed_m_per_s,
-            self.max_output_power_w,
-            self.efficiency,
-        ]
-    }
-}
 
 /// The scene with a sample's preload, diameter and friction.
 pub fn perturbed_scene(scene: &Scene, s: &MotorSample) -> Scene {
@@ -343,20 +243,6 @@ pub fn check_dynamics(scene: &Scene) -> Result<(), PipelineError> {
     Ok(())
 }
 
-/// Where one evaluation's time went (s), measured on its own thread.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-pub struct EvaluationCost {
-    /// Post offsets, operator (when built), contact solves of every phase and the η fit.
-    pub static_s: f64,
-    /// The part of `static_s` that built this evaluation's own operator (0: shared).
-    #[serde(default)]
-    pub operator_s: f64,
-    /// Springs and the dynamic speed–thrust curve.
-    pub dynamic_s: f64,
-    /// Whether this evaluation built its own lattice operator (another post diameter).
-    pub operator_built: bool,
-}
-
 /// Evaluates `scene` perturbed by `sample`: η at `fidelity` (or the scene's given η), springs,
 /// dynamic curve. Deterministic: the same inputs give bitwise the same outputs. Builds the
 /// static model for this one call; many samples of one scene share it through
@@ -395,7 +281,14 @@ pub fn evaluate_with(
         max_output_power_w,
         efficiency: result.efficiency,
         contact_fraction,
-        curve: result.curve,
+        curve: result
+            .curve
+            .iter()
+            .map(|p| CurvePoint {
+                speed_m_per_s: p.speed_m_per_s,
+                thrust_n: p.thrust_n,
+            })
+            .collect(),
         cost: EvaluationCost {
             static_s,
             operator_s: operator_s.unwrap_or(0.0),
@@ -405,37 +298,154 @@ pub fn evaluate_with(
     })
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::design::scatter::{ScatterSpec, split_scatter};
+/// The motor model of `sawdrive uq`, `sawdrive design` and the Python studies: the
+/// [`design::Evaluator`] of a resolved [`Scene`], each evaluation through [`evaluate_with`].
+#[derive(Debug, Clone, Copy, Default)]
+pub struct SceneEvaluator;
 
-    /// Samples 174, 373, 887 and 957 of `sawdrive uq validation/design/scatter.toml --seed 1`
-    /// failed with a Zeno loop in stick-slip's event-driven post; 957 still did with
-    /// the current springs and η, until the post's event hysteresis. The whole slider (10 000
-    /// posts) takes ≈ 2 s a sample: `cargo test -p sawdrive --lib zeno -- --ignored`.
-    #[test]
-    #[ignore]
-    fn the_case_study_samples_that_hit_a_zeno_loop_evaluate() {
-        let scene = crate::scene::load_scene(None, &[]).unwrap();
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../validation/design/scatter.toml"
-        );
-        let text = std::fs::read_to_string(path).unwrap();
-        let (_, _, table) = split_scatter(Some(&text), &[]).unwrap();
-        let scatter = ScatterSpec::from_table(&table).unwrap();
-        let inputs = scatter.inputs(&scene).unwrap();
-        let model = StaticModel::build(&scene, Fidelity::Slider).unwrap();
-        for k in [174u64, 373, 887, 957] {
-            let (values, field_seed) = design::draw_inputs(&inputs, 1, k);
-            let out = evaluate_with(&model, &scene, &scatter.sample(&values, field_seed))
-                .unwrap_or_else(|e| panic!("sample {k}: {e}"));
-            assert!(
-                out.max_output_power_w > 0.0,
-                "maximum output power of sample {k}: {} W",
-                out.max_output_power_w
-            );
+/// The design variables a scene can express: (scene key, name in reports, whole values).
+const VARIABLES: [(&str, &str, bool); 4] = [
+    ("posts.diameter", "post_diameter_m", false),
+    ("posts.count", "posts_per_side", true),
+    ("posts.height", "post_height_m", false),
+    ("load.preload", "preload_n", false),
+];
+
+/// The dimension of a scene key a study gives as a quantity (`None`: not one).
+fn dimension(key: &str) -> Option<Dimension> {
+    match key {
+        "posts.diameter"
+        | "posts.height"
+        | "posts.height_scatter"
+        | "slider.tilt_x"
+        | "slider.tilt_y"
+        | "slider.bow" => Some(Dimension::Length),
+        "load.preload" => Some(Dimension::Force),
+        _ => None,
+    }
+}
+
+/// Why a scene key cannot be given as a quantity by a study.
+#[derive(Debug, thiserror::Error)]
+#[error("{key} is not a quantity a study can give (lengths of posts.* and slider.*, load.preload)")]
+struct NotAQuantity {
+    key: String,
+}
+
+impl Evaluator for SceneEvaluator {
+    type Scene = Scene;
+    type Prepared = StaticModel;
+
+    fn load_scene(&self, path: Option<&Path>, set: &[String]) -> Result<Scene, ModelError> {
+        Ok(crate::scene::load_scene(path, set)?)
+    }
+
+    fn load_scene_text(
+        &self,
+        file: Option<(&Path, &str)>,
+        set: &[String],
+    ) -> Result<Scene, ModelError> {
+        Ok(crate::scene::load_scene_text(file, set)?)
+    }
+
+    fn read_scene_file(&self, path: &Path) -> Result<String, ModelError> {
+        Ok(crate::scene::read_scene_file(path)?)
+    }
+
+    fn facts(&self, scene: &Scene) -> SceneFacts {
+        let m = &scene.motor;
+        let shape = &m.imperfections;
+        SceneFacts {
+            name: scene.name.clone(),
+            preload_n: m.load.preload_n,
+            post_diameter_m: m.posts.diameter_m,
+            post_height_m: m.posts.height_m,
+            posts: [m.posts.count_x, m.posts.count_y],
+            pitch_m: [m.posts.pitch_x_m(), m.posts.pitch_y_m()],
+            array_m: [m.posts.array_x_m, m.posts.array_y_m],
+            mu_static: m.friction.mu_static,
+            mu_kinetic: m.friction.mu_kinetic,
+            max_friction: crate::scene::limits::MAX_FRICTION,
+            tilt_x_m: shape.tilt_x_m,
+            tilt_y_m: shape.tilt_y_m,
+            bow_m: shape.bow_m,
+            height_scatter_m: shape.height_scatter_m,
+            has_height_map: shape.height_map.is_some(),
         }
+    }
+
+    fn scene_bytes(&self, scene: &Scene) -> Result<Vec<u8>, ModelError> {
+        Ok(serde_json::to_vec(scene)?)
+    }
+
+    fn model_versions(&self) -> Vec<u8> {
+        let mut v = crate::DYNAMIC_MODEL_VERSION.to_le_bytes().to_vec();
+        v.extend(static_contact::params::MODEL_VERSION.to_le_bytes());
+        v
+    }
+
+    fn check_study(&self, scene: &Scene) -> Result<(), ModelError> {
+        Ok(check_dynamics(scene)?)
+    }
+
+    fn quantity(&self, key: &str, text: &str) -> Result<f64, ModelError> {
+        let dimension = dimension(key).ok_or_else(|| NotAQuantity { key: key.into() })?;
+        Ok(parse_quantity(text, dimension)?)
+    }
+
+    fn example(&self, key: &str) -> &'static str {
+        dimension(key).map_or("\"20 um\"", Dimension::example)
+    }
+
+    fn describe(&self, key: &str, value: f64) -> String {
+        match dimension(key) {
+            Some(d) => format_quantity(value, d),
+            None => value.to_string(),
+        }
+    }
+
+    fn variable(&self, key: &str) -> Option<VariableKind> {
+        VARIABLES
+            .iter()
+            .find(|v| v.0 == key)
+            .map(|&(_, report_name, integer)| VariableKind {
+                report_name,
+                integer,
+            })
+    }
+
+    fn set_variable(&self, key: &str, value: f64) -> String {
+        match dimension(key) {
+            Some(Dimension::Force) => format!("{key}={value:e} N"),
+            Some(_) => format!("{key}={value:e} m"),
+            None => format!("{key}={n}x{n}", n = value as u64),
+        }
+    }
+
+    fn variable_value(&self, scene: &Scene, key: &str) -> f64 {
+        let m = &scene.motor;
+        match key {
+            "posts.diameter" => m.posts.diameter_m,
+            "posts.count" => f64::from(m.posts.count_x),
+            "posts.height" => m.posts.height_m,
+            _ => m.load.preload_n,
+        }
+    }
+
+    fn prepare(&self, scene: &Scene, fidelity: Fidelity) -> Result<StaticModel, ModelError> {
+        Ok(StaticModel::build(scene, fidelity)?)
+    }
+
+    fn fidelity(&self, prepared: &StaticModel) -> Fidelity {
+        prepared.fidelity()
+    }
+
+    fn evaluate(
+        &self,
+        prepared: &StaticModel,
+        scene: &Scene,
+        sample: &MotorSample,
+    ) -> Result<MotorOutputs, ModelError> {
+        Ok(evaluate_with(prepared, scene, sample)?)
     }
 }

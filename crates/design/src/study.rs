@@ -1,7 +1,8 @@
 //! `sawdrive design DESIGN.toml`: a texture optimised for one output of the motor,
 //! optionally robust to scatter (a quantile over Monte Carlo samples), searched with the cheap
 //! `lattice-patch` model and confirmed with the whole-slider `lattice-slider` model
-//! ([`design::multi_fidelity`]; method and tolerance in `design::optimise`).
+//! ([`crate::multi_fidelity`]; method and tolerance in [`optimise`](mod@crate::optimise)). The motor model is
+//! the [`crate::Evaluator`] (the `sawdrive` library's, `SceneEvaluator`).
 //!
 //! ```toml
 //! name = "texture"                  # results folder OUT/<name>/
@@ -42,23 +43,19 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use design::{
-    Evaluation, Objective, OptimiserSettings, Outcome, Sense, Variable, VariableSensitivity,
-    draw_inputs, local_sensitivity, multi_fidelity, pareto_front, percentile,
-};
 use rayon::prelude::*;
 use serde::Serialize;
 use sha2::{Digest, Sha256};
 
-use super::motor::{
-    Fidelity, MotorSample, OUTPUT_NAMES, StaticModel, check_dynamics, evaluate_with,
+use crate::error::StudyError;
+use crate::evaluator::{Evaluator, Fidelity, MotorSample, OUTPUT_NAMES, SceneFacts};
+use crate::files::{staged_results, write_atomically};
+use crate::scatter::ScatterSpec;
+use crate::uq::MAX_SAMPLES;
+use crate::{
+    Evaluation, Objective, OptimiserSettings, Outcome, Sense, Variable, VariableSensitivity,
+    draw_inputs, local_sensitivity, multi_fidelity, pareto_front, percentile,
 };
-use super::scatter::ScatterSpec;
-use super::uq::design_error;
-use crate::output::{ResultKind, StagedDir, write_atomically};
-use crate::pipeline::PipelineError;
-use crate::scene::{Scene, load_scene};
-use crate::units::{Dimension, format_quantity, parse_quantity};
 
 /// Version of the saved evaluations' layout (part of their key).
 const EVALUATION_FORMAT: u32 = 1;
@@ -66,28 +63,13 @@ const EVALUATION_FORMAT: u32 = 1;
 /// Relative step of the optimum's sensitivity (fraction of each variable's range).
 const SENSITIVITY_STEP: f64 = 0.05;
 
-/// A design variable the scene can express: (DESIGN.toml key, variable name with unit, scene
-/// key it sets, dimension; `None`: a count).
-const VARIABLES: [(&str, &str, &str, Option<Dimension>); 4] = [
-    (
-        "post_diameter",
-        "post_diameter_m",
-        "posts.diameter",
-        Some(Dimension::Length),
-    ),
-    ("posts_per_side", "posts_per_side", "posts.count", None),
-    (
-        "post_height",
-        "post_height_m",
-        "posts.height",
-        Some(Dimension::Length),
-    ),
-    (
-        "preload",
-        "preload_n",
-        "load.preload",
-        Some(Dimension::Force),
-    ),
+/// The design variables: (DESIGN.toml key, the scene key it sets). The evaluator says what
+/// each scene key is (its unit, whether it is a count, its name in reports).
+const VARIABLES: [(&str, &str); 4] = [
+    ("post_diameter", "posts.diameter"),
+    ("posts_per_side", "posts.count"),
+    ("post_height", "posts.height"),
+    ("preload", "load.preload"),
 ];
 
 /// Fabrication constraints, SI.
@@ -123,7 +105,7 @@ pub struct DesignSpec {
     /// Variables (SI).
     pub variables: Vec<Variable>,
     /// Scene keys of the variables.
-    pub scene_keys: Vec<&'static str>,
+    pub scene_keys: Vec<String>,
     /// Constraints.
     pub constraints: Constraints,
     /// Scatter.
@@ -134,45 +116,62 @@ pub struct DesignSpec {
 
 type Table = toml::Table;
 
-fn err(key: &str, message: impl std::fmt::Display) -> String {
-    format!("{key}: {message}")
+fn err(key: &str, message: impl std::fmt::Display) -> StudyError {
+    StudyError::input(key, message)
 }
 
-fn quantity(v: &toml::Value, key: &str, dim: Dimension) -> Result<f64, String> {
+/// The human value `v` of design-file key `key`, parsed by the evaluator as scene key
+/// `scene_key`.
+fn quantity<E: Evaluator>(
+    ev: &E,
+    v: &toml::Value,
+    key: &str,
+    scene_key: &str,
+) -> Result<f64, StudyError> {
     let s = v.as_str().ok_or_else(|| {
         err(
             key,
-            format!("expected a quantity with its unit, e.g. {}", dim.example()),
+            format!(
+                "expected a quantity with its unit, e.g. {}",
+                ev.example(scene_key)
+            ),
         )
     })?;
-    parse_quantity(s, dim).map_err(|e| err(key, e))
+    ev.quantity(scene_key, s).map_err(|e| err(key, e))
 }
 
-fn number(v: &toml::Value, key: &str) -> Result<f64, String> {
+fn number(v: &toml::Value, key: &str) -> Result<f64, StudyError> {
     v.as_float()
         .or_else(|| v.as_integer().map(|i| i as f64))
         .ok_or_else(|| err(key, format!("expected a number, got {v}")))
 }
 
-fn count(v: &toml::Value, key: &str) -> Result<u64, String> {
+fn count(v: &toml::Value, key: &str) -> Result<u64, StudyError> {
     v.as_integer()
         .and_then(|i| u64::try_from(i).ok())
         .ok_or_else(|| err(key, format!("expected a whole number ≥ 0, got {v}")))
 }
 
-fn pair(v: &toml::Value, key: &str) -> Result<[toml::Value; 2], String> {
+fn pair(v: &toml::Value, key: &str) -> Result<[toml::Value; 2], StudyError> {
     match v.as_array().map(Vec::as_slice) {
         Some([a, b]) => Ok([a.clone(), b.clone()]),
         _ => Err(err(key, "expected [lower, upper]")),
     }
 }
 
-fn parse_variables(t: &Table) -> Result<(Vec<Variable>, Vec<&'static str>), String> {
+fn parse_variables<E: Evaluator>(
+    ev: &E,
+    t: &Table,
+) -> Result<(Vec<Variable>, Vec<String>), StudyError> {
     let mut vars = Vec::new();
     let mut keys = Vec::new();
     for (key, value) in t {
         let full = format!("variables.{key}");
-        let Some(&(_, name, scene_key, dim)) = VARIABLES.iter().find(|v| v.0 == key) else {
+        let found = VARIABLES
+            .iter()
+            .find(|v| v.0 == key)
+            .and_then(|&(_, scene_key)| Some((scene_key, ev.variable(scene_key)?)));
+        let Some((scene_key, kind)) = found else {
             let known: Vec<&str> = VARIABLES.iter().map(|v| v.0).collect();
             return Err(err(
                 &full,
@@ -180,34 +179,42 @@ fn parse_variables(t: &Table) -> Result<(Vec<Variable>, Vec<&'static str>), Stri
             ));
         };
         let [a, b] = pair(value, &full)?;
-        let (lower, upper) = match dim {
-            Some(d) => (quantity(&a, &full, d)?, quantity(&b, &full, d)?),
-            None => (count(&a, &full)? as f64, count(&b, &full)? as f64),
+        let (lower, upper) = if kind.integer {
+            (count(&a, &full)? as f64, count(&b, &full)? as f64)
+        } else {
+            (
+                quantity(ev, &a, &full, scene_key)?,
+                quantity(ev, &b, &full, scene_key)?,
+            )
         };
         let v = Variable {
-            name: name.to_owned(),
+            name: kind.report_name.to_owned(),
             lower,
             upper,
-            integer: dim.is_none(),
+            integer: kind.integer,
         };
-        v.validate()
-            .map_err(|e| e.to_string().replace(&format!("variables.{name}"), &full))?;
+        v.validate().map_err(|e| {
+            StudyError::Conflict(
+                e.to_string()
+                    .replace(&format!("variables.{}", kind.report_name), &full),
+            )
+        })?;
         vars.push(v);
-        keys.push(scene_key);
+        keys.push(scene_key.to_owned());
     }
     if vars.is_empty() {
-        return Err("variables: give at least one design variable".into());
+        return Err(err("variables", "give at least one design variable"));
     }
     Ok((vars, keys))
 }
 
-fn parse_constraints(t: &Table) -> Result<Constraints, String> {
+fn parse_constraints<E: Evaluator>(ev: &E, t: &Table) -> Result<Constraints, StudyError> {
     let mut c = Constraints::default();
     for (key, value) in t {
         let full = format!("constraints.{key}");
         match key.as_str() {
-            "min_gap" => c.min_gap_m = Some(quantity(value, &full, Dimension::Length)?),
-            "max_preload" => c.max_preload_n = Some(quantity(value, &full, Dimension::Force)?),
+            "min_gap" => c.min_gap_m = Some(quantity(ev, value, &full, "posts.diameter")?),
+            "max_preload" => c.max_preload_n = Some(quantity(ev, value, &full, "load.preload")?),
             "contact_area_fraction" => {
                 let [a, b] = pair(value, &full)?;
                 let (lo, hi) = (number(&a, &full)?, number(&b, &full)?);
@@ -230,7 +237,7 @@ fn parse_constraints(t: &Table) -> Result<Constraints, String> {
     Ok(c)
 }
 
-fn parse_optimiser(t: &Table) -> Result<OptimiserSettings, String> {
+fn parse_optimiser(t: &Table) -> Result<OptimiserSettings, StudyError> {
     let mut s = OptimiserSettings::default();
     for (key, value) in t {
         let full = format!("optimiser.{key}");
@@ -247,37 +254,42 @@ fn parse_optimiser(t: &Table) -> Result<OptimiserSettings, String> {
             _ => return Err(err(&full, "unknown setting")),
         }
     }
-    s.validate().map_err(|e| e.to_string())?;
+    s.validate()
+        .map_err(|e| StudyError::Conflict(e.to_string()))?;
     Ok(s)
 }
 
 impl DesignSpec {
     /// Reads and checks a design file; errors are one line naming the file and the key.
-    pub fn read(path: &Path) -> Result<Self, String> {
-        let text = atomic_files::read_input_text(path, atomic_files::MAX_SETTINGS_FILE_BYTES)
-            .map_err(|e| e.to_string())?;
-        Self::parse(&text, path.parent().unwrap_or(Path::new(".")))
-            .map_err(|e| format!("{}: {e}", path.display()))
+    pub fn read<E: Evaluator>(ev: &E, path: &Path) -> Result<Self, StudyError> {
+        let text = atomic_files::read_input_text(path, atomic_files::MAX_SETTINGS_FILE_BYTES)?;
+        Self::parse(ev, &text, path.parent().unwrap_or(Path::new("."))).map_err(|e| {
+            StudyError::File {
+                path: path.to_owned(),
+                source: Box::new(e),
+            }
+        })
     }
 
-    /// Parses a design file's text; a relative `scene` is taken relative to `base`.
-    pub fn parse(text: &str, base: &Path) -> Result<Self, String> {
+    /// Parses a design file's text; a relative `scene` is taken relative to `base`. Quantities
+    /// are parsed by `ev`, as the scene key they set.
+    pub fn parse<E: Evaluator>(ev: &E, text: &str, base: &Path) -> Result<Self, StudyError> {
         let mut t: Table = text.parse().map_err(|e: toml::de::Error| {
-            format!(
+            StudyError::Conflict(format!(
                 "not valid TOML: {}",
                 e.to_string().trim().replace('\n', " ")
-            )
+            ))
         })?;
-        let mut take_table = |k: &str| -> Result<Table, String> {
+        let mut take_table = |k: &str| -> Result<Table, StudyError> {
             match t.remove(k) {
                 None => Ok(Table::new()),
                 Some(toml::Value::Table(x)) => Ok(x),
                 Some(_) => Err(err(k, "must be a table")),
             }
         };
-        let (variables, scene_keys) = parse_variables(&take_table("variables")?)?;
-        let constraints = parse_constraints(&take_table("constraints")?)?;
-        let scatter = ScatterSpec::from_table(&take_table("scatter")?)?;
+        let (variables, scene_keys) = parse_variables(ev, &take_table("variables")?)?;
+        let constraints = parse_constraints(ev, &take_table("constraints")?)?;
+        let scatter = ScatterSpec::from_table(ev, &take_table("scatter")?)?;
         let optimiser = parse_optimiser(&take_table("optimiser")?)?;
         let mut spec = Self {
             name: "design".into(),
@@ -303,7 +315,7 @@ impl DesignSpec {
                     let name = value
                         .as_str()
                         .ok_or_else(|| err(key, "expected a string"))?;
-                    atomic_files::check_name(name).map_err(|e| err(key, e.to_string()))?;
+                    atomic_files::check_name(name).map_err(|e| err(key, e))?;
                     spec.name = name.to_owned()
                 }
                 "scene" => {
@@ -361,13 +373,10 @@ impl DesignSpec {
                     if n == 0 {
                         return Err(err(key, "must be ≥ 1"));
                     }
-                    if n > crate::design::uq::MAX_SAMPLES {
+                    if n > MAX_SAMPLES {
                         return Err(err(
                             key,
-                            format!(
-                                "{n} is more than the {} accepted",
-                                crate::design::uq::MAX_SAMPLES
-                            ),
+                            format!("{n} is more than the {MAX_SAMPLES} accepted"),
                         ));
                     }
                     if key == "samples" {
@@ -386,10 +395,16 @@ impl DesignSpec {
             }
         }
         if spec.quantile.is_none() && spec.scatter != ScatterSpec::default() {
-            return Err("scatter: a [scatter] section needs `quantile` (the robust objective), else it would be ignored".into());
+            return Err(err(
+                "scatter",
+                "a [scatter] section needs `quantile` (the robust objective), else it would be ignored",
+            ));
         }
         if spec.quantile.is_some() && spec.scatter == ScatterSpec::default() {
-            return Err("quantile: needs a [scatter] section (a quantile of identical samples is the nominal value), else it would be ignored".into());
+            return Err(err(
+                "quantile",
+                "needs a [scatter] section (a quantile of identical samples is the nominal value), else it would be ignored",
+            ));
         }
         if spec.cheap_samples > spec.samples {
             return Err(err(
@@ -404,37 +419,34 @@ impl DesignSpec {
     }
 
     /// The scene of design `x`.
-    pub fn scene_at(&self, x: &[f64]) -> Result<Scene, String> {
+    pub fn scene_at<E: Evaluator>(&self, ev: &E, x: &[f64]) -> Result<E::Scene, StudyError> {
         let mut set = self.set.clone();
-        for ((v, key), value) in self.variables.iter().zip(&self.scene_keys).zip(x) {
-            let dim = VARIABLES.iter().find(|d| d.1 == v.name).and_then(|d| d.3);
-            set.push(match dim {
-                Some(_) if *key == "load.preload" => format!("{key}={value:e} N"),
-                Some(_) => format!("{key}={value:e} m"),
-                None => format!("{key}={n}x{n}", n = *value as u64),
-            });
+        for (key, value) in self.scene_keys.iter().zip(x) {
+            set.push(ev.set_variable(key, *value));
         }
-        load_scene(self.scene.as_deref(), &set).map_err(|e| e.to_string())
+        ev.load_scene(self.scene.as_deref(), &set)
+            .map_err(StudyError::Model)
     }
 
-    /// Violations of the constraints by `scene` (relative amounts).
-    fn violations(&self, scene: &Scene) -> Vec<(String, f64)> {
-        let p = &scene.motor.posts;
+    /// Violations of the constraints by the scene of `facts` (relative amounts).
+    fn violations(&self, facts: &SceneFacts) -> Vec<(String, f64)> {
         let c = &self.constraints;
+        let diameter_m = facts.post_diameter_m;
         let mut v = Vec::new();
         if let Some(g) = c.min_gap_m {
-            let gap = p.pitch_x_m().min(p.pitch_y_m()) - p.diameter_m;
+            let gap = facts.pitch_m[0].min(facts.pitch_m[1]) - diameter_m;
             if gap < g {
                 v.push((
                     "constraints.min_gap".to_owned(),
-                    (g - gap) / g.max(p.diameter_m),
+                    (g - gap) / g.max(diameter_m),
                 ));
             }
         }
         if let Some([lo, hi]) = c.contact_area_fraction {
-            let a = p.count() as f64 * std::f64::consts::PI * p.diameter_m.powi(2)
+            let count = u64::from(facts.posts[0]) * u64::from(facts.posts[1]);
+            let a = count as f64 * std::f64::consts::PI * diameter_m.powi(2)
                 / 4.0
-                / (p.array_x_m * p.array_y_m);
+                / (facts.array_m[0] * facts.array_m[1]);
             if a < lo {
                 v.push((
                     "constraints.contact_area_fraction".to_owned(),
@@ -448,11 +460,11 @@ impl DesignSpec {
             }
         }
         if let Some(m) = c.max_preload_n
-            && scene.motor.load.preload_n > m
+            && facts.preload_n > m
         {
             v.push((
                 "constraints.max_preload".to_owned(),
-                (scene.motor.load.preload_n - m) / m.max(1e-12),
+                (facts.preload_n - m) / m.max(1e-12),
             ));
         }
         v
@@ -460,9 +472,16 @@ impl DesignSpec {
 
     /// The model at `fidelity`: constraints, then the nominal outputs or their quantile over
     /// `samples` scatter samples.
-    fn model(&self, x: &[f64], fidelity: Fidelity, samples: usize) -> Result<Outcome, String> {
-        let scene = self.scene_at(x)?;
-        let violations = self.violations(&scene);
+    fn model<E: Evaluator>(
+        &self,
+        ev: &E,
+        x: &[f64],
+        fidelity: Fidelity,
+        samples: usize,
+    ) -> Result<Outcome, StudyError> {
+        let scene = self.scene_at(ev, x)?;
+        let facts = ev.facts(&scene);
+        let violations = self.violations(&facts);
         if !violations.is_empty() {
             return Ok(Outcome {
                 objective: f64::NAN,
@@ -475,22 +494,22 @@ impl DesignSpec {
             .position(|n| *n == self.objective.output)
             .unwrap_or(3);
         // One operator per design and fidelity, shared by its scatter samples.
-        let model = StaticModel::build(&scene, fidelity).map_err(|e| e.to_string())?;
+        let model = ev.prepare(&scene, fidelity).map_err(StudyError::Model)?;
         let runs: Vec<[f64; 5]> = match self.quantile {
             None => vec![
-                evaluate_with(&model, &scene, &MotorSample::nominal(&scene))
-                    .map_err(|e| e.to_string())?
+                ev.evaluate(&model, &scene, &MotorSample::nominal(&facts))
+                    .map_err(StudyError::Model)?
                     .values(),
             ],
             Some(_) => {
-                let inputs = self.scatter.inputs(&scene)?;
+                let inputs = self.scatter.inputs(&facts)?;
                 (0..samples as u64)
                     .into_par_iter()
                     .map(|i| {
                         let (values, field_seed) = draw_inputs(&inputs, self.seed, i);
-                        evaluate_with(&model, &scene, &self.scatter.sample(&values, field_seed))
+                        ev.evaluate(&model, &scene, &self.scatter.sample(&values, field_seed))
                             .map(|o| o.values())
-                            .map_err(|e| e.to_string())
+                            .map_err(StudyError::Model)
                     })
                     .collect::<Result<_, _>>()?
             }
@@ -501,7 +520,7 @@ impl DesignSpec {
             let col: Vec<f64> = runs.iter().map(|r| r[j]).collect();
             outputs.insert(
                 name.to_string(),
-                percentile(&col, q, name).map_err(|e| e.to_string())?,
+                percentile(&col, q, name).map_err(|e| StudyError::Conflict(e.to_string()))?,
             );
         }
         Ok(Outcome {
@@ -516,24 +535,24 @@ impl DesignSpec {
     /// The resume key of design `x` at `fidelity`: a hash of everything its outcome depends on
     /// (the resolved scene, the fidelity, the samples, quantile, scatter and seed, the objective,
     /// the constraints and the model versions), not of the optimiser's path.
-    fn evaluation_key(
+    fn evaluation_key<E: Evaluator>(
         &self,
+        ev: &E,
         x: &[f64],
         fidelity: Fidelity,
         samples: usize,
-    ) -> Result<String, String> {
-        let scene = self.scene_at(x)?;
+    ) -> Result<String, StudyError> {
+        let scene = self.scene_at(ev, x)?;
         let mut h = Sha256::new();
-        h.update(serde_json::to_vec(&scene).map_err(|e| e.to_string())?);
+        h.update(ev.scene_bytes(&scene).map_err(StudyError::Model)?);
         h.update(fidelity.label().as_bytes());
         h.update(samples.to_le_bytes());
         h.update(format!("{:?}", self.quantile).as_bytes());
-        h.update(serde_json::to_vec(&self.scatter).map_err(|e| e.to_string())?);
+        h.update(serde_json::to_vec(&self.scatter)?);
         h.update(self.seed.to_le_bytes());
-        h.update(serde_json::to_vec(&self.objective).map_err(|e| e.to_string())?);
-        h.update(serde_json::to_vec(&self.constraints).map_err(|e| e.to_string())?);
-        h.update(crate::DYNAMIC_MODEL_VERSION.to_le_bytes());
-        h.update(static_contact::params::MODEL_VERSION.to_le_bytes());
+        h.update(serde_json::to_vec(&self.objective)?);
+        h.update(serde_json::to_vec(&self.constraints)?);
+        h.update(ev.model_versions());
         h.update(EVALUATION_FORMAT.to_le_bytes());
         Ok(h.finalize()
             .iter()
@@ -548,7 +567,8 @@ impl DesignSpec {
 /// recomputed. The optimiser is deterministic, so a rerun retraces the interrupted run's path
 /// through the saved evaluations and loses only those in flight. An infeasible outcome (NaN
 /// objective) is not saved: it costs only the constraint check.
-struct ResumableModel<'a> {
+struct ResumableModel<'a, E> {
+    ev: &'a E,
     spec: &'a DesignSpec,
     fidelity: Fidelity,
     samples: usize,
@@ -558,11 +578,13 @@ struct ResumableModel<'a> {
     resumed: &'a std::sync::atomic::AtomicUsize,
 }
 
-impl ResumableModel<'_> {
-    fn call(&self, x: &[f64]) -> Result<Outcome, String> {
+impl<E: Evaluator> ResumableModel<'_, E> {
+    /// The outcome of design `x`, saved or computed.
+    fn call(&self, x: &[f64]) -> Result<Outcome, StudyError> {
         let path = self.cache.join(format!(
             "{}.json",
-            self.spec.evaluation_key(x, self.fidelity, self.samples)?
+            self.spec
+                .evaluation_key(self.ev, x, self.fidelity, self.samples)?
         ));
         let saved = std::fs::read(&path)
             .ok()
@@ -573,15 +595,14 @@ impl ResumableModel<'_> {
             return Ok(o);
         }
         let t = Instant::now();
-        let outcome = self.spec.model(x, self.fidelity, self.samples)?;
+        let outcome = self.spec.model(self.ev, x, self.fidelity, self.samples)?;
         if let Ok(mut m) = self.timing.lock() {
             let e = m.entry(self.fidelity.label().to_owned()).or_default();
             e.0 += 1;
             e.1 += t.elapsed().as_secs_f64();
         }
         if outcome.objective.is_finite() {
-            let bytes = serde_json::to_vec(&outcome).map_err(|e| e.to_string())?;
-            write_atomically(&path, bytes).map_err(|e| e.to_string())?;
+            write_atomically(&path, serde_json::to_vec(&outcome)?)?;
         }
         Ok(outcome)
     }
@@ -672,26 +693,26 @@ fn row(spec: &DesignSpec, e: &Evaluation) -> EvaluationRow {
 }
 
 /// Runs the design study; writes `OUT/<name>/` when complete.
-pub fn run_design(
+pub fn run_design<E: Evaluator>(
+    ev: &E,
     spec: &DesignSpec,
     out_dir: &Path,
     write_files: bool,
-) -> Result<(DesignReport, PathBuf), PipelineError> {
+) -> Result<(DesignReport, PathBuf), StudyError> {
     let start = Instant::now();
-    let bad = |message: String| PipelineError::Unsupported {
+    let centre: Vec<f64> = spec.variables.iter().map(|v| v.at(0.5)).collect();
+    let scene = spec.scene_at(ev, &centre).map_err(|e| StudyError::Study {
         stage: "design",
-        message,
-    };
-    let scene = spec
-        .scene_at(&spec.variables.iter().map(|v| v.at(0.5)).collect::<Vec<_>>())
-        .map_err(bad)?;
-    check_dynamics(&scene)?;
-    let staged = StagedDir::create(&out_dir.join(&spec.name), ResultKind::Design)?;
+        message: e.to_string(),
+    })?;
+    ev.check_study(&scene).map_err(StudyError::Model)?;
+    let staged = staged_results(&out_dir.join(&spec.name), "design")?;
     let timing = std::sync::Mutex::new(BTreeMap::<String, (usize, f64)>::new());
     let resumed = std::sync::atomic::AtomicUsize::new(0);
     let cache = out_dir.join(".design-evaluations");
     let timed = |fidelity: Fidelity, samples: usize| {
         let m = ResumableModel {
+            ev,
             spec,
             fidelity,
             samples,
@@ -709,8 +730,7 @@ pub fn run_design(
         &spec.optimiser,
         (Fidelity::Patch.label(), &cheap),
         (Fidelity::Slider.label(), &full),
-    )
-    .map_err(design_error)?;
+    )?;
     let best = &result.best;
     let sensitivity = local_sensitivity(
         &spec.variables,
@@ -718,9 +738,8 @@ pub fn run_design(
         best.outcome.objective,
         SENSITIVITY_STEP,
         &full,
-    )
-    .map_err(design_error)?;
-    let baseline = baseline(spec, &full);
+    )?;
+    let baseline = baseline(ev, spec, &full);
     let cost = timing
         .into_inner()
         .unwrap_or_default()
@@ -762,20 +781,16 @@ pub fn run_design(
 
 /// The scene's own values of the variables, evaluated at full fidelity (`None` if the scene's
 /// design lies outside the bounds).
-fn baseline<F>(spec: &DesignSpec, full: &F) -> Option<EvaluationRow>
+fn baseline<E, F>(ev: &E, spec: &DesignSpec, full: &F) -> Option<EvaluationRow>
 where
-    F: Fn(&[f64]) -> Result<Outcome, String>,
+    E: Evaluator,
+    F: Fn(&[f64]) -> Result<Outcome, StudyError>,
 {
-    let scene = load_scene(spec.scene.as_deref(), &spec.set).ok()?;
+    let scene = ev.load_scene(spec.scene.as_deref(), &spec.set).ok()?;
     let x: Vec<f64> = spec
-        .variables
+        .scene_keys
         .iter()
-        .map(|v| match v.name.as_str() {
-            "post_diameter_m" => scene.motor.posts.diameter_m,
-            "posts_per_side" => f64::from(scene.motor.posts.count_x),
-            "post_height_m" => scene.motor.posts.height_m,
-            _ => scene.motor.load.preload_n,
-        })
+        .map(|key| ev.variable_value(&scene, key))
         .collect();
     let outcome = full(&x).ok()?;
     Some(row(
@@ -825,7 +840,7 @@ fn evaluations_csv(report: &DesignReport) -> String {
 
 /// `evaluations.csv` and the Pareto chart (stall thrust against no-load speed of the feasible
 /// evaluations, in three series by objective tercile, the front and the optimum).
-fn write_design_files(report: &DesignReport, dir: &Path) -> Result<Vec<String>, PipelineError> {
+fn write_design_files(report: &DesignReport, dir: &Path) -> Result<Vec<String>, StudyError> {
     use charts::{Chart, Series, Style, write_chart};
     write_atomically(&dir.join("evaluations.csv"), evaluations_csv(report))?;
     let mut files = vec!["evaluations.csv".to_owned()];
@@ -890,152 +905,26 @@ fn write_design_files(report: &DesignReport, dir: &Path) -> Result<Vec<String>, 
     Ok(files)
 }
 
-/// Human form of the optimum's variables.
-pub fn describe_variables(variables: &BTreeMap<String, f64>) -> String {
+/// Human form of the optimum's variables (named as in the report, in its order), each
+/// quantity with its unit as the evaluator writes the scene key it sets.
+pub fn describe_variables<E: Evaluator>(
+    ev: &E,
+    spec: &DesignSpec,
+    variables: &BTreeMap<String, f64>,
+) -> String {
     variables
         .iter()
-        .map(|(k, v)| match k.as_str() {
-            "post_diameter_m" | "post_height_m" => {
-                format!("{k} = {}", format_quantity(*v, Dimension::Length))
+        .map(|(k, v)| {
+            let found = spec
+                .variables
+                .iter()
+                .zip(&spec.scene_keys)
+                .find(|(var, _)| &var.name == k);
+            match found {
+                Some((var, key)) if !var.integer => format!("{k} = {}", ev.describe(key, *v)),
+                _ => format!("{k} = {v}"),
             }
-            "preload_n" => format!("{k} = {}", format_quantity(*v, Dimension::Force)),
-            _ => format!("{k} = {v}"),
         })
         .collect::<Vec<_>>()
         .join(", ")
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    const SMALL: &str = r#"
-name = "small"
-set = ["posts.count=10x10", "posts.array=0.4mm"]
-objective = "max_output_power_w"
-[variables]
-preload = ["1 N", "4 N"]
-[optimiser]
-presearch_points = 3
-starts = 1
-max_evaluations_per_start = 3
-finalists = 1
-"#;
-
-    fn parse(text: &str) -> Result<DesignSpec, String> {
-        DesignSpec::parse(text, Path::new("."))
-    }
-
-    #[test]
-    fn a_design_run_reports_a_confirmed_optimum_with_unit_named_variables() {
-        let dir = tempfile::tempdir().unwrap();
-        let (r, folder) = run_design(&parse(SMALL).unwrap(), dir.path(), false).unwrap();
-        assert_eq!(
-            r.optimum.fidelity, "lattice-slider",
-            "fidelity of the optimum"
-        );
-        let p = r.optimum.variables["preload_n"];
-        assert!(
-            (1.0..=4.0).contains(&p),
-            "optimal preload {p} N within its bounds"
-        );
-        assert!(
-            r.evaluations.iter().any(|e| e.fidelity == "lattice-patch"),
-            "cheap search ran"
-        );
-        assert!(r.optimum.objective_value > 0.0, "maximum output power");
-        assert!(folder.join("summary.json").exists());
-    }
-
-    #[test]
-    fn an_interrupted_design_run_resumes_from_its_saved_evaluations_and_loses_nothing() {
-        let (a, b) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
-        let spec = parse(SMALL).unwrap();
-        run_design(&spec, a.path(), false).unwrap();
-        let mut saved: Vec<PathBuf> = std::fs::read_dir(a.path().join(".design-evaluations"))
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .collect();
-        saved.sort();
-        assert!(saved.len() >= 4, "evaluations saved: {}", saved.len());
-        // Simulate an interruption: one saved evaluation lost, one damaged.
-        std::fs::remove_file(&saved[0]).unwrap();
-        std::fs::write(&saved[1], "{half").unwrap();
-        let (resumed, _) = run_design(&spec, a.path(), false).unwrap();
-        let recomputed: usize = resumed.cost.iter().map(|c| c.1).sum();
-        assert_eq!(
-            recomputed, 2,
-            "evaluations recomputed after the interruption"
-        );
-        assert!(
-            resumed.resumed_evaluations >= saved.len() - 2,
-            "evaluations reused"
-        );
-        let (fresh, _) = run_design(&spec, b.path(), false).unwrap();
-        assert_eq!(
-            resumed.optimum.objective_value.to_bits(),
-            fresh.optimum.objective_value.to_bits(),
-            "resumed and fresh optimal output power"
-        );
-        assert_eq!(
-            resumed.optimum.variables, fresh.optimum.variables,
-            "resumed and fresh optimal design"
-        );
-        assert_eq!(
-            resumed.evaluations.len(),
-            fresh.evaluations.len(),
-            "resumed and fresh evaluation logs"
-        );
-    }
-
-    #[test]
-    fn bad_design_files_are_refused_naming_the_key() {
-        let e = parse(&SMALL.replace("[\"1 N\", \"4 N\"]", "[\"4 N\", \"1 N\"]")).unwrap_err();
-        assert!(e.starts_with("variables.preload: bounds reversed"), "{e}");
-        let e = parse(&SMALL.replace("\"max_output_power_w\"", "\"max_power\"")).unwrap_err();
-        assert!(
-            e.starts_with("objective: unknown output \"max_power\""),
-            "{e}"
-        );
-        let e = parse(&format!("{SMALL}\n[scatter]\nheight_scatter = \"5 nm\"\n")).unwrap_err();
-        assert!(e.starts_with("scatter:"), "{e}");
-        let e = parse(&SMALL.replace("[variables]", "samples = 0\n[variables]")).unwrap_err();
-        assert!(e.starts_with("samples: must be ≥ 1"), "{e}");
-    }
-
-    #[test]
-    fn a_coupled_dynamics_setting_is_refused_naming_the_key() {
-        let text = SMALL.replace(
-            "\"posts.array=0.4mm\"]",
-            "\"posts.array=0.4mm\", \"model.dynamics=coupled\"]",
-        );
-        let dir = tempfile::tempdir().unwrap();
-        let e = run_design(&parse(&text).unwrap(), dir.path(), false)
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("model.dynamics"), "{e}");
-        assert!(
-            !dir.path().join("small").exists(),
-            "a refused design run wrote no results"
-        );
-    }
-
-    #[test]
-    fn an_infeasible_constraint_set_is_reported_naming_the_constraints() {
-        // 40 µm pitch and diameters of 30–35 µm leave gaps of at most 10 µm < 20 µm; preload
-        // ≥ 10 N above the 5 N limit.
-        let text = SMALL.replace(
-            "preload = [\"1 N\", \"4 N\"]",
-            "preload = [\"10 N\", \"20 N\"]\npost_diameter = [\"30 um\", \"35 um\"]",
-        ) + "[constraints]\nmin_gap = \"20 um\"\nmax_preload = \"5 N\"\n";
-        let dir = tempfile::tempdir().unwrap();
-        let e = run_design(&parse(&text).unwrap(), dir.path(), false)
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("infeasible"), "{e}");
-        assert!(
-            e.contains("constraints.min_gap") && e.contains("constraints.max_preload"),
-            "{e}"
-        );
-    }
 }

@@ -19,13 +19,11 @@
 
 use serde::Serialize;
 
-use design::{Distribution, ScatterInput};
-
 use std::path::Path;
 
-use super::motor::MotorSample;
-use crate::scene::{Scene, SceneError, load_scene_text};
-use crate::units::{Dimension, parse_quantity};
+use crate::error::StudyError;
+use crate::evaluator::{Evaluator, MotorSample, SceneFacts};
+use crate::{Distribution, ScatterInput};
 
 /// Smallest friction coefficient a draw may take (the dynamic model needs μ > 0 to drive).
 pub const MIN_FRICTION: f64 = 1e-3;
@@ -78,29 +76,48 @@ pub const SCATTER_KEYS: [&str; 8] = [
     "diameter",
 ];
 
-fn quantity(value: &toml::Value, key: &str, dim: Dimension) -> Result<f64, String> {
-    let text = value.as_str().ok_or_else(|| {
-        format!(
-            "scatter.{key}: expected a quantity with its unit, e.g. {}",
-            dim.example()
-        )
-    })?;
-    parse_quantity(text, dim).map_err(|e| format!("scatter.{key}: {e}"))
+/// The scene key whose value a `[scatter]` key spreads (its unit is that key's).
+fn scene_key(key: &str) -> &'static str {
+    match key {
+        "height_scatter" => "posts.height_scatter",
+        "tilt_x" => "slider.tilt_x",
+        "tilt_y" => "slider.tilt_y",
+        "bow" => "slider.bow",
+        "preload" => "load.preload",
+        _ => "posts.diameter",
+    }
 }
 
-fn spread(value: f64, key: &str) -> Result<f64, String> {
+fn quantity<E: Evaluator>(ev: &E, value: &toml::Value, key: &str) -> Result<f64, StudyError> {
+    let full = format!("scatter.{key}");
+    let text = value.as_str().ok_or_else(|| {
+        StudyError::input(
+            &full,
+            format!(
+                "expected a quantity with its unit, e.g. {}",
+                ev.example(scene_key(key))
+            ),
+        )
+    })?;
+    ev.quantity(scene_key(key), text)
+        .map_err(|e| StudyError::input(&full, e))
+}
+
+fn spread(value: f64, key: &str) -> Result<f64, StudyError> {
     if value >= 0.0 && value.is_finite() {
         Ok(value)
     } else {
-        Err(format!(
-            "scatter.{key}: spread {value} must be ≥ 0 and finite"
+        Err(StudyError::input(
+            format!("scatter.{key}"),
+            format!("spread {value} must be ≥ 0 and finite"),
         ))
     }
 }
 
 impl ScatterSpec {
-    /// Reads the `[scatter]` table; errors are one line naming `scatter.<key>`.
-    pub fn from_table(table: &toml::Table) -> Result<Self, String> {
+    /// Reads the `[scatter]` table; errors are one line naming `scatter.<key>`. Quantities are
+    /// parsed by `ev`, as the scene key they spread.
+    pub fn from_table<E: Evaluator>(ev: &E, table: &toml::Table) -> Result<Self, StudyError> {
         let mut s = Self::default();
         for (key, value) in table {
             match key.as_str() {
@@ -109,33 +126,35 @@ impl ScatterSpec {
                         Some("normal") => SpreadKind::Normal,
                         Some("uniform") => SpreadKind::Uniform,
                         _ => {
-                            return Err(format!(
-                                "scatter.distribution: {value} is not \"normal\" or \"uniform\""
+                            return Err(StudyError::input(
+                                "scatter.distribution",
+                                format!("{value} is not \"normal\" or \"uniform\""),
                             ));
                         }
                     }
                 }
-                "height_scatter" => {
-                    s.height_scatter_m = spread(quantity(value, key, Dimension::Length)?, key)?
-                }
-                "tilt_x" => s.tilt_x_m = spread(quantity(value, key, Dimension::Length)?, key)?,
-                "tilt_y" => s.tilt_y_m = spread(quantity(value, key, Dimension::Length)?, key)?,
-                "bow" => s.bow_m = spread(quantity(value, key, Dimension::Length)?, key)?,
-                "preload" => s.preload_n = spread(quantity(value, key, Dimension::Force)?, key)?,
-                "diameter" => s.diameter_m = spread(quantity(value, key, Dimension::Length)?, key)?,
+                "height_scatter" => s.height_scatter_m = spread(quantity(ev, value, key)?, key)?,
+                "tilt_x" => s.tilt_x_m = spread(quantity(ev, value, key)?, key)?,
+                "tilt_y" => s.tilt_y_m = spread(quantity(ev, value, key)?, key)?,
+                "bow" => s.bow_m = spread(quantity(ev, value, key)?, key)?,
+                "preload" => s.preload_n = spread(quantity(ev, value, key)?, key)?,
+                "diameter" => s.diameter_m = spread(quantity(ev, value, key)?, key)?,
                 "friction" => {
                     let v = value
                         .as_float()
                         .or_else(|| value.as_integer().map(|i| i as f64))
                         .ok_or_else(|| {
-                            format!("scatter.friction: expected a number, got {value}")
+                            StudyError::input(
+                                "scatter.friction",
+                                format!("expected a number, got {value}"),
+                            )
                         })?;
                     s.friction = spread(v, key)?;
                 }
                 other => {
-                    return Err(format!(
-                        "scatter.{other}: unknown key (known: {})",
-                        SCATTER_KEYS.join(", ")
+                    return Err(StudyError::input(
+                        format!("scatter.{other}"),
+                        format!("unknown key (known: {})", SCATTER_KEYS.join(", ")),
                     ));
                 }
             }
@@ -143,25 +162,47 @@ impl ScatterSpec {
         Ok(s)
     }
 
-    /// Spreads within the range where the models hold (the bounds of `scene::limits`): friction
-    /// spread ≤ the largest coefficient, height scatter ≤ h/3, tilt and bow spreads ≤ h, preload
-    /// and diameter spreads below their nominal values.
-    fn check_physical(&self, scene: &Scene) -> Result<(), String> {
-        use crate::scene::limits::MAX_FRICTION;
-        let h = scene.motor.posts.height_m;
+    /// Spreads within the range where the models hold (the scene's bounds): friction spread ≤
+    /// the largest coefficient, height scatter ≤ h/3, tilt and bow spreads ≤ h, preload and
+    /// diameter spreads below their nominal values.
+    fn check_physical(&self, facts: &SceneFacts) -> Result<(), StudyError> {
+        let h = facts.post_height_m;
         let checks = [
-            ("friction", self.friction, MAX_FRICTION, "the largest friction coefficient"),
-            ("height_scatter", self.height_scatter_m, h / 3.0, "a third of the post height"),
+            (
+                "friction",
+                self.friction,
+                facts.max_friction,
+                "the largest friction coefficient",
+            ),
+            (
+                "height_scatter",
+                self.height_scatter_m,
+                h / 3.0,
+                "a third of the post height",
+            ),
             ("tilt_x", self.tilt_x_m, h, "the post height"),
             ("tilt_y", self.tilt_y_m, h, "the post height"),
             ("bow", self.bow_m, h, "the post height"),
-            ("preload", self.preload_n, scene.motor.load.preload_n, "the nominal preload"),
-            ("diameter", self.diameter_m, scene.motor.posts.diameter_m, "the nominal diameter"),
+            (
+                "preload",
+                self.preload_n,
+                facts.preload_n,
+                "the nominal preload",
+            ),
+            (
+                "diameter",
+                self.diameter_m,
+                facts.post_diameter_m,
+                "the nominal diameter",
+            ),
         ];
         match checks.iter().find(|(_, spread, max, _)| spread > max) {
             None => Ok(()),
-            Some((key, spread, max, what)) => Err(format!(
-                "scatter.{key}: spread {spread:e} exceeds {what} ({max:e}, SI): the models do not hold there"
+            Some((key, spread, max, what)) => Err(StudyError::input(
+                format!("scatter.{key}"),
+                format!(
+                    "spread {spread:e} exceeds {what} ({max:e}, SI): the models do not hold there"
+                ),
             )),
         }
     }
@@ -182,40 +223,39 @@ impl ScatterSpec {
         }
     }
 
-    /// The scattered inputs (names with units) around `scene`'s nominal values, validated;
+    /// The scattered inputs (names with units) around the scene's nominal values, validated;
     /// errors name `scatter.<key>`. Order: the fields of [`MotorSample`] except the seed.
-    pub fn inputs(&self, scene: &Scene) -> Result<Vec<ScatterInput>, String> {
-        self.check_physical(scene)?;
+    pub fn inputs(&self, facts: &SceneFacts) -> Result<Vec<ScatterInput>, StudyError> {
+        self.check_physical(facts)?;
         let zero_mean = |spread: f64| self.around(0.0, spread, -UNBOUNDED);
-        let f = &scene.motor.friction;
         let list = [
             (
                 "preload_n",
                 "preload",
                 self.around(
-                    scene.motor.load.preload_n,
+                    facts.preload_n,
                     self.preload_n,
-                    MIN_FRACTION_OF_NOMINAL * scene.motor.load.preload_n,
+                    MIN_FRACTION_OF_NOMINAL * facts.preload_n,
                 ),
             ),
             (
                 "post_diameter_m",
                 "diameter",
                 self.around(
-                    scene.motor.posts.diameter_m,
+                    facts.post_diameter_m,
                     self.diameter_m,
-                    MIN_FRACTION_OF_NOMINAL * scene.motor.posts.diameter_m,
+                    MIN_FRACTION_OF_NOMINAL * facts.post_diameter_m,
                 ),
             ),
             (
                 "mu_static",
                 "friction",
-                self.around(f.mu_static, self.friction, MIN_FRICTION),
+                self.around(facts.mu_static, self.friction, MIN_FRICTION),
             ),
             (
                 "mu_kinetic",
                 "friction",
-                self.around(f.mu_kinetic, self.friction, MIN_FRICTION),
+                self.around(facts.mu_kinetic, self.friction, MIN_FRICTION),
             ),
             ("tilt_x_m", "tilt_x", zero_mean(self.tilt_x_m)),
             ("tilt_y_m", "tilt_y", zero_mean(self.tilt_y_m)),
@@ -223,7 +263,7 @@ impl ScatterSpec {
         ];
         list.into_iter()
             .map(|(name, key, distribution)| {
-                distribution.validate(&format!("scatter.{key}")).map_err(|e| e.to_string())?;
+                distribution.validate(&format!("scatter.{key}"))?;
                 if let Distribution::Uniform { low, .. } = distribution {
                     let floor = match key {
                         "friction" => MIN_FRICTION,
@@ -231,8 +271,11 @@ impl ScatterSpec {
                         _ => -UNBOUNDED,
                     };
                     if low <= floor {
-                        return Err(format!(
-                            "scatter.{key}: the uniform range reaches {low}, below the physical limit {floor}"
+                        return Err(StudyError::input(
+                            format!("scatter.{key}"),
+                            format!(
+                                "the uniform range reaches {low}, below the physical limit {floor}"
+                            ),
                         ));
                     }
                 }
@@ -259,70 +302,77 @@ impl ScatterSpec {
             scatter_seed: field_seed,
         }
     }
-}
 
-impl ScatterSpec {
     /// Takes the scene's own scatter keys into the spec: `posts.height_scatter` (σ of the post
     /// heights; each sample then draws its own heights from `--seed`, so `posts.scatter_seed` is
     /// not used) when `scatter.height_scatter` is not given. The scene's deterministic shape
     /// (`slider.tilt_x`, `slider.tilt_y`, `slider.bow`, `posts.height_map`) is refused: the UQ
     /// draws tilt and bow around zero from `scatter.*` spreads. Errors are one line naming the key.
-    pub fn with_scene_keys(mut self, scene: &Scene) -> Result<Self, String> {
-        let shape = &scene.motor.imperfections;
+    pub fn with_scene_keys(mut self, facts: &SceneFacts) -> Result<Self, StudyError> {
         for (key, value) in [
-            ("slider.tilt_x", shape.tilt_x_m),
-            ("slider.tilt_y", shape.tilt_y_m),
-            ("slider.bow", shape.bow_m),
+            ("slider.tilt_x", facts.tilt_x_m),
+            ("slider.tilt_y", facts.tilt_y_m),
+            ("slider.bow", facts.bow_m),
         ] {
             if value != 0.0 {
                 let short = key.trim_start_matches("slider.");
-                return Err(format!(
-                    "{key}: uq draws the slider's shape around zero; give its spread as \
-                     scatter.{short} instead of a fixed value"
+                return Err(StudyError::input(
+                    key,
+                    format!(
+                        "uq draws the slider's shape around zero; give its spread as \
+                         scatter.{short} instead of a fixed value"
+                    ),
                 ));
             }
         }
-        if shape.height_map.is_some() {
-            return Err(
-                "posts.height_map: uq draws the post heights (scatter.height_scatter or \
-                        posts.height_scatter); a measured map is not sampled"
-                    .into(),
-            );
+        if facts.has_height_map {
+            return Err(StudyError::input(
+                "posts.height_map",
+                "uq draws the post heights (scatter.height_scatter or posts.height_scatter); \
+                 a measured map is not sampled",
+            ));
         }
-        if shape.height_scatter_m > 0.0 {
+        if facts.height_scatter_m > 0.0 {
             if self.height_scatter_m > 0.0 {
-                return Err(
+                return Err(StudyError::Conflict(
                     "posts.height_scatter and scatter.height_scatter both give the σ of \
-                            the post heights; keep one"
+                     the post heights; keep one"
                         .into(),
-                );
+                ));
             }
-            self.height_scatter_m = shape.height_scatter_m;
+            self.height_scatter_m = facts.height_scatter_m;
         }
         Ok(self)
     }
 }
+
+/// The scene part (without `[scatter]`), the scene overrides and the scatter table of a scene
+/// file's text and its `--set` overrides.
+pub type SplitInputs = (Option<String>, Vec<String>, toml::Table);
 
 /// Splits a scene file's text into the scene (without `[scatter]`) and the scatter table, and
 /// the `--set` overrides into scene overrides and `scatter.*` ones (applied to the table).
 pub fn split_scatter(
     scene_text: Option<&str>,
     overrides: &[String],
-) -> Result<(Option<String>, Vec<String>, toml::Table), String> {
+) -> Result<SplitInputs, StudyError> {
     let mut table = toml::Table::new();
     let scene = match scene_text {
         Some(text) => {
             let mut doc: toml::Table = text.parse().map_err(|e: toml::de::Error| {
-                format!(
-                    "scene: not valid TOML: {}",
-                    e.to_string().trim().replace('\n', " ")
+                StudyError::input(
+                    "scene",
+                    format!(
+                        "not valid TOML: {}",
+                        e.to_string().trim().replace('\n', " ")
+                    ),
                 )
             })?;
             if let Some(v) = doc.remove("scatter") {
                 table = v
                     .as_table()
                     .cloned()
-                    .ok_or("scatter: must be a table ([scatter])")?;
+                    .ok_or_else(|| StudyError::input("scatter", "must be a table ([scatter])"))?;
             }
             let friction_scatter = doc
                 .get_mut("friction")
@@ -330,15 +380,15 @@ pub fn split_scatter(
                 .and_then(|f| f.remove("scatter"));
             if let Some(v) = friction_scatter {
                 if table.contains_key("friction") {
-                    return Err(
+                    return Err(StudyError::Conflict(
                         "friction.scatter and scatter.friction both give the spread of μ; \
-                                keep one"
+                         keep one"
                             .into(),
-                    );
+                    ));
                 }
                 table.insert("friction".into(), v);
             }
-            Some(toml::to_string(&doc).map_err(|e| format!("scene: {e}"))?)
+            Some(toml::to_string(&doc).map_err(|e| StudyError::input("scene", e))?)
         }
         None => None,
     };
@@ -357,18 +407,18 @@ pub fn split_scatter(
         if o.starts_with("scatter.friction") {
             friction_names[usize::from(alias.is_some())] = true;
             if friction_names == [true, true] {
-                return Err(
+                return Err(StudyError::Conflict(
                     "--set friction.scatter and --set scatter.friction both give the \
-                            spread of μ; keep one"
+                     spread of μ; keep one"
                         .into(),
-                );
+                ));
             }
         }
         match o.strip_prefix("scatter.") {
             Some(kv) => {
-                let (k, v) = kv
-                    .split_once('=')
-                    .ok_or_else(|| format!("--set {o}: expected scatter.KEY=VALUE"))?;
+                let (k, v) = kv.split_once('=').ok_or_else(|| {
+                    StudyError::input(format!("--set {o}"), "expected scatter.KEY=VALUE")
+                })?;
                 let value = v.trim();
                 let parsed = value
                     .parse::<f64>()
@@ -382,111 +432,28 @@ pub fn split_scatter(
     Ok((scene, rest, table))
 }
 
-/// Why the inputs of `sawdrive uq` could not be read.
-#[derive(Debug, thiserror::Error)]
-pub enum UqInputError {
-    /// The scene file cannot be read, or its scene part is invalid.
-    #[error(transparent)]
-    Scene(#[from] SceneError),
-    /// The scatter (`[scatter]`, `scatter.*`, `friction.scatter`) is invalid, or conflicts with
-    /// the scene.
-    #[error("{0}")]
-    Scatter(String),
-}
-
 /// The scene and scatter of `sawdrive uq [SCENE] --set …` (the command's and Python's one
 /// reader): the scene file's `[scatter]` section, `friction.scatter` and the `scatter.*`
-/// overrides form the scatter ([`split_scatter`]); the rest is the scene, read by the one scene
-/// loader from the file's own path (relative paths resolve against its folder); then the
-/// scene's own scatter keys join the scatter ([`ScatterSpec::with_scene_keys`]).
-pub fn load_uq_inputs(
+/// overrides form the scatter ([`split_scatter`]); the rest is the scene, read by the
+/// evaluator's scene loader from the file's own path (relative paths resolve against its
+/// folder); then the scene's own scatter keys join the scatter
+/// ([`ScatterSpec::with_scene_keys`]). A scene that cannot be read is
+/// [`StudyError::Model`] (the evaluator's error as its source).
+pub fn load_uq_inputs<E: Evaluator>(
+    ev: &E,
     path: Option<&Path>,
     overrides: &[String],
-) -> Result<(Scene, ScatterSpec), UqInputError> {
+) -> Result<(E::Scene, ScatterSpec), StudyError> {
     let text = match path {
-        Some(p) => Some(crate::scene::read_scene_file(p)?),
+        Some(p) => Some(ev.read_scene_file(p).map_err(StudyError::Model)?),
         None => None,
     };
-    let (scene_text, overrides, table) =
-        split_scatter(text.as_deref(), overrides).map_err(UqInputError::Scatter)?;
-    let scatter = ScatterSpec::from_table(&table).map_err(UqInputError::Scatter)?;
+    let (scene_text, overrides, table) = split_scatter(text.as_deref(), overrides)?;
+    let scatter = ScatterSpec::from_table(ev, &table)?;
     let file = path.zip(scene_text.as_deref());
-    let scene = load_scene_text(file, &overrides)?;
-    let scatter = scatter
-        .with_scene_keys(&scene)
-        .map_err(UqInputError::Scatter)?;
+    let scene = ev
+        .load_scene_text(file, &overrides)
+        .map_err(StudyError::Model)?;
+    let scatter = scatter.with_scene_keys(&ev.facts(&scene))?;
     Ok((scene, scatter))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::scene::load_scene;
-
-    fn spec(overrides: &[&str]) -> Result<ScatterSpec, String> {
-        let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-        let (_, rest, table) = split_scatter(None, &overrides)?;
-        let scene = load_scene(None, &rest).map_err(|e| e.to_string())?;
-        ScatterSpec::from_table(&table)?.with_scene_keys(&scene)
-    }
-
-    #[test]
-    fn friction_scatter_is_the_scene_style_name_of_scatter_friction() {
-        let s = spec(&["friction.scatter=0.03"]).unwrap();
-        assert_eq!(s.friction, 0.03, "spread of μ from friction.scatter");
-        let text = "[friction]\nstatic = 0.3\nscatter = 0.02\n[scatter]\nfriction = 0.01\n";
-        let e = split_scatter(Some(text), &[]).unwrap_err();
-        assert!(e.contains("friction.scatter and scatter.friction"), "{e}");
-    }
-
-    #[test]
-    fn the_scenes_post_height_scatter_is_the_uq_height_spread_and_a_fixed_tilt_is_refused() {
-        let s = spec(&["posts.height_scatter=5nm"]).unwrap();
-        assert!(
-            (s.height_scatter_m - 5e-9).abs() < 1e-20,
-            "σ of the post heights from posts.height_scatter: {}",
-            s.height_scatter_m
-        );
-        let e = spec(&["posts.height_scatter=5nm", "scatter.height_scatter=2nm"]).unwrap_err();
-        assert!(
-            e.contains("posts.height_scatter and scatter.height_scatter"),
-            "{e}"
-        );
-        let e = spec(&["slider.tilt_x=10nm"]).unwrap_err();
-        assert!(e.starts_with("slider.tilt_x:"), "{e}");
-    }
-
-    #[test]
-    fn uq_inputs_resolve_relative_paths_against_the_scene_files_folder() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("scatter-scene.toml");
-        let text = "[static]\nmesh = \"strip.msh\"\n[scatter]\nfriction = 0.02\n";
-        std::fs::write(&path, text).unwrap();
-        let (scene, scatter) = load_uq_inputs(Some(&path), &[]).unwrap();
-        assert_eq!(
-            Path::new(&scene.static_fem.mesh),
-            dir.path().join("strip.msh"),
-            "static.mesh of a scene read by uq resolves against the scene's folder"
-        );
-        assert_eq!(
-            scatter.friction, 0.02,
-            "spread of μ from the file's [scatter]"
-        );
-        let e = load_uq_inputs(Some(&dir.path().join("missing.toml")), &[]).unwrap_err();
-        assert!(
-            matches!(e, UqInputError::Scene(SceneError::Io { .. })),
-            "an unreadable scene is a scene I/O error: {e}"
-        );
-    }
-
-    #[test]
-    fn both_names_of_the_friction_spread_on_the_command_line_are_refused() {
-        let e = spec(&["friction.scatter=0.02", "scatter.friction=0.01"]).unwrap_err();
-        assert!(
-            e.contains("friction.scatter and --set scatter.friction"),
-            "{e}"
-        );
-        let s = spec(&["scatter.friction=0.02", "scatter.friction=0.01"]).unwrap();
-        assert_eq!(s.friction, 0.01, "a repeated --set keeps the last value");
-    }
 }

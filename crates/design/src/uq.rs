@@ -1,6 +1,6 @@
-//! Monte Carlo propagation of a scene's scatter: N samples of the `[scatter]`
-//! inputs ([`super::scatter`]), each evaluated by [`super::motor::evaluate`] (a whole-slider
-//! contact solve and a dynamic curve, no FEM), in parallel (rayon); bands (mean, P5/P50/P95 with
+//! Monte Carlo propagation of a scene's scatter (`sawdrive uq`): N samples of the `[scatter]`
+//! inputs ([`crate::scatter`]), each evaluated by the [`Evaluator`] (in the `sawdrive`
+//! library: a whole-slider contact solve and a dynamic curve, no FEM), in parallel (rayon); bands (mean, P5/P50/P95 with
 //! 95 % order-statistic intervals), histograms, rank-correlation sensitivity.
 //!
 //! Resume: each finished sample is written atomically to
@@ -12,19 +12,18 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use design::{Band, Sensitivity, band, draw_inputs, histogram, rank_inputs};
+use atomic_files::StagedDir;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use super::motor::{
-    EvaluationCost, Fidelity, MotorOutputs, MotorSample, OUTPUT_NAMES, StaticModel, check_dynamics,
-    evaluate_with,
+use crate::error::StudyError;
+use crate::evaluator::{
+    EvaluationCost, Evaluator, Fidelity, MotorOutputs, MotorSample, OUTPUT_NAMES,
 };
-use super::scatter::ScatterSpec;
-use crate::output::{ResultKind, StagedDir, write_atomically};
-use crate::pipeline::PipelineError;
-use crate::scene::Scene;
+use crate::files::{staged_results, write_atomically};
+use crate::scatter::ScatterSpec;
+use crate::{Band, Sensitivity, band, draw_inputs, histogram, rank_inputs};
 
 /// Speeds of the band chart's grid.
 const BAND_SPEEDS: usize = 41;
@@ -145,19 +144,19 @@ pub struct UqReport {
 }
 
 /// Hash of everything a sample depends on.
-fn inputs_hash(
-    scene: &Scene,
+fn inputs_hash<E: Evaluator>(
+    ev: &E,
+    scene: &E::Scene,
     scatter: &ScatterSpec,
     seed: u64,
     fidelity: Fidelity,
-) -> Result<String, PipelineError> {
+) -> Result<String, StudyError> {
     let mut h = Sha256::new();
-    h.update(serde_json::to_vec(scene)?);
+    h.update(ev.scene_bytes(scene).map_err(StudyError::Model)?);
     h.update(serde_json::to_vec(scatter)?);
     h.update(serde_json::to_vec(&fidelity)?);
     h.update(seed.to_le_bytes());
-    h.update(crate::DYNAMIC_MODEL_VERSION.to_le_bytes());
-    h.update(static_contact::params::MODEL_VERSION.to_le_bytes());
+    h.update(ev.model_versions());
     h.update(SAMPLE_FORMAT.to_le_bytes());
     Ok(h.finalize()
         .iter()
@@ -206,7 +205,7 @@ fn thrust_at(curve: &[(f64, f64)], v: f64) -> f64 {
     }
 }
 
-fn curve_band(records: &[SampleRecord]) -> Result<CurveBand, PipelineError> {
+fn curve_band(records: &[SampleRecord]) -> Result<CurveBand, StudyError> {
     let vmax = records
         .iter()
         .flat_map(|r| r.curve.iter().map(|p| p.0))
@@ -222,7 +221,7 @@ fn curve_band(records: &[SampleRecord]) -> Result<CurveBand, PipelineError> {
     };
     for v in speeds {
         let t: Vec<f64> = records.iter().map(|r| thrust_at(&r.curve, v)).collect();
-        let b = band(&t, "thrust_n").map_err(design_error)?;
+        let b = band(&t, "thrust_n")?;
         band_out.thrust_p5_n.push(b.p5);
         band_out.thrust_p50_n.push(b.p50);
         band_out.thrust_p95_n.push(b.p95);
@@ -230,34 +229,31 @@ fn curve_band(records: &[SampleRecord]) -> Result<CurveBand, PipelineError> {
     Ok(band_out)
 }
 
-pub(crate) fn design_error(e: design::DesignError) -> PipelineError {
-    PipelineError::Unsupported {
-        stage: "design",
-        message: e.to_string(),
-    }
-}
-
 /// Most Monte Carlo samples of one study (`uq --samples`, a design's `samples`): about 150 bytes
 /// of results each, and seconds of work each, so 10^5 samples are days of CPU time already.
 pub const MAX_SAMPLES: usize = 100_000;
 
-/// `--samples` within 1 to [`MAX_SAMPLES`], else the message that says so.
-pub fn check_samples(samples: usize) -> Result<(), String> {
+/// `--samples` within 1 to [`MAX_SAMPLES`], else the error that says so.
+pub fn check_samples(samples: usize) -> Result<(), StudyError> {
     if (1..=MAX_SAMPLES).contains(&samples) {
         return Ok(());
     }
-    Err(format!(
-        "--samples: {samples} is outside 1 to {MAX_SAMPLES} (each sample is a static and a dynamic solve; the band's quantiles converge long before)"
+    Err(StudyError::input(
+        "--samples",
+        format!(
+            "{samples} is outside 1 to {MAX_SAMPLES} (each sample is a static and a dynamic solve; the band's quantiles converge long before)"
+        ),
     ))
 }
 
 /// Runs the UQ of `scene` under `scatter`; writes `OUT/<scene>-uq/` when complete.
-pub fn run_uq(
-    scene: &Scene,
+pub fn run_uq<E: Evaluator>(
+    ev: &E,
+    scene: &E::Scene,
     scatter: &ScatterSpec,
     options: &UqOptions,
-) -> Result<(UqReport, PathBuf), PipelineError> {
-    let (report, staged) = run_uq_staged(scene, scatter, options)?;
+) -> Result<(UqReport, PathBuf), StudyError> {
+    let (report, staged) = run_uq_staged(ev, scene, scatter, options)?;
     Ok((report, staged.commit()?))
 }
 
@@ -265,26 +261,27 @@ pub fn run_uq(
 /// caller that may be interrupted (the Python package) commits it itself, so that an
 /// interrupted call commits nothing; dropped, the staged folder is removed. The samples are
 /// saved for resume either way.
-pub fn run_uq_staged(
-    scene: &Scene,
+pub fn run_uq_staged<E: Evaluator>(
+    ev: &E,
+    scene: &E::Scene,
     scatter: &ScatterSpec,
     options: &UqOptions,
-) -> Result<(UqReport, StagedDir), PipelineError> {
+) -> Result<(UqReport, StagedDir), StudyError> {
     let start = Instant::now();
-    check_samples(options.samples).map_err(|message| PipelineError::Unsupported {
+    check_samples(options.samples).map_err(|e| StudyError::Study {
         stage: "uq",
-        message,
+        message: e.to_string(),
     })?;
-    check_dynamics(scene)?;
-    let inputs = scatter
-        .inputs(scene)
-        .map_err(|message| PipelineError::Unsupported {
-            stage: "uq",
-            message,
-        })?;
-    let destination = options.out_dir.join(format!("{}-uq", scene.name));
-    let staged = StagedDir::create(&destination, ResultKind::Uq)?;
+    ev.check_study(scene).map_err(StudyError::Model)?;
+    let facts = ev.facts(scene);
+    let inputs = scatter.inputs(&facts).map_err(|e| StudyError::Study {
+        stage: "uq",
+        message: e.to_string(),
+    })?;
+    let destination = options.out_dir.join(format!("{}-uq", facts.name));
+    let staged = staged_results(&destination, "uq")?;
     let cache = options.out_dir.join(".uq-samples").join(inputs_hash(
+        ev,
         scene,
         scatter,
         options.seed,
@@ -292,10 +289,14 @@ pub fn run_uq_staged(
     )?);
     // The operator is built once here; every sample with the nominal post diameter reuses it.
     let built = Instant::now();
-    let model = StaticModel::build(scene, options.fidelity)?;
+    let model = ev
+        .prepare(scene, options.fidelity)
+        .map_err(StudyError::Model)?;
     let operator_s = built.elapsed().as_secs_f64();
-    let nominal = evaluate_with(&model, scene, &MotorSample::nominal(scene))?;
-    let outcomes: Vec<Result<(SampleRecord, bool), PipelineError>> = (0..options.samples as u64)
+    let nominal = ev
+        .evaluate(&model, scene, &MotorSample::nominal(&facts))
+        .map_err(StudyError::Model)?;
+    let outcomes: Vec<Result<(SampleRecord, bool), StudyError>> = (0..options.samples as u64)
         .into_par_iter()
         .map(|k| {
             let path = cache.join(format!("sample-{k}.json"));
@@ -315,20 +316,19 @@ pub fn run_uq_staged(
                 sample.tilt_y_m,
                 sample.bow_m,
             ];
-            let out = evaluate_with(&model, scene, &sample).map_err(|e| {
+            let out = ev.evaluate(&model, scene, &sample).map_err(|source| {
                 // The sample's inputs, so that the failure can be reproduced with `run --set`.
                 let drawn: Vec<String> = inputs
                     .iter()
                     .zip(&values)
                     .map(|(i, v)| format!("{} = {v:e}", i.name))
                     .collect();
-                PipelineError::Unsupported {
-                    stage: "uq",
-                    message: format!(
-                        "sample {k} (seed {}, post-height seed {field_seed}; {}): {e}",
-                        options.seed,
-                        drawn.join(", ")
-                    ),
+                StudyError::Sample {
+                    index: k,
+                    seed: options.seed,
+                    field_seed,
+                    drawn: drawn.join(", "),
+                    source,
                 }
             })?;
             let r = record(k, values, &sample, &out, t.elapsed().as_secs_f64());
@@ -347,7 +347,7 @@ pub fn run_uq_staged(
         }
     }
     if results.is_empty() {
-        return Err(PipelineError::Unsupported {
+        return Err(StudyError::Study {
             stage: "uq",
             message: format!("every sample failed; first: {}", failed_samples[0].1),
         });
@@ -369,7 +369,7 @@ pub fn run_uq_staged(
     let records: Vec<SampleRecord> = results.into_iter().map(|r| r.0).collect();
     let column = |k: usize| records.iter().map(|r| r.outputs[k]).collect::<Vec<f64>>();
     let bands: Vec<Band> = (0..OUTPUT_NAMES.len())
-        .map(|k| band(&column(k), OUTPUT_NAMES[k]).map_err(design_error))
+        .map(|k| band(&column(k), OUTPUT_NAMES[k]).map_err(StudyError::from))
         .collect::<Result<_, _>>()?;
     let input_columns: Vec<(String, Vec<f64>)> = inputs
         .iter()
@@ -390,10 +390,10 @@ pub fn run_uq_staged(
         })
         .collect();
     let mut report = UqReport {
-        scene: scene.name.clone(),
+        scene: facts.name.clone(),
         samples: records.len(),
         seed: options.seed,
-        fidelity: model.fidelity().label(),
+        fidelity: ev.fidelity(&model).label(),
         scatter: scatter.clone(),
         input_names: inputs.iter().map(|i| i.name.clone()).collect(),
         effective_contact_ratio: bands[0],
@@ -457,7 +457,7 @@ fn write_uq_files(
     records: &[SampleRecord],
     nominal: &MotorOutputs,
     dir: &Path,
-) -> Result<Vec<String>, PipelineError> {
+) -> Result<Vec<String>, StudyError> {
     use charts::{Chart, Series, Style, write_chart, write_stacked};
     let mut files = vec!["samples.csv".to_owned()];
     write_atomically(&dir.join("samples.csv"), samples_csv(report, records))?;
@@ -506,7 +506,7 @@ fn write_uq_files(
     let mut hists = Vec::new();
     for (k, name) in OUTPUT_NAMES.iter().enumerate() {
         let values: Vec<f64> = records.iter().map(|r| r.outputs[k]).collect();
-        let h = histogram(&values, HISTOGRAM_BINS, name).map_err(design_error)?;
+        let h = histogram(&values, HISTOGRAM_BINS, name)?;
         let mut steps = Vec::new();
         for (i, c) in h.counts.iter().enumerate() {
             let (lo, hi) = (h.edges[i], h.edges[i + 1]);
@@ -525,183 +525,4 @@ fn write_uq_files(
         );
     }
     Ok(files)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::scene::load_scene;
-
-    /// 10 × 10 posts at the default 40 µm pitch: a whole-slider solve in milliseconds.
-    /// 100 posts at 40 mN each (the paper's 40 N slider carries 4 mN a post): a working motor
-    /// (the default 40 N on 100 posts keeps every post in contact and the period average gives
-    /// no thrust, so no band could spread).
-    fn small_scene() -> Scene {
-        load_scene(
-            None,
-            &[
-                "posts.count=10x10".into(),
-                "posts.array=0.4mm".into(),
-                "load.preload=4N".into(),
-            ],
-        )
-        .unwrap()
-    }
-
-    fn options(dir: &Path, samples: usize, seed: u64) -> UqOptions {
-        UqOptions {
-            samples,
-            seed,
-            out_dir: dir.to_owned(),
-            fidelity: Fidelity::Slider,
-            write_files: false,
-        }
-    }
-
-    fn scattered() -> ScatterSpec {
-        ScatterSpec {
-            height_scatter_m: 5e-9,
-            friction: 0.03,
-            preload_n: 0.2,
-            ..ScatterSpec::default()
-        }
-    }
-
-    #[test]
-    fn zero_scatter_collapses_the_bands_to_the_deterministic_run_exactly() {
-        let dir = tempfile::tempdir().unwrap();
-        let (r, _) = run_uq(
-            &small_scene(),
-            &ScatterSpec::default(),
-            &options(dir.path(), 3, 7),
-        )
-        .unwrap();
-        let bands = [
-            r.effective_contact_ratio,
-            r.stall_thrust_n,
-            r.no_load_speed_m_per_s,
-            r.max_output_power_w,
-            r.efficiency,
-        ];
-        for ((name, det), b) in r.deterministic.iter().zip(bands) {
-            for (what, v) in [
-                ("mean", b.mean),
-                ("p5", b.p5),
-                ("p50", b.p50),
-                ("p95", b.p95),
-            ] {
-                assert_eq!(
-                    v.to_bits(),
-                    det.to_bits(),
-                    "{what} of {name} without scatter"
-                );
-            }
-        }
-    }
-
-    #[test]
-    fn the_same_seed_gives_bitwise_identical_results() {
-        let (a, b) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
-        let scene = small_scene();
-        let (ra, _) = run_uq(&scene, &scattered(), &options(a.path(), 4, 11)).unwrap();
-        let (rb, _) = run_uq(&scene, &scattered(), &options(b.path(), 4, 11)).unwrap();
-        let bits = |r: &UqReport| {
-            [
-                r.effective_contact_ratio,
-                r.stall_thrust_n,
-                r.max_output_power_w,
-            ]
-            .iter()
-            .flat_map(|b| [b.mean, b.p5, b.p50, b.p95])
-            .map(f64::to_bits)
-            .collect::<Vec<_>>()
-        };
-        assert_eq!(bits(&ra), bits(&rb), "bands of two runs with seed 11");
-        assert!(
-            ra.stall_thrust_n.p95 > ra.stall_thrust_n.p5,
-            "scatter spreads the stall thrust: {:?}",
-            ra.stall_thrust_n
-        );
-        let (rc, _) = run_uq(&scene, &scattered(), &options(b.path(), 4, 12)).unwrap();
-        assert_ne!(bits(&ra), bits(&rc), "another seed draws other samples");
-    }
-
-    #[test]
-    fn an_interrupted_run_resumes_from_its_saved_samples_and_loses_nothing() {
-        let (a, b) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
-        let scene = small_scene();
-        run_uq(&scene, &scattered(), &options(a.path(), 3, 5)).unwrap();
-        // Simulate an interruption: one saved sample lost, one damaged.
-        let cache = std::fs::read_dir(a.path().join(".uq-samples"))
-            .unwrap()
-            .next()
-            .unwrap()
-            .unwrap()
-            .path();
-        std::fs::remove_file(cache.join("sample-1.json")).unwrap();
-        std::fs::write(cache.join("sample-2.json"), "{half").unwrap();
-        let (resumed, _) = run_uq(&scene, &scattered(), &options(a.path(), 5, 5)).unwrap();
-        assert_eq!(
-            resumed.resumed_samples, 1,
-            "samples reused after the interruption"
-        );
-        let (fresh, _) = run_uq(&scene, &scattered(), &options(b.path(), 5, 5)).unwrap();
-        assert_eq!(
-            resumed.max_output_power_w.mean.to_bits(),
-            fresh.max_output_power_w.mean.to_bits(),
-            "resumed and fresh mean output power"
-        );
-    }
-
-    #[test]
-    fn coupled_model_settings_are_refused_naming_the_key() {
-        let dir = tempfile::tempdir().unwrap();
-        for (set, key) in [
-            ("model.dynamics=coupled", "model.dynamics"),
-            ("model.lumped_tolerance=0.01", "model.lumped_tolerance"),
-            ("model.steps_per_period=128", "model.steps_per_period"),
-        ] {
-            let scene = load_scene(
-                None,
-                &[
-                    "posts.count=10x10".into(),
-                    "posts.array=0.4mm".into(),
-                    "load.preload=4N".into(),
-                    set.into(),
-                ],
-            )
-            .unwrap();
-            let e = run_uq(&scene, &scattered(), &options(dir.path(), 2, 1)).unwrap_err();
-            assert!(e.to_string().contains(key), "uq with {set}: {e}");
-            assert!(
-                !dir.path().join(format!("{}-uq", scene.name)).exists(),
-                "uq with {set} wrote no results"
-            );
-        }
-    }
-
-    #[test]
-    fn bad_scatter_and_sample_count_are_refused_naming_the_key() {
-        let dir = tempfile::tempdir().unwrap();
-        let scene = small_scene();
-        let e = run_uq(&scene, &ScatterSpec::default(), &options(dir.path(), 0, 1)).unwrap_err();
-        assert!(e.to_string().contains("--samples"), "{e}");
-        let t: toml::Table = "height_scatter = \"-5 nm\"".parse().unwrap();
-        let e = ScatterSpec::from_table(&t).unwrap_err();
-        assert!(e.starts_with("scatter.height_scatter:"), "{e}");
-        let t: toml::Table = "sigma = \"5 nm\"".parse().unwrap();
-        assert!(
-            ScatterSpec::from_table(&t)
-                .unwrap_err()
-                .starts_with("scatter.sigma: unknown key")
-        );
-        let t: toml::Table = "distribution = \"uniform\"\npreload = \"50 N\""
-            .parse()
-            .unwrap();
-        let e = ScatterSpec::from_table(&t)
-            .unwrap()
-            .inputs(&scene)
-            .unwrap_err();
-        assert!(e.starts_with("scatter.preload:"), "{e}");
-    }
 }
