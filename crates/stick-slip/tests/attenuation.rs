@@ -254,4 +254,7 @@ fn auto_attenuates_when_the_posts_draw_a_noticeable_share_of_the_wave() {
     assert!(!on, "{reason}");
     assert!(AttenuationSetting::On.resolve(0.0, 1.0).0);
     assert!(!AttenuationSetting::Off.resolve(1e3, 1.0).0);
+    // The threshold: 1 % of the wave's power at stall.
+    assert!(!AttenuationSetting::Auto.resolve(0.009, 1.0).0);
+    assert!(AttenuationSetting::Auto.resolve(0.011, 1.0).0);
 }

@@ -24,6 +24,7 @@ use serde::{Deserialize, Serialize};
 use static_contact::{StaticParams, StripModel};
 use stick_slip::{CurvePoint, DynamicResult, ModelKind, VerticalModel};
 
+use super::attenuation::{self, WaveAttenuation, WaveBooks};
 use super::statics::{StaticDetails, StaticOutcome, geometry_key, sha256_hex, static_params};
 use super::{DynamicRun, PipelineError, run_dynamic_cancellable, write_history_charts};
 use crate::output::io;
@@ -47,6 +48,10 @@ pub struct DynamicStage {
     /// Estimated relative error of the lumped model at the static η against the coupled one
     /// (`None`: η was given, so there is no static fit to estimate it from).
     pub lumped_error_estimate: Option<f64>,
+    /// The energy-conserving wave: on or off, why, and the wave power under the array.
+    pub wave: WaveAttenuation,
+    /// The wave's books of every point of [`Self::curve`], in its order.
+    pub wave_books: Vec<WaveBooks>,
 }
 
 impl DynamicStage {
@@ -128,8 +133,26 @@ impl DynamicStage {
         }
     }
 
-    /// The JSON of `sawdrive dynamic --json`: the reported model's result with the choice.
-    pub fn json(&self) -> DynamicJson<'_> {
+    /// The JSON of `sawdrive dynamic --json`: the reported model's result with the choices,
+    /// every curve point with its wave books (`stator_power_w`, `wave_power_in_w`,
+    /// `wave_power_out_w`).
+    pub fn json(&self) -> serde_json::Value {
+        let mut value = serde_json::to_value(self.json_fields())
+            .expect("the dynamic stage's JSON is plain numbers and text");
+        if let Some(serde_json::Value::Array(points)) = value.get_mut("curve") {
+            for (point, books) in points.iter_mut().zip(&self.wave_books) {
+                if let serde_json::Value::Object(map) = point {
+                    map.insert("stator_power_w".into(), books.stator_power_w.into());
+                    map.insert("wave_power_in_w".into(), books.wave_power_in_w.into());
+                    map.insert("wave_power_out_w".into(), books.wave_power_out_w.into());
+                }
+            }
+        }
+        value
+    }
+
+    /// The fields of [`Self::json`] before the curve's wave books.
+    fn json_fields(&self) -> DynamicJson<'_> {
         DynamicJson {
             result: match &self.coupled {
                 Some(c) => ResultRef::Coupled(c),
@@ -143,6 +166,9 @@ impl DynamicStage {
                 .coupled
                 .as_ref()
                 .map(|_| LumpedFigures::of(&self.lumped.result)),
+            wave_attenuation: self.wave.state,
+            wave_attenuation_reason: &self.wave.reason,
+            wave_power_in_w: self.wave.power_in_w,
         }
     }
 }
@@ -161,9 +187,15 @@ pub struct DynamicJson<'a> {
     lumped_error_estimate: Option<f64>,
     /// [`DynamicStage::model_error_estimate`].
     model_error_estimate: Option<f64>,
-    /// The lumped model's figures beside a coupled run.
+    /// The lumped model's figures beside a coupled run (at the constant-amplitude wave).
     #[serde(skip_serializing_if = "Option::is_none")]
     lumped: Option<LumpedFigures>,
+    /// `on` or `off`: whether the reported curve is the energy-conserving wave's.
+    wave_attenuation: &'a str,
+    /// Why (`wave.attenuation`, or the `auto` evidence).
+    wave_attenuation_reason: &'a str,
+    /// Wave power entering under the post array (W).
+    wave_power_in_w: f64,
 }
 
 #[derive(Debug, Serialize)]
@@ -342,21 +374,48 @@ pub fn run_dynamic_stage_cancellable(
     });
     let estimate = evidence.as_ref().map(lumped_error_estimate);
     let (run_coupled, reason) = decide(scene, statics, evidence.as_ref())?;
-    let (coupled, coupled_histories, coupled_step_error_estimate) = match (run_coupled, statics) {
-        (true, Some(statics)) => {
-            PipelineError::check(should_stop, "dynamic (coupled model)")?;
-            let (mut result, histories, step_error) =
-                run_coupled_model(scene, statics, &lumped, cache_dir)?;
-            // The scene's own warnings lead the coupled model's, as they lead the lumped one's.
-            let scene_warnings = scene
-                .warnings
-                .iter()
-                .map(|w| format!("{}: {}", w.parameter, w.message));
-            result.warnings.splice(0..0, scene_warnings);
-            (Some(result), Some(histories), step_error)
-        }
-        _ => (None, None, None),
-    };
+    let mut lumped = lumped;
+    let (coupled, coupled_histories, coupled_step_error_estimate, wave, wave_books) =
+        match (run_coupled, statics) {
+            (true, Some(statics)) => {
+                PipelineError::check(should_stop, "dynamic (coupled model)")?;
+                let mut run = run_coupled_model(scene, statics, &lumped, cache_dir)?;
+                // The scene's own warnings lead the coupled model's, as they lead the lumped one's.
+                let scene_warnings = scene
+                    .warnings
+                    .iter()
+                    .map(|w| format!("{}: {}", w.parameter, w.message));
+                run.result.warnings.splice(0..0, scene_warnings);
+                let stall_draw_w = run.result.curve.first().map_or(0.0, |p| p.stator_power_w);
+                let wave = attenuation::decide(scene, stall_draw_w, false)?;
+                if wave.on() {
+                    PipelineError::check(should_stop, "dynamic (energy-conserving wave)")?;
+                    attenuate_coupled(&mut run, wave.power_in_w)?;
+                }
+                let books = run
+                    .result
+                    .curve
+                    .iter()
+                    .zip(&run.books)
+                    .map(|(p, out)| WaveBooks {
+                        stator_power_w: p.stator_power_w,
+                        wave_power_in_w: wave.power_in_w,
+                        wave_power_out_w: out.unwrap_or(wave.power_in_w - p.stator_power_w),
+                    })
+                    .collect();
+                (
+                    Some(run.result),
+                    Some(run.histories),
+                    run.step_error,
+                    wave,
+                    books,
+                )
+            }
+            _ => {
+                let (wave, books) = lumped_wave(scene, &mut lumped)?;
+                (None, None, None, wave, books)
+            }
+        };
     Ok(DynamicStage {
         lumped,
         coupled,
@@ -364,7 +423,128 @@ pub fn run_dynamic_stage_cancellable(
         coupled_step_error_estimate,
         dynamics_reason: reason,
         lumped_error_estimate: estimate,
+        wave,
+        wave_books,
     })
+}
+
+/// The energy-conserving wave for a reported lumped run: the decision and, when on (the period
+/// average), the run's result replaced by the self-consistent one; the books of every point.
+fn lumped_wave(
+    scene: &Scene,
+    lumped: &mut DynamicRun,
+) -> Result<(WaveAttenuation, Vec<WaveBooks>), PipelineError> {
+    let transient = attenuation::is_transient(lumped.result.model);
+    let stall_draw_w = attenuation::lumped_stall_draw_w(&lumped.scene)?;
+    let wave = attenuation::decide(scene, stall_draw_w.unwrap_or(0.0), transient)?;
+    if wave.on() {
+        let options = stick_slip::AttenuationOptions::new(wave.power_in_w);
+        let solved = stick_slip::AttenuatedPeriodicModel::new(&lumped.scene, &options)?.solve()?;
+        let books = solved
+            .points
+            .iter()
+            .map(|p| WaveBooks {
+                stator_power_w: p.sample.stator_power_w,
+                wave_power_in_w: p.wave_power_in_w,
+                wave_power_out_w: p.wave_power_out_w,
+            })
+            .collect();
+        let mut result = solved.result;
+        let mut warnings = lumped.result.warnings.clone();
+        for w in result.warnings.drain(..) {
+            if !warnings.contains(&w) {
+                warnings.push(w);
+            }
+        }
+        result.warnings = warnings;
+        result.model_reason = format!(
+            "{}; energy-conserving wave ({})",
+            lumped.result.model_reason, wave.reason
+        );
+        lumped.result = result;
+        return Ok((wave, books));
+    }
+    // Constant wave: the period average's stator power at each speed; the transient's from its
+    // output and efficiency, at stall from the period average (the `auto` evidence).
+    let books = match (transient, stall_draw_w) {
+        (false, Some(_)) => {
+            let model = stick_slip::PeriodicAverageModel::new(&lumped.scene)?;
+            lumped
+                .result
+                .curve
+                .iter()
+                .map(|p| {
+                    let draw = model.at_speed(p.speed_m_per_s)?.stator_power_w;
+                    Ok(WaveBooks::of(wave.power_in_w, draw))
+                })
+                .collect::<Result<Vec<_>, PipelineError>>()?
+        }
+        _ => lumped
+            .result
+            .curve
+            .iter()
+            .map(|p| {
+                let draw = if p.efficiency > 0.0 {
+                    p.output_power_w / p.efficiency
+                } else {
+                    stall_draw_w.unwrap_or(f64::NAN)
+                };
+                WaveBooks::of(wave.power_in_w, draw)
+            })
+            .collect(),
+    };
+    Ok((wave, books))
+}
+
+/// A coupled run: its result, post histories, step-error estimate, the coupled scene it ran
+/// and, per curve point, the wave power leaving (with the energy-conserving wave).
+struct CoupledRun {
+    result: CoupledResult,
+    histories: PostHistories,
+    step_error: Option<f64>,
+    scene: CoupledScene,
+    books: Vec<Option<f64>>,
+}
+
+/// Replace a constant-amplitude coupled run by the energy-conserving wave's
+/// (`coupled_dynamics::solve_attenuated`, P_in `power_in_w`): stall, no-load speed, curve,
+/// efficiency and stick fraction at the self-consistent profiles, the post histories at the
+/// profile of their own speed. η_dyn (the lumped model's fit to the coupled curve) and the
+/// time-step error estimate stay the constant wave's: they describe the contact's mechanics,
+/// which the amplitude profile does not change, and say so in a warning.
+fn attenuate_coupled(run: &mut CoupledRun, power_in_w: f64) -> Result<(), PipelineError> {
+    let started = std::time::Instant::now();
+    let options = coupled_dynamics::AttenuationOptions::new(power_in_w);
+    let curve = coupled_dynamics::solve_attenuated(&run.scene, &options)?;
+    let speed = HISTORY_SPEED_FRACTION * curve.no_load_speed_m_per_s;
+    let at_histories = coupled_dynamics::attenuated_at_speed(&run.scene, speed, &options)?;
+    let mut local = run.scene.clone();
+    local.amplitude_scale = at_histories.amplitude_scale;
+    let (_, histories) = CoupledModel::new(&local)?.post_histories(speed)?;
+    let r = &mut run.result;
+    r.stall_thrust_n = curve.stall_thrust_n;
+    r.no_load_speed_m_per_s = curve.no_load_speed_m_per_s;
+    r.curve = curve.curve.iter().map(|p| p.point.clone()).collect();
+    r.energy_balance_residual = r
+        .curve
+        .iter()
+        .map(|p| p.energy_balance_residual.abs())
+        .fold(0.0, f64::max);
+    r.efficiency = r.curve.iter().map(|p| p.efficiency).fold(0.0, f64::max);
+    r.stick_fraction = r.curve.first().map_or(0.0, |p| p.stick_fraction);
+    r.wall_time_s += started.elapsed().as_secs_f64();
+    r.warnings.push(format!(
+        "energy-conserving wave: {} fixed-point iterations at most per point, books closed to \
+         {:.1e} of P_in; eta_dyn and the step-error estimate are the constant-amplitude wave's",
+        curve.max_iterations, curve.max_balance_residual
+    ));
+    run.histories = histories;
+    run.books = curve
+        .curve
+        .iter()
+        .map(|p| Some(p.wave_power_out_w))
+        .collect();
+    Ok(())
 }
 
 /// The criterion's evidence from the static stage of either model: its η fit's misfit (the
@@ -454,7 +634,7 @@ fn run_coupled_model(
     statics: &StaticOutcome,
     lumped: &DynamicRun,
     cache_dir: Option<&Path>,
-) -> Result<(CoupledResult, PostHistories, Option<f64>), PipelineError> {
+) -> Result<CoupledRun, PipelineError> {
     if let VerticalModel::Dynamic { .. } = scene.model.vertical {
         return Err(PipelineError::Unsupported {
             stage: "dynamic",
@@ -503,7 +683,13 @@ fn run_coupled_model(
             result.stall_thrust_n,
         )
     });
-    Ok((result, histories, step_error))
+    Ok(CoupledRun {
+        books: vec![None; result.curve.len()],
+        result,
+        histories,
+        step_error,
+        scene: coupled,
+    })
 }
 
 /// Observed order p of the coupled model's step error (validation/coupled-dynamics,

@@ -4,6 +4,7 @@
 //! Each stage is a function of the scene (and the previous stage's output), so a user can stop
 //! after any stage or feed a hand-chosen η to the dynamics (`effective_ratio = 0.36`).
 
+mod attenuation;
 mod coupled;
 mod dynamics;
 pub mod evaluate;
@@ -13,6 +14,7 @@ mod slider_static;
 mod springs;
 mod statics;
 
+pub use attenuation::{WaveAttenuation, WaveBooks, wave_power_under_array_w};
 pub use coupled::{
     DynamicJson, DynamicStage, LumpedFigures, run_dynamic_stage, run_dynamic_stage_cancellable,
     write_dynamic_stage_files,

@@ -51,6 +51,8 @@ pub struct WaveFile {
     pub decay_length: Option<Length>,
     /// Finite burst length in wave periods (none: continuous drive).
     pub burst_periods: Option<f64>,
+    /// The energy-conserving wave under the slider: `"auto"` (default), `"on"` or `"off"`.
+    pub attenuation: Option<stick_slip::AttenuationSetting>,
 }
 
 /// The stator: its material (contact compliance) and its crystal cut (the wave).

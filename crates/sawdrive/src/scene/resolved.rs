@@ -31,6 +31,9 @@ pub struct Scene {
     pub phase_velocity_source: String,
     /// Where `wave.tangential_amplitude_m` came from: `cut` (`"auto"`: |u_x/u_z| A_n) or `given`.
     pub tangential_amplitude_source: String,
+    /// `wave.attenuation`: whether the wave's amplitude falls under the slider as the posts draw
+    /// its power (`auto`: when the constant-amplitude posts draw more than 1 % of it at stall).
+    pub wave_attenuation: stick_slip::AttenuationSetting,
     /// What the scene gives that the program accepts but doubts, each naming its key: a wave
     /// value more than 2 % off the cut's, a beam narrower than the post array, a stator material
     /// that is not the cut's crystal. They reach `summary.json` and `dynamic --json`.
@@ -556,6 +559,22 @@ impl Scene {
         if let Some(d) = decay_length_m {
             limits::decay_length(d, phase_velocity_m_per_s / frequency_hz)?;
         }
+        if w.attenuation == Some(stick_slip::AttenuationSetting::On) {
+            let given = [
+                ("wave.decay_length", decay_length_m.is_some()),
+                ("wave.burst_periods", burst_periods.is_some()),
+            ];
+            if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
+                return Err(invalid(
+                    "wave.attenuation",
+                    format!(
+                        "\"on\" solves the amplitude along the slider from the wave's power, and \
+                         {key} prescribes another (a steady, continuous wave is assumed): remove \
+                         {key} or set wave.attenuation = \"off\""
+                    ),
+                ));
+            }
+        }
         let wave = Wave {
             frequency_hz,
             normal_amplitude_m,
@@ -904,6 +923,7 @@ impl Scene {
             crystal_wave,
             phase_velocity_source: phase_velocity_source.into(),
             tangential_amplitude_source: tangential_amplitude_source.into(),
+            wave_attenuation: file.wave.attenuation.unwrap_or_default(),
             warnings,
             contact,
             model,

@@ -65,9 +65,10 @@ pub const DEFAULT_MAX_ITERATIONS: usize = 200;
 /// Default 5.
 pub const DEFAULT_ANDERSON_DEPTH: usize = 5;
 /// `auto` attenuates when the constant-amplitude posts draw more than this fraction of P_in at
-/// stall: the attenuation changes the results by about this fraction (first order), so below it
-/// the constant wave is exact to the accuracy the attenuation is solved to. Default 1e-6.
-pub const AUTO_DRAW_FRACTION: f64 = 1e-6;
+/// stall: the amplitude then falls by about half this fraction over the slider (A ∝ √P), so
+/// below it the constant wave errs by under 0.5 % — model no more than the scene needs.
+/// Default 0.01.
+pub const AUTO_DRAW_FRACTION: f64 = 0.01;
 
 /// The scene's `wave.attenuation`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -99,13 +100,13 @@ impl AttenuationSetting {
             Self::Auto if fraction > AUTO_DRAW_FRACTION => (
                 true,
                 format!(
-                    "auto: the constant-amplitude posts draw {constant_stall_draw_w:.4e} W at stall, {fraction:.3e} of the {power_in_w:.4e} W under the array (> {AUTO_DRAW_FRACTION:.0e})"
+                    "auto: the constant-amplitude posts draw {constant_stall_draw_w:.4e} W at stall, {fraction:.3e} of the {power_in_w:.4e} W under the array (> {AUTO_DRAW_FRACTION})"
                 ),
             ),
             Self::Auto => (
                 false,
                 format!(
-                    "auto: the constant-amplitude posts draw {fraction:.3e} of the wave's power at stall (≤ {AUTO_DRAW_FRACTION:.0e}): the constant wave is exact to that"
+                    "auto: the constant-amplitude posts draw {fraction:.3e} of the wave's power at stall (≤ {AUTO_DRAW_FRACTION}): the constant wave errs by under half that"
                 ),
             ),
         }

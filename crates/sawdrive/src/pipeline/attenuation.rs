@@ -1,0 +1,135 @@
+//! The energy-conserving wave of the dynamic stage (`wave.attenuation`, docs/physics.md §5.5):
+//! the wave power that enters under the post array, the `auto` decision, and the wave's books of
+//! every curve point.
+//!
+//! Formula: P_in = (power per unit beam width of the stator cut's Rayleigh wave at the scene's
+//! amplitude and frequency, `scene::crystal`) × min(post-array width, `wave.aperture`): the part
+//! of the beam that runs under the posts. Every curve point reports P_in and
+//! P_out = P_in − (stator power the posts draw); with attenuation on, P_out ≥ 0 and the books
+//! close to 1e-6 of P_in (the models' own fixed points); with it off, P_out < 0 says the
+//! constant-amplitude wave has been asked for more power than it carries.
+//! `auto` turns attenuation on when the constant-amplitude posts draw more than 1 %
+//! (`stick_slip::AUTO_DRAW_FRACTION`) of P_in at stall. Range of validity: the models' (steady
+//! state, no reflection at the slider's edges, diffraction neglected, the wave's velocity under
+//! the slider unchanged). The transient model has no self-consistent curve yet: `on` is refused
+//! for it and `auto` keeps the constant wave, saying so.
+
+use serde::Serialize;
+use stick_slip::{AttenuationSetting, DynamicScene, ModelKind, PeriodicAverageModel};
+
+use super::PipelineError;
+use crate::scene::Scene;
+
+/// The decision on the energy-conserving wave, reported in `dynamic --json` and summaries.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct WaveAttenuation {
+    /// `on` or `off`: whether the reported curve is the energy-conserving one.
+    pub state: &'static str,
+    /// Why (the setting, or the `auto` evidence).
+    pub reason: String,
+    /// Wave power entering under the post array (W).
+    pub power_in_w: f64,
+}
+
+impl WaveAttenuation {
+    /// Whether the reported curve is attenuated.
+    pub fn on(&self) -> bool {
+        self.state == "on"
+    }
+}
+
+/// Wave power entering under the post array (W): the cut's power per beam width at the scene's
+/// amplitude and frequency times min(array width, aperture).
+pub fn wave_power_under_array_w(scene: &Scene) -> f64 {
+    let wave = &scene.motor.wave;
+    let width_m = scene.motor.posts.array_y_m.min(wave.aperture_m);
+    scene
+        .crystal_wave
+        .power_per_width_w_per_m(wave.normal_amplitude_m, wave.frequency_hz)
+        * width_m
+}
+
+/// The decision for a scene whose reported model draws `stall_draw_w` (W) at stall under the
+/// constant-amplitude wave. `transient`: the reported model is the lumped transient.
+pub fn decide(
+    scene: &Scene,
+    stall_draw_w: f64,
+    transient: bool,
+) -> Result<WaveAttenuation, PipelineError> {
+    let power_in_w = wave_power_under_array_w(scene);
+    let setting = scene.wave_attenuation;
+    let prescribed =
+        scene.motor.wave.decay_length_m.is_some() || scene.motor.wave.burst_periods.is_some();
+    let (on, reason) = match setting {
+        AttenuationSetting::Auto if prescribed => (
+            false,
+            "auto: the scene prescribes the wave along the slider (wave.decay_length or \
+             wave.burst_periods)"
+                .to_string(),
+        ),
+        AttenuationSetting::On if transient => {
+            return Err(PipelineError::Unsupported {
+                stage: "dynamic",
+                message: "wave.attenuation = \"on\": the transient model has no energy-conserving \
+                          speed-thrust curve yet; use model.dynamics = \"periodic-average\" or \
+                          \"coupled\", or wave.attenuation = \"off\""
+                    .into(),
+            });
+        }
+        _ => setting.resolve(stall_draw_w, power_in_w),
+    };
+    let (on, reason) = if on && transient {
+        (
+            false,
+            format!(
+                "{reason}; but the transient model has no energy-conserving curve yet: constant \
+                 wave (check the wave's books: wave_power_out_w < 0 where the posts draw more \
+                 than the wave carries)"
+            ),
+        )
+    } else {
+        (on, reason)
+    };
+    Ok(WaveAttenuation {
+        state: if on { "on" } else { "off" },
+        reason,
+        power_in_w,
+    })
+}
+
+/// Stator power the lumped posts draw at stall under the constant-amplitude wave (W), from the
+/// period average (the transient agrees with it to 2e-5 on the default motor; it is the `auto`
+/// evidence, not a reported figure). `None` where the period average does not apply (a decaying
+/// or burst wave, which `auto` leaves alone anyway).
+pub fn lumped_stall_draw_w(scene: &DynamicScene) -> Result<Option<f64>, PipelineError> {
+    if scene.wave.decay_length_m.is_some() || scene.wave.burst_periods.is_some() {
+        return Ok(None);
+    }
+    let model = PeriodicAverageModel::new(scene)?;
+    Ok(Some(model.at_speed(0.0)?.stator_power_w))
+}
+
+/// Whether the lumped model that runs is the transient.
+pub fn is_transient(kind: ModelKind) -> bool {
+    kind == ModelKind::Transient
+}
+
+/// The wave's books of one curve point: `wave_power_in_w`, `wave_power_out_w` beside
+/// `stator_power_w` (W).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct WaveBooks {
+    pub stator_power_w: f64,
+    pub wave_power_in_w: f64,
+    pub wave_power_out_w: f64,
+}
+
+impl WaveBooks {
+    /// The books of a point that draws `stator_power_w` from a wave that brings `power_in_w`.
+    pub fn of(power_in_w: f64, stator_power_w: f64) -> Self {
+        Self {
+            stator_power_w,
+            wave_power_in_w: power_in_w,
+            wave_power_out_w: power_in_w - stator_power_w,
+        }
+    }
+}
