@@ -167,37 +167,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
-/// The strip model of the slider's middle row on the same lattice kernels: C_strip(i, k) = the
-/// displacement of post (i, middle) when every post of column k carries a unit force (the
-/// strip's rows all alike), normal and tangential; the strip's share 1/n_y. The difference to
-/// the whole slider is the edge effect (rows near the slider's y edges carry differently).
+/// The strip of the middle row on the slider's own compliances (`slider::middle_row_strip`).
 fn strip_reference(
     model: &SliderModel,
     scene: &SliderScene,
 ) -> Result<coupled_dynamics::CoupledResult, Box<dyn std::error::Error>> {
-    use slider_contact::{ComplianceOperator, LatticeOperator};
-    let g = scene.geometry;
-    let (nx, ny) = (g.posts_x, g.posts_y);
-    let tangential =
-        LatticeOperator::tangential(&model.params.operator_spec(), NearField::Johnson)?;
-    let row = |op: &dyn ComplianceOperator| {
-        let mut c = nalgebra::DMatrix::zeros(nx, nx);
-        let (mut f, mut u) = (vec![0.0; nx * ny], vec![0.0; nx * ny]);
-        for k in 0..nx {
-            f.iter_mut().for_each(|x| *x = 0.0);
-            f[k * ny..(k + 1) * ny].iter_mut().for_each(|x| *x = 1.0);
-            op.apply(&f, &mut u);
-            for i in 0..nx {
-                c[(i, k)] = u[i * ny + ny / 2];
-            }
-        }
-        (&c + c.transpose()) * 0.5
-    };
-    let mut strip = scene.coupled_settings();
-    strip.post_x_m = (0..nx).map(|i| g.x_m(i)).collect();
-    strip.normal_compliance_m_per_n = row(&model.operator);
-    strip.tangential_compliance_m_per_n = row(&tangential);
-    strip.strip_share = 1.0 / ny as f64;
+    let tangential = slider_contact::LatticeOperator::tangential(
+        &model.params.operator_spec(),
+        NearField::Johnson,
+    )?;
+    let mut strip =
+        coupled_dynamics::slider::middle_row_strip(scene, &model.operator, &tangential)?;
     strip.tolerance = 1e-12;
     Ok(coupled_dynamics::solve(
         &coupled_dynamics::CoupledModel::new(&strip)?,

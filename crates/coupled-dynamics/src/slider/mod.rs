@@ -187,6 +187,59 @@ impl SliderScene {
     }
 }
 
+/// The strip model of the slider's middle row on the slider's own compliances: C_strip(i, k) is
+/// the displacement of post (i, n_y/2) when every post of column k carries a unit force (all
+/// rows alike, as the strip's mirror images), normal and tangential (symmetrised); strip share
+/// 1/n_y; the scene's settings otherwise (δ_i and α_i of the middle row). The one-row limit the
+/// whole slider is compared with: their difference is the edge effect (rows near the slider's y
+/// edges carry differently), and for a lattice periodic in y it vanishes.
+pub fn middle_row_strip(
+    scene: &SliderScene,
+    normal: &dyn ComplianceOperator,
+    tangential: &dyn ComplianceOperator,
+) -> Result<CoupledScene> {
+    scene.validate()?;
+    let g = scene.geometry;
+    let (nx, ny) = (g.posts_x, g.posts_y);
+    let mid = ny / 2;
+    let row = |op: &dyn ComplianceOperator| {
+        let mut c = nalgebra::DMatrix::zeros(nx, nx);
+        let (mut f, mut u) = (vec![0.0; nx * ny], vec![0.0; nx * ny]);
+        for k in 0..nx {
+            f.iter_mut().for_each(|x| *x = 0.0);
+            f[k * ny..(k + 1) * ny].iter_mut().for_each(|x| *x = 1.0);
+            op.apply(&f, &mut u);
+            for i in 0..nx {
+                c[(i, k)] = u[i * ny + mid];
+            }
+        }
+        (&c + c.transpose()) * 0.5
+    };
+    let mut strip = scene.coupled_settings();
+    strip.post_x_m = (0..nx).map(|i| g.x_m(i)).collect();
+    strip.normal_compliance_m_per_n = row(normal);
+    strip.tangential_compliance_m_per_n = row(tangential);
+    strip.strip_share = 1.0 / ny as f64;
+    if !scene.amplitude_scale.is_empty() {
+        strip.amplitude_scale = (0..nx)
+            .map(|i| scene.amplitude_scale[i * ny + mid])
+            .collect();
+    }
+    if scene.post_offset_m.iter().any(|d| *d != 0.0) {
+        return Err(CoupledError::InvalidParameter {
+            parameter: "post_offset_m",
+            value: scene
+                .post_offset_m
+                .iter()
+                .fold(0.0, |m: f64, d| m.max(d.abs())),
+            requirement: "the strip of the middle row stands for an ideal slider (no post offsets)"
+                .into(),
+        });
+    }
+    strip.validate()?;
+    Ok(strip)
+}
+
 /// The normal contact of all posts at one instant: post forces for given obstacle heights.
 pub trait NormalContact: Sync {
     /// Number of posts.
