@@ -15,7 +15,9 @@
 //! for it and `auto` keeps the constant wave, saying so.
 
 use serde::Serialize;
-use stick_slip::{AttenuationSetting, DynamicScene, ModelKind, PeriodicAverageModel};
+use stick_slip::{
+    AttenuationSetting, DynamicResult, DynamicScene, ModelKind, PeriodicAverageModel,
+};
 
 use super::PipelineError;
 use crate::scene::Scene;
@@ -112,6 +114,86 @@ pub fn lumped_stall_draw_w(scene: &DynamicScene) -> Result<Option<f64>, Pipeline
 /// Whether the lumped model that runs is the transient.
 pub fn is_transient(kind: ModelKind) -> bool {
     kind == ModelKind::Transient
+}
+
+/// The energy-conserving wave for a reported lumped result (`result` of the lumped model on
+/// `dynamic`, the scene's dynamic input): the decision and, when on (the period average), the
+/// result replaced by the self-consistent one; the books of every curve point. The one home of
+/// this branch: the dynamic stage and the studies' evaluator both call it.
+pub fn attenuate_lumped(
+    scene: &Scene,
+    dynamic: &DynamicScene,
+    result: &mut DynamicResult,
+) -> Result<(WaveAttenuation, Vec<WaveBooks>), PipelineError> {
+    let transient = is_transient(result.model);
+    let stall_draw_w = lumped_stall_draw_w(dynamic)?;
+    let wave = decide(scene, stall_draw_w.unwrap_or(0.0), transient)?;
+    if wave.on() {
+        let options = stick_slip::AttenuationOptions::new(wave.power_in_w);
+        let solved = stick_slip::AttenuatedPeriodicModel::new(dynamic, &options)?.solve()?;
+        let books = solved
+            .points
+            .iter()
+            .map(|p| WaveBooks {
+                stator_power_w: p.sample.stator_power_w,
+                wave_power_in_w: p.wave_power_in_w,
+                wave_power_out_w: p.wave_power_out_w,
+            })
+            .collect();
+        let mut attenuated = solved.result;
+        let mut warnings = result.warnings.clone();
+        for w in attenuated.warnings.drain(..) {
+            if !warnings.contains(&w) {
+                warnings.push(w);
+            }
+        }
+        attenuated.warnings = warnings;
+        attenuated.model_reason = format!(
+            "{}; energy-conserving wave ({})",
+            result.model_reason, wave.reason
+        );
+        *result = attenuated;
+        return Ok((wave, books));
+    }
+    Ok((
+        wave.clone(),
+        constant_books(&wave, dynamic, result, transient, stall_draw_w)?,
+    ))
+}
+
+/// The books of a constant-wave lumped curve: the period average's stator power at each speed;
+/// the transient's from its output and efficiency, at stall from the period average (the
+/// `auto` evidence).
+fn constant_books(
+    wave: &WaveAttenuation,
+    dynamic: &DynamicScene,
+    result: &DynamicResult,
+    transient: bool,
+    stall_draw_w: Option<f64>,
+) -> Result<Vec<WaveBooks>, PipelineError> {
+    if let (false, Some(_)) = (transient, stall_draw_w) {
+        let model = PeriodicAverageModel::new(dynamic)?;
+        return result
+            .curve
+            .iter()
+            .map(|p| {
+                let draw = model.at_speed(p.speed_m_per_s)?.stator_power_w;
+                Ok(WaveBooks::of(wave.power_in_w, draw))
+            })
+            .collect();
+    }
+    Ok(result
+        .curve
+        .iter()
+        .map(|p| {
+            let draw = if p.efficiency > 0.0 {
+                p.output_power_w / p.efficiency
+            } else {
+                stall_draw_w.unwrap_or(f64::NAN)
+            };
+            WaveBooks::of(wave.power_in_w, draw)
+        })
+        .collect())
 }
 
 /// The wave's books of one curve point: `wave_power_in_w`, `wave_power_out_w` beside

@@ -52,6 +52,8 @@ pub struct DynamicStage {
     pub wave: WaveAttenuation,
     /// The wave's books of every point of [`Self::curve`], in its order.
     pub wave_books: Vec<WaveBooks>,
+    /// The transducer's figures when the scene gives `wave.drive_voltage`.
+    pub drive: Option<DriveFigures>,
 }
 
 impl DynamicStage {
@@ -169,7 +171,50 @@ impl DynamicStage {
             wave_attenuation: self.wave.state,
             wave_attenuation_reason: &self.wave.reason,
             wave_power_in_w: self.wave.power_in_w,
+            drive: self.drive,
         }
+    }
+}
+
+/// From the electrical side (`wave.drive_voltage`): the normal amplitude the transducer
+/// launches, its electrical input power and the motor's overall efficiency, the largest
+/// mechanical output power along the speed–thrust curve over the electrical input. Books: the
+/// output cannot exceed the acoustic power launched towards the slider (½ of the acoustic
+/// power, ≤ ½P_in); a curve that does is refused, not reported.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct DriveFigures {
+    /// |u_z| the transducer launches (m): the scene's normal amplitude.
+    pub normal_amplitude_m: f64,
+    /// Electrical input power P_in = ½Re(V·I*) (W).
+    pub electrical_power_w: f64,
+    /// max over the curve of (thrust × speed) / P_in.
+    pub overall_efficiency: f64,
+}
+
+impl DriveFigures {
+    /// The figures of `scene` whose reported curve has the largest mechanical output
+    /// `max_output_power_w` (W); `None` without a drive voltage.
+    pub fn of(scene: &Scene, max_output_power_w: f64) -> Result<Option<Self>, PipelineError> {
+        let Some(drive) = &scene.drive else {
+            return Ok(None);
+        };
+        let launched_w = drive.acoustic_power_per_direction_w;
+        if max_output_power_w > launched_w {
+            return Err(PipelineError::Unsupported {
+                stage: "dynamic",
+                message: format!(
+                    "the curve's mechanical output {max_output_power_w:.4e} W exceeds the \
+                     {launched_w:.4e} W the transducer launches towards the slider: the \
+                     constant-amplitude wave is asked for more power than it carries; set \
+                     wave.attenuation = \"auto\" (nothing was written)"
+                ),
+            });
+        }
+        Ok(Some(Self {
+            normal_amplitude_m: drive.normal_amplitude_m,
+            electrical_power_w: drive.electrical_input_power_w,
+            overall_efficiency: max_output_power_w / drive.electrical_input_power_w,
+        }))
     }
 }
 
@@ -196,6 +241,9 @@ pub struct DynamicJson<'a> {
     wave_attenuation_reason: &'a str,
     /// Wave power entering under the post array (W).
     wave_power_in_w: f64,
+    /// `normal_amplitude_m`, `electrical_power_w`, `overall_efficiency` with a drive voltage.
+    #[serde(flatten)]
+    drive: Option<DriveFigures>,
 }
 
 #[derive(Debug, Serialize)]
@@ -412,11 +460,12 @@ pub fn run_dynamic_stage_cancellable(
                 )
             }
             _ => {
-                let (wave, books) = lumped_wave(scene, &mut lumped)?;
+                let (wave, books) =
+                    attenuation::attenuate_lumped(scene, &lumped.scene, &mut lumped.result)?;
                 (None, None, None, wave, books)
             }
         };
-    Ok(DynamicStage {
+    let mut stage = DynamicStage {
         lumped,
         coupled,
         coupled_histories,
@@ -425,75 +474,11 @@ pub fn run_dynamic_stage_cancellable(
         lumped_error_estimate: estimate,
         wave,
         wave_books,
-    })
-}
-
-/// The energy-conserving wave for a reported lumped run: the decision and, when on (the period
-/// average), the run's result replaced by the self-consistent one; the books of every point.
-fn lumped_wave(
-    scene: &Scene,
-    lumped: &mut DynamicRun,
-) -> Result<(WaveAttenuation, Vec<WaveBooks>), PipelineError> {
-    let transient = attenuation::is_transient(lumped.result.model);
-    let stall_draw_w = attenuation::lumped_stall_draw_w(&lumped.scene)?;
-    let wave = attenuation::decide(scene, stall_draw_w.unwrap_or(0.0), transient)?;
-    if wave.on() {
-        let options = stick_slip::AttenuationOptions::new(wave.power_in_w);
-        let solved = stick_slip::AttenuatedPeriodicModel::new(&lumped.scene, &options)?.solve()?;
-        let books = solved
-            .points
-            .iter()
-            .map(|p| WaveBooks {
-                stator_power_w: p.sample.stator_power_w,
-                wave_power_in_w: p.wave_power_in_w,
-                wave_power_out_w: p.wave_power_out_w,
-            })
-            .collect();
-        let mut result = solved.result;
-        let mut warnings = lumped.result.warnings.clone();
-        for w in result.warnings.drain(..) {
-            if !warnings.contains(&w) {
-                warnings.push(w);
-            }
-        }
-        result.warnings = warnings;
-        result.model_reason = format!(
-            "{}; energy-conserving wave ({})",
-            lumped.result.model_reason, wave.reason
-        );
-        lumped.result = result;
-        return Ok((wave, books));
-    }
-    // Constant wave: the period average's stator power at each speed; the transient's from its
-    // output and efficiency, at stall from the period average (the `auto` evidence).
-    let books = match (transient, stall_draw_w) {
-        (false, Some(_)) => {
-            let model = stick_slip::PeriodicAverageModel::new(&lumped.scene)?;
-            lumped
-                .result
-                .curve
-                .iter()
-                .map(|p| {
-                    let draw = model.at_speed(p.speed_m_per_s)?.stator_power_w;
-                    Ok(WaveBooks::of(wave.power_in_w, draw))
-                })
-                .collect::<Result<Vec<_>, PipelineError>>()?
-        }
-        _ => lumped
-            .result
-            .curve
-            .iter()
-            .map(|p| {
-                let draw = if p.efficiency > 0.0 {
-                    p.output_power_w / p.efficiency
-                } else {
-                    stall_draw_w.unwrap_or(f64::NAN)
-                };
-                WaveBooks::of(wave.power_in_w, draw)
-            })
-            .collect(),
+        drive: None,
     };
-    Ok((wave, books))
+    let max_output_w = stage.curve().iter().map(|p| p.output_power_w).fold(0.0, f64::max);
+    stage.drive = DriveFigures::of(scene, max_output_w)?;
+    Ok(stage)
 }
 
 /// A coupled run: its result, post histories, step-error estimate, the coupled scene it ran
