@@ -48,6 +48,17 @@ pub struct PostHistory {
 }
 
 impl PostHistory {
+    /// Drop the samples before `time_s` (s, on the run's clock).
+    pub(crate) fn keep_from(&mut self, time_s: f64) {
+        let first = self.time_s.partition_point(|&t| t < time_s);
+        self.time_s.drain(..first);
+        self.normal_force_n.drain(..first);
+        self.tangential_force_n.drain(..first);
+        self.friction_bound_n.drain(..first);
+        self.stator_velocity_m_per_s.drain(..first);
+        self.state.drain(..first);
+    }
+
     /// Build `stick_intervals_s` from the sampled states (for sampled schemes).
     pub(crate) fn intervals_from_states(&mut self) {
         let mut intervals = Vec::new();

@@ -68,7 +68,7 @@ impl TransientModel {
         };
         let mut speed = self.initial_speed(load_n, start)?;
         let solution = solve_amplitude_profile(options, start_profile, |alpha| {
-            let (run, power) = self.run_from(load_n, speed, false, Some(alpha))?;
+            let (run, power) = self.run_from(load_n, speed, false, Some(alpha), None)?;
             let power = power.ok_or(StickSlipError::ModelNotApplicable {
                 model: "transient with the energy-conserving wave",
                 reason: format!(

@@ -475,6 +475,10 @@ impl Stepper for EventDriven<'_> {
         None
     }
 
+    fn system(&self) -> &System {
+        self.sys
+    }
+
     fn step(&mut self, t_limit: f64, sums: &mut Sums) -> Result<()> {
         let sys = self.sys;
         let n = sys.groups.len();

@@ -6,6 +6,7 @@
 //! Tip equation: m_p ṗ = −k_t q + F_f with p the tip's absolute velocity and q its deflection
 //! from the anchor on the slider (q̇ = p − v); the slider feels Σ k_t q.
 
+use std::borrow::Cow;
 use std::f64::consts::PI;
 
 use super::groups::Phases;
@@ -25,7 +26,8 @@ pub(crate) enum TipFriction {
 /// Symplectic-Euler stepper for posts with mass.
 #[derive(Debug)]
 pub(crate) struct MassivePosts<'a> {
-    sys: &'a System,
+    /// The system, borrowed until the amplitude profile is retuned mid-run (then owned).
+    sys: Cow<'a, System>,
     friction: TipFriction,
     mass: f64,
     h: f64,
@@ -71,7 +73,7 @@ impl<'a> MassivePosts<'a> {
             })
             .collect();
         Ok(Self {
-            sys,
+            sys: Cow::Borrowed(sys),
             friction,
             mass,
             h: 2.0 * PI / per_period,
@@ -104,7 +106,7 @@ impl Stepper for MassivePosts<'_> {
     }
 
     fn step(&mut self, _t_limit: f64, sums: &mut Sums) -> Result<()> {
-        let sys = self.sys;
+        let sys = &*self.sys;
         let n = sys.groups.len();
         let (h, m) = (self.h, self.mass);
         let t0 = self.st.t;
@@ -216,7 +218,7 @@ impl Stepper for MassivePosts<'_> {
     }
 
     fn stored_energy(&self) -> f64 {
-        let sys = self.sys;
+        let sys = &*self.sys;
         (0..sys.groups.len())
             .map(|g| {
                 let tip = self.tip_velocity[g];
@@ -240,5 +242,14 @@ impl Stepper for MassivePosts<'_> {
 
     fn group_stator_work(&self) -> Option<&[f64]> {
         Some(&self.group_work)
+    }
+
+    fn system(&self) -> &System {
+        &self.sys
+    }
+
+    fn retune(&mut self, profile: &[f64]) -> bool {
+        self.sys.to_mut().set_profile(profile);
+        true
     }
 }

@@ -7,7 +7,8 @@ mod event_driven;
 pub(crate) mod groups;
 mod massive;
 mod return_mapping;
-mod system;
+pub(crate) mod run;
+pub(crate) mod system;
 
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -15,7 +16,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::error::{Result, StickSlipError, Warning};
-use crate::history::{ContactState, PostHistory, SliderHistory};
+use crate::history::{PostHistory, SliderHistory};
 use crate::integrator::{EVENT_DRIVEN_STEPS_PER_PERIOD, Integrator, RK4_STABILITY_BOUND};
 use crate::periodic::PeriodicAverageModel;
 use crate::result::{CurvePoint, DynamicResult, OperatingPoint, TransientSummary};
@@ -26,18 +27,14 @@ use crate::solve::{ShouldStop, stop_check};
 use event_driven::EventDriven;
 use massive::{MassivePosts, TipFriction};
 use return_mapping::ReturnMapping;
-use system::{SliderState, Stepper, Sums, System};
+use run::STEADY_TOLERANCE;
+use system::{SliderState, Stepper, System};
 
 /// Safety factor on the RK4 stability bound for the default event-driven step.
 const EVENT_DRIVEN_SAFETY: f64 = 0.5;
-/// Relative speed drift (first vs second half of the averaging window, of the larger of the
-/// mean speed and 1e-3 A_t ω) below which a run counts as steady. Default 1e-3.
-const STEADY_TOLERANCE: f64 = 1e-3;
 /// Speed (of the no-load speed) below which the slider counts as stalled in the stall search.
 /// Default 1e-3.
 const STALL_SPEED_FRACTION: f64 = 1e-3;
-/// Largest number of samples of a recorded slider history (keeps charts small). Default 4000.
-const MAX_SLIDER_SAMPLES: f64 = 4000.0;
 /// Smallest load scale of the transient curve, as a fraction of μ_k P, when the period-average
 /// estimate finds the slider locked. Default 0.05.
 const STALL_ESTIMATE_FLOOR: f64 = 0.05;
@@ -91,19 +88,6 @@ pub struct TransientRun {
     pub slider_history: Option<SliderHistory>,
     /// Forces on the first phase group's posts over the last periods (if recorded).
     pub post_history: Option<PostHistory>,
-}
-
-/// One wave period's record.
-#[derive(Debug, Clone, Copy, Default)]
-struct PeriodRecord {
-    sums: Sums,
-    dx: f64,
-    v_min: f64,
-    v_max: f64,
-    z_min: f64,
-    z_max: f64,
-    z_time: f64,
-    stored_change: f64,
 }
 
 /// The transient model of a scene.
@@ -233,7 +217,7 @@ impl TransientModel {
     /// first group's force history over the last periods.
     pub fn run(&self, load_n: f64, start: TransientStart, record: bool) -> Result<TransientRun> {
         let speed = self.initial_speed(load_n, start)?;
-        Ok(self.run_from(load_n, speed, record, None)?.0)
+        Ok(self.run_from(load_n, speed, record, None, None)?.0)
     }
 
     /// The initial slider speed of a run (m/s, drive direction).
@@ -246,216 +230,6 @@ impl TransientModel {
                 None => 0.0,
             },
         })
-    }
-
-    /// A run from `initial_speed` (m/s) with an amplitude factor per column (`profile`) or the
-    /// scene's own wave; also returns each group's mean stator power over the averaging window
-    /// (W, whole slider; `None` if the stepper does not keep it per group).
-    pub(crate) fn run_from(
-        &self,
-        load_n: f64,
-        initial_speed: f64,
-        record: bool,
-        profile: Option<&[f64]>,
-    ) -> Result<(TransientRun, Option<Vec<f64>>)> {
-        let scene = &self.scene;
-        let options = &scene.options.transient;
-        let a_n = scene.wave.normal_amplitude_m;
-        let omega = scene.wave.angular_frequency_rad_per_s();
-        let force_unit = scene.slider.effective_post_count() * scene.contact.k_n_n_per_m * a_n;
-        let post_force = scene.contact.k_n_n_per_m * a_n;
-        let sys = System::new(scene, load_n, profile);
-        let start_state = SliderState {
-            t: sys.t_start,
-            x: 0.0,
-            v: -initial_speed / (a_n * omega),
-            z: sys.initial_height(),
-            w: 0.0,
-        };
-        let mut stepper = self.stepper(&sys, start_state)?;
-        let periods = options.periods.ceil() as usize;
-        let window = (options.average_periods.round() as usize).clamp(1, periods);
-        let history_periods = scene.options.history.periods.ceil() as usize;
-        let history_from = periods.saturating_sub(history_periods.max(1));
-        let sample_spacing = 2.0 * PI / scene.options.history.samples_per_period as f64;
-        let mut slider_history = record.then(SliderHistory::default);
-        let mut post_history = record.then(PostHistory::default);
-        let slider_spacing = sample_spacing.max(2.0 * PI * periods as f64 / MAX_SLIDER_SAMPLES);
-        let mut next_sample = sys.t_start;
-        let mut next_slider_sample = sys.t_start;
-        let mut records = Vec::with_capacity(periods);
-        let mut peak_speed = f64::NEG_INFINITY;
-        let t_unit = 1.0 / omega;
-        let mut window_start_work: Option<Vec<f64>> = None;
-        for j in 0..periods {
-            if j == periods - window {
-                window_start_work = stepper.group_stator_work().map(<[f64]>::to_vec);
-            }
-            let t_end = sys.t_start + 2.0 * PI * (j + 1) as f64;
-            let first = stepper.state();
-            let stored0 = stepper.stored_energy();
-            let mut rec = PeriodRecord {
-                v_min: first.v,
-                v_max: first.v,
-                z_min: first.z,
-                z_max: first.z,
-                ..Default::default()
-            };
-            let mut sums = Sums::default();
-            while stepper.state().t < t_end - 1e-10 * 2.0 * PI {
-                let before = stepper.state().t;
-                stepper.step(t_end, &mut sums)?;
-                let st = stepper.state();
-                rec.v_min = rec.v_min.min(st.v);
-                rec.v_max = rec.v_max.max(st.v);
-                rec.z_min = rec.z_min.min(st.z);
-                rec.z_max = rec.z_max.max(st.z);
-                rec.z_time += st.z * (st.t - before);
-                peak_speed = peak_speed.max(-st.v);
-                if record && st.t >= next_slider_sample {
-                    next_slider_sample = st.t + slider_spacing;
-                    let (force, normal) = stepper.totals();
-                    if let Some(h) = slider_history.as_mut() {
-                        h.time_s.push((st.t - sys.t_start) * t_unit);
-                        h.speed_m_per_s.push(-st.v * a_n * omega);
-                        h.thrust_n.push(-force * force_unit);
-                        h.normal_force_n.push(normal * force_unit);
-                        h.tip_height_m.push(st.z * a_n);
-                    }
-                }
-                if record && st.t >= next_sample {
-                    next_sample = st.t + sample_spacing;
-                    if j >= history_from
-                        && let Some(h) = post_history.as_mut()
-                    {
-                        let (normal, force, mode) = stepper.group(0);
-                        h.time_s.push((st.t - sys.t_start) * t_unit);
-                        h.normal_force_n.push(normal * post_force);
-                        h.tangential_force_n.push(-force * post_force);
-                        h.friction_bound_n.push(sys.mu_k * normal * post_force);
-                        let alpha = st.t - sys.wave.doppler * st.x - sys.groups.phase[0];
-                        let drive = sys.groups.amplitude[0] * sys.wave.amplitude_at(st.x);
-                        let on = if sys.wave.is_on(alpha) { 1.0 } else { 0.0 };
-                        h.stator_velocity_m_per_s.push(
-                            sys.wave.tangential_ratio * on * drive * alpha.sin() * a_n * omega,
-                        );
-                        h.state.push(ContactState::from(mode));
-                    }
-                }
-            }
-            let last = stepper.state();
-            rec.sums = sums;
-            rec.dx = last.x - first.x;
-            rec.stored_change = stepper.stored_energy() - stored0;
-            records.push(rec);
-        }
-        if let Some(h) = post_history.as_mut() {
-            let t0 = h.time_s.first().copied().unwrap_or(0.0);
-            h.time_s.iter_mut().for_each(|t| *t -= t0);
-            h.intervals_from_states();
-        }
-        // Averages over the window.
-        let tail = &records[periods - window..];
-        let mut sums = Sums::default();
-        let (mut dx, mut stored, mut z_time) = (0.0, 0.0, 0.0);
-        for r in tail {
-            sums += r.sums;
-            dx += r.dx;
-            stored += r.stored_change;
-            z_time += r.z_time;
-        }
-        let time = sums.time;
-        let power_unit = force_unit * a_n * omega;
-        let speed_of = |records: &[PeriodRecord]| {
-            let (x, t) = records
-                .iter()
-                .fold((0.0, 0.0), |(x, t), r| (x + r.dx, t + r.sums.time));
-            -x / t
-        };
-        let half = window / 2;
-        let drift = if half >= 1 {
-            (speed_of(&tail[..half]) - speed_of(&tail[half..])).abs()
-        } else {
-            0.0
-        };
-        let mean_speed = -dx / time;
-        let steady =
-            drift <= STEADY_TOLERANCE * mean_speed.abs().max(1e-3 * sys.wave.tangential_ratio);
-        let stator = sums.stator_work / time * power_unit;
-        let output = sums.output_work / time * power_unit;
-        let residual = (sums.stator_work - sums.output_work - sums.dissipation - stored)
-            / sums
-                .power_flow
-                .max(sums.stator_work.abs())
-                .max(sums.dissipation.abs())
-                .max(1e-300);
-        let (v_min, v_max) = tail
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
-                (a.min(r.v_min), b.max(r.v_max))
-            });
-        let (z_min, z_max) = tail
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
-                (a.min(r.z_min), b.max(r.z_max))
-            });
-        if let Some(h) = post_history.as_mut() {
-            h.speed_m_per_s = mean_speed * a_n * omega;
-        }
-        let total_dx: f64 = records.iter().map(|r| r.dx).sum();
-        let group_power = match (window_start_work, stepper.group_stator_work()) {
-            (Some(before), Some(after)) => Some(
-                before
-                    .iter()
-                    .zip(after)
-                    .map(|(b, a)| (a - b) / time * power_unit)
-                    .collect(),
-            ),
-            _ => None,
-        };
-        let run = TransientRun {
-            load_n,
-            speed_m_per_s: mean_speed * a_n * omega,
-            velocity_x_m_per_s: -mean_speed * a_n * omega,
-            thrust_n: -sums.force_time / time * force_unit,
-            output_power_w: output,
-            stator_power_w: stator,
-            friction_dissipation_w: sums.dissipation / time * power_unit,
-            // Output over the power the contacts take from the stator, counted as output +
-            // dissipation: equal to output/stator in a steady state, and never above 1 when a
-            // finite window still sees the slider's stored energy change.
-            efficiency: {
-                let dissipation = sums.dissipation / time * power_unit;
-                let delivered = output + dissipation;
-                if delivered > 0.0 && output > 0.0 {
-                    output / delivered
-                } else {
-                    0.0
-                }
-            },
-            stick_fraction: if sums.contact_time > 0.0 {
-                sums.stick_time / sums.contact_time
-            } else {
-                0.0
-            },
-            contact_fraction: sums.contact_time / time,
-            energy_balance_residual: residual,
-            steady,
-            speed_ripple_m_per_s: (v_max - v_min) * a_n * omega,
-            vertical_bounce_m: (z_max - z_min) * a_n,
-            mean_tip_height_m: z_time / time * a_n,
-            displacement_m: -total_dx * a_n,
-            peak_speed_m_per_s: peak_speed * a_n * omega,
-            steps: stepper.steps(),
-            periods,
-            period_speed_m_per_s: records
-                .iter()
-                .map(|r| -r.dx / r.sums.time * a_n * omega)
-                .collect(),
-            slider_history,
-            post_history,
-        };
-        Ok((run, group_power))
     }
 
     fn curve_point(run: &TransientRun) -> CurvePoint {

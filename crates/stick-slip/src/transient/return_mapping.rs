@@ -7,6 +7,7 @@
 //! active-set iteration (stuck groups are linear in v, slipping ones constant). First order,
 //! unconditionally stable; friction dissipates the numerical ½ρ(Δê)² per step as well.
 
+use std::borrow::Cow;
 use std::f64::consts::PI;
 
 use super::groups::Phases;
@@ -22,7 +23,8 @@ const MAX_VERTICAL_ITERATIONS: usize = 60;
 /// Return-mapping stepper.
 #[derive(Debug)]
 pub(crate) struct ReturnMapping<'a> {
-    sys: &'a System,
+    /// The system, borrowed until the amplitude profile is retuned mid-run (then owned).
+    sys: Cow<'a, System>,
     h: f64,
     steps: u64,
     st: SliderState,
@@ -56,7 +58,7 @@ impl<'a> ReturnMapping<'a> {
         phases0.fill(&sys.groups, &sys.wave, start.t, start.x);
         let normal = (0..n).map(|g| sys.normal(&phases0, g, start.z)).collect();
         Self {
-            sys,
+            sys: Cow::Borrowed(sys),
             h: 2.0 * PI / per_period,
             steps: 0,
             st: start,
@@ -77,7 +79,7 @@ impl<'a> ReturnMapping<'a> {
     /// Stator particle displacement increment under group g over the step (exact along the
     /// phase path, clipped to the burst window).
     fn particle_increment(&self, g: usize, alpha0: f64, alpha1: f64) -> f64 {
-        let sys = self.sys;
+        let sys = &*self.sys;
         let a_t = sys.wave.tangential_ratio;
         let rate = (alpha1 - alpha0) / self.h;
         let drive = 0.5 * (self.phases0.drive[g] + self.phases1.drive[g]);
@@ -97,7 +99,7 @@ impl<'a> ReturnMapping<'a> {
 
     /// Backward-Euler vertical velocity: M(w1 − w)/h = Σ w N(z + h w1) − P − C w1.
     fn vertical(&self, damping: f64) -> Result<f64> {
-        let sys = self.sys;
+        let sys = &*self.sys;
         let (h, m) = (self.h, sys.mass);
         let SliderState { z, w, .. } = self.st;
         let mut w1 = w;
@@ -144,7 +146,7 @@ impl Stepper for ReturnMapping<'_> {
     // Structure-of-arrays over the groups: index loops read several arrays at once.
     #[allow(clippy::needless_range_loop)]
     fn step(&mut self, _t_limit: f64, sums: &mut Sums) -> Result<()> {
-        let sys = self.sys;
+        let sys = &*self.sys;
         let n = sys.groups.len();
         let h = self.h;
         let t1 = sys.t_start + (self.steps + 1) as f64 * h;
@@ -295,7 +297,7 @@ impl Stepper for ReturnMapping<'_> {
     }
 
     fn stored_energy(&self) -> f64 {
-        let sys = self.sys;
+        let sys = &*self.sys;
         (0..sys.groups.len())
             .map(|g| sys.groups.weight[g] * 0.5 * sys.rho * self.deflection[g].powi(2))
             .sum()
@@ -315,5 +317,14 @@ impl Stepper for ReturnMapping<'_> {
 
     fn group_stator_work(&self) -> Option<&[f64]> {
         Some(&self.group_work)
+    }
+
+    fn system(&self) -> &System {
+        &self.sys
+    }
+
+    fn retune(&mut self, profile: &[f64]) -> bool {
+        self.sys.to_mut().set_profile(profile);
+        true
     }
 }

@@ -77,6 +77,17 @@ impl System {
         }
     }
 
+    /// Replace the amplitude of every group by the profile's factor (one per column, the
+    /// groups of `Groups::build_with_profile` with a profile) and move the quasi-static tip
+    /// height to the running-wave equilibrium that carries the preload under it. Only for the
+    /// energy-conserving wave: its scenes have no decay or burst (the factor is the amplitude).
+    pub fn set_profile(&mut self, profile: &[f64]) {
+        debug_assert_eq!(profile.len(), self.groups.len());
+        debug_assert!(self.wave.decay_length.is_none() && self.wave.burst_phase_end.is_none());
+        self.groups.amplitude.copy_from_slice(profile);
+        self.z_equilibrium = running_wave_equilibrium(&self.groups, self.preload);
+    }
+
     /// Initial tip height: flat-stator equilibrium before a burst, else the running-wave one.
     pub fn initial_height(&self) -> f64 {
         if self.wave.burst_phase_end.is_some() && self.vertical_damping.is_some() {
@@ -178,4 +189,12 @@ pub(crate) trait Stepper {
     /// Stator work Σ w F·Δu of each group since the start (weighted, solver units), for the
     /// energy-conserving wave; `None` where the stepper does not keep it per group.
     fn group_stator_work(&self) -> Option<&[f64]>;
+    /// The system being integrated (with the current amplitude profile).
+    fn system(&self) -> &System;
+    /// Change the amplitude profile from the current state on (`System::set_profile`): the
+    /// posts keep their deflections and modes, the slider its state. `false` where the stepper
+    /// cannot (the event-driven one, whose event functions assume a fixed wave).
+    fn retune(&mut self, _profile: &[f64]) -> bool {
+        false
+    }
 }
