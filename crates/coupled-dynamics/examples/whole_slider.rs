@@ -227,7 +227,7 @@ fn write_outputs(
     );
     atomic_files::write_atomically(
         &out.join("results").join(format!("whole_slider_{tag}.json")),
-        serde_json::to_vec_pretty(&json)?,
+        serde_json::to_vec(&rounded(json))?,
     )?;
     let [stall, half] = [&result.maps[0], &result.maps[1]];
     let speed = format!("{:.3} m/s", half.means.speed_m_per_s);
@@ -263,6 +263,25 @@ fn write_outputs(
     Ok(())
 }
 
+/// Every number to 7 significant digits (the per-post maps are 10⁵ numbers; the solver's own
+/// tolerances are far coarser than 16 digits).
+fn rounded(v: serde_json::Value) -> serde_json::Value {
+    use serde_json::Value;
+    match v {
+        Value::Number(n) if n.is_f64() => {
+            let x = n.as_f64().unwrap_or(0.0);
+            let r = format!("{x:.6e}").parse::<f64>().unwrap_or(x);
+            serde_json::Number::from_f64(r).map_or(Value::Null, Value::Number)
+        }
+        Value::Array(a) => Value::Array(a.into_iter().map(rounded).collect()),
+        Value::Object(o) => Value::Object(o.into_iter().map(|(k, v)| (k, rounded(v))).collect()),
+        other => other,
+    }
+}
+
+/// Colour levels of the heat maps (one SVG path per level).
+const COLOUR_LEVELS: usize = 48;
+
 /// An SVG heat map of a per-post field (lattice order) on the posts' positions: x to the right
 /// (the wave travels along +x), y up; colours from dark blue (min) through green to yellow (max).
 fn heat_map(map: &SliderMaps, field: &[f64], title: &str, unit: &str) -> String {
@@ -294,18 +313,26 @@ fn heat_map(map: &SliderMaps, field: &[f64], title: &str, unit: &str) -> String 
         h + 60.0
     );
     let _ = write!(s, r#"<text x="10" y="20">{title}</text>"#);
+    let mut paths = vec![String::new(); COLOUR_LEVELS];
     for i in 0..nx {
         for j in 0..ny {
+            let v = field[i * ny + j];
+            let t = if hi > lo { (v - lo) / (hi - lo) } else { 0.5 };
+            let level = ((t * COLOUR_LEVELS as f64) as usize).min(COLOUR_LEVELS - 1);
             let _ = write!(
-                s,
-                r#"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="{}"/>"#,
+                paths[level],
+                "M{:.1} {:.1}h{:.1}v{:.1}h-{:.1}z",
                 10.0 + i as f64 * cell,
                 30.0 + (ny - 1 - j) as f64 * cell,
-                cell + 0.05,
-                cell + 0.05,
-                colour(field[i * ny + j])
+                cell,
+                cell,
+                cell
             );
         }
+    }
+    for (level, d) in paths.iter().enumerate().filter(|(_, d)| !d.is_empty()) {
+        let v = lo + (hi - lo) * (level as f64 + 0.5) / COLOUR_LEVELS as f64;
+        let _ = write!(s, r#"<path fill="{}" d="{d}"/>"#, colour(v));
     }
     for k in 0..=10 {
         let v = lo + (hi - lo) * k as f64 / 10.0;

@@ -418,3 +418,61 @@ fn the_default_slider_agrees_with_its_middle_row_strip_within_the_edge_effect() 
         "no-load speed: whole slider vs middle row {dv:+.4}"
     );
 }
+
+/// The per-post amplitude factor (the energy-conserving wave's α_i, `amplitude_scale`): α = 1 at
+/// every post is the constant wave bit for bit; a weaker wave under half of the posts lowers the
+/// stall thrust and the power they draw, and the posts under it draw less each.
+#[test]
+fn the_per_post_amplitude_scales_the_local_wave() {
+    let s = spec(8, 3);
+    let normal = RigidBackContact {
+        operator: LatticeKernel::new(&s).unwrap().to_dense(),
+        options: tight(),
+        length_scale_m: 20e-9,
+    };
+    let ct = Arc::new(
+        TangentialKernel::new(&s, NearField::Johnson)
+            .unwrap()
+            .operator(),
+    );
+    let mut scene = slider_scene(s.geometry, vec![0.0; 24]);
+    let constant = SliderDynamics::new(&scene, &normal, ct.clone())
+        .unwrap()
+        .maps_at(0.0)
+        .unwrap();
+    scene.amplitude_scale = vec![1.0; 24];
+    let unit = SliderDynamics::new(&scene, &normal, ct.clone())
+        .unwrap()
+        .maps_at(0.0)
+        .unwrap();
+    assert_eq!(
+        unit.point.thrust_n.to_bits(),
+        constant.point.thrust_n.to_bits(),
+        "α = 1 is the constant wave"
+    );
+    // The second half along x (columns 4…7) under a wave of 0.6 A₀.
+    scene.amplitude_scale = (0..24)
+        .map(|k| if k / 3 >= 4 { 0.6 } else { 1.0 })
+        .collect();
+    let weak = SliderDynamics::new(&scene, &normal, ct)
+        .unwrap()
+        .maps_at(0.0)
+        .unwrap();
+    assert!(
+        weak.point.thrust_n < constant.point.thrust_n,
+        "stall thrust {} under the weaker wave vs {}",
+        weak.point.thrust_n,
+        constant.point.thrust_n
+    );
+    let drawn = |m: &coupled_dynamics::SliderMaps, cols: std::ops::Range<usize>| -> f64 {
+        cols.flat_map(|i| (0..3).map(move |j| i * 3 + j))
+            .map(|k| m.means.stator_power_w[k])
+            .sum()
+    };
+    assert!(
+        drawn(&weak, 4..8) < drawn(&constant, 4..8),
+        "posts under the weaker wave draw {} W vs {} W",
+        drawn(&weak, 4..8),
+        drawn(&constant, 4..8)
+    );
+}
