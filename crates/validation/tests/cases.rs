@@ -147,3 +147,17 @@ fn png_copies_of_svg_figures_are_dropped_and_lone_pngs_kept() {
     assert!(!figures.join("chart.png").exists());
     assert!(figures.join("chart.svg").exists() && figures.join("map.png").exists());
 }
+
+#[test]
+fn summary_table_cells_escape_the_bars_of_absolute_values() {
+    let outcome = cases::CaseOutcome {
+        case: "x".into(),
+        level: Level::Smoke,
+        checks: vec![cases::Check::at_most("x", "|a − b|", 0.1, 1.0, "source")],
+        skipped: None,
+        wall_s: 0.0,
+    };
+    let table = cases::summary_markdown(&[outcome], "abc");
+    assert!(table.contains("| \\|a − b\\| |"), "{table}");
+    assert!(table.contains("--level smoke"), "{table}");
+}

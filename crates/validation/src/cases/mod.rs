@@ -326,6 +326,11 @@ pub fn checks_json(outcomes: &[CaseOutcome]) -> String {
     serde_json::to_string_pretty(&out).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
 }
 
+/// Text as one Markdown table cell: `|` escaped (quantities such as |Σ f ξ| / P contain it).
+fn cell(text: &str) -> String {
+    text.replace('|', "\\|")
+}
+
 /// Markdown table of every check (quantity, value, reference, tolerance, pass, level, commit),
 /// one section per case; skipped cases say why.
 pub fn summary_markdown(outcomes: &[CaseOutcome], commit: &str) -> String {
@@ -368,7 +373,7 @@ pub fn summary_markdown(outcomes: &[CaseOutcome], commit: &str) -> String {
             };
             s += &format!(
                 "| {} | {:.6e} | {:.6e} | {} | {rule} | {} | {} | `{commit}` | {} |\n",
-                c.quantity,
+                cell(&c.quantity),
                 c.value,
                 c.reference,
                 if c.rule == Rule::Relative {
@@ -378,7 +383,7 @@ pub fn summary_markdown(outcomes: &[CaseOutcome], commit: &str) -> String {
                 },
                 if c.pass { "yes" } else { "**NO**" },
                 o.level.name(),
-                c.source
+                cell(&c.source)
             );
         }
         s += "\n";
