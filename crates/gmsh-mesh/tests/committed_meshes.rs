@@ -340,7 +340,7 @@ fn check_strip(mesh: &TetMesh, n_posts: usize) {
 fn slider_strip_has_contract_groups_exact_flat_parts_and_separate_bodies() {
     let mesh =
         read_msh(committed_mesh("slider-strip_p40um_d20um_n10_tet4_10k.msh")).expect("strip reads");
-    assert!(mesh.binary, "committed strip is binary");
+    assert!(!mesh.binary, "committed strip is ASCII");
     check_strip(&mesh, 10);
     assert!(
         mesh.periodic_node_pairs.is_empty(),
@@ -395,5 +395,34 @@ fn slider_body_box_volume_is_exact_for_tet10() {
             0,
             "inward triangles of {name}"
         );
+    }
+}
+
+/// Every committed mesh is ASCII MSH 4.1 text (printable ASCII, newlines and tabs only), so
+/// `git grep` reads it as text; the binary gmsh output is converted exactly by
+/// `scripts/msh-to-ascii.py` (meshes/README.md).
+#[test]
+fn every_committed_mesh_is_ascii_text() {
+    let folder = committed_mesh("");
+    let mut names: Vec<_> = std::fs::read_dir(&folder)
+        .expect("meshes/ lists")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "msh"))
+        .collect();
+    names.sort();
+    assert!(names.len() >= 6, "committed meshes found: {names:?}");
+    for path in names {
+        let bytes = std::fs::read(&path).expect("mesh reads");
+        let stray = bytes
+            .iter()
+            .position(|&b| !(b == b'\n' || b == b'\t' || (0x20..0x7f).contains(&b)));
+        assert_eq!(
+            stray,
+            None,
+            "{}: a byte that is not ASCII text",
+            path.display()
+        );
+        let mesh = read_msh(&path).expect("mesh reads");
+        assert!(!mesh.binary, "{} is ASCII MSH", path.display());
     }
 }
