@@ -130,6 +130,42 @@ impl StatorCut {
     }
 }
 
+/// The interdigital transducer (IDT) that launches the stator's wave: a uniform
+/// single-electrode comb of `finger_pairs` pairs of fingers of width `finger_width_m` separated
+/// by gaps `gap_m`, overlapping over `aperture_m` (the beam's width). This crate only describes
+/// it; `saw_wave::idt` turns a drive voltage into the wave (scene keys `[stator.idt]`,
+/// `wave.drive_voltage`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Transducer {
+    /// Finger pairs N_p (2N_p fingers).
+    pub finger_pairs: u32,
+    /// Finger width w (m).
+    pub finger_width_m: f64,
+    /// Gap between neighbouring fingers g (m).
+    pub gap_m: f64,
+    /// Acoustic aperture W, the fingers' overlap (m).
+    pub aperture_m: f64,
+}
+
+impl Transducer {
+    /// The paper's transducer (section 3, Fig. 4): 20 pairs, 100 µm fingers and gaps
+    /// (period λ₀ = 400 µm), 9 mm aperture; the film is not given (perfect conductors).
+    pub fn paper() -> Self {
+        Self {
+            finger_pairs: paper::IDT_FINGER_PAIRS,
+            finger_width_m: paper::IDT_FINGER_WIDTH_M,
+            gap_m: paper::IDT_GAP_M,
+            aperture_m: paper::APERTURE_M,
+        }
+    }
+
+    /// Transducer period λ₀ = 2(w + g) (m): the wavelength at synchronism.
+    pub fn period_m(&self) -> f64 {
+        2.0 * (self.finger_width_m + self.gap_m)
+    }
+}
+
 /// The stator's surface wave (docs/physics.md §4): a Rayleigh wave travelling along +x with an
 /// elliptical retrograde orbit, w = A_n sin θ, u = A_t cos θ, θ = ωt − kx.
 ///
@@ -529,6 +565,18 @@ pub struct Imperfections {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn papers_transducer_has_a_400_um_period_and_the_beams_aperture() {
+        let t = Transducer::paper();
+        assert!((t.period_m() - 400e-6).abs() < 1e-18, "period 2(w + g)");
+        assert_eq!(t.finger_pairs, 20, "finger pairs");
+        assert_eq!(
+            t.aperture_m,
+            Motor::paper().wave.aperture_m,
+            "the beam is the transducer's aperture"
+        );
+    }
 
     #[test]
     fn paper_motor_has_the_papers_derived_numbers() {

@@ -11,6 +11,14 @@ pub const TANGENTIAL_VELOCITY_M_PER_S: f64 = 1.1;
 pub const PHASE_VELOCITY_M_PER_S: f64 = 3979.0;
 /// Aperture of the paper's IDT: the width of the wave's beam across y (m).
 pub const APERTURE_M: f64 = 9e-3;
+/// Finger pairs of the paper's IDT (section 3, Fig. 4).
+pub const IDT_FINGER_PAIRS: u32 = 20;
+/// Finger width of the paper's IDT (m).
+pub const IDT_FINGER_WIDTH_M: f64 = 100e-6;
+/// Gap between neighbouring fingers of the paper's IDT (m); period 2(w + g) = 400 µm.
+pub const IDT_GAP_M: f64 = 100e-6;
+/// The paper's drive: peak voltage on the IDT, V₀₋ₚ (V), for its 20 nm and 70 W.
+pub const DRIVE_VOLTAGE_PEAK_V: f64 = 125.0;
 /// The stator's crystal cut: 128° rotated Y-cut LiNbO3, X propagation (crate `saw-wave`'s name).
 pub const STATOR_CUT: &str = "128yx-linbo3";
 /// The crystal constant set of [`STATOR_CUT`] (crate `saw-wave`'s name).

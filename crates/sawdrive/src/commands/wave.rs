@@ -1,7 +1,9 @@
-//! `sawdrive wave`: the Rayleigh wave of the stator's crystal cut and the power it carries.
+//! `sawdrive wave`: the Rayleigh wave of the stator's crystal cut and the power it carries;
+//! with `wave.drive_voltage`, the `[stator.idt]` transducer's figures (f₀, detuning, admittance,
+//! current, electrical input and acoustic powers, the amplitude it launches).
 
 use anyhow::Context;
-use sawdrive::scene::load_scene;
+use sawdrive::scene::{Drive, load_scene};
 use sawdrive::units::{Dimension, format_quantity};
 use serde::Serialize;
 use stick_slip::Warning;
@@ -10,7 +12,7 @@ use crate::cli::WaveArgs;
 
 /// `sawdrive wave --json`: SI, unit in each key.
 #[derive(Debug, Serialize)]
-struct WaveReport {
+struct WaveReport<'a> {
     /// The scene's name.
     scene: String,
     /// The cut (`stator.cut`, or `--cut`).
@@ -45,8 +47,16 @@ struct WaveReport {
     phase_velocity_source: String,
     scene_tangential_amplitude_m: f64,
     tangential_amplitude_source: String,
-    /// The scene's warnings (a given value more than 2 % off the cut's, a narrow beam, …).
+    /// The scene's warnings (a given value more than 2 % off the cut's, a narrow beam, the
+    /// transducer model's caveats, …).
     warnings: Vec<Warning>,
+    /// With `wave.drive_voltage`: the resolved scene's drive section.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    drive: Option<&'a Drive>,
+    /// With `wave.drive_voltage`: the transducer model's whole response (admittance, powers,
+    /// amplitudes, caveats), `saw_wave::IdtResponse`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    transducer: Option<&'a saw_wave::IdtResponse>,
 }
 
 pub fn run(args: &WaveArgs) -> anyhow::Result<()> {
@@ -86,6 +96,8 @@ pub fn run(args: &WaveArgs) -> anyhow::Result<()> {
         scene_tangential_amplitude_m: wave.tangential_amplitude_m,
         tangential_amplitude_source: scene.tangential_amplitude_source.clone(),
         warnings: scene.warnings.clone(),
+        drive: scene.drive.as_ref(),
+        transducer: scene.drive.as_ref().map(|d| &d.response),
     };
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
@@ -167,5 +179,62 @@ pub fn run(args: &WaveArgs) -> anyhow::Result<()> {
     for (name, value) in rows {
         println!("{name:<30} {value}");
     }
+    if let Some(drive) = report.drive {
+        print_drive(drive);
+    }
     Ok(())
+}
+
+/// The transducer's rows of the table.
+fn print_drive(d: &Drive) {
+    let t = &d.transducer;
+    let length = |v| format_quantity(v, Dimension::Length);
+    let frequency = |v| format_quantity(v, Dimension::Frequency);
+    println!(
+        "\ntransducer: {} finger pairs, {} fingers, {} gaps, {} aperture",
+        t.finger_pairs,
+        length(t.finger_width_m),
+        length(t.gap_m),
+        length(t.aperture_m)
+    );
+    let rows = [
+        (
+            "drive voltage",
+            format!("{} V (peak)", d.drive_voltage_peak_v),
+        ),
+        (
+            "synchronous frequency f₀",
+            format!(
+                "{} (drive {:+.2} % off it)",
+                frequency(d.synchronous_frequency_hz),
+                100.0 * d.relative_detuning
+            ),
+        ),
+        ("N_p·K²", format!("{:.3}", d.np_k2)),
+        ("capacitance C_T", format!("{:.4e} F", d.capacitance_f)),
+        (
+            "radiation conductance G_a",
+            format!("{:.4e} S", d.radiation_conductance_s),
+        ),
+        ("current", format!("{:.4} A (peak)", d.current_peak_a)),
+        (
+            "electrical input power",
+            format!("{:.4} W", d.electrical_input_power_w),
+        ),
+        (
+            "acoustic power per direction",
+            format!("{:.4} W", d.acoustic_power_per_direction_w),
+        ),
+        (
+            "launched normal amplitude",
+            format!(
+                "{} ({} at f₀)",
+                length(d.normal_amplitude_m),
+                length(d.normal_amplitude_at_synchronism_m)
+            ),
+        ),
+    ];
+    for (name, value) in rows {
+        println!("{name:<30} {value}");
+    }
 }

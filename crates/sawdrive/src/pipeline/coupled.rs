@@ -476,7 +476,11 @@ pub fn run_dynamic_stage_cancellable(
         wave_books,
         drive: None,
     };
-    let max_output_w = stage.curve().iter().map(|p| p.output_power_w).fold(0.0, f64::max);
+    let max_output_w = stage
+        .curve()
+        .iter()
+        .map(|p| p.output_power_w)
+        .fold(0.0, f64::max);
     stage.drive = DriveFigures::of(scene, max_output_w)?;
     Ok(stage)
 }

@@ -7,8 +7,8 @@
 mod attenuation;
 mod coupled;
 mod dynamics;
-pub mod evaluate;
 mod error;
+pub mod evaluate;
 mod run;
 mod slider_static;
 mod springs;
@@ -16,8 +16,8 @@ mod statics;
 
 pub use attenuation::{WaveAttenuation, WaveBooks, wave_power_under_array_w};
 pub use coupled::{
-    DynamicJson, DynamicStage, LumpedFigures, run_dynamic_stage, run_dynamic_stage_cancellable,
-    write_dynamic_stage_files,
+    DriveFigures, DynamicJson, DynamicStage, LumpedFigures, run_dynamic_stage,
+    run_dynamic_stage_cancellable, write_dynamic_stage_files,
 };
 pub use dynamics::{
     DynamicRun, dynamic_scene, run_dynamic, run_dynamic_cancellable, write_history_charts,

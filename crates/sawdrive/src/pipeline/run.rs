@@ -89,6 +89,9 @@ pub struct RunSummary {
     pub timings: StageTimings,
     /// Files written, relative to the results folder.
     pub files: Vec<String>,
+    /// `normal_amplitude_m`, `electrical_power_w`, `overall_efficiency` with a drive voltage.
+    #[serde(flatten)]
+    pub drive: Option<super::DriveFigures>,
 }
 
 impl RunSummary {
@@ -306,6 +309,7 @@ pub fn run_pipeline_cancellable(
         warnings: stage.lumped.result.warnings.clone(),
         timings,
         files: names,
+        drive: stage.drive,
     };
     summary.check_finite()?;
     staged.write("summary.json", serde_json::to_vec_pretty(&summary)?)?;

@@ -7,7 +7,7 @@ use serde::de::{self, Deserializer, MapAccess, Visitor};
 
 use super::quantity::{
     AutoOr, Density, EffectiveRatio, Force, Frequency, Length, Mass, PostCount, Pressure, Time,
-    Velocity,
+    Velocity, Voltage,
 };
 
 /// One motor: wave, materials, slider, posts, friction, loads, contact ratio and solver settings.
@@ -36,7 +36,11 @@ pub struct SceneFile {
 #[serde(deny_unknown_fields)]
 pub struct WaveFile {
     pub frequency: Frequency,
-    pub normal_amplitude: Length,
+    /// Normal amplitude A_n (give this or `drive_voltage`).
+    pub normal_amplitude: Option<Length>,
+    /// Peak drive voltage V₀₋ₚ on the `[stator.idt]` transducer (give this or
+    /// `normal_amplitude`): the amplitude follows from the transducer model.
+    pub drive_voltage: Option<Voltage>,
     /// Tangential velocity amplitude V_t = A_t ω (give this or `tangential_amplitude`);
     /// `"auto"`: A_t = |u_x/u_z| A_n of the stator's cut.
     pub tangential_velocity: Option<AutoOr<Velocity>>,
@@ -45,8 +49,8 @@ pub struct WaveFile {
     pub tangential_amplitude: Option<AutoOr<Length>>,
     /// Phase velocity c; `"auto"`: the free-surface Rayleigh velocity of the stator's cut.
     pub phase_velocity: AutoOr<Velocity>,
-    /// Beam width across y (the IDT's aperture), e.g. `"9 mm"`.
-    pub aperture: Length,
+    /// Beam width across y (the IDT's aperture), e.g. `"9 mm"`; absent: `stator.idt.aperture`.
+    pub aperture: Option<Length>,
     /// Amplitude decay length along x (none: no decay).
     pub decay_length: Option<Length>,
     /// Finite burst length in wave periods (none: continuous drive).
@@ -62,6 +66,34 @@ pub struct StatorFile {
     pub material: MaterialSpec,
     /// The crystal cut whose Rayleigh wave drives the slider.
     pub cut: CutSpec,
+    /// The interdigital transducer that `wave.drive_voltage` drives.
+    pub idt: Option<IdtFile>,
+}
+
+/// `[stator.idt]`: a uniform single-electrode interdigital transducer.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IdtFile {
+    /// Number of finger pairs N_p (≥ 1).
+    pub finger_pairs: u32,
+    /// Finger width w, e.g. `"100 um"`.
+    pub finger_width: Length,
+    /// Gap between neighbouring fingers g, e.g. `"100 um"`.
+    pub gap: Length,
+    /// Acoustic aperture W (the fingers' overlap, the beam's width), e.g. `"9 mm"`.
+    pub aperture: Length,
+    /// The finger film, for the finger resistance (absent: perfect conductors).
+    pub metallisation: Option<MetallisationFile>,
+}
+
+/// `stator.idt.metallisation = { metal = "aluminium", thickness = "100 nm" }`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MetallisationFile {
+    /// `aluminium`, `chromium`, `gold` or `copper`.
+    pub metal: String,
+    /// Film thickness, e.g. `"100 nm"`.
+    pub thickness: Length,
 }
 
 /// A crystal cut: a named cut (`"128yx-linbo3"`, `"yz-linbo3"`, `"st-x-quartz"`) or
@@ -111,7 +143,12 @@ impl<'de> Deserialize<'de> for CutSpec {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SliderFile {
-    pub material: MaterialSpec,
+    /// `post-array` (default: the textured plate of `[posts]`) or `ball`.
+    pub shape: Option<String>,
+    /// Diameter of the ball (`shape = "ball"` only), e.g. `"2 mm"`.
+    pub ball_diameter: Option<Length>,
+    /// Absent: silicon for the post array, bearing steel for a ball.
+    pub material: Option<MaterialSpec>,
     pub length: Length,
     pub width: Length,
     pub thickness: Length,

@@ -5,9 +5,18 @@ use toml::{Table, Value};
 use super::SceneError;
 
 /// Keys of which a scene gives exactly one; setting one in an upper layer removes the other.
-const EXCLUSIVE_KEYS: [(&str, &str); 2] = [
+/// A drive voltage replaces the lower layers' amplitudes (the transducer sets both); a
+/// transducer's aperture the lower layers' beam width; a slider shape their slider material
+/// (each shape has its own default).
+const EXCLUSIVE_KEYS: [(&str, &str); 8] = [
     ("wave.tangential_velocity", "wave.tangential_amplitude"),
     ("wave.tangential_amplitude", "wave.tangential_velocity"),
+    ("wave.drive_voltage", "wave.normal_amplitude"),
+    ("wave.drive_voltage", "wave.tangential_velocity"),
+    ("wave.drive_voltage", "wave.tangential_amplitude"),
+    ("wave.normal_amplitude", "wave.drive_voltage"),
+    ("stator.idt.aperture", "wave.aperture"),
+    ("slider.shape", "slider.material"),
 ];
 
 /// Short names accepted by `--set`, and the keys they set.

@@ -6,15 +6,18 @@
 //! naming the field.
 
 mod crystal;
+mod drive;
 mod file;
 pub mod limits;
 mod merge;
 mod quantity;
 mod resolved;
+mod shape;
 
 use std::path::Path;
 
 pub use crystal::{CUT_MISMATCH_WARNING_FRACTION, CrystalWave};
+pub use drive::{Drive, FingerFilm};
 pub use resolved::{
     Contact, DEFAULT_COUPLED_STEPS_PER_PERIOD, DEFAULT_CURVE_POINTS, DEFAULT_STATIC_MAX_ITERATIONS,
     DEFAULT_TRANSIENT_PERIODS, DEFAULT_VERTICAL_DAMPING_RATIO, Dynamics, Model, Scene, StaticModel,
@@ -110,6 +113,7 @@ pub fn load_scene_text(
     overrides: &[String],
 ) -> Result<Scene, SceneError> {
     let mut table = parse_table(DEFAULT_SCENE_TOML, "default scene")?;
+    let default = table.clone();
     let origin = match file {
         Some((path, text)) => {
             let origin = path.display().to_string();
@@ -130,6 +134,7 @@ pub fn load_scene_text(
     for text in overrides {
         merge::deep_merge(&mut table, merge::override_table(text)?);
     }
+    shape::check_ball_keys(&table, &default)?;
     let file: file::SceneFile = serde_path_to_error::deserialize(toml::Value::Table(table))
         .map_err(|e| {
             let field = e.path().to_string();

@@ -10,8 +10,10 @@ use static_contact::{FemSolver, StatorModel};
 use stick_slip::{IntegratorKind, ModelChoice, VerticalModel, Warning};
 
 use super::crystal::{self, CrystalWave};
+use super::drive::{self, Drive};
 use super::file::{CustomMaterial, LoadFile, MaterialSpec, SceneFile};
 use super::quantity::{AutoOr, EffectiveRatio};
+use super::shape;
 use super::{SceneError, limits};
 use crate::units::{Dimension, format_quantity};
 
@@ -34,6 +36,15 @@ pub struct Scene {
     /// `wave.attenuation`: whether the wave's amplitude falls under the slider as the posts draw
     /// its power (`auto`: when the constant-amplitude posts draw more than 1 % of it at stall).
     pub wave_attenuation: stick_slip::AttenuationSetting,
+    /// The transducer's drive (`wave.drive_voltage` on `[stator.idt]`): the voltage, the
+    /// amplitude it launches, the electrical input and acoustic powers, f₀ and the detuning.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub drive: Option<Drive>,
+    /// The ball of `slider.shape = "ball"` (diameter, material, moving mass); `None`: the post
+    /// array. With a ball the motor's slider body carries the ball's material and mass, and its
+    /// plate and posts are not used.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ball: Option<ball_slider::BallSlider>,
     /// What the scene gives that the program accepts but doubts, each naming its key: a wave
     /// value more than 2 % off the cut's, a beam narrower than the post array, a stator material
     /// that is not the cut's crystal. They reach `summary.json` and `dynamic --json`.
@@ -250,7 +261,7 @@ fn invalid(field: &str, message: impl Into<String>) -> SceneError {
 
 /// A value that must be finite, > 0 and normal (a subnormal value loses precision and turns
 /// its reciprocals, like the wave period, into infinity).
-fn positive(field: &str, value: f64) -> Result<f64, SceneError> {
+pub(super) fn positive(field: &str, value: f64) -> Result<f64, SceneError> {
     if value.is_finite() && value > 0.0 && value.is_normal() {
         Ok(value)
     } else {
@@ -292,11 +303,16 @@ fn choice<T: Copy>(field: &str, text: &str, options: &[(&str, T)]) -> Result<T, 
 
 fn material(field: &str, spec: &MaterialSpec) -> Result<Material, SceneError> {
     match spec {
-        MaterialSpec::Named(name) => Material::named(name).ok_or_else(|| {
+        MaterialSpec::Named(name) => shape::named_material(field, name).ok_or_else(|| {
+            let steel = if field == shape::BALL_MATERIAL_KEY {
+                ", \"steel\""
+            } else {
+                ""
+            };
             invalid(
                 field,
                 format!(
-                    "unknown material \"{name}\": use \"si\", \"linbo3\" or a table of constants"
+                    "unknown material \"{name}\": use \"si\", \"linbo3\"{steel} or a table of constants"
                 ),
             )
         }),
@@ -458,6 +474,30 @@ fn check_static_model(
     }
 }
 
+/// With a drive voltage the transducer launches both amplitudes (the tangential one is the
+/// cut's |u_x/u_z| times the launched |u_z|): a given tangential value is ambiguous (does it
+/// scale with the voltage?) and refused naming its key; `"auto"` or no value is accepted.
+fn refuse_tangential_with_drive(w: &super::file::WaveFile) -> Result<(), SceneError> {
+    let given = [
+        (
+            "wave.tangential_velocity",
+            matches!(w.tangential_velocity, Some(AutoOr::Value(_))),
+        ),
+        (
+            "wave.tangential_amplitude",
+            matches!(w.tangential_amplitude, Some(AutoOr::Value(_))),
+        ),
+    ];
+    match given.iter().find(|(_, g)| *g) {
+        None => Ok(()),
+        Some((key, _)) => Err(invalid(
+            key,
+            "is set by the transducer with wave.drive_voltage (the cut's |u_x/u_z| times the \
+             launched normal amplitude): give \"auto\" or remove it",
+        )),
+    }
+}
+
 impl Scene {
     /// Check and convert a scene file.
     pub(crate) fn resolve(file: SceneFile) -> Result<Self, SceneError> {
@@ -469,14 +509,24 @@ impl Scene {
             2.0 * std::f64::consts::PI * frequency_hz,
         )?;
         derived("wave.frequency", "wave period 1/f (s)", 1.0 / frequency_hz)?;
-        let normal_amplitude_m = positive("wave.normal_amplitude", w.normal_amplitude.0)?;
         let cut = crystal::wave_cut(&file.stator.cut, &file.stator.material)?;
         let (stator_cut, crystal_wave) = crystal::solve(&cut)?;
         let mut warnings: Vec<Warning> = Vec::new();
         warnings.extend(crystal::material_mismatch(&cut, &file.stator.material));
+        let (normal_amplitude_m, drive) = drive::normal_amplitude(
+            w,
+            file.stator.idt.as_ref(),
+            &cut,
+            frequency_hz,
+            &mut warnings,
+        )?;
+        if drive.is_some() {
+            refuse_tangential_with_drive(w)?;
+        }
         let cut_ratio = crystal_wave.displacement_ratio_ux_over_uz;
         let (tangential_amplitude_m, tangential_key) =
             match (w.tangential_velocity, w.tangential_amplitude) {
+                (None, None) if drive.is_some() => (None, "wave.tangential_amplitude"),
                 (Some(AutoOr::Auto), None) => (None, "wave.tangential_velocity"),
                 (None, Some(AutoOr::Auto)) => (None, "wave.tangential_amplitude"),
                 (Some(AutoOr::Value(v)), None) => (
@@ -537,7 +587,16 @@ impl Scene {
                 (c, "given")
             }
         };
-        let aperture_m = positive("wave.aperture", w.aperture.0)?;
+        let aperture_m = match (w.aperture, &drive) {
+            (_, Some(d)) => d.transducer.aperture_m,
+            (Some(a), None) => positive("wave.aperture", a.0)?,
+            (None, None) => {
+                return Err(invalid(
+                    "wave.aperture",
+                    "missing: give the beam's width across y, e.g. \"9 mm\"",
+                ));
+            }
+        };
         let decay_length_m = w
             .decay_length
             .map(|d| positive("wave.decay_length", d.0))
@@ -587,7 +646,22 @@ impl Scene {
 
         let stator = material("stator.material", &file.stator.material)?;
         let s = &file.slider;
-        let slider_material = material("slider.material", &s.material)?;
+        let is_ball = choice(
+            "slider.shape",
+            s.shape.as_deref().unwrap_or("post-array"),
+            &shape::SHAPE_NAMES,
+        )?;
+        let given_material = s
+            .material
+            .as_ref()
+            .map(|spec| material("slider.material", spec))
+            .transpose()?;
+        let ball = shape::ball(&file, is_ball, given_material.clone())?;
+        let slider_material = match (&ball, given_material) {
+            (Some(ball), _) => ball.material.clone(),
+            (None, Some(m)) => m,
+            (None, None) => Material::silicon(),
+        };
         let length_m = positive("slider.length", s.length.0)?;
         let width_m = positive("slider.width", s.width.0)?;
         let thickness_m = positive("slider.thickness", s.thickness.0)?;
@@ -652,8 +726,10 @@ impl Scene {
             array_y_m,
         };
 
-        let (mass_kg, mass_source) = match s.mass {
-            AutoOr::Auto => (
+        let (mass_kg, mass_source) = match (&ball, s.mass) {
+            (Some(ball), AutoOr::Auto) => (ball.mass_kg(), "ball"),
+            (Some(ball), AutoOr::Value(_)) => (ball.mass_kg(), "given"),
+            (None, AutoOr::Auto) => (
                 derived(
                     "slider.mass",
                     "mass ρ·length·width·thickness (kg)",
@@ -661,7 +737,7 @@ impl Scene {
                 )?,
                 "geometry",
             ),
-            AutoOr::Value(m) => (positive("slider.mass", m.0)?, "given"),
+            (None, AutoOr::Value(m)) => (positive("slider.mass", m.0)?, "given"),
         };
         derived(
             "posts.height",
@@ -924,6 +1000,8 @@ impl Scene {
             phase_velocity_source: phase_velocity_source.into(),
             tangential_amplitude_source: tangential_amplitude_source.into(),
             wave_attenuation: file.wave.attenuation.unwrap_or_default(),
+            drive,
+            ball,
             warnings,
             contact,
             model,
