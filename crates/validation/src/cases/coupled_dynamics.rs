@@ -370,7 +370,8 @@ pub struct WholeRowFigures {
 /// `sawdrive` crate's, injected by `sawdrive validate`).
 pub type WholeRowRunner<'a> = dyn Fn(&[String]) -> Result<WholeRowFigures, String> + 'a;
 
-/// The overrides of one whole-row scene (as `results/whole-row.py` sets them).
+/// The overrides of one whole-row scene (as `scripts/whole-row.py` sets them, the wave at
+/// constant amplitude).
 pub fn whole_row_sets(d: f64, per_side: usize, preload_n: f64) -> Vec<String> {
     vec![
         format!("posts.diameter={:.0} um", d * 1e6),
@@ -378,6 +379,9 @@ pub fn whole_row_sets(d: f64, per_side: usize, preload_n: f64) -> Vec<String> {
         format!("preload={preload_n} N"),
         "model.dynamics=coupled".into(),
         "model.steps_per_period=128".into(),
+        // The committed study is at the constant-amplitude wave (the energy-conserving wave,
+        // `wave.attenuation`, has its own checks below).
+        "wave.attenuation=off".into(),
     ]
 }
 

@@ -163,10 +163,13 @@ fn io(path: &Path, source: std::io::Error) -> ValidationError {
     }
 }
 
-/// The overrides of one point (the sweep files' settings).
+/// The overrides of one point (the sweep files' settings: the paper's model, the lumped period
+/// average at the static η with the wave at constant amplitude).
 pub fn point_sets(variant: &Variant, preload_n: f64) -> Vec<String> {
     vec![
         "model.dynamics=periodic-average".into(),
+        // The paper's model: the wave at constant amplitude under the slider.
+        "wave.attenuation=off".into(),
         format!("posts.diameter={} um", variant.diameter_um),
         format!("posts.count={0}x{0}", variant.per_side),
         format!("preload={preload_n} N"),
