@@ -127,8 +127,11 @@ fn drawn_power_never_exceeds_the_wave_power_and_the_balance_closes() {
         assert!(relative(drawn, p.point.stator_power_w) <= 1e-6);
         // Where every post draws power the amplitude falls along the wave; beyond the no-load
         // speed the pushed slider feeds the wave and it grows (energy is still conserved).
+        // (The reported profile is the last iterate, within the tolerance of the exactly
+        // monotone target profile.)
         if p.post_power_w.iter().all(|&w| w >= 0.0) {
-            assert!(p.amplitude_scale.windows(2).all(|w| w[1] <= w[0] + 1e-12));
+            let slack = 2.0 * options.tolerance;
+            assert!(p.amplitude_scale.windows(2).all(|w| w[1] <= w[0] + slack));
         }
         assert!(p.last_change < options.tolerance);
     }
