@@ -5,6 +5,8 @@ with model.dynamics = "coupled" on the static stage's own strip (the whole row o
 wave) and write one CSV row per run to stdout: the coupled and lumped (static eta) stall thrust
 and no-load speed, the lumped model's error and its estimate, eta and eta_dyn, wall time.
 
+The wave at constant amplitude (wave.attenuation = off), as the study was made.
+
 Usage: whole-row.py SAWDRIVE OUT   (OUT/.cache keeps the meshes, FEM reports and compliances)
 """
 import csv, json, subprocess, sys
@@ -16,7 +18,8 @@ STEPS_PER_PERIOD = 128
 
 def run(binary, out, diameter, count, preload):
     sets = [f"posts.diameter={diameter}", f"posts.count={count}", f"preload={preload}",
-            "model.dynamics=coupled", f"model.steps_per_period={STEPS_PER_PERIOD}"]
+            "model.dynamics=coupled", f"model.steps_per_period={STEPS_PER_PERIOD}",
+            "wave.attenuation=off"]
     args = [binary, "dynamic", "--out", out, "--json"]
     for s in sets:
         args += ["--set", s]
