@@ -1,16 +1,21 @@
-//! `sawdrive dynamic`: the stick/slip model with the scene's η (or the static stage's).
+//! `sawdrive dynamic`: the stick/slip model with the scene's η (or the static stage's); for a
+//! ball slider (`slider.shape = "ball"`), the ball model.
 
 use anyhow::anyhow;
 use sawdrive::output::{ResultKind, StagedDir};
 use sawdrive::pipeline::{
-    check_dynamic_figures, run_dynamic_stage, run_static, scene_springs, write_dynamic_stage_files,
+    check_dynamic_figures, run_ball_stage, run_dynamic_stage, run_static, scene_springs,
+    write_ball_stage_files, write_dynamic_stage_files,
 };
-use sawdrive::scene::load_scene;
+use sawdrive::scene::{Scene, load_scene};
 
 use crate::cli::StageArgs;
 
 pub fn run(args: &StageArgs) -> anyhow::Result<()> {
     let scene = load_scene(args.input.scene.as_deref(), &args.input.overrides)?;
+    if scene.ball.is_some() {
+        return run_ball(args, &scene);
+    }
     let springs = scene_springs(&scene)?;
     let cache = (!args.no_cache).then(|| args.out.join(".cache"));
     let statics = match scene.contact.effective_ratio {
@@ -106,6 +111,59 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
         run.scene.options.max_post_steps
     );
     println!("wall time                  {:.3} s", result.wall_time_s);
+    println!("results in {}", folder.display());
+    Ok(())
+}
+
+/// The ball model of a ball scene: `dynamic.json`, `curve.csv`, the speed–thrust chart.
+fn run_ball(args: &StageArgs, scene: &Scene) -> anyhow::Result<()> {
+    let stage = run_ball_stage(scene)?;
+    let staged = StagedDir::create(
+        &args.out.join(&scene.name).join("dynamic"),
+        ResultKind::Dynamic,
+    )?;
+    write_ball_stage_files(&scene.name, &stage, staged.path())?;
+    let folder = staged.commit()?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&stage.json())?);
+        return Ok(());
+    }
+    for w in &stage.warnings {
+        eprintln!("warning: {w}");
+    }
+    let r = &stage.result;
+    let hertz = &r.static_contact.hertz;
+    println!(
+        "ball slider of {}: {} diameter, preload {} N",
+        scene.name,
+        sawdrive::units::format_quantity(
+            stage.scene.ball.diameter_m,
+            sawdrive::units::Dimension::Length
+        ),
+        stage.scene.preload_n
+    );
+    println!(
+        "Hertz contact radius       {:.4e} m (static approach {:.2} wave amplitudes)",
+        hertz.contact_radius_m, r.static_contact.approach_over_amplitude
+    );
+    println!(
+        "stall thrust               {:.4e} N (friction limit μP = {:.4e} N)",
+        r.stall_thrust_n, r.friction_limit_n
+    );
+    println!(
+        "no-load speed              {:.4} m/s (crest speed A_t ω = {:.3} m/s)",
+        r.no_load_speed_m_per_s, r.crest_speed_m_per_s
+    );
+    println!("max efficiency             {:.4}", r.max_efficiency);
+    println!("wave                       {}", stage.wave.reason);
+    if let Some(d) = &stage.drive {
+        println!(
+            "electrical input {:.4} W, overall efficiency {:.3e}",
+            d.electrical_power_w, d.overall_efficiency
+        );
+    }
+    println!("energy residual            {:.2e}", r.max_energy_residual);
+    println!("wall time                  {:.3} s", stage.wall_time_s);
     println!("results in {}", folder.display());
     Ok(())
 }

@@ -5,6 +5,7 @@
 //! after any stage or feed a hand-chosen η to the dynamics (`effective_ratio = 0.36`).
 
 mod attenuation;
+mod ball;
 mod coupled;
 mod dynamics;
 mod error;
@@ -15,6 +16,9 @@ mod springs;
 mod statics;
 
 pub use attenuation::{WaveAttenuation, WaveBooks, wave_power_under_array_w};
+pub use ball::{
+    BALL_DRAW_WARNING_FRACTION, BallStage, ball_scene, run_ball_stage, write_ball_stage_files,
+};
 pub use coupled::{
     DriveFigures, DynamicJson, DynamicStage, LumpedFigures, run_dynamic_stage,
     run_dynamic_stage_cancellable, write_dynamic_stage_files,
@@ -32,6 +36,30 @@ pub use slider_static::{
 };
 pub use springs::scene_springs;
 pub use statics::{
-    StaticDetails, StaticOutcome, StaticStageReport, fill_static_cache, geometry_key, run_static,
-    run_static_cancellable, static_params, write_static_files,
+    StaticDetails, StaticOutcome, StaticStageReport, fill_static_cache, geometry_key,
+    static_params, write_static_files,
 };
+
+/// The static stage ([`statics::run_static`]); a ball slider has none and is refused.
+pub fn run_static(
+    scene: &crate::scene::Scene,
+    springs: &contact_springs::PostSprings,
+    cache_dir: Option<&std::path::Path>,
+    with_fields: bool,
+) -> Result<StaticOutcome, PipelineError> {
+    ball::refuse_static(scene)?;
+    statics::run_static(scene, springs, cache_dir, with_fields)
+}
+
+/// The static stage with cancellation ([`statics::run_static_cancellable`]); a ball slider has
+/// none and is refused.
+pub fn run_static_cancellable(
+    scene: &crate::scene::Scene,
+    springs: &contact_springs::PostSprings,
+    cache_dir: Option<&std::path::Path>,
+    with_fields: bool,
+    should_stop: ShouldStop<'_>,
+) -> Result<StaticOutcome, PipelineError> {
+    ball::refuse_static(scene)?;
+    statics::run_static_cancellable(scene, springs, cache_dir, with_fields, should_stop)
+}

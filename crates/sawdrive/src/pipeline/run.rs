@@ -56,8 +56,8 @@ pub struct StaticFigures {
 pub struct RunSummary {
     /// The resolved scene (SI).
     pub scene: Scene,
-    /// Johnson springs of one post.
-    pub springs: PostSprings,
+    /// Johnson springs of one post (`None`: a ball slider).
+    pub springs: Option<PostSprings>,
     /// η used by the dynamic model.
     pub effective_contact_ratio: f64,
     /// `given` (scene) or `fem` (static stage).
@@ -97,7 +97,7 @@ pub struct RunSummary {
 impl RunSummary {
     /// The headline figures are finite: a NaN or an infinity would be written as `null` and
     /// read as a result. Refused naming the figure; nothing is committed.
-    fn check_finite(&self) -> Result<(), PipelineError> {
+    pub(super) fn check_finite(&self) -> Result<(), PipelineError> {
         check_finite_figures(&[
             ("effective_contact_ratio", self.effective_contact_ratio),
             ("effective_post_count", self.effective_post_count),
@@ -191,6 +191,9 @@ pub fn run_pipeline_cancellable(
     options: &RunOptions,
     should_stop: super::ShouldStop<'_>,
 ) -> Result<(RunSummary, PathBuf), PipelineError> {
+    if scene.ball.is_some() {
+        return super::ball::run_ball_pipeline(scene, options, should_stop);
+    }
     let start = Instant::now();
     let destination = options.out_dir.join(&scene.name);
     let staged = StagedDir::create(&destination, ResultKind::Run)?;
@@ -291,7 +294,7 @@ pub fn run_pipeline_cancellable(
     names.push("summary.json".into());
     let summary = RunSummary {
         scene: scene.clone(),
-        springs,
+        springs: Some(springs),
         effective_contact_ratio: effective_ratio,
         effective_contact_ratio_source: source.into(),
         effective_post_count: stage.lumped.result.effective_post_count,

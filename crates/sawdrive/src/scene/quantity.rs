@@ -74,8 +74,8 @@ quantity_type!(/// A time in seconds.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Voltage(pub f64);
 
-/// Voltage units and their factors to volts.
-const VOLTAGE_UNITS: [(&str, f64); 3] = [("kV", 1e3), ("V", 1.0), ("mV", 1e-3)];
+/// Voltage units and their factors to volts, longest suffix first (`mV` before `V`).
+const VOLTAGE_UNITS: [(&str, f64); 3] = [("kV", 1e3), ("mV", 1e-3), ("V", 1.0)];
 
 impl Voltage {
     /// Read `"125 V"`, `"0.125 kV"` or `"125000 mV"` into volts.

@@ -1,0 +1,398 @@
+//! The dynamic stage of a ball slider (`slider.shape = "ball"`): one steel ball on the stator's
+//! wave through crate `ball-slider` — Hertz normal contact, Mindlin–Cattaneo partial slip with
+//! the Mindlin–Deresiewicz memory (MDR/Iwan spring bed), the ball's dynamics on the Rayleigh wave
+//! (docs/physics.md §4), its speed–thrust curve, stall thrust and no-load speed
+//! (crates/ball-slider/README.md; Johnson 1985 §3.4, §7.2; Mindlin & Deresiewicz 1953; Popov &
+//! Heß 2015). A ball has no post array and no static stage: `sawdrive static` refuses it, and
+//! `sawdrive dynamic`/`run` write `dynamic.json` (the ball's result), `curve.csv` and the
+//! speed–thrust chart.
+//!
+//! Energy balance: per curve point the crate's books close (power from the wave = friction +
+//! mechanical output + change of stored energy; `max_energy_residual`). The wave's side: the
+//! ball model keeps the wave's amplitude (one contact point; no energy-conserving wave for it),
+//! so `wave.attenuation` is `off`, and the reason states the largest power the ball draws against
+//! the power the wave carries across the contact's width 2a (its share of the beam); above 1 %
+//! of it (the `auto` threshold of the post array) a warning names `wave.attenuation`, since the
+//! constant amplitude is then doubtful. With a drive voltage the mechanical output is held
+//! against the power the transducer launches ([`DriveFigures`]). Range of validity: the
+//! crate's (a point contact, k·a ≪ 1; a continuous wave of constant amplitude; one μ).
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use ball_slider::{BallError, BallResult, BallScene};
+use charts::{Chart, Series, Style};
+use serde::Serialize;
+use stick_slip::Warning;
+
+use super::attenuation::{WaveAttenuation, WaveBooks};
+use super::{DriveFigures, PipelineError, RunOptions, RunSummary, StageTimings};
+use crate::output::{ResultKind, StagedDir, io};
+use crate::scene::Scene;
+
+/// Fraction of the wave power across the contact's width above which the ball's draw makes the
+/// constant amplitude doubtful (a warning): the 1 % of `wave.attenuation = "auto"`.
+pub const BALL_DRAW_WARNING_FRACTION: f64 = 0.01;
+
+/// What the ball's dynamic stage produced.
+#[derive(Debug, Clone)]
+pub struct BallStage {
+    /// The ball model's input, built from the scene.
+    pub scene: BallScene,
+    /// Its result: curve, stall thrust, no-load speed, static contact, books.
+    pub result: BallResult,
+    /// The wave's side: always `off`, with the ball's draw against its share of the beam.
+    pub wave: WaveAttenuation,
+    /// The transducer's figures with a drive voltage.
+    pub drive: Option<DriveFigures>,
+    /// The scene's warnings, then the ball's.
+    pub warnings: Vec<Warning>,
+    /// Wall time of the ball model (s).
+    pub wall_time_s: f64,
+}
+
+/// `dynamic.json` of a ball: `model = "ball"`, the ball's result, the wave's side, the drive.
+#[derive(Debug, Serialize)]
+struct BallJson<'a> {
+    model: &'static str,
+    model_reason: String,
+    #[serde(flatten)]
+    result: &'a BallResult,
+    wave_attenuation: &'a str,
+    wave_attenuation_reason: &'a str,
+    /// Wave power across the contact's width (W).
+    wave_power_in_w: f64,
+    #[serde(flatten)]
+    drive: Option<DriveFigures>,
+    warnings: &'a [Warning],
+    wall_time_s: f64,
+}
+
+/// Why the ball model runs.
+const BALL_REASON: &str = "slider.shape = \"ball\": one Hertz contact with Mindlin–Cattaneo \
+                           partial slip (crate ball-slider)";
+
+impl BallStage {
+    /// The JSON of `sawdrive dynamic --json` and `dynamic.json`; every curve point carries its
+    /// wave books (`wave_power_in_w`, `wave_power_out_w`) beside its `stator_power_w`.
+    pub fn json(&self) -> serde_json::Value {
+        let mut value = serde_json::to_value(BallJson {
+            model: "ball",
+            model_reason: BALL_REASON.into(),
+            result: &self.result,
+            wave_attenuation: self.wave.state,
+            wave_attenuation_reason: &self.wave.reason,
+            wave_power_in_w: self.wave.power_in_w,
+            drive: self.drive,
+            warnings: &self.warnings,
+            wall_time_s: self.wall_time_s,
+        })
+        .expect("the ball's JSON is plain numbers and text");
+        if let Some(serde_json::Value::Array(points)) = value.get_mut("curve") {
+            for (point, p) in points.iter_mut().zip(&self.result.curve) {
+                let books = WaveBooks::of(self.wave.power_in_w, p.stator_power_w);
+                if let serde_json::Value::Object(map) = point {
+                    map.insert("wave_power_in_w".into(), books.wave_power_in_w.into());
+                    map.insert("wave_power_out_w".into(), books.wave_power_out_w.into());
+                }
+            }
+        }
+        value
+    }
+
+    /// The curve in the post array's columns (`summary.json`, sweeps): output power = the
+    /// ball's mechanical power, stick fraction = the fraction of the period in contact without
+    /// gross slip.
+    pub fn curve(&self) -> Vec<stick_slip::CurvePoint> {
+        self.result
+            .curve
+            .iter()
+            .map(|p| stick_slip::CurvePoint {
+                speed_m_per_s: p.speed_m_per_s,
+                thrust_n: p.thrust_n,
+                output_power_w: p.mechanical_power_w,
+                efficiency: p.efficiency,
+                stick_fraction: stick_fraction(p),
+            })
+            .collect()
+    }
+
+    /// Stick fraction at stall (the first curve point); 0 when the ball is not driven.
+    pub fn stick_fraction(&self) -> f64 {
+        self.result.curve.first().map_or(0.0, stick_fraction)
+    }
+}
+
+fn stick_fraction(p: &ball_slider::CurvePoint) -> f64 {
+    (p.contact_fraction - p.gross_slip_fraction).max(0.0)
+}
+
+/// The scene key behind a field of the ball model's input.
+fn scene_key(field: &str) -> &str {
+    match field {
+        "ball.diameter_m" => "slider.ball_diameter",
+        "ball.material" => "slider.material",
+        "ball.moving_mass_kg" => "slider.mass",
+        "stator" => "stator.material",
+        "friction_coefficient" => "friction.static",
+        "friction.mu_kinetic" => "friction.kinetic",
+        "preload_n" => "load.preload",
+        "external_load_n" => "load.external",
+        "numerics.steps_per_period" => "model.steps_per_period",
+        "numerics.curve_points" => "model.curve_points",
+        "wave.decay_length_m" => "wave.decay_length",
+        "wave.burst_periods" => "wave.burst_periods",
+        other => other.strip_suffix("_m").unwrap_or(other),
+    }
+}
+
+/// A ball-model error in the pipeline's form, naming the scene key of the field at fault.
+fn ball_error(e: BallError) -> PipelineError {
+    let key = match &e {
+        BallError::InvalidParameter { field, .. }
+        | BallError::Material { field, .. }
+        | BallError::UnsupportedWave { field, .. } => Some(scene_key(field).to_owned()),
+        _ => None,
+    };
+    PipelineError::Unsupported {
+        stage: "dynamic (ball)",
+        message: match key {
+            Some(key) => format!("{key}: {e}"),
+            None => {
+                format!("{e} [scene: model.steps_per_period, slider.ball_diameter, load.preload]")
+            }
+        },
+    }
+}
+
+/// The ball model's input for a ball `scene`: the motor's wave, stator, friction and load
+/// (`BallScene::for_motor`), the scene's ball, and `model.steps_per_period`,
+/// `model.curve_points` as its numerics (absent: the crate's 128 and 21).
+pub fn ball_scene(scene: &Scene) -> Result<BallScene, PipelineError> {
+    let ball = scene
+        .ball
+        .clone()
+        .ok_or_else(|| PipelineError::Unsupported {
+            stage: "dynamic (ball)",
+            message: "the scene's slider is the post array, not a ball (slider.shape)".into(),
+        })?;
+    let mut ball_scene = BallScene::for_motor(&scene.motor, ball).map_err(ball_error)?;
+    let m = &scene.model;
+    if let Some(steps) = m.steps_per_period {
+        ball_scene.numerics.steps_per_period = steps as usize;
+    }
+    if let Some(points) = m.curve_points {
+        ball_scene.numerics.curve_points = points as usize;
+    }
+    ball_scene.validate().map_err(ball_error)?;
+    Ok(ball_scene)
+}
+
+/// Wave power across the contact's width 2a (W): the cut's power per beam width at the scene's
+/// amplitude and frequency times min(2a, aperture).
+fn wave_power_across_contact_w(scene: &Scene, contact_radius_m: f64) -> f64 {
+    let wave = &scene.motor.wave;
+    scene
+        .crystal_wave
+        .power_per_width_w_per_m(wave.normal_amplitude_m, wave.frequency_hz)
+        * (2.0 * contact_radius_m).min(wave.aperture_m)
+}
+
+/// The wave's side of a ball run and, when the ball draws more than
+/// [`BALL_DRAW_WARNING_FRACTION`] of its share, the warning.
+fn wave_side(scene: &Scene, result: &BallResult) -> (WaveAttenuation, Option<Warning>) {
+    let a = result.static_contact.hertz.contact_radius_m;
+    let power_in_w = wave_power_across_contact_w(scene, a);
+    let draw_w = result
+        .curve
+        .iter()
+        .map(|p| p.stator_power_w)
+        .fold(0.0, f64::max);
+    let fraction = draw_w / power_in_w;
+    let reason = format!(
+        "off: the ball model keeps the wave's amplitude (one contact point; no energy-conserving \
+         wave for a ball); the ball draws {draw_w:.4e} W at most along the curve, {fraction:.3e} \
+         of the {power_in_w:.4e} W the wave carries across the contact's width 2a = {:.4e} m",
+        2.0 * a
+    );
+    let warning = (fraction > BALL_DRAW_WARNING_FRACTION).then(|| {
+        Warning::new(
+            "wave.attenuation",
+            format!(
+                "the ball draws {:.1} % of the wave power across its contact (more than {} %): \
+                 the constant amplitude the ball model assumes is doubtful",
+                100.0 * fraction,
+                100.0 * BALL_DRAW_WARNING_FRACTION
+            ),
+        )
+    });
+    let wave = WaveAttenuation {
+        state: "off",
+        reason,
+        power_in_w,
+    };
+    (wave, warning)
+}
+
+/// Run the ball model of a ball `scene`.
+pub fn run_ball_stage(scene: &Scene) -> Result<BallStage, PipelineError> {
+    let started = Instant::now();
+    let ball_scene = ball_scene(scene)?;
+    let result = ball_slider::solve(&ball_scene).map_err(ball_error)?;
+    let (wave, wave_warning) = wave_side(scene, &result);
+    let mut warnings = scene.warnings.clone();
+    warnings.extend(wave_warning);
+    if !result.drives {
+        warnings.push(Warning::new(
+            "load.preload",
+            format!(
+                "the wave does not drive the ball (thrust at 0⁺ {:.4e} N): its static approach \
+                 is {:.1} wave amplitudes; lower the preload or raise the amplitude",
+                result.zero_speed_thrust_n, result.static_contact.approach_over_amplitude
+            ),
+        ));
+    }
+    if !result.all_steady {
+        warnings.push(Warning::new(
+            "model.steps_per_period",
+            "a free-ball check of the curve did not reach a steady speed",
+        ));
+    }
+    let max_output_w = result.max_mechanical_power_w;
+    let drive = DriveFigures::of(scene, max_output_w)?;
+    Ok(BallStage {
+        scene: ball_scene,
+        result,
+        wave,
+        drive,
+        warnings,
+        wall_time_s: started.elapsed().as_secs_f64(),
+    })
+}
+
+/// `curve.csv` of a ball: one row per curve point with its power books.
+fn ball_curve_csv(result: &BallResult) -> String {
+    let mut text = String::from(
+        "speed_m_per_s,thrust_n,stator_power_w,friction_power_w,mechanical_power_w,efficiency,\
+         contact_fraction,gross_slip_fraction,energy_residual\n",
+    );
+    for p in &result.curve {
+        text.push_str(&format!(
+            "{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}\n",
+            p.speed_m_per_s,
+            p.thrust_n,
+            p.stator_power_w,
+            p.friction_power_w,
+            p.mechanical_power_w,
+            p.efficiency,
+            p.contact_fraction,
+            p.gross_slip_fraction,
+            p.energy_residual
+        ));
+    }
+    text
+}
+
+/// Write `dynamic.json`, `curve.csv` and the speed–thrust chart of a ball run into `dir` (no
+/// chart when the wave does not drive the ball: its curve is empty).
+pub fn write_ball_stage_files(
+    title: &str,
+    stage: &BallStage,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, PipelineError> {
+    let json = dir.join("dynamic.json");
+    std::fs::write(&json, serde_json::to_vec_pretty(&stage.json())?).map_err(io("write", &json))?;
+    let csv = dir.join("curve.csv");
+    std::fs::write(&csv, ball_curve_csv(&stage.result)).map_err(io("write", &csv))?;
+    let mut files = vec![json, csv];
+    if stage.result.curve.is_empty() {
+        // The wave does not drive the ball (a warning says so): no curve to draw.
+        return Ok(files);
+    }
+    let mut chart = Chart::new(
+        format!("speed–thrust of {title}: ball slider"),
+        "speed (m/s)",
+        "thrust (N)",
+    );
+    let points = stage
+        .result
+        .curve
+        .iter()
+        .map(|p| (p.speed_m_per_s, p.thrust_n))
+        .collect();
+    chart
+        .series
+        .push(Series::new("ball", points, Style::LineMarkers));
+    files.extend(charts::write_chart(&chart, &dir.join("speed_thrust"))?);
+    Ok(files)
+}
+
+/// `sawdrive run` of a ball scene: the ball's dynamic stage and `OUT/<name>/` with its files
+/// and `summary.json` (η and N_eff are 1: the one contact carries the whole preload; no
+/// springs, static figures or lumped estimates).
+pub fn run_ball_pipeline(
+    scene: &Scene,
+    options: &RunOptions,
+    should_stop: super::ShouldStop<'_>,
+) -> Result<(RunSummary, PathBuf), PipelineError> {
+    let start = Instant::now();
+    let staged = StagedDir::create(&options.out_dir.join(&scene.name), ResultKind::Run)?;
+    PipelineError::check(should_stop, "dynamic (ball)")?;
+    let stage = run_ball_stage(scene)?;
+    PipelineError::check(should_stop, "output")?;
+    let mut timings = StageTimings {
+        dynamic_s: stage.wall_time_s,
+        ..StageTimings::default()
+    };
+    let t = Instant::now();
+    let mut names = Vec::new();
+    if options.write_files {
+        for file in write_ball_stage_files(&scene.name, &stage, staged.path())? {
+            names.extend(file.file_name().and_then(|n| n.to_str()).map(str::to_owned));
+        }
+    }
+    names.push("summary.json".into());
+    timings.output_s = t.elapsed().as_secs_f64();
+    timings.total_s = start.elapsed().as_secs_f64();
+    let r = &stage.result;
+    let summary = RunSummary {
+        scene: scene.clone(),
+        springs: None,
+        effective_contact_ratio: 1.0,
+        effective_contact_ratio_source: "ball".into(),
+        effective_post_count: 1.0,
+        static_figures: None,
+        stall_thrust_n: r.stall_thrust_n,
+        no_load_speed_m_per_s: r.no_load_speed_m_per_s,
+        efficiency: r.max_efficiency,
+        stick_fraction: stage.stick_fraction(),
+        model: "ball".into(),
+        model_reason: BALL_REASON.into(),
+        lumped_error_estimate: None,
+        model_error_estimate: None,
+        coupled: None,
+        curve: stage.curve(),
+        warnings: stage.warnings.clone(),
+        timings,
+        files: names,
+        drive: stage.drive,
+    };
+    summary.check_finite()?;
+    staged.write("summary.json", serde_json::to_vec_pretty(&summary)?)?;
+    let folder = staged.commit()?;
+    Ok((summary, folder))
+}
+
+/// The static stage has no ball: refused naming `slider.shape`.
+pub fn refuse_static(scene: &Scene) -> Result<(), PipelineError> {
+    match scene.ball {
+        None => Ok(()),
+        Some(_) => Err(PipelineError::Unsupported {
+            stage: "static",
+            message: "slider.shape = \"ball\" has no post array and no static stage (one Hertz \
+                      contact, solved in closed form by the dynamic stage): run `sawdrive \
+                      dynamic` or `sawdrive run`"
+                .into(),
+        }),
+    }
+}
