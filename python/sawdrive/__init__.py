@@ -571,7 +571,7 @@ def uq(
 
     ``scene``: a :class:`Scene` or a scene file; a file's ``[scatter]`` section is read (a path
     given directly may hold one). ``scatter``: ``[scatter]`` keys to set, with units as text
-    (``{"height_scatter": "5 nm", "friction": 0.03, "preload": "2 N"}``). ``samples`` ≥ 1;
+    named by scene key (``{"posts.height_scatter": "5 nm", "friction": 0.03, "load.preload": "2 N"}``). ``samples`` ≥ 1;
     ``seed``: same seed, same bits. ``patch``: the cheaper periodic-patch contact model.
     Samples are saved as they finish, so a rerun after an interrupt resumes.
 

@@ -12,14 +12,14 @@ from conftest import run_cli
 
 #: A 10 × 10 slider at 40 mN a post (a working motor whose bands spread), as the library's tests.
 SMALL = ["posts.count=10x10", "posts.array=0.4mm", "load.preload=4N"]
-SCATTER = {"height_scatter": "5 nm", "friction": 0.03, "preload": "0.2 N"}
+SCATTER = {"posts.height_scatter": "5 nm", "friction": 0.03, "load.preload": "0.2 N"}
 
 DESIGN = """
 name = "small"
-set = ["posts.count=10x10", "posts.array=0.4mm"]
 objective = "max_output_power_w"
+set = { "posts.count" = "10x10", "posts.array" = "0.4mm" }
 [variables]
-preload = ["1 N", "4 N"]
+"load.preload" = ["1 N", "4 N"]
 [optimiser]
 presearch_points = 3
 starts = 1
@@ -69,8 +69,9 @@ def test_uq_frames_hold_every_sample_and_band(tmp_path):
     [
         ({"samples": 0}, "--samples"),
         ({"samples": 2**32}, "--samples"),
-        ({"samples": 2, "scatter": {"heigth_scatter": "5 nm"}}, "heigth_scatter"),
-        ({"samples": 2, "scatter": {"height_scatter": "5 parsec"}}, "height_scatter"),
+        ({"samples": 2, "scatter": {"posts.heigth_scatter": "5 nm"}}, "heigth_scatter"),
+        ({"samples": 2, "scatter": {"posts.height_scatter": "5 parsec"}}, "posts.height_scatter"),
+        ({"samples": 2, "scatter": {"height_scatter": "5 nm"}}, "scatter.posts.height_scatter"),
     ],
 )
 def test_bad_uq_input_is_a_value_error_naming_the_key(tmp_path, kwargs, named):
@@ -98,7 +99,7 @@ def test_bad_design_file_is_a_value_error_naming_the_key(tmp_path):
     file.write_text(DESIGN.replace('["1 N", "4 N"]', '["4 N", "1 N"]'))
     with pytest.raises(ValueError) as error:
         sawdrive.design(file, out=tmp_path / "out", progress=False)
-    assert "variables.preload" in str(error.value)
+    assert "variables.load.preload" in str(error.value)
     assert not (tmp_path / "out").exists()
 
 

@@ -1,21 +1,27 @@
-//! The `[scatter]` section: which inputs scatter, and how (human units, one line each).
+//! The `[scatter]` section: which inputs scatter, and how. Each entry is named by the scene key
+//! whose value it spreads, with that key's human unit (parsed by the evaluator as that key).
 //!
 //! ```toml
 //! [scatter]
-//! distribution = "normal"     # normal: values below are standard deviations (truncated to
-//!                             # the physical range); uniform: half-widths around the nominal
-//! height_scatter = "5 nm"     # σ of each post's extra height (Gaussian, a new seed per sample)
-//! tilt_x = "10 nm"            # spread of the tilt across the length (zero mean)
-//! tilt_y = "10 nm"            # … across the width
-//! bow = "5 nm"                # spread of the bow (zero mean)
-//! friction = 0.03             # spread of μ_s and of μ_k (drawn independently, μ_k ≤ μ_s)
-//! preload = "2 N"             # preload tolerance
-//! diameter = "0.5 um"         # post-diameter tolerance (one etch bias for all posts)
+//! distribution = "normal"         # normal: values below are standard deviations (truncated to
+//!                                 # the physical range); uniform: half-widths around the nominal
+//! posts.height_scatter = "5 nm"   # σ of each post's extra height (Gaussian, a new seed per sample)
+//! slider.tilt_x = "10 nm"         # spread of the tilt across the length (zero mean)
+//! slider.tilt_y = "10 nm"         # … across the width
+//! slider.bow = "5 nm"             # spread of the bow (zero mean)
+//! friction = 0.03                 # spread of both coefficients of the scene's [friction]
+//!                                 # (μ_s and μ_k drawn independently, μ_k ≤ μ_s)
+//! load.preload = "2 N"            # preload tolerance
+//! posts.diameter = "0.5 um"       # post-diameter tolerance (one etch bias for all posts)
 //! ```
 //!
-//! Every key is optional (0: no scatter). Negative spreads, unknown keys and missing units are
-//! errors naming `scatter.<key>`. Normal draws of μ, P and d are truncated to
-//! [[`MIN_FRICTION`], ∞), (0, ∞) and (0, ∞): a uniform range reaching below them is refused.
+//! Dotted keys may also be quoted (`"posts.diameter" = "0.5 um"`), and set from the command line
+//! (`--set scatter.posts.diameter=0.5um`). Every key is optional (0: no scatter). Negative
+//! spreads, unknown keys and missing units are errors naming `scatter.<key>`; a key of the
+//! former spelling (`height_scatter`, `tilt_x`, `tilt_y`, `bow`, `preload`, `diameter`) is
+//! refused with its scene-key spelling ([`RENAMED_SCATTER_KEYS`]). Normal draws of μ, P and d
+//! are truncated to [[`MIN_FRICTION`], ∞), (0, ∞) and (0, ∞): a uniform range reaching below
+//! them is refused.
 
 use serde::Serialize;
 
@@ -64,28 +70,43 @@ pub struct ScatterSpec {
     pub diameter_m: f64,
 }
 
-/// Keys of `[scatter]`.
+/// Keys of `[scatter]`: the scene keys whose values scatter (and `distribution`).
 pub const SCATTER_KEYS: [&str; 8] = [
     "distribution",
-    "height_scatter",
-    "tilt_x",
-    "tilt_y",
-    "bow",
+    "posts.height_scatter",
+    "slider.tilt_x",
+    "slider.tilt_y",
+    "slider.bow",
     "friction",
-    "preload",
-    "diameter",
+    "load.preload",
+    "posts.diameter",
 ];
 
-/// The scene key whose value a `[scatter]` key spreads (its unit is that key's).
-fn scene_key(key: &str) -> &'static str {
-    match key {
-        "height_scatter" => "posts.height_scatter",
-        "tilt_x" => "slider.tilt_x",
-        "tilt_y" => "slider.tilt_y",
-        "bow" => "slider.bow",
-        "preload" => "load.preload",
-        _ => "posts.diameter",
+/// The former `[scatter]` keys and their scene-key spelling (refused, naming the new one).
+pub const RENAMED_SCATTER_KEYS: [(&str, &str); 6] = [
+    ("height_scatter", "posts.height_scatter"),
+    ("tilt_x", "slider.tilt_x"),
+    ("tilt_y", "slider.tilt_y"),
+    ("bow", "slider.bow"),
+    ("preload", "load.preload"),
+    ("diameter", "posts.diameter"),
+];
+
+/// `table` with nested tables as dotted keys (`posts.diameter = …` in TOML is a table `posts`
+/// holding `diameter`), so that a dotted and a quoted key name the same entry.
+pub fn dotted_keys(table: &toml::Table) -> Vec<(String, toml::Value)> {
+    let mut out = Vec::new();
+    for (key, value) in table {
+        match value {
+            toml::Value::Table(inner) => out.extend(
+                dotted_keys(inner)
+                    .into_iter()
+                    .map(|(k, v)| (format!("{key}.{k}"), v)),
+            ),
+            _ => out.push((key.clone(), value.clone())),
+        }
     }
+    out
 }
 
 fn quantity<E: Evaluator>(ev: &E, value: &toml::Value, key: &str) -> Result<f64, StudyError> {
@@ -95,11 +116,11 @@ fn quantity<E: Evaluator>(ev: &E, value: &toml::Value, key: &str) -> Result<f64,
             &full,
             format!(
                 "expected a quantity with its unit, e.g. {}",
-                ev.example(scene_key(key))
+                ev.example(key)
             ),
         )
     })?;
-    ev.quantity(scene_key(key), text)
+    ev.quantity(key, text)
         .map_err(|e| StudyError::input(&full, e))
 }
 
@@ -119,7 +140,7 @@ impl ScatterSpec {
     /// parsed by `ev`, as the scene key they spread.
     pub fn from_table<E: Evaluator>(ev: &E, table: &toml::Table) -> Result<Self, StudyError> {
         let mut s = Self::default();
-        for (key, value) in table {
+        for (key, value) in &dotted_keys(table) {
             match key.as_str() {
                 "distribution" => {
                     s.distribution = match value.as_str() {
@@ -133,12 +154,14 @@ impl ScatterSpec {
                         }
                     }
                 }
-                "height_scatter" => s.height_scatter_m = spread(quantity(ev, value, key)?, key)?,
-                "tilt_x" => s.tilt_x_m = spread(quantity(ev, value, key)?, key)?,
-                "tilt_y" => s.tilt_y_m = spread(quantity(ev, value, key)?, key)?,
-                "bow" => s.bow_m = spread(quantity(ev, value, key)?, key)?,
-                "preload" => s.preload_n = spread(quantity(ev, value, key)?, key)?,
-                "diameter" => s.diameter_m = spread(quantity(ev, value, key)?, key)?,
+                "posts.height_scatter" => {
+                    s.height_scatter_m = spread(quantity(ev, value, key)?, key)?
+                }
+                "slider.tilt_x" => s.tilt_x_m = spread(quantity(ev, value, key)?, key)?,
+                "slider.tilt_y" => s.tilt_y_m = spread(quantity(ev, value, key)?, key)?,
+                "slider.bow" => s.bow_m = spread(quantity(ev, value, key)?, key)?,
+                "load.preload" => s.preload_n = spread(quantity(ev, value, key)?, key)?,
+                "posts.diameter" => s.diameter_m = spread(quantity(ev, value, key)?, key)?,
                 "friction" => {
                     let v = value
                         .as_float()
@@ -152,10 +175,14 @@ impl ScatterSpec {
                     s.friction = spread(v, key)?;
                 }
                 other => {
-                    return Err(StudyError::input(
-                        format!("scatter.{other}"),
-                        format!("unknown key (known: {})", SCATTER_KEYS.join(", ")),
-                    ));
+                    let message = match RENAMED_SCATTER_KEYS.iter().find(|r| r.0 == other) {
+                        Some((_, new)) => format!(
+                            "renamed: scatter entries are named by the scene key they spread; \
+                             write scatter.{new} (`{new} = …` in [scatter])"
+                        ),
+                        None => format!("unknown key (known: {})", SCATTER_KEYS.join(", ")),
+                    };
+                    return Err(StudyError::input(format!("scatter.{other}"), message));
                 }
             }
         }
@@ -175,22 +202,22 @@ impl ScatterSpec {
                 "the largest friction coefficient",
             ),
             (
-                "height_scatter",
+                "posts.height_scatter",
                 self.height_scatter_m,
                 h / 3.0,
                 "a third of the post height",
             ),
-            ("tilt_x", self.tilt_x_m, h, "the post height"),
-            ("tilt_y", self.tilt_y_m, h, "the post height"),
-            ("bow", self.bow_m, h, "the post height"),
+            ("slider.tilt_x", self.tilt_x_m, h, "the post height"),
+            ("slider.tilt_y", self.tilt_y_m, h, "the post height"),
+            ("slider.bow", self.bow_m, h, "the post height"),
             (
-                "preload",
+                "load.preload",
                 self.preload_n,
                 facts.preload_n,
                 "the nominal preload",
             ),
             (
-                "diameter",
+                "posts.diameter",
                 self.diameter_m,
                 facts.post_diameter_m,
                 "the nominal diameter",
@@ -231,7 +258,7 @@ impl ScatterSpec {
         let list = [
             (
                 "preload_n",
-                "preload",
+                "load.preload",
                 self.around(
                     facts.preload_n,
                     self.preload_n,
@@ -240,7 +267,7 @@ impl ScatterSpec {
             ),
             (
                 "post_diameter_m",
-                "diameter",
+                "posts.diameter",
                 self.around(
                     facts.post_diameter_m,
                     self.diameter_m,
@@ -257,9 +284,9 @@ impl ScatterSpec {
                 "friction",
                 self.around(facts.mu_kinetic, self.friction, MIN_FRICTION),
             ),
-            ("tilt_x_m", "tilt_x", zero_mean(self.tilt_x_m)),
-            ("tilt_y_m", "tilt_y", zero_mean(self.tilt_y_m)),
-            ("bow_m", "bow", zero_mean(self.bow_m)),
+            ("tilt_x_m", "slider.tilt_x", zero_mean(self.tilt_x_m)),
+            ("tilt_y_m", "slider.tilt_y", zero_mean(self.tilt_y_m)),
+            ("bow_m", "slider.bow", zero_mean(self.bow_m)),
         ];
         list.into_iter()
             .map(|(name, key, distribution)| {
@@ -267,7 +294,7 @@ impl ScatterSpec {
                 if let Distribution::Uniform { low, .. } = distribution {
                     let floor = match key {
                         "friction" => MIN_FRICTION,
-                        "preload" | "diameter" => 0.0,
+                        "load.preload" | "posts.diameter" => 0.0,
                         _ => -UNBOUNDED,
                     };
                     if low <= floor {
@@ -315,12 +342,11 @@ impl ScatterSpec {
             ("slider.bow", facts.bow_m),
         ] {
             if value != 0.0 {
-                let short = key.trim_start_matches("slider.");
                 return Err(StudyError::input(
                     key,
                     format!(
                         "uq draws the slider's shape around zero; give its spread as \
-                         scatter.{short} instead of a fixed value"
+                         scatter.{key} instead of a fixed value"
                     ),
                 ));
             }
@@ -328,14 +354,14 @@ impl ScatterSpec {
         if facts.has_height_map {
             return Err(StudyError::input(
                 "posts.height_map",
-                "uq draws the post heights (scatter.height_scatter or posts.height_scatter); \
+                "uq draws the post heights (scatter.posts.height_scatter or posts.height_scatter); \
                  a measured map is not sampled",
             ));
         }
         if facts.height_scatter_m > 0.0 {
             if self.height_scatter_m > 0.0 {
                 return Err(StudyError::Conflict(
-                    "posts.height_scatter and scatter.height_scatter both give the σ of \
+                    "posts.height_scatter and scatter.posts.height_scatter both give the σ of \
                      the post heights; keep one"
                         .into(),
                 ));

@@ -7,7 +7,6 @@
 //! ```toml
 //! name = "texture"                  # results folder OUT/<name>/
 //! scene = "motor.toml"              # optional, relative to this file (default: embedded scene)
-//! set = ["wave.normal_amplitude=20nm"]   # optional scene overrides
 //! objective = "max_output_power_w"  # effective_contact_ratio | stall_thrust_n |
 //!                                   # no_load_speed_m_per_s | max_output_power_w | efficiency
 //! sense = "maximise"                # or "minimise"
@@ -16,11 +15,14 @@
 //! cheap_samples = 4                 # … at the cheap fidelity
 //! seed = 1
 //!
-//! [variables]                       # any subset; [lower, upper] with units
-//! post_diameter = ["10 um", "60 um"]
-//! posts_per_side = [20, 200]        # square array, pitch = posts.array / count
-//! post_height = ["1 um", "4 um"]
-//! preload = ["10 N", "100 N"]
+//! [set]                             # optional scene overrides, by scene key (a table)
+//! "wave.normal_amplitude" = "20 nm"
+//!
+//! [variables]                       # any subset, by scene key; [lower, upper] with units
+//! "posts.diameter" = ["10 um", "60 um"]
+//! "posts.count" = [20, 200]         # posts per side of a square array, pitch = posts.array / count
+//! "posts.height" = ["1 um", "4 um"]
+//! "load.preload" = ["10 N", "100 N"]
 //!
 //! [constraints]                     # any subset
 //! min_gap = "5 um"                  # pitch − diameter ≥ min_gap
@@ -28,7 +30,7 @@
 //! max_preload = "100 N"
 //!
 //! [scatter]                         # as in `sawdrive uq` (needed with `quantile`)
-//! height_scatter = "5 nm"
+//! posts.height_scatter = "5 nm"
 //!
 //! [optimiser]                       # design::OptimiserSettings; all optional
 //! presearch_points = 24
@@ -38,6 +40,12 @@
 //! finalists = 3
 //! refine_evaluations = 20           # full-fidelity compass search from the best finalist (0: off)
 //! ```
+//!
+//! The former spellings are refused, each naming its scene key: the variables `post_diameter`,
+//! `posts_per_side`, `post_height`, `preload` ([`RENAMED_VARIABLES`]), a `set` list of
+//! `"key=value"` strings, and the `[scatter]` keys of [`crate::scatter::RENAMED_SCATTER_KEYS`].
+//! Report names stay SI with their unit (`post_diameter_m`, `posts_per_side`, `post_height_m`,
+//! `preload_n`).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -50,7 +58,7 @@ use sha2::{Digest, Sha256};
 use crate::error::StudyError;
 use crate::evaluator::{Evaluator, Fidelity, MotorSample, OUTPUT_NAMES, SceneFacts};
 use crate::files::{staged_results, write_atomically};
-use crate::scatter::ScatterSpec;
+use crate::scatter::{ScatterSpec, dotted_keys};
 use crate::uq::MAX_SAMPLES;
 use crate::{
     Evaluation, Objective, OptimiserSettings, Outcome, Sense, Variable, VariableSensitivity,
@@ -63,9 +71,20 @@ const EVALUATION_FORMAT: u32 = 1;
 /// Relative step of the optimum's sensitivity (fraction of each variable's range).
 const SENSITIVITY_STEP: f64 = 0.05;
 
-/// The design variables: (DESIGN.toml key, the scene key it sets). The evaluator says what
-/// each scene key is (its unit, whether it is a count, its name in reports).
-const VARIABLES: [(&str, &str); 4] = [
+/// The design variables, by the scene key each sets, in the order the optimiser's unit box
+/// takes them whatever the file's order (the search path, and so the optimum found within the
+/// tolerance, depends on it): diameter, height, count per side, preload. The evaluator says
+/// what each is (its unit, whether it is a count, its name in reports: `posts.diameter` →
+/// `post_diameter_m`).
+const VARIABLES: [&str; 4] = [
+    "posts.diameter",
+    "posts.height",
+    "posts.count",
+    "load.preload",
+];
+
+/// The former names of the design variables and their scene keys (refused, naming the new one).
+pub const RENAMED_VARIABLES: [(&str, &str); 4] = [
     ("post_diameter", "posts.diameter"),
     ("posts_per_side", "posts.count"),
     ("post_height", "posts.height"),
@@ -165,18 +184,21 @@ fn parse_variables<E: Evaluator>(
 ) -> Result<(Vec<Variable>, Vec<String>), StudyError> {
     let mut vars = Vec::new();
     let mut keys = Vec::new();
-    for (key, value) in t {
+    for (key, value) in &dotted_keys(t) {
         let full = format!("variables.{key}");
         let found = VARIABLES
             .iter()
-            .find(|v| v.0 == key)
-            .and_then(|&(_, scene_key)| Some((scene_key, ev.variable(scene_key)?)));
+            .find(|v| *v == key)
+            .and_then(|&scene_key| Some((scene_key, ev.variable(scene_key)?)));
         let Some((scene_key, kind)) = found else {
-            let known: Vec<&str> = VARIABLES.iter().map(|v| v.0).collect();
-            return Err(err(
-                &full,
-                format!("unknown design variable (known: {})", known.join(", ")),
-            ));
+            let message = match RENAMED_VARIABLES.iter().find(|r| r.0 == key) {
+                Some((_, new)) => format!(
+                    "renamed: design variables are named by the scene key they set; write \
+                     \"{new}\" = [lower, upper]"
+                ),
+                None => format!("unknown design variable (known: {})", VARIABLES.join(", ")),
+            };
+            return Err(err(&full, message));
         };
         let [a, b] = pair(value, &full)?;
         let (lower, upper) = if kind.integer {
@@ -205,7 +227,9 @@ fn parse_variables<E: Evaluator>(
     if vars.is_empty() {
         return Err(err("variables", "give at least one design variable"));
     }
-    Ok((vars, keys))
+    let mut both: Vec<(Variable, String)> = vars.into_iter().zip(keys).collect();
+    both.sort_by_key(|(_, key)| VARIABLES.iter().position(|v| v == key));
+    Ok(both.into_iter().unzip())
 }
 
 fn parse_constraints<E: Evaluator>(ev: &E, t: &Table) -> Result<Constraints, StudyError> {
@@ -259,6 +283,41 @@ fn parse_optimiser(t: &Table) -> Result<OptimiserSettings, StudyError> {
     Ok(s)
 }
 
+/// The `set` table of scene overrides (`[set]` with `"posts.count" = "10x10"`, dotted or
+/// quoted scene keys, values as in a scene file) as `--set` lines. The former list of
+/// `"key=value"` strings is refused, naming the table form.
+fn scene_overrides(value: &toml::Value) -> Result<Vec<String>, StudyError> {
+    let table = match value {
+        toml::Value::Table(t) => t,
+        toml::Value::Array(_) => {
+            return Err(err(
+                "set",
+                "a list of \"key=value\" is the former spelling; write a table of scene keys: \
+                 [set] with \"posts.count\" = \"10x10\" (or set = { \"posts.count\" = \"10x10\" })",
+            ));
+        }
+        other => {
+            return Err(err(
+                "set",
+                format!("expected a table of scene keys, got {other}"),
+            ));
+        }
+    };
+    dotted_keys(table)
+        .into_iter()
+        .map(|(key, v)| match v {
+            toml::Value::String(text) => Ok(format!("{key}={text}")),
+            toml::Value::Integer(_) | toml::Value::Float(_) | toml::Value::Boolean(_) => {
+                Ok(format!("{key}={v}"))
+            }
+            other => Err(err(
+                &format!("set.{key}"),
+                format!("expected a text, number or true/false, got {other}"),
+            )),
+        })
+        .collect()
+}
+
 impl DesignSpec {
     /// Reads and checks a design file; errors are one line naming the file and the key.
     pub fn read<E: Evaluator>(ev: &E, path: &Path) -> Result<Self, StudyError> {
@@ -287,10 +346,10 @@ impl DesignSpec {
                 Some(_) => Err(err(k, "must be a table")),
             }
         };
-        let (variables, scene_keys) = parse_variables(ev, &take_table("variables")?)?;
-        let constraints = parse_constraints(ev, &take_table("constraints")?)?;
-        let scatter = ScatterSpec::from_table(ev, &take_table("scatter")?)?;
-        let optimiser = parse_optimiser(&take_table("optimiser")?)?;
+        let variables = take_table("variables")?;
+        let constraints = take_table("constraints")?;
+        let scatter = take_table("scatter")?;
+        let optimiser = take_table("optimiser")?;
         let mut spec = Self {
             name: "design".into(),
             scene: None,
@@ -303,11 +362,11 @@ impl DesignSpec {
             samples: 16,
             cheap_samples: 4,
             seed: 1,
-            variables,
-            scene_keys,
-            constraints,
-            scatter,
-            optimiser,
+            variables: Vec::new(),
+            scene_keys: Vec::new(),
+            constraints: Constraints::default(),
+            scatter: ScatterSpec::default(),
+            optimiser: OptimiserSettings::default(),
         };
         for (key, value) in &t {
             match key.as_str() {
@@ -322,18 +381,7 @@ impl DesignSpec {
                     spec.scene =
                         Some(base.join(value.as_str().ok_or_else(|| err(key, "expected a path"))?))
                 }
-                "set" => {
-                    spec.set = value
-                        .as_array()
-                        .ok_or_else(|| err(key, "expected a list of \"key=value\""))?
-                        .iter()
-                        .map(|v| {
-                            v.as_str()
-                                .map(str::to_owned)
-                                .ok_or_else(|| err(key, "expected strings"))
-                        })
-                        .collect::<Result<_, _>>()?
-                }
+                "set" => spec.set = scene_overrides(value)?,
                 "objective" => {
                     let o = value
                         .as_str()
@@ -394,6 +442,11 @@ impl DesignSpec {
                 }
             }
         }
+        // The settings first, the design space last: a refused setting is named even in a
+        // file whose variables are refused too.
+        spec.optimiser = parse_optimiser(&optimiser)?;
+        spec.constraints = parse_constraints(ev, &constraints)?;
+        spec.scatter = ScatterSpec::from_table(ev, &scatter)?;
         if spec.quantile.is_none() && spec.scatter != ScatterSpec::default() {
             return Err(err(
                 "scatter",
@@ -415,6 +468,7 @@ impl DesignSpec {
                 ),
             ));
         }
+        (spec.variables, spec.scene_keys) = parse_variables(ev, &variables)?;
         Ok(spec)
     }
 

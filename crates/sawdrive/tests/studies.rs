@@ -41,9 +41,13 @@ fn the_scenes_post_height_scatter_is_the_uq_height_spread_and_a_fixed_tilt_is_re
         "σ of the post heights from posts.height_scatter: {}",
         s.height_scatter_m
     );
-    let e = spec(&["posts.height_scatter=5nm", "scatter.height_scatter=2nm"]).unwrap_err();
+    let e = spec(&[
+        "posts.height_scatter=5nm",
+        "scatter.posts.height_scatter=2nm",
+    ])
+    .unwrap_err();
     assert!(
-        e.contains("posts.height_scatter and scatter.height_scatter"),
+        e.contains("posts.height_scatter and scatter.posts.height_scatter"),
         "{e}"
     );
     let e = spec(&["slider.tilt_x=10nm"]).unwrap_err();
@@ -84,6 +88,43 @@ fn both_names_of_the_friction_spread_on_the_command_line_are_refused() {
     );
     let s = spec(&["scatter.friction=0.02", "scatter.friction=0.01"]).unwrap();
     assert_eq!(s.friction, 0.01, "a repeated --set keeps the last value");
+}
+
+#[test]
+fn former_scatter_keys_are_refused_naming_their_scene_keys() {
+    for (old, new) in design::scatter::RENAMED_SCATTER_KEYS {
+        let t: toml::Table = format!("{old} = \"1 nm\"").parse().unwrap();
+        let e = ScatterSpec::from_table(&SceneEvaluator, &t)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with(&format!("scatter.{old}: renamed"))
+                && e.contains(&format!("scatter.{new}")),
+            "[scatter] {old}: {e}"
+        );
+    }
+    let e = spec(&["scatter.bow=1nm"]).unwrap_err();
+    assert!(e.contains("scatter.slider.bow"), "--set scatter.bow: {e}");
+}
+
+#[test]
+fn dotted_and_quoted_scatter_keys_and_set_name_the_same_entry() {
+    let dotted: toml::Table = "posts.height_scatter = \"5 nm\"\nload.preload = \"2 N\""
+        .parse()
+        .unwrap();
+    let quoted: toml::Table = "\"posts.height_scatter\" = \"5 nm\"\n\"load.preload\" = \"2 N\""
+        .parse()
+        .unwrap();
+    let a = ScatterSpec::from_table(&SceneEvaluator, &dotted).unwrap();
+    let b = ScatterSpec::from_table(&SceneEvaluator, &quoted).unwrap();
+    assert_eq!(a, b, "dotted and quoted [scatter] keys");
+    assert_eq!(a.preload_n, 2.0, "spread of load.preload (N)");
+    let c = spec(&[
+        "scatter.posts.height_scatter=5nm",
+        "scatter.load.preload=2N",
+    ])
+    .unwrap();
+    assert_eq!(a, c, "--set scatter.KEY and [scatter] KEY");
 }
 
 // `sawdrive uq`.
@@ -291,11 +332,11 @@ fn bad_scatter_and_sample_count_are_refused_naming_the_key() {
     )
     .unwrap_err();
     assert!(e.to_string().contains("--samples"), "{e}");
-    let t: toml::Table = "height_scatter = \"-5 nm\"".parse().unwrap();
+    let t: toml::Table = "posts.height_scatter = \"-5 nm\"".parse().unwrap();
     let e = ScatterSpec::from_table(&SceneEvaluator, &t)
         .unwrap_err()
         .to_string();
-    assert!(e.starts_with("scatter.height_scatter:"), "{e}");
+    assert!(e.starts_with("scatter.posts.height_scatter:"), "{e}");
     let t: toml::Table = "sigma = \"5 nm\"".parse().unwrap();
     assert!(
         ScatterSpec::from_table(&SceneEvaluator, &t)
@@ -303,7 +344,7 @@ fn bad_scatter_and_sample_count_are_refused_naming_the_key() {
             .to_string()
             .starts_with("scatter.sigma: unknown key")
     );
-    let t: toml::Table = "distribution = \"uniform\"\npreload = \"50 N\""
+    let t: toml::Table = "distribution = \"uniform\"\nload.preload = \"50 N\""
         .parse()
         .unwrap();
     let e = ScatterSpec::from_table(&SceneEvaluator, &t)
@@ -311,17 +352,17 @@ fn bad_scatter_and_sample_count_are_refused_naming_the_key() {
         .inputs(&SceneEvaluator.facts(&scene))
         .unwrap_err()
         .to_string();
-    assert!(e.starts_with("scatter.preload:"), "{e}");
+    assert!(e.starts_with("scatter.load.preload:"), "{e}");
 }
 
 // `sawdrive design`.
 
 const SMALL_DESIGN: &str = r#"
 name = "small"
-set = ["posts.count=10x10", "posts.array=0.4mm"]
 objective = "max_output_power_w"
+set = { "posts.count" = "10x10", "posts.array" = "0.4mm" }
 [variables]
-preload = ["1 N", "4 N"]
+"load.preload" = ["1 N", "4 N"]
 [optimiser]
 presearch_points = 3
 starts = 1
@@ -404,14 +445,17 @@ fn an_interrupted_design_run_resumes_from_its_saved_evaluations_and_loses_nothin
 #[test]
 fn bad_design_files_are_refused_naming_the_key() {
     let e = parse(&SMALL_DESIGN.replace("[\"1 N\", \"4 N\"]", "[\"4 N\", \"1 N\"]")).unwrap_err();
-    assert!(e.starts_with("variables.preload: bounds reversed"), "{e}");
+    assert!(
+        e.starts_with("variables.load.preload: bounds reversed"),
+        "{e}"
+    );
     let e = parse(&SMALL_DESIGN.replace("\"max_output_power_w\"", "\"max_power\"")).unwrap_err();
     assert!(
         e.starts_with("objective: unknown output \"max_power\""),
         "{e}"
     );
     let e = parse(&format!(
-        "{SMALL_DESIGN}\n[scatter]\nheight_scatter = \"5 nm\"\n"
+        "{SMALL_DESIGN}\n[scatter]\nposts.height_scatter = \"5 nm\"\n"
     ))
     .unwrap_err();
     assert!(e.starts_with("scatter:"), "{e}");
@@ -420,10 +464,66 @@ fn bad_design_files_are_refused_naming_the_key() {
 }
 
 #[test]
+fn former_design_variable_names_are_refused_naming_their_scene_keys() {
+    for (old, new) in design::study::RENAMED_VARIABLES {
+        let text = SMALL_DESIGN.replace("\"load.preload\"", old);
+        let e = parse(&text).unwrap_err();
+        assert!(
+            e.starts_with(&format!("variables.{old}: renamed"))
+                && e.contains(&format!("\"{new}\"")),
+            "variable {old}: {e}"
+        );
+    }
+}
+
+#[test]
+fn a_set_list_is_refused_naming_the_table_form_and_a_table_sets_the_scene() {
+    let text = SMALL_DESIGN.replace(
+        "set = { \"posts.count\" = \"10x10\", \"posts.array\" = \"0.4mm\" }",
+        "set = [\"posts.count=10x10\", \"posts.array=0.4mm\"]",
+    );
+    let e = parse(&text).unwrap_err();
+    assert!(e.starts_with("set: a list") && e.contains("[set]"), "{e}");
+    let spec = parse(&SMALL_DESIGN).unwrap();
+    let scene = spec.scene_at(&SceneEvaluator, &[2.0]).unwrap();
+    assert_eq!(scene.motor.posts.count_x, 10, "posts along x from [set]");
+    assert_eq!(
+        scene.motor.load.preload_n, 2.0,
+        "preload (N) from the variable"
+    );
+}
+
+#[test]
+fn the_order_of_the_variables_does_not_depend_on_the_files_order() {
+    let a = SMALL_DESIGN.replace(
+        "\"load.preload\" = [\"1 N\", \"4 N\"]",
+        "\"load.preload\" = [\"1 N\", \"4 N\"]\nposts.diameter = [\"15 um\", \"25 um\"]",
+    );
+    let b = SMALL_DESIGN.replace(
+        "\"load.preload\" = [\"1 N\", \"4 N\"]",
+        "\"posts.diameter\" = [\"15 um\", \"25 um\"]\nload.preload = [\"1 N\", \"4 N\"]",
+    );
+    let names = |text: &str| -> Vec<String> {
+        parse(text)
+            .unwrap()
+            .variables
+            .iter()
+            .map(|v| v.name.clone())
+            .collect()
+    };
+    assert_eq!(
+        names(&a),
+        ["post_diameter_m", "preload_n"],
+        "variables in the search order"
+    );
+    assert_eq!(names(&a), names(&b), "the same order whatever the file's");
+}
+
+#[test]
 fn a_coupled_dynamics_setting_is_refused_naming_the_key() {
     let text = SMALL_DESIGN.replace(
-        "\"posts.array=0.4mm\"]",
-        "\"posts.array=0.4mm\", \"model.dynamics=coupled\"]",
+        "\"posts.array\" = \"0.4mm\" }",
+        "\"posts.array\" = \"0.4mm\", \"model.dynamics\" = \"coupled\" }",
     );
     let dir = tempfile::tempdir().unwrap();
     let e = run_design(&SceneEvaluator, &parse(&text).unwrap(), dir.path(), false)
@@ -441,8 +541,8 @@ fn an_infeasible_constraint_set_is_reported_naming_the_constraints() {
     // 40 µm pitch and diameters of 30–35 µm leave gaps of at most 10 µm < 20 µm; preload
     // ≥ 10 N above the 5 N limit.
     let text = SMALL_DESIGN.replace(
-        "preload = [\"1 N\", \"4 N\"]",
-        "preload = [\"10 N\", \"20 N\"]\npost_diameter = [\"30 um\", \"35 um\"]",
+        "\"load.preload\" = [\"1 N\", \"4 N\"]",
+        "\"load.preload\" = [\"10 N\", \"20 N\"]\n\"posts.diameter\" = [\"30 um\", \"35 um\"]",
     ) + "[constraints]\nmin_gap = \"20 um\"\nmax_preload = \"5 N\"\n";
     let dir = tempfile::tempdir().unwrap();
     let e = run_design(&SceneEvaluator, &parse(&text).unwrap(), dir.path(), false)
