@@ -20,8 +20,9 @@ mod transient;
 mod wave;
 
 pub use attenuation::{
-    AttenuatedPeriodicModel, AttenuatedResult, AttenuatedRun, AttenuatedSample, AttenuationOptions,
-    AttenuationSetting,
+    AttenuatedPeriodicModel, AttenuatedResult, AttenuatedRun, AttenuatedSample,
+    AttenuatedTransientResult, AttenuationOptions,
+    AttenuationSetting, ProfileIteration,
 };
 pub use contact::{PAPER_FRICTION_COEFFICIENT, PostContact};
 pub use cost::{MAX_POST_STEPS, MAX_RUN_MEMORY_BYTES, MemoryEstimate, WorkEstimate};

@@ -47,7 +47,7 @@ mod periodic;
 mod transient;
 
 pub use periodic::{AttenuatedPeriodicModel, AttenuatedResult, AttenuatedSample};
-pub use transient::AttenuatedRun;
+pub use transient::{AttenuatedRun, AttenuatedTransientResult, ProfileIteration};
 
 use serde::{Deserialize, Serialize};
 
@@ -135,6 +135,9 @@ pub struct AttenuationOptions {
     /// post count (`None`: every column its own bin, as the transient).
     #[serde(default)]
     pub bins: Option<usize>,
+    /// Transient only: how the profile is iterated (inside one run, or one run per evaluation).
+    #[serde(default)]
+    pub transient_iteration: ProfileIteration,
 }
 
 fn default_tolerance() -> f64 {
@@ -160,6 +163,7 @@ impl AttenuationOptions {
             max_iterations: DEFAULT_MAX_ITERATIONS,
             anderson_depth: DEFAULT_ANDERSON_DEPTH,
             bins: None,
+            transient_iteration: ProfileIteration::InRun,
         }
     }
 
