@@ -60,7 +60,7 @@ pub struct Scene {
 pub struct Contact {
     /// η when given; `None` when the static FEM computes it.
     pub effective_ratio: Option<f64>,
-    /// `given` or `fem`.
+    /// `given`, `fem` or `ball` (η = 1: the ball's one contact).
     pub effective_ratio_source: String,
 }
 
@@ -784,7 +784,13 @@ impl Scene {
         let imperfections = imperfections(&file, &posts)?;
         limits::imperfections(&imperfections, height_m)?;
 
+        // A ball's one contact carries the whole preload (η = 1): no static stage to run, in a
+        // run or a sweep's FEM cache.
         let contact = match file.contact.effective_ratio {
+            _ if ball.is_some() => Contact {
+                effective_ratio: Some(1.0),
+                effective_ratio_source: "ball".into(),
+            },
             EffectiveRatio::Fem => Contact {
                 effective_ratio: None,
                 effective_ratio_source: "fem".into(),
