@@ -182,6 +182,44 @@ fn caveat_key(caveat: &Caveat) -> &'static str {
     }
 }
 
+/// Which of the two routes a scene takes to its amplitude.
+enum Route<'a> {
+    /// `wave.normal_amplitude` (m).
+    Amplitude(f64),
+    /// `wave.drive_voltage` (V) on `[stator.idt]`.
+    Drive(f64, &'a IdtFile),
+}
+
+/// The route of `wave` with `idt`, or the refusal of a contradictory or incomplete pair.
+fn route<'a>(wave: &WaveFile, idt: Option<&'a IdtFile>) -> Result<Route<'a>, SceneError> {
+    match (wave.normal_amplitude, wave.drive_voltage, idt) {
+        (Some(_), Some(_), _) => Err(invalid(
+            "wave.normal_amplitude, wave.drive_voltage",
+            "give one: the amplitude directly, or the drive voltage of the [stator.idt] \
+                 transducer that launches it",
+        )),
+        (None, None, _) => Err(invalid(
+            "wave.normal_amplitude",
+            "missing: give wave.normal_amplitude, or wave.drive_voltage with [stator.idt]",
+        )),
+        (Some(a), None, None) => {
+            super::resolved::positive("wave.normal_amplitude", a.0).map(Route::Amplitude)
+        }
+        (Some(_), None, Some(_)) => Err(invalid(
+            "stator.idt",
+            "describes the transducer that turns wave.drive_voltage into the amplitude, and \
+                 wave.normal_amplitude is given instead: give wave.drive_voltage or remove \
+                 [stator.idt]",
+        )),
+        (None, Some(_), None) => Err(invalid(
+            "wave.drive_voltage",
+            "needs the transducer it drives: add a [stator.idt] section (finger_pairs, \
+                 finger_width, gap, aperture), or give wave.normal_amplitude instead",
+        )),
+        (None, Some(v), Some(idt)) => Ok(Route::Drive(v.0, idt)),
+    }
+}
+
 /// The normal amplitude of the scene's wave (m) and, with a drive voltage, the drive; the
 /// transducer model's caveats are pushed onto `warnings`. Rules: `wave.normal_amplitude` or
 /// `wave.drive_voltage` (both: refused naming both); a drive voltage needs `[stator.idt]`, and
@@ -195,39 +233,9 @@ pub fn normal_amplitude(
     frequency_hz: f64,
     warnings: &mut Vec<Warning>,
 ) -> Result<(f64, Option<Drive>), SceneError> {
-    let (volts, idt) = match (wave.normal_amplitude, wave.drive_voltage, idt) {
-        (Some(_), Some(_), _) => {
-            return Err(invalid(
-                "wave.normal_amplitude, wave.drive_voltage",
-                "give one: the amplitude directly, or the drive voltage of the [stator.idt] \
-                 transducer that launches it",
-            ));
-        }
-        (None, None, _) => {
-            return Err(invalid(
-                "wave.normal_amplitude",
-                "missing: give wave.normal_amplitude, or wave.drive_voltage with [stator.idt]",
-            ));
-        }
-        (Some(a), None, None) => {
-            return super::resolved::positive("wave.normal_amplitude", a.0).map(|a| (a, None));
-        }
-        (Some(_), None, Some(_)) => {
-            return Err(invalid(
-                "stator.idt",
-                "describes the transducer that turns wave.drive_voltage into the amplitude, and \
-                 wave.normal_amplitude is given instead: give wave.drive_voltage or remove \
-                 [stator.idt]",
-            ));
-        }
-        (None, Some(_), None) => {
-            return Err(invalid(
-                "wave.drive_voltage",
-                "needs the transducer it drives: add a [stator.idt] section (finger_pairs, \
-                 finger_width, gap, aperture), or give wave.normal_amplitude instead",
-            ));
-        }
-        (None, Some(v), Some(idt)) => (v.0, idt),
+    let (volts, idt) = match route(wave, idt)? {
+        Route::Amplitude(a) => return Ok((a, None)),
+        Route::Drive(volts, idt) => (volts, idt),
     };
     let volts = super::resolved::positive("wave.drive_voltage", volts)?;
     let (model, transducer, metallisation) = transducer(idt)?;
