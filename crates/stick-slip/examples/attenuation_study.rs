@@ -2,8 +2,10 @@
 //! springs, 100 × 100 posts, η = 0.36) at 40 and 100 N: constant vs attenuated period average
 //! (every column its own bin), the amplitude along the slider at stall, at maximum output power
 //! and at no load, the bin-count convergence, and the attenuated transient against the
-//! attenuated period average. Writes `results.json` and SVG/PNG charts into the folder given
-//! (default `validation/stick-slip/attenuation`).
+//! attenuated period average (two loads, and the whole transient curve: stall thrust, no-load
+//! speed, books of every point, cost against the constant transient curve). Writes
+//! `results.json` and SVG charts into the folder given (default
+//! `validation/stick-slip/attenuation`).
 //!
 //! `cargo run --release -p stick-slip --example attenuation_study -- validation/stick-slip/attenuation`
 
@@ -16,8 +18,9 @@ use std::time::Instant;
 use charts::{Chart, Series, Style, write_chart};
 use serde_json::json;
 use stick_slip::{
-    AttenuatedPeriodicModel, AttenuatedSample, AttenuationOptions, DynamicScene, ModelChoice,
-    PeriodicAverageModel, TransientModel, TransientStart,
+    AttenuatedPeriodicModel, AttenuatedRun, AttenuatedSample, AttenuatedTransientResult,
+    AttenuationOptions, DynamicResult, DynamicScene, ModelChoice, PeriodicAverageModel,
+    TransientModel, TransientStart,
 };
 
 /// `sawdrive wave --json`'s `power_under_array_w` for the paper wave (128° Y-X LiNbO3, 20 nm,
@@ -112,6 +115,17 @@ fn study(preload_n: f64, out: &Path) -> Result<serde_json::Value, Box<dyn std::e
             .collect(),
         Style::Line,
     ));
+    let (transient, transient_json) = transient_curve(preload_n)?;
+    curve.series.push(Series::new(
+        "energy-conserving wave, transient",
+        transient
+            .result
+            .curve
+            .iter()
+            .map(|p| (p.speed_m_per_s, p.thrust_n))
+            .collect(),
+        Style::Markers,
+    ));
     write_chart(&curve, &out.join(format!("curve_{name}")))?;
     // Bin-count convergence of the stall point.
     let mut bins = Vec::new();
@@ -152,7 +166,71 @@ fn study(preload_n: f64, out: &Path) -> Result<serde_json::Value, Box<dyn std::e
         "max_power": point_json(max_power),
         "no_load": point_json(no_load),
         "curve": points.iter().map(point_json).collect::<Vec<_>>(),
+        "transient": transient_json,
     }))
+}
+
+fn run_json(p: &AttenuatedRun) -> serde_json::Value {
+    json!({
+        "load_n": p.run.load_n,
+        "speed_m_per_s": p.run.speed_m_per_s,
+        "thrust_n": p.run.thrust_n,
+        "output_power_w": p.run.output_power_w,
+        "stator_power_w": p.run.stator_power_w,
+        "wave_power_in_w": p.wave_power_in_w,
+        "wave_power_out_w": p.wave_power_out_w,
+        "balance_residual": p.balance_residual,
+        "steady": p.run.steady,
+        "iterations": p.iterations,
+        "periods_simulated": p.periods_simulated,
+        "last_change": p.last_change,
+        "trailing_amplitude": p.amplitude_scale.last(),
+    })
+}
+
+fn summary_json(label: &str, r: &DynamicResult) -> serde_json::Value {
+    json!({"wave": label, "stall_thrust_n": r.stall_thrust_n,
+           "no_load_speed_m_per_s": r.no_load_speed_m_per_s,
+           "max_output_power_w": r.max_output_power_w, "max_efficiency": r.efficiency})
+}
+
+/// The whole transient curve (200 periods, the last 80 averaged, the default 6 curve loads and
+/// stall search), constant and attenuated (profile adjusted inside each run, to 1e-6).
+fn transient_curve(
+    preload_n: f64,
+) -> Result<(AttenuatedTransientResult, serde_json::Value), Box<dyn std::error::Error>> {
+    let mut scene = scene(preload_n);
+    scene.model = ModelChoice::Transient;
+    scene.options.transient.periods = 200.0;
+    scene.options.transient.average_periods = 80.0;
+    let model = TransientModel::new(&scene)?;
+    let t = Instant::now();
+    let constant = model.solve()?;
+    let constant_s = t.elapsed().as_secs_f64();
+    let mut options = AttenuationOptions::new(POWER_UNDER_ARRAY_W);
+    options.tolerance = 1e-6;
+    let t = Instant::now();
+    let attenuated = model.solve_attenuated(&options)?;
+    let attenuated_s = t.elapsed().as_secs_f64();
+    let constant_runs = constant.transient.as_ref().map_or(0, |s| s.runs);
+    let json = json!({
+        "settings": "200 periods, the last 80 averaged, 6 curve loads, stall search to 2e-3, profile to 1e-6 inside each run",
+        "table": [
+            summary_json("constant", &constant),
+            summary_json("energy-conserving", &attenuated.result),
+        ],
+        "max_balance_residual": attenuated.max_balance_residual,
+        "min_wave_power_out_w": attenuated.points.iter().map(|p| p.wave_power_out_w).fold(f64::INFINITY, f64::min),
+        "max_iterations": attenuated.max_iterations,
+        "loads_run": attenuated.runs,
+        "periods_constant": constant_runs * 200,
+        "periods_attenuated": attenuated.periods_simulated,
+        "wall_time_constant_s": constant_s,
+        "wall_time_attenuated_s": attenuated_s,
+        "warnings": attenuated.result.warnings.iter().map(ToString::to_string).collect::<Vec<_>>(),
+        "curve": attenuated.points.iter().map(run_json).collect::<Vec<_>>(),
+    });
+    Ok((attenuated, json))
 }
 
 /// The attenuated transient against the attenuated period average at two loads (40 N).

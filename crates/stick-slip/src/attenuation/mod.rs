@@ -31,7 +31,9 @@
 //! and the Coulomb bound k_n·gap all scale together), so a post under the amplitude α A₀ at tip
 //! height z is the unit-amplitude post at z/α and speed v/α with forces × α and powers × α²
 //! (the period average, [`AttenuatedPeriodicModel`]); the transient multiplies each phase
-//! group's amplitude by its column's α ([`TransientModel::run_attenuated`]).
+//! group's amplitude by its column's α ([`TransientModel::run_attenuated`] for one run, by
+//! default with the profile adjusted inside the run; [`TransientModel::solve_attenuated`] for
+//! the whole curve).
 //!
 //! Assumptions and validity (as the coupled model's): steady state; no reflection at the
 //! slider's edges; beam diffraction neglected (Fresnel length a²/λ ≈ 200 mm for the 9 mm beam,
@@ -42,6 +44,7 @@
 //! transit time under the slider (≈ 1 µs ≈ 10 periods).
 //!
 //! [`TransientModel::run_attenuated`]: crate::TransientModel::run_attenuated
+//! [`TransientModel::solve_attenuated`]: crate::TransientModel::solve_attenuated
 
 mod periodic;
 mod transient;

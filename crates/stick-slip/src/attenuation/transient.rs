@@ -15,15 +15,16 @@
 //!   within a period, so the profile settles with the slider (whose speed relaxes over ≈ 20
 //!   periods on the default motor). The profile is frozen at the first block end after the
 //!   plain run's settling periods (`periods − average_periods`) whose change is below the
-//!   tolerance, or at `periods` whatever the blocks say; an averaging window of
+//!   tolerance or has stopped falling (the 4-period means' own fluctuation), or at half the
+//!   longest run whatever the blocks say; an averaging window of
 //!   `average_periods` then runs at it, so its means are exact for that profile and the
 //!   window's max|T(α) − α| is the fixed point's residual. Below the tolerance the run ends
 //!   (a profile converged during settling gives the plain run's span: the weak-load limit is
 //!   the constant-amplitude run); else the next window runs at the Anderson update of the
 //!   windows so far (the per-run step, without restarting the slider), doubled in length
-//!   (up to `IN_RUN_MAX_WINDOW_GROWTH`×) when the change stops halving — the window means
-//!   fluctuate by ≈ 1e-6 at slow speeds (quasi-periodic stick/slip). If the run reaches
-//!   `IN_RUN_MAX_RUN_FACTOR` × `periods` the per-run iteration finishes from its profile and
+//!   when the change stops halving — the window means fluctuate by ≈ 1e-6 at slow speeds
+//!   (quasi-periodic stick/slip). If it stops halving again, or the run reaches
+//!   `IN_RUN_MAX_RUN_FACTOR` × `periods`, the per-run iteration finishes from its profile and
 //!   speed. The run's steady test is reported as the plain run reports it (the curve warns);
 //!   a slider pushed backwards (load beyond stall) and not steady ends the iteration in both
 //!   schemes: it has no steady state to be self-consistent with. Agrees with `PerRun` to the
@@ -49,11 +50,12 @@ use crate::transient::{TransientModel, TransientRun};
 
 /// Periods per profile update inside a run. Default 4.
 const IN_RUN_BLOCK_PERIODS: usize = 4;
-/// Largest growth of the in-run averaging window over `average_periods`. Default 4.
-const IN_RUN_MAX_WINDOW_GROWTH: usize = 4;
 /// Longest in-run run, in plain runs (`periods`): the per-run fixed point's typical cost.
 /// Default 3.
 const IN_RUN_MAX_RUN_FACTOR: usize = 3;
+/// Blocks without the change falling by a tenth after which the blocks have reached the
+/// fluctuation of their 4-period means: the profile is frozen for a window. Default 4.
+const IN_RUN_STALLED_BLOCKS: usize = 4;
 /// Under-relaxation of the in-run profile updates. Default 0.7.
 const IN_RUN_RELAXATION: f64 = 0.7;
 
@@ -362,7 +364,9 @@ impl TransientModel {
             window,
             base_window: window,
             settle_min: periods - window,
-            settle_periods: periods,
+            settle_periods: IN_RUN_MAX_RUN_FACTOR * periods / 2,
+            best_block_change: f64::INFINITY,
+            blocks_without_progress: 0,
             max_periods: IN_RUN_MAX_RUN_FACTOR * periods,
             alpha: alpha.clone(),
             block_start: 0,
@@ -403,15 +407,19 @@ struct InRunProfile {
     options: AttenuationOptions,
     power_unit_w: f64,
     tangential_ratio: f64,
-    /// Periods of an averaging window: `average_periods`, doubled while the window means'
+    /// Periods of an averaging window: `average_periods`, doubled once the window means'
     /// fluctuation keeps the change from falling.
     window: usize,
     base_window: usize,
     /// Periods before which the profile is not frozen: the plain run's settling
     /// (`periods − average_periods`), so a converged profile keeps the plain run's window.
     settle_min: usize,
-    /// Periods after which the profile is frozen whatever the blocks say (`periods`).
+    /// Periods after which the profile is frozen whatever the blocks say (half the longest
+    /// run).
     settle_periods: usize,
+    /// Smallest block change so far, and blocks since it last fell by a tenth.
+    best_block_change: f64,
+    blocks_without_progress: usize,
     /// Periods after which the run stops (`IN_RUN_MAX_RUN_FACTOR` × `periods`).
     max_periods: usize,
     /// The profile the stepper runs at.
@@ -472,7 +480,15 @@ impl InRunProfile {
         let block = &records[self.block_start..];
         let (_, f) = self.residual(block, &before, work);
         let change = max_abs(&f);
-        let settled = n >= self.settle_min && change < self.options.tolerance;
+        // The blocks' own floor: the change has not fallen by a tenth for a few blocks.
+        if change < 0.9 * self.best_block_change {
+            self.best_block_change = change;
+            self.blocks_without_progress = 0;
+        } else {
+            self.blocks_without_progress += 1;
+        }
+        let floor = self.blocks_without_progress >= IN_RUN_STALLED_BLOCKS;
+        let settled = n >= self.settle_min && (change < self.options.tolerance || floor);
         if settled || n >= self.settle_periods {
             self.frozen = true;
             span.window_start = n;
@@ -516,7 +532,14 @@ impl InRunProfile {
             self.converged = true;
             return;
         }
-        if self.windows >= self.options.max_iterations || n >= self.max_periods {
+        // A change that no longer halves is the window means' own fluctuation (quasi-periodic
+        // stick/slip): a longer window averages it down; if that does not help either, the
+        // per-run iteration (a deterministic map) finishes.
+        let stagnating = self.last_change > 0.5 * previous_change;
+        if self.windows >= self.options.max_iterations
+            || n >= self.max_periods
+            || (stagnating && self.window > self.base_window)
+        {
             return;
         }
         if self
@@ -533,11 +556,7 @@ impl InRunProfile {
         }
         self.alpha = next.into_iter().map(|a| a.max(0.0)).collect();
         self.refused |= !stepper.retune(&self.alpha);
-        // A change that no longer halves is the window means' own fluctuation (quasi-periodic
-        // stick/slip): a longer window averages it down.
-        if self.last_change > 0.5 * previous_change
-            && self.window < IN_RUN_MAX_WINDOW_GROWTH * self.base_window
-        {
+        if stagnating {
             self.window *= 2;
         }
         span.window_start = n;
