@@ -115,7 +115,7 @@ pub struct AttenuatedTransientResult {
     /// Wave power under the array (W).
     pub power_in_w: f64,
     /// The run behind each point of `result.curve`, in its order; the stall point (v → 0⁺) is
-    /// backed by the slowest run (its books and profile, whose stick fraction it reports).
+    /// backed by the slowest moving run (its books and profile).
     pub points: Vec<AttenuatedRun>,
     /// The run at the external load, with histories (also when the load exceeds the stall
     /// thrust and `result.operating_point` is `None`).

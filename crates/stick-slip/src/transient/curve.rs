@@ -9,7 +9,8 @@
 //! and whether to record histories) and gets back its own runs beside the result — the plain
 //! constant-amplitude run ([`TransientModel::solve`]) or the self-consistent run with the
 //! energy-conserving wave ([`TransientModel::solve_attenuated`]). The stall point (v → 0⁺)
-//! carries the slowest run's stick fraction and is backed by that run.
+//! carries the slowest run's stick fraction and is backed by the slowest moving run (the same
+//! run unless a curve load beyond the stall thrust slid the slider backwards).
 
 use std::time::Instant;
 
@@ -47,7 +48,7 @@ pub(crate) struct Curve<R> {
     /// The run at the external load (with histories).
     pub operating: R,
     /// The run behind each point of `result.curve`, in its order (the stall point: the slowest
-    /// run).
+    /// moving run).
     pub points: Vec<R>,
     /// Runs made.
     pub runs: usize,
@@ -368,8 +369,13 @@ impl TransientModel {
                     .map(|_| operating.peak_speed_m_per_s),
             }),
         };
-        // The run behind each curve point: the slowest run backs the stall point.
-        let mut backing: Vec<R> = points.first().cloned().into_iter().collect();
+        // The run behind each curve point: the slowest moving run backs the stall point (a
+        // curve load beyond the stall thrust slides the slider backwards: not a stall state).
+        let slowest = points
+            .iter()
+            .position(|r| r.run().speed_m_per_s > 0.0)
+            .unwrap_or(0);
+        let mut backing: Vec<R> = points.get(slowest).cloned().into_iter().collect();
         backing.extend(points.into_iter().filter(|r| r.run().speed_m_per_s > 0.0));
         Curve {
             result,
