@@ -84,10 +84,15 @@ def criterion_since(started):
     """{full_id: (median_s, low_s, high_s)} of the benchmarks written after `started`."""
     found = {}
     for estimates in (TARGET / "criterion").glob("**/new/estimates.json"):
-        if estimates.stat().st_mtime < started:
+        meta_file = estimates.parent / "benchmark.json"
+        # Another job's benchmark may be half written (estimates before benchmark.json).
+        if estimates.stat().st_mtime < started or not meta_file.exists():
             continue
-        meta = json.loads((estimates.parent / "benchmark.json").read_text())
-        median = json.loads(estimates.read_text())["median"]
+        try:
+            meta = json.loads(meta_file.read_text())
+            median = json.loads(estimates.read_text())["median"]
+        except (OSError, ValueError, KeyError):
+            continue
         ci = median["confidence_interval"]
         found[meta["full_id"]] = tuple(x * 1e-9 for x in (
             median["point_estimate"], ci["lower_bound"], ci["upper_bound"]))
