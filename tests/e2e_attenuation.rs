@@ -137,13 +137,32 @@ fn combinations_the_models_cannot_honour_are_refused_naming_the_key() {
         "wave.attenuation",
     );
     assert!(decay.contains("wave.decay_length"), "{decay}");
-    let transient = run(
-        &["wave.attenuation=on", "model.dynamics=transient"],
-        "wave.attenuation",
-    );
-    assert!(transient.contains("transient"), "{transient}");
     assert!(
         std::fs::read_dir(out.path()).unwrap().next().is_none(),
         "a refused run writes nothing"
     );
+}
+
+#[test]
+fn every_dynamic_model_honours_the_energy_conserving_wave() {
+    let out = tempfile::tempdir().unwrap();
+    for model in ["periodic-average", "transient"] {
+        let dynamics = format!("model.dynamics={model}");
+        let on = dynamic_json(out.path(), &[&dynamics, "wave.attenuation=on"]);
+        let off = dynamic_json(out.path(), &[&dynamics, "wave.attenuation=off"]);
+        assert_eq!(on["model"], model);
+        assert_eq!(on["wave_attenuation"], "on");
+        assert!(
+            books_residual(&on) <= 1e-6,
+            "{model}: books {}",
+            books_residual(&on)
+        );
+        for p in on["curve"].as_array().unwrap() {
+            assert!(number(p, "wave_power_out_w") >= 0.0, "{model}: {p}");
+        }
+        assert!(
+            number(&on, "stall_thrust_n") < number(&off, "stall_thrust_n"),
+            "{model}: the finite wave lowers the stall thrust"
+        );
+    }
 }

@@ -11,12 +11,13 @@
 //! `auto` turns attenuation on when the constant-amplitude posts draw more than 1 %
 //! (`stick_slip::AUTO_DRAW_FRACTION`) of P_in at stall. Range of validity: the models' (steady
 //! state, no reflection at the slider's edges, diffraction neglected, the wave's velocity under
-//! the slider unchanged). The transient model has no self-consistent curve yet: `on` is refused
-//! for it and `auto` keeps the constant wave, saying so.
+//! the slider unchanged). Every dynamic model honours it: the coupled strip, the period average
+//! and the transient (whose profile converges inside each run).
 
 use serde::Serialize;
 use stick_slip::{
     AttenuationSetting, DynamicResult, DynamicScene, ModelKind, PeriodicAverageModel,
+    TransientModel,
 };
 
 use super::PipelineError;
@@ -52,12 +53,8 @@ pub fn wave_power_under_array_w(scene: &Scene) -> f64 {
 }
 
 /// The decision for a scene whose reported model draws `stall_draw_w` (W) at stall under the
-/// constant-amplitude wave. `transient`: the reported model is the lumped transient.
-pub fn decide(
-    scene: &Scene,
-    stall_draw_w: f64,
-    transient: bool,
-) -> Result<WaveAttenuation, PipelineError> {
+/// constant-amplitude wave.
+pub fn decide(scene: &Scene, stall_draw_w: f64) -> Result<WaveAttenuation, PipelineError> {
     let power_in_w = wave_power_under_array_w(scene);
     let setting = scene.wave_attenuation;
     let prescribed =
@@ -69,28 +66,7 @@ pub fn decide(
              wave.burst_periods)"
                 .to_string(),
         ),
-        AttenuationSetting::On if transient => {
-            return Err(PipelineError::Unsupported {
-                stage: "dynamic",
-                message: "wave.attenuation = \"on\": the transient model has no energy-conserving \
-                          speed-thrust curve yet; use model.dynamics = \"periodic-average\" or \
-                          \"coupled\", or wave.attenuation = \"off\""
-                    .into(),
-            });
-        }
         _ => setting.resolve(stall_draw_w, power_in_w),
-    };
-    let (on, reason) = if on && transient {
-        (
-            false,
-            format!(
-                "{reason}; but the transient model has no energy-conserving curve yet: constant \
-                 wave (check the wave's books: wave_power_out_w < 0 where the posts draw more \
-                 than the wave carries)"
-            ),
-        )
-    } else {
-        (on, reason)
     };
     Ok(WaveAttenuation {
         state: if on { "on" } else { "off" },
@@ -127,20 +103,35 @@ pub fn attenuate_lumped(
 ) -> Result<(WaveAttenuation, Vec<WaveBooks>), PipelineError> {
     let transient = is_transient(result.model);
     let stall_draw_w = lumped_stall_draw_w(dynamic)?;
-    let wave = decide(scene, stall_draw_w.unwrap_or(0.0), transient)?;
+    let wave = decide(scene, stall_draw_w.unwrap_or(0.0))?;
     if wave.on() {
         let options = stick_slip::AttenuationOptions::new(wave.power_in_w);
-        let solved = stick_slip::AttenuatedPeriodicModel::new(dynamic, &options)?.solve()?;
-        let books = solved
-            .points
-            .iter()
-            .map(|p| WaveBooks {
-                stator_power_w: p.sample.stator_power_w,
-                wave_power_in_w: p.wave_power_in_w,
-                wave_power_out_w: p.wave_power_out_w,
-            })
-            .collect();
-        let mut attenuated = solved.result;
+        let (solved, books) = if transient {
+            let solved = TransientModel::new(dynamic)?.solve_attenuated(&options)?;
+            let books = solved
+                .points
+                .iter()
+                .map(|p| WaveBooks {
+                    stator_power_w: p.wave_power_in_w - p.wave_power_out_w,
+                    wave_power_in_w: p.wave_power_in_w,
+                    wave_power_out_w: p.wave_power_out_w,
+                })
+                .collect();
+            (solved.result, books)
+        } else {
+            let solved = stick_slip::AttenuatedPeriodicModel::new(dynamic, &options)?.solve()?;
+            let books = solved
+                .points
+                .iter()
+                .map(|p| WaveBooks {
+                    stator_power_w: p.sample.stator_power_w,
+                    wave_power_in_w: p.wave_power_in_w,
+                    wave_power_out_w: p.wave_power_out_w,
+                })
+                .collect();
+            (solved.result, books)
+        };
+        let mut attenuated = solved;
         let mut warnings = result.warnings.clone();
         for w in attenuated.warnings.drain(..) {
             if !warnings.contains(&w) {

@@ -435,7 +435,7 @@ pub fn run_dynamic_stage_cancellable(
                     .map(|w| format!("{}: {}", w.parameter, w.message));
                 run.result.warnings.splice(0..0, scene_warnings);
                 let stall_draw_w = run.result.curve.first().map_or(0.0, |p| p.stator_power_w);
-                let wave = attenuation::decide(scene, stall_draw_w, false)?;
+                let wave = attenuation::decide(scene, stall_draw_w)?;
                 if wave.on() {
                     PipelineError::check(should_stop, "dynamic (energy-conserving wave)")?;
                     attenuate_coupled(&mut run, wave.power_in_w)?;

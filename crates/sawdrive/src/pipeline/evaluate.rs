@@ -3,6 +3,7 @@
 //! whole-slider model) and the pipeline's stages. A scene with one sample's perturbations →
 //! whole-slider static contact (η, `slider_contact`, no FEM: the lattice operator with Johnson's
 //! near field) → Johnson springs → period-average/transient speed–thrust curve (`stick_slip`)
+//! (on the energy-conserving wave when `wave.attenuation` turns it on, as in the dynamic stage)
 //! → η, stall thrust, no-load speed, maximum output power, efficiency.
 //!
 //! Fidelities ([`Fidelity`]): `slider` resolves every post of the scene's array; `patch` solves
@@ -268,7 +269,9 @@ pub fn evaluate_with(
     let static_s = start.elapsed().as_secs_f64();
     let springs: PostSprings = scene_springs(&scene)?;
     let dynamic = dynamic_scene(&scene, &springs, eta)?;
-    let result = stick_slip::solve(&dynamic)?;
+    let mut result = stick_slip::solve(&dynamic)?;
+    // `wave.attenuation`, as in the dynamic stage: the energy-conserving wave when it is on.
+    super::attenuation::attenuate_lumped(&scene, &dynamic, &mut result)?;
     let max_output_power_w = result
         .curve
         .iter()
