@@ -25,6 +25,7 @@ import json
 import os
 import pathlib
 import re
+import textwrap
 import shlex
 import subprocess
 import sys
@@ -495,11 +496,25 @@ def not_generated(name):
     return ["*Not generated yet: run `scripts/performance.sh --section " + name + "`.*"]
 
 
+def wrapped(lines, width=100):
+    """Prose lines wrapped at `width` (Markdown lines stay readable and under the docs' 400
+    characters); table rows, headings, markers, list items and code blocks are kept as they are."""
+    out, code = [], False
+    for line in lines:
+        if line.startswith("```"):
+            code = not code
+        keep = (code or len(line) <= width or line.startswith(("|", "#", "<!--", "    "))
+                or line.lstrip().startswith(("- ", "* ", "`")))
+        out += [line] if keep else textwrap.wrap(line, width, break_long_words=False,
+                                                 break_on_hyphens=False)
+    return out
+
+
 def write_doc(machine, bodies):
     lines = list(HEADER)
-    lines += [BEGIN.format("machine")] + machine + [END.format("machine"), ""]
+    lines += [BEGIN.format("machine")] + wrapped(machine) + [END.format("machine"), ""]
     for name, (heading, _, _) in SECTIONS.items():
-        body = bodies.get(name) or not_generated(name)
+        body = wrapped(bodies.get(name) or not_generated(name))
         lines += [BEGIN.format(name), f"## {heading}", ""] + body + [END.format(name), ""]
     DOC.write_text("\n".join(lines).rstrip("\n") + "\n")
 
