@@ -4,7 +4,7 @@
 //! δ_i = s_i + m_i − τ_x x_i/L − τ_y y_i/W − b (x_i² + y_i²)/((L/2)² + (W/2)²)
 //!
 //! with (x_i, y_i) the post centre from the slider's centre, L × W the slider (its real margins
-//! included), s_i ~ N(0, σ²) seeded scatter ([`crate::rng`]), m_i a measured height map (CSV,
+//! included), s_i ~ N(0, σ²) seeded scatter ([`motor::rng`]), m_i a measured height map (CSV,
 //! mean not removed), τ_x, τ_y the tilt (height change of the slider's back plane across its
 //! length/width: the +x end is higher by τ_x, i.e. farther from the stator) and b the bow (a
 //! paraboloid: the corners are higher than the centre by b; b > 0 is convex towards the stator).

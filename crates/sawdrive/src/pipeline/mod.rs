@@ -40,7 +40,7 @@ pub use statics::{
     static_params, write_static_files,
 };
 
-/// The static stage ([`statics::run_static`]); a ball slider has none and is refused.
+/// The static stage (`statics::run_static`); a ball slider has none and is refused.
 pub fn run_static(
     scene: &crate::scene::Scene,
     springs: &contact_springs::PostSprings,
@@ -51,7 +51,7 @@ pub fn run_static(
     statics::run_static(scene, springs, cache_dir, with_fields)
 }
 
-/// The static stage with cancellation ([`statics::run_static_cancellable`]); a ball slider has
+/// The static stage with cancellation (`statics::run_static_cancellable`); a ball slider has
 /// none and is refused.
 pub fn run_static_cancellable(
     scene: &crate::scene::Scene,

@@ -110,7 +110,7 @@ impl RunSummary {
 }
 
 /// The dynamic stage's headline figures (stall thrust, no-load speed, efficiency, stick
-/// fraction) are finite; see [`check_finite_figures`].
+/// fraction) are finite; see `check_finite_figures`.
 pub fn check_dynamic_figures(stage: &super::DynamicStage) -> Result<(), PipelineError> {
     check_finite_figures(&[
         ("stall_thrust_n", stage.stall_thrust_n()),

@@ -46,7 +46,7 @@ pub const FRICTION_LIMIT_TOLERANCE: f64 = 0.01;
 /// |v₀ / 1.1 m/s − 1| at 10 N preload: the crest velocity is the speed limit, approached at
 /// light preload (measured 1.02 m/s, 7 % below). 0.1.
 pub const ANCHOR_SPEED_TOLERANCE: f64 = 0.1;
-/// The thrust the paper's motor demonstrated (N; its Sec. 1, ref. [4]).
+/// The thrust the paper's motor demonstrated (N; its Sec. 1, ref. \[4\]).
 pub const DEMONSTRATED_THRUST_N: f64 = 10.0;
 /// The crest speed A_t ω of the paper's wave (m/s).
 pub const CREST_SPEED_M_PER_S: f64 = 1.1;
