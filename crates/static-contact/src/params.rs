@@ -381,7 +381,13 @@ impl StaticParams {
     pub fn content_hash(&self) -> Result<String> {
         let mut hasher = Sha256::new();
         hasher.update(format!("static-contact model {MODEL_VERSION}\n"));
-        let json = serde_json::to_string(self)
+        // A given mesh enters by its bytes (below), not by where it lies: the same mesh in
+        // another checkout or folder keys the same cache entry.
+        let mut keyed = self.clone();
+        if let MeshChoice::File(path) = &self.mesh {
+            keyed.mesh = MeshChoice::File(path.file_name().map(PathBuf::from).unwrap_or_default());
+        }
+        let json = serde_json::to_string(&keyed)
             .map_err(|e| invalid("params", 0.0, format!("cannot serialise: {e}")))?;
         hasher.update(json.as_bytes());
         if let MeshChoice::File(path) = &self.mesh {
@@ -423,6 +429,35 @@ mod tests {
             a.content_hash().unwrap(),
             b.content_hash().unwrap(),
             "preload must change the hash"
+        );
+    }
+
+    #[test]
+    fn the_same_mesh_in_another_folder_keys_the_same_hash_and_other_bytes_do_not() {
+        let mesh = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../meshes/slider-strip-periodic_p40um_d20um_n1_tet4_1k.msh"
+        );
+        let bytes = std::fs::read(mesh).unwrap();
+        let (one, two) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+        let here = one.path().join("strip.msh");
+        let there = two.path().join("strip.msh");
+        std::fs::write(&here, &bytes).unwrap();
+        std::fs::write(&there, &bytes).unwrap();
+        let with = |path: &std::path::Path| StaticParams {
+            mesh: MeshChoice::File(path.to_path_buf()),
+            ..StaticParams::default()
+        };
+        assert_eq!(
+            with(&here).content_hash().unwrap(),
+            with(&there).content_hash().unwrap()
+        );
+        let mut edited = bytes.clone();
+        edited.extend_from_slice(b"\n");
+        std::fs::write(&there, &edited).unwrap();
+        assert_ne!(
+            with(&here).content_hash().unwrap(),
+            with(&there).content_hash().unwrap()
         );
     }
 
