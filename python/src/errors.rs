@@ -146,11 +146,11 @@ impl From<sawdrive::sweep::SweepRunError> for Failure {
     }
 }
 
-impl From<design::StudyError> for Failure {
+impl From<::design::StudyError> for Failure {
     /// Bad study input (`[scatter]`, a design file) is a scene error, an unreadable file a file
     /// error, a failed model run a pipeline error — as the errors inside say.
-    fn from(error: design::StudyError) -> Self {
-        use design::StudyError as E;
+    fn from(error: ::design::StudyError) -> Self {
+        use ::design::StudyError as E;
         let kind = match &error {
             E::Input { .. } | E::Conflict(_) => Kind::Scene,
             E::File { source, .. } => return Failure::new(Failure::from_ref(source).kind, &error),
@@ -164,8 +164,8 @@ impl From<design::StudyError> for Failure {
 
 impl Failure {
     /// The kind a study error would get (for an error inside a design file's).
-    fn from_ref(error: &design::StudyError) -> Self {
-        use design::StudyError as E;
+    fn from_ref(error: &::design::StudyError) -> Self {
+        use ::design::StudyError as E;
         let kind = match error {
             E::Input { .. } | E::Conflict(_) | E::File { .. } => Kind::Scene,
             E::Io(_) => Kind::File,

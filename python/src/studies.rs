@@ -10,10 +10,10 @@
 
 use std::path::{Path, PathBuf};
 
-use design::ModelFidelity as Fidelity;
-use design::scatter::{ScatterSpec, load_uq_inputs};
-use design::study::{DesignSpec, run_design};
-use design::uq::{UqOptions, run_uq_staged};
+use ::design::ModelFidelity as Fidelity;
+use ::design::scatter::{ScatterSpec, load_uq_inputs};
+use ::design::study::{DesignSpec, run_design};
+use ::design::uq::{UqOptions, run_uq_staged};
 use pyo3::prelude::*;
 use sawdrive::pipeline::evaluate::SceneEvaluator;
 use sawdrive::scene::Scene;
@@ -83,7 +83,7 @@ fn uq<'py>(
     progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let (scene, scatter) = raise(py, uq_inputs(path, &overrides))?;
-    if let Err(e) = design::uq::check_samples(samples) {
+    if let Err(e) = ::design::uq::check_samples(samples) {
         return Err(Failure::new(Kind::Argument, &e).into_pyerr(py));
     }
     let options = UqOptions {
@@ -137,6 +137,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_points, m)?)?;
     m.add_function(wrap_pyfunction!(uq, m)?)?;
-    m.add_function(wrap_pyfunction!(design, m)?)?;
+    m.add_function(wrap_pyfunction!(self::design, m)?)?;
     Ok(())
 }
