@@ -32,7 +32,7 @@ from typing import Dict, List
 import sawdrive
 
 REPO = Path(__file__).resolve().parents[2]
-STUDY = REPO / "validation" / "paper-figures" / "fig7-8-post-count"
+STUDY = REPO / "validation" / "paper-figures" / "results"
 SWEEP_FILE = REPO / "validation" / "paper-figures" / "fig7-8-post-count.toml"
 #: Post arrays of Figs 7–8 (count along x and y; 20 µm posts in a 4 mm array).
 ARRAYS = {"10000 posts": "100x100", "6400 posts": "80x80", "4356 posts": "66x66",
@@ -42,7 +42,7 @@ PRELOADS = ["10 N", "20 N", "40 N", "70 N", "100 N"]
 
 def committed_eta() -> Dict[tuple, float]:
     """η by (variant, preload as written) from the committed FEM sweep."""
-    with open(STUDY / "results.csv", newline="") as f:
+    with open(STUDY / "fig7-8-post-count.csv", newline="") as f:
         return {(r["variant"], r["preload"]): float(r["effective_contact_ratio"]) for r in csv.DictReader(f)}
 
 
