@@ -43,7 +43,10 @@ PRELOADS = ["10 N", "20 N", "40 N", "70 N", "100 N"]
 def committed_eta() -> Dict[tuple, float]:
     """η by (variant, preload as written) from the committed FEM sweep."""
     with open(STUDY / "fig7-8-post-count.csv", newline="") as f:
-        return {(r["variant"], r["preload"]): float(r["effective_contact_ratio"]) for r in csv.DictReader(f)}
+        return {
+            (r["variant"], f"{float(r['preload_n']):g} N"): float(r["effective_contact_ratio"])
+            for r in csv.DictReader(f)
+        }
 
 
 def study_with_committed_eta(arrays: Dict[str, str], preloads: List[str]) -> List[dict]:
@@ -54,6 +57,8 @@ def study_with_committed_eta(arrays: Dict[str, str], preloads: List[str]) -> Lis
         for preload in preloads:
             scene = sawdrive.Scene.default().set("posts.count", count).set("preload", preload)
             scene.set("effective_ratio", eta[(variant, preload)])
+            # The paper's model: the constant-amplitude wave, as the committed sweep.
+            scene.set("wave.attenuation", "off")
             r = sawdrive.dynamic(scene, progress=False)
             rows.append({"variant": variant, "preload": preload, "preload_n": scene.resolve()["load"]["preload_n"],
                          "effective_contact_ratio": r.effective_ratio, "stall_thrust_n": r.stall_thrust_n,

@@ -114,27 +114,18 @@ impl Fields {
     /// `sawdrive dynamic --json`: the coupled result, the lumped figures, the choice) with its
     /// curve in the lumped model's columns.
     pub fn of_stage(
-        mut stage: sawdrive::pipeline::DynamicStage,
+        stage: sawdrive::pipeline::DynamicStage,
         effective_ratio: f64,
         source: &'static str,
     ) -> Result<(Self, Vec<CurvePoint>), Failure> {
-        if stage.coupled.is_none() {
-            let curve = std::mem::take(&mut stage.lumped.result.curve);
-            let fields = Fields::Dynamic {
-                result: Box::new(stage.lumped.result),
-                dynamics_reason: stage.dynamics_reason,
-                lumped_error_estimate: stage.lumped_error_estimate,
-                effective_ratio,
-                source,
-            };
-            return Ok((fields, curve));
-        }
+        // Both models through `sawdrive dynamic --json` (the reported model's result, the
+        // choices, the wave's books on every curve point), so the fields and the curve's columns
+        // are the command line's, bit for bit; `curve` stays in the map for `curve_points`.
         let curve = stage.curve();
         let mut map = match serde_json::to_value(stage.json())? {
             Value::Object(map) => map,
             _ => Map::new(),
         };
-        map.remove("curve");
         map.insert("effective_ratio".into(), Value::from(effective_ratio));
         map.insert("effective_ratio_source".into(), Value::from(source));
         Ok((Fields::Json(map), curve))
@@ -252,8 +243,15 @@ impl Outcome {
 
     /// The curve as the command line's JSON has it: a list of one dict per point.
     fn curve_points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
-        let points =
-            serde_json::to_value(&self.curve).map_err(|e| Failure::from(e).into_pyerr(py))?;
+        let from_json = match &self.fields {
+            Fields::Json(map) => map.get("curve").filter(|c| c.is_array()).cloned(),
+            _ => None,
+        };
+        let points = match from_json {
+            Some(points) => points,
+            None => serde_json::to_value(&self.curve)
+                .map_err(|e| Failure::from(e).into_pyerr(py))?,
+        };
         convert::to_py(py, &points)?
             .cast_into::<PyList>()
             .map_err(Into::into)

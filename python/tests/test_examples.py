@@ -26,8 +26,8 @@ def test_post_count_example_reproduces_figs_7_and_8(tmp_path):
                                 "--preloads", "40 N,100 N"])
     for chart in ("fig7_stall_thrust.png", "fig8_no_load_speed.png"):
         assert (tmp_path / chart).stat().st_size > 10_000, f"{chart} drawn"
-    with open(REPO / "validation/paper-figures/fig7-8-post-count/results.csv", newline="") as f:
-        committed = {(r["variant"], r["preload"]): r for r in csv.DictReader(f)}
+    with open(REPO / "validation/paper-figures/results/fig7-8-post-count.csv", newline="") as f:
+        committed = {(r["variant"], f"{float(r['preload_n']):g} N"): r for r in csv.DictReader(f)}
     assert len(rows) == 6 and len(committed) == 25
     for row in rows:
         cli = committed[(row["variant"], row["preload"])]
