@@ -50,3 +50,22 @@ pub fn small_scene() -> String {
     )
     .to_owned()
 }
+
+/// `sawdrive dynamic` on the small scene with η = 0.36 and `sets`, into `out`; the parsed
+/// `--json` result.
+pub fn small_dynamic_json(out: &std::path::Path, sets: &[&str]) -> serde_json::Value {
+    let scene = small_scene();
+    let mut args = vec![
+        "dynamic",
+        scene.as_str(),
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+        "--set",
+        "effective_ratio=0.36",
+    ];
+    for set in sets {
+        args.extend(["--set", set]);
+    }
+    serde_json::from_str(&sawdrive_ok(&args)).expect("dynamic --json prints JSON")
+}

@@ -5,27 +5,7 @@
 
 mod common;
 
-use std::path::Path;
-
-use common::{sawdrive_err, sawdrive_ok, small_scene};
-
-/// `sawdrive dynamic` of the small scene at η = 0.36 with `sets`, parsed.
-fn dynamic_json(out: &Path, sets: &[&str]) -> serde_json::Value {
-    let scene = small_scene();
-    let mut args = vec![
-        "dynamic",
-        scene.as_str(),
-        "--out",
-        out.to_str().unwrap(),
-        "--json",
-        "--set",
-        "effective_ratio=0.36",
-    ];
-    for set in sets {
-        args.extend(["--set", set]);
-    }
-    serde_json::from_str(&sawdrive_ok(&args)).expect("dynamic --json prints JSON")
-}
+use common::{sawdrive_err, small_dynamic_json, small_scene};
 
 fn number(json: &serde_json::Value, key: &str) -> f64 {
     json[key]
@@ -49,8 +29,8 @@ fn books_residual(run: &serde_json::Value) -> f64 {
 #[test]
 fn auto_attenuates_when_the_posts_draw_over_one_percent_and_the_books_close() {
     let out = tempfile::tempdir().unwrap();
-    let auto = dynamic_json(out.path(), &[]);
-    let off = dynamic_json(out.path(), &["wave.attenuation=off"]);
+    let auto = small_dynamic_json(out.path(), &[]);
+    let off = small_dynamic_json(out.path(), &["wave.attenuation=off"]);
     // The small slider (0.4 mm wide) draws about 10 % of the power under its array at stall.
     assert_eq!(
         auto["wave_attenuation"], "on",
@@ -92,7 +72,7 @@ fn auto_keeps_the_constant_wave_when_the_posts_draw_under_one_percent() {
     let out = tempfile::tempdir().unwrap();
     // A 100 times stronger wave (10× the amplitude carries 100× the power) at the same load:
     // the posts' draw is a small share of it.
-    let strong = dynamic_json(out.path(), &["wave.normal_amplitude=200nm"]);
+    let strong = small_dynamic_json(out.path(), &["wave.normal_amplitude=200nm"]);
     let reason = strong["wave_attenuation_reason"].as_str().unwrap();
     let draw = number(&strong["curve"][0], "stator_power_w");
     let p_in = number(&strong, "wave_power_in_w");
@@ -101,7 +81,7 @@ fn auto_keeps_the_constant_wave_when_the_posts_draw_under_one_percent() {
         draw > 0.01 * p_in,
         "{reason}"
     );
-    let forced_on = dynamic_json(
+    let forced_on = small_dynamic_json(
         out.path(),
         &["wave.normal_amplitude=200nm", "wave.attenuation=on"],
     );
@@ -148,8 +128,8 @@ fn every_dynamic_model_honours_the_energy_conserving_wave() {
     let out = tempfile::tempdir().unwrap();
     for model in ["periodic-average", "transient"] {
         let dynamics = format!("model.dynamics={model}");
-        let on = dynamic_json(out.path(), &[&dynamics, "wave.attenuation=on"]);
-        let off = dynamic_json(out.path(), &[&dynamics, "wave.attenuation=off"]);
+        let on = small_dynamic_json(out.path(), &[&dynamics, "wave.attenuation=on"]);
+        let off = small_dynamic_json(out.path(), &[&dynamics, "wave.attenuation=off"]);
         assert_eq!(on["model"], model);
         assert_eq!(on["wave_attenuation"], "on");
         assert!(

@@ -6,31 +6,19 @@ mod common;
 
 use std::path::Path;
 
-use common::{sawdrive_err, sawdrive_ok, small_scene};
+use common::{sawdrive_err, sawdrive_ok, small_dynamic_json, small_scene};
 
 /// A slider light enough (0.04 mg) that the post phases of the small scene ripple its speed by
 /// ≈ 1.3e-2 of A_t ω: `auto` runs the transient, whose settings these tests exercise (with the
 /// scene's own mass the ripple is 4.5e-4 and `auto` rightly runs the period average).
 const LIGHT_SLIDER: &str = "slider.mass=0.04mg";
 
-/// `sawdrive dynamic` on the small scene with η = 0.36 and `sets`; returns the parsed JSON result.
+/// `sawdrive dynamic` on the small scene with η = 0.36, the light slider and `sets`; returns the
+/// parsed JSON result.
 fn dynamic_json(out: &Path, sets: &[&str]) -> serde_json::Value {
-    let scene = small_scene();
-    let mut args = vec![
-        "dynamic",
-        scene.as_str(),
-        "--out",
-        out.to_str().unwrap(),
-        "--json",
-        "--set",
-        "effective_ratio=0.36",
-        "--set",
-        LIGHT_SLIDER,
-    ];
-    for set in sets {
-        args.extend(["--set", set]);
-    }
-    serde_json::from_str(&sawdrive_ok(&args)).expect("dynamic --json prints JSON")
+    let mut all = vec![LIGHT_SLIDER];
+    all.extend_from_slice(sets);
+    small_dynamic_json(out, &all)
 }
 
 /// `sawdrive dynamic` on the small scene with η = 0.36 and `sets`, expected to fail naming `needle`.
@@ -124,9 +112,16 @@ fn a_time_step_with_the_auto_integrator_is_honoured_or_refused_never_ignored() {
         warnings.contains("T/50"),
         "the coarse step is warned about: {warnings}"
     );
-    for (step, says) in [("100ns", "T/1.041"), ("50ns", "T/2.08"), ("1e-30 s", "T/16384")] {
+    for (step, says) in [
+        ("100ns", "T/1.041"),
+        ("50ns", "T/2.08"),
+        ("1e-30 s", "T/16384"),
+    ] {
         let stderr = dynamic_err(&[&format!("model.time_step={step}")], "model.time_step");
-        assert!(stderr.contains(says), "a step outside T/16384..T/16 is refused: {stderr}");
+        assert!(
+            stderr.contains(says),
+            "a step outside T/16384..T/16 is refused: {stderr}"
+        );
     }
     // The paper motor runs the closed-form period average: no scheme takes a time step.
     let stderr = sawdrive_err(

@@ -5,9 +5,7 @@
 
 mod common;
 
-use std::path::Path;
-
-use common::{sawdrive, sawdrive_err, sawdrive_ok, small_scene};
+use common::{sawdrive, sawdrive_err, sawdrive_ok, small_dynamic_json, small_scene};
 use saw_wave::Cut;
 
 /// `sawdrive wave ARGS --json`, parsed.
@@ -207,24 +205,6 @@ fn bad_cuts_and_apertures_are_refused_in_one_line_naming_the_key_and_writing_not
     assert!(stderr.contains("leaky"), "{stderr}");
 }
 
-/// `sawdrive dynamic` of the small scene at η = 0.36 with `sets`, parsed.
-fn dynamic_json(out: &Path, sets: &[&str]) -> serde_json::Value {
-    let scene = small_scene();
-    let mut args = vec![
-        "dynamic",
-        scene.as_str(),
-        "--out",
-        out.to_str().unwrap(),
-        "--json",
-        "--set",
-        "effective_ratio=0.36",
-    ];
-    for set in sets {
-        args.extend(["--set", set]);
-    }
-    serde_json::from_str(&sawdrive_ok(&args)).expect("dynamic --json prints JSON")
-}
-
 #[test]
 fn phase_velocity_auto_takes_the_cuts_velocity_and_changes_the_run() {
     let resolved = |sets: &[&str]| -> serde_json::Value {
@@ -260,8 +240,8 @@ fn phase_velocity_auto_takes_the_cuts_velocity_and_changes_the_run() {
     );
 
     let out = tempfile::tempdir().unwrap();
-    let given = dynamic_json(out.path(), &[]);
-    let auto = dynamic_json(out.path(), &["wave.phase_velocity=auto"]);
+    let given = small_dynamic_json(out.path(), &[]);
+    let auto = small_dynamic_json(out.path(), &["wave.phase_velocity=auto"]);
     assert_ne!(
         given["curve"], auto["curve"],
         "the cut's phase velocity changes the speed–thrust curve"
@@ -272,7 +252,7 @@ fn phase_velocity_auto_takes_the_cuts_velocity_and_changes_the_run() {
 fn a_given_value_contradicting_the_cut_is_a_warning_in_dynamic_json_and_the_summary() {
     let out = tempfile::tempdir().unwrap();
     let contradicting = "wave.phase_velocity=3600m/s";
-    let json = dynamic_json(out.path(), &[contradicting]);
+    let json = small_dynamic_json(out.path(), &[contradicting]);
     let warnings = json["warnings"].as_array().expect("warnings array");
     let warning = warnings
         .iter()
@@ -286,7 +266,7 @@ fn a_given_value_contradicting_the_cut_is_a_warning_in_dynamic_json_and_the_summ
         "{warning}"
     );
     // The run goes on with the given value.
-    let quiet = dynamic_json(out.path(), &[]);
+    let quiet = small_dynamic_json(out.path(), &[]);
     assert!(
         quiet["warnings"]
             .as_array()
