@@ -282,6 +282,70 @@ pub struct CoupledModel {
     length_m: f64,
     omega: f64,
     normal_wall_s: f64,
+    /// The normal problem's factor at each grid phase where a model of a nearby profile
+    /// reused or made one ([`NormalFactor`]); empty for a cold model.
+    normal_factors: Vec<Option<Arc<NormalFactor>>>,
+}
+
+/// The Cholesky factor of Ĉ_AA on one phase's contact set A, kept with the model so that a
+/// model of a nearby amplitude profile ([`CoupledModel::new_from`]) solves that phase by two
+/// triangular solves when the contact set stays: on A the gaps vanish, Ĉ_AA N_A = h_A − z, and
+/// Σ N_A = P̂ fixes z, so N_A = a − z b with a = Ĉ_AA⁻¹h_A, b = Ĉ_AA⁻¹1,
+/// z = (1ᵀa − P̂)/(1ᵀb). The solution is taken when it is the contact problem's (every N_A ≥ 0,
+/// every gap off A ≥ −tolerance, in the solver's units); otherwise the active-set solver runs
+/// from A as before.
+#[derive(Debug, Clone)]
+struct NormalFactor {
+    active: Vec<bool>,
+    indices: Vec<usize>,
+    cholesky: nalgebra::Cholesky<f64, nalgebra::Dyn>,
+}
+
+impl NormalFactor {
+    fn new(cn: &DMatrix<f64>, active: &[bool]) -> Option<Self> {
+        let indices: Vec<usize> = (0..active.len()).filter(|&i| active[i]).collect();
+        if indices.is_empty() {
+            return None;
+        }
+        let sub = cn.select_rows(&indices).select_columns(&indices);
+        Some(Self {
+            active: active.to_vec(),
+            cholesky: sub.cholesky()?,
+            indices,
+        })
+    }
+
+    fn fits(&self, active: &[bool]) -> bool {
+        self.active == active
+    }
+
+    /// The normal forces and approach on this contact set, if they solve the contact problem.
+    fn solve(
+        &self,
+        cn: &DMatrix<f64>,
+        heights: &DVector<f64>,
+        preload: f64,
+        tolerance: f64,
+    ) -> Option<(DVector<f64>, f64)> {
+        let k = self.indices.len();
+        let h_a = DVector::from_fn(k, |r, _| heights[self.indices[r]]);
+        let a = self.cholesky.solve(&h_a);
+        let b = self.cholesky.solve(&DVector::from_element(k, 1.0));
+        let z = (a.sum() - preload) / b.sum();
+        let f_a = a - b * z;
+        if f_a.iter().any(|f| !(*f >= 0.0)) {
+            return None;
+        }
+        let mut force = DVector::zeros(heights.len());
+        for (r, &i) in self.indices.iter().enumerate() {
+            force[i] = f_a[r];
+        }
+        let gaps = cn * &force - heights;
+        let opens = (0..heights.len())
+            .filter(|&i| !self.active[i])
+            .all(|i| gaps[i] + z >= -tolerance);
+        opens.then_some((force, z))
+    }
 }
 
 impl CoupledModel {
@@ -325,7 +389,7 @@ impl CoupledModel {
             let theta = scene.start_phase_rad + 2.0 * PI * j as f64 / m as f64;
             DVector::from_fn(n, |i, _| alpha[i] * (theta - kx[i]).sin())
         };
-        let (normals, approach) = match scene.preload_balance {
+        let (normals, approach, factors) = match scene.preload_balance {
             PreloadBalance::Instant => {
                 let solver = ActiveSetSolver::new(ActiveSetOptions {
                     tolerance: scene.tolerance.max(1e-12),
@@ -333,20 +397,42 @@ impl CoupledModel {
                 });
                 let mut normals = Vec::with_capacity(m);
                 let mut approach = Vec::with_capacity(m);
+                let mut factors = Vec::with_capacity(if start.is_some() { m } else { 0 });
                 for j in 0..m {
+                    let h = heights(j);
+                    if let Some(s) = start {
+                        let active = s.normals[j].iter().map(|f| *f > 0.0).collect::<Vec<_>>();
+                        let reused = s.normal_factors.get(j).and_then(|f| f.as_ref());
+                        let factor = reused
+                            .filter(|f| f.fits(&active))
+                            .cloned()
+                            .or_else(|| NormalFactor::new(&cn, &active).map(Arc::new));
+                        let solved = factor.as_ref().and_then(|f| {
+                            f.solve(&cn, &h, preload, scene.tolerance.max(1e-12))
+                        });
+                        if let Some((force, z)) = solved {
+                            normals.push(force);
+                            approach.push(z);
+                            factors.push(factor);
+                            continue;
+                        }
+                    }
                     let warm: Option<Vec<bool>> =
                         start.map(|s| s.normals[j].iter().map(|f| *f > 0.0).collect());
                     let problem = ContactProblem {
                         compliance_m_per_n: cn.clone(),
-                        obstacle_height_m: heights(j).as_slice().to_vec(),
+                        obstacle_height_m: h.as_slice().to_vec(),
                         preload_n: preload,
                         length_scale_m: Some(1.0),
                     };
                     let solution = solver.solve_from(&problem, warm.as_deref())?;
                     normals.push(DVector::from_vec(solution.force_n));
                     approach.push(solution.reference_height_m);
+                    if start.is_some() {
+                        factors.push(None);
+                    }
                 }
-                (normals, approach)
+                (normals, approach, factors)
             }
             PreloadBalance::PeriodMean => {
                 let fine = |j: usize| -> DVector<f64> {
@@ -374,11 +460,13 @@ impl CoupledModel {
                         )
                     })
                     .collect::<Result<Vec<_>>>()?;
-                (normals, vec![z; m])
+                (normals, vec![z; m], Vec::new())
             }
         };
         let ct = Tangential::Dense(ct);
-        Ok(Self::assemble(scene, k_ref, normals, approach, ct, started))
+        let mut model = Self::assemble(scene, k_ref, normals, approach, ct, started);
+        model.normal_factors = factors;
+        Ok(model)
     }
 
     /// The model of a scene whose normal forces on the phase grid and tangential compliance
@@ -493,6 +581,7 @@ impl CoupledModel {
             length_m,
             omega: scene.wave.angular_frequency_rad_per_s(),
             normal_wall_s: started.elapsed().as_secs_f64(),
+            normal_factors: Vec::new(),
         }
     }
 
@@ -722,6 +811,28 @@ impl Approach {
         self.differences.clear();
         Some(jump)
     }
+}
+
+/// The result of [`CoupledModel::steady_profiled`]: the model of the settled profile, its
+/// steady point, each post's time-mean stator power over the steady period (W, whole slider)
+/// and the tips' state at that period's end (the start of a neighbouring speed).
+pub(crate) struct ProfiledSteady {
+    pub(crate) model: CoupledModel,
+    pub(crate) point: CoupledPoint,
+    pub(crate) post_power_w: Vec<f64>,
+    pub(crate) end_state: PeriodState,
+}
+
+/// What [`CoupledModel::steady_profiled`] does after a period, as its caller decides from the
+/// period's per-post powers and the tips' last change.
+pub(crate) enum ProfileStep {
+    /// The profile is settled: the period counts once it is periodic.
+    Settled,
+    /// The profile is not settled, but the tips have not relaxed enough for their powers to
+    /// give the next profile: step on.
+    Wait,
+    /// Step on with the model of the next profile.
+    Next(Box<CoupledModel>),
 }
 
 /// Solver statistics of a run.
@@ -1080,6 +1191,108 @@ impl CoupledModel {
         Ok((point, state, v, s, h))
     }
 
+    /// The steady point at `speed_m_per_s` of a model whose amplitude profile is itself
+    /// unknown (the energy-conserving wave, [`crate::attenuation`]): one stepping in which the
+    /// profile is updated between periods. After every period `reprofile` sees the model,
+    /// each post's time-mean stator power over that period (W, whole slider, as
+    /// [`Self::post_stator_power_from`]) and the largest change of a tip force over the period
+    /// (of the friction scale), and decides ([`ProfileStep`]): the profile is settled, the tips
+    /// must relax further, or the next profile's model. The point is the first period that is periodic by the rule
+    /// of [`Self::at_speed`] (two periods on one model, the same modes, forces within the
+    /// tolerance) at a settled profile; its powers are that period's. Stepping the profile and
+    /// the tips together costs one period per profile update instead of a steady solve per
+    /// update (the tips relax within a period or two where the posts separate).
+    pub(crate) fn steady_profiled(
+        self,
+        speed_m_per_s: f64,
+        start: Option<&PeriodState>,
+        max_periods: usize,
+        reprofile: &mut dyn FnMut(&CoupledModel, &[f64], f64) -> Result<ProfileStep>,
+    ) -> Result<ProfiledSteady> {
+        let mut model = self;
+        let n = model.kx.len();
+        let m = model.normals.len();
+        let v = model.scaled_velocity(speed_m_per_s);
+        let s = 1.0 - model.doppler * model.sigma * v;
+        let h = 2.0 * PI / (m as f64 * s);
+        let mut state = start.map_or_else(|| model.rest_state(), |p| p.0.clone());
+        let mut stats = SolverStats::default();
+        let mut previous = (state.force.clone(), state.mode.clone());
+        let mut approach = Approach::default();
+        let mut on_model = 0;
+        for period in 1..=max_periods {
+            let mut ints = Integrals::default();
+            let mut sums = PostSums::new(n);
+            for j in 0..m {
+                model.step(j, v, s, h, &mut state, &mut ints, &mut stats, Some(&mut sums))?;
+            }
+            on_model += 1;
+            let power = model.force_n * model.length_m * model.omega / ints.time;
+            let power_w: Vec<f64> = sums
+                .stator_work
+                .iter()
+                .map(|w| w * power / model.scene.strip_share)
+                .collect();
+            let difference = &state.force - &previous.0;
+            let same_modes = state.mode == previous.1;
+            let periodic = on_model >= 2
+                && difference.amax() <= model.periodic_tolerance * model.friction_scale()
+                && same_modes;
+            let relative_change = difference.amax() / model.friction_scale();
+            match reprofile(&model, &power_w, relative_change)? {
+                ProfileStep::Next(next) => {
+                    model = *next;
+                    on_model = 0;
+                    approach = Approach::default();
+                }
+                ProfileStep::Settled if periodic => {
+                    let point = model.point(speed_m_per_s, v, &ints, true, period, stats);
+                    return Ok(ProfiledSteady {
+                        model,
+                        point,
+                        post_power_w: power_w,
+                        end_state: PeriodState(state),
+                    });
+                }
+                ProfileStep::Settled | ProfileStep::Wait => {
+                    if model.extrapolate
+                        && let Some(jump) = approach.record(difference, same_modes)
+                    {
+                        state.force += jump;
+                        state.compliance_force = model.ct.times(&state.force);
+                    }
+                }
+            }
+            previous = (state.force.clone(), state.mode.clone());
+        }
+        Err(CoupledError::NotConverged {
+            what: "steady period with the energy-conserving wave",
+            iterations: max_periods,
+            residual: f64::NAN,
+            tolerance: model.periodic_tolerance,
+            context: format!("at speed {speed_m_per_s:.6e} m/s"),
+        })
+    }
+
+    /// Zero tangential forces, every post separated: the start of a cold stepping.
+    fn rest_state(&self) -> TipState {
+        let n = self.kx.len();
+        TipState {
+            force: DVector::zeros(n),
+            compliance_force: DVector::zeros(n),
+            mode: vec![PostMode::Separated; n],
+            active: ActiveSet::new(n),
+            change: DVector::zeros(n),
+        }
+    }
+
+    /// μ_s times the largest normal force on the grid (solver units), floored above zero: the
+    /// scale of the periodicity rule.
+    fn friction_scale(&self) -> f64 {
+        let largest = self.normals.iter().map(|x| x.amax()).fold(0.0, f64::max);
+        (self.scene.mu_static * largest).max(1e-300)
+    }
+
     fn point(
         &self,
         speed_m_per_s: f64,
@@ -1219,6 +1432,47 @@ impl CoupledModel {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// 24 posts 0.37 λ apart, coupled through a dense compliance (diagonal springs plus an
+    /// exponentially decaying half-space-like coupling), instant preload balance, amplitude
+    /// profile `alpha`.
+    fn coupled_row(alpha: &[f64]) -> CoupledScene {
+        let wave = stick_slip::Wave::paper_default();
+        let n = alpha.len();
+        let x = (0..n).map(|i| 0.37 * wave.wavelength_m() * i as f64).collect();
+        let mut scene = CoupledScene::independent_posts(wave, x, 1.8e6, 1.5e6, 0.3, 0.3, 0.4);
+        let coupling = |i: usize, j: usize| 0.2 / 1.8e6 * (-(i.abs_diff(j) as f64) / 3.0).exp();
+        scene.normal_compliance_m_per_n =
+            DMatrix::from_fn(n, n, |i, j| coupling(i, j)) + DMatrix::identity(n, n) / 1.8e6;
+        scene.preload_balance = PreloadBalance::Instant;
+        scene.steps_per_period = 32;
+        scene.amplitude_scale = alpha.to_vec();
+        scene
+    }
+
+    #[test]
+    fn a_model_from_a_nearby_profile_has_the_cold_models_normal_forces() {
+        let n = 24;
+        let first: Vec<f64> = (0..n).map(|i| 1.0 - 0.012 * i as f64).collect();
+        let second: Vec<f64> = (0..n).map(|i| 1.0 - 0.013 * i as f64).collect();
+        let start = CoupledModel::new(&coupled_row(&first)).unwrap();
+        let warm = CoupledModel::new_from(&coupled_row(&second), Some(&start)).unwrap();
+        let again = CoupledModel::new_from(&coupled_row(&second), Some(&warm)).unwrap();
+        let cold = CoupledModel::new(&coupled_row(&second)).unwrap();
+        let reused = again.normal_factors.iter().filter(|f| f.is_some()).count();
+        assert!(reused > 0, "the contact sets stay on some phases and their factors are reused");
+        for (model, what) in [(&warm, "from the first profile"), (&again, "from its own factors")] {
+            for j in 0..cold.normals.len() {
+                let scale = cold.normals[j].amax();
+                let difference = (&model.normals[j] - &cold.normals[j]).amax();
+                assert!(
+                    difference <= 1e-10 * scale,
+                    "{what}: phase {j} normal forces differ by {difference:e} of {scale:e}"
+                );
+                assert!((model.approach[j] - cold.approach[j]).abs() <= 1e-10);
+            }
+        }
+    }
 
     /// Period-start forces x_k = x* + ρᵏ d approaching x* geometrically.
     fn geometric(k: i32) -> DVector<f64> {
