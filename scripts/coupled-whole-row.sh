@@ -8,8 +8,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-out}
-cargo build -p sawdrive
+# The package of the `sawdrive` binary (crates/sawdrive-cli; crates/sawdrive before it).
+package=sawdrive-cli
+[ -f crates/sawdrive-cli/Cargo.toml ] || package=sawdrive
+cargo build --release -p "$package" --bin sawdrive
 /usr/bin/time -f "whole-row: %e s wall, %M KB max RSS" \
-  python3 validation/coupled-dynamics/scripts/whole-row.py target/debug/sawdrive "$out" \
+  python3 validation/coupled-dynamics/scripts/whole-row.py target/release/sawdrive "$out" \
   > validation/coupled-dynamics/results/whole-row.csv.tmp
 mv validation/coupled-dynamics/results/whole-row.csv.tmp validation/coupled-dynamics/results/whole-row.csv

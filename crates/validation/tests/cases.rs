@@ -161,3 +161,57 @@ fn summary_table_cells_escape_the_bars_of_absolute_values() {
     assert!(table.contains("| \\|a − b\\| |"), "{table}");
     assert!(table.contains("--level smoke"), "{table}");
 }
+
+fn outcome(case: &str, level: Level, pass: bool) -> cases::CaseOutcome {
+    cases::CaseOutcome {
+        case: case.into(),
+        level,
+        checks: vec![cases::Check::at_most(
+            case,
+            "q",
+            if pass { 0.5 } else { 2.0 },
+            1.0,
+            "s",
+        )],
+        skipped: None,
+        wall_s: 1.0,
+    }
+}
+
+#[test]
+fn summary_update_keeps_the_sections_of_cases_not_run_and_counts_them() {
+    let first = cases::summary_markdown(
+        &[
+            outcome("springs", Level::Full, true),
+            outcome("design", Level::Quick, false),
+        ],
+        "aaa",
+    );
+    // Rerun only stick-slip: springs and design keep their rows (level, commit), in case order.
+    let second = cases::update_summary(
+        Some(&first),
+        &[outcome("stick-slip", Level::Full, true)],
+        "bbb",
+    );
+    let springs = second.find("## springs (full level").expect("springs kept");
+    let stick = second
+        .find("## stick-slip (full level")
+        .expect("stick-slip added");
+    let design = second.find("## design (quick level").expect("design kept");
+    assert!(springs < stick && stick < design, "{second}");
+    assert!(second.contains("| full | `aaa` |") && second.contains("| full | `bbb` |"));
+    assert!(
+        second.contains("3 checks, 1 failing, 0 case(s) skipped"),
+        "{second}"
+    );
+    // A section run below the full level names the command of the full level.
+    assert!(second.contains("`sawdrive validate design --level full --summary"));
+    // Rerunning design replaces its section instead of adding one.
+    let third = cases::update_summary(
+        Some(&second),
+        &[outcome("design", Level::Full, true)],
+        "ccc",
+    );
+    assert_eq!(third.matches("## design").count(), 1, "{third}");
+    assert!(third.contains("3 checks, 0 failing"), "{third}");
+}

@@ -12,10 +12,23 @@
 //! criterion, "≥ the measured error in every scene"); the energy balance closes to
 //! [`super::coupled_dynamics::ENERGY_BALANCE`]. The tip compliances are cached (JSON) in
 //! `coupled-strips/` of the mesh cache (`static_contact::mesh_source::cache_dir`); a strip costs
-//! ≈ 45 s of meshing and FEM the first time.
+//! ≈ 45 s of meshing and FEM the first time. [`run`] writes every column of `sliders.csv`
+//! (`results/short_strips.csv`), so a full run's file is the next committed reference.
+//!
+//! [`work_precision`] (full level): the README's work-precision chart of the default slider at
+//! 40 N on its short strip — coupled T/32 … T/512 against coupled T/1024, the lumped closed form
+//! at the static η and at η_dyn, and the lumped transient at η_dyn (T/64, T/256)
+//! (`results/work_precision.csv`, `figures/work_precision.svg`); checks: the coupled step error
+//! falls between successive step counts and is ≤ [`super::coupled_dynamics::T128_ERROR`] at
+//! T/128, while the lumped model at the static η stays further from the coupled reference than
+//! that (a model error no step removes).
 
 use std::f64::consts::PI;
+use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use charts::{Chart, Series, Style, write_chart};
 
 use contact_springs::{Material, post_springs};
 use coupled_dynamics::{
@@ -30,7 +43,7 @@ use static_contact::{
 use stick_slip::{DynamicScene, ModelChoice, PeriodicAverageModel, Wave};
 
 use super::Check;
-use super::coupled_dynamics::ENERGY_BALANCE;
+use super::coupled_dynamics::{ENERGY_BALANCE, T128_ERROR};
 use crate::error::ValidationError;
 
 const CASE: &str = "coupled-dynamics";
@@ -39,6 +52,8 @@ const CASE: &str = "coupled-dynamics";
 pub const STRIP_WAVELENGTHS: f64 = 3.0;
 /// Frozen-wave phases of the static η fit. 8.
 pub const FIT_PHASES: usize = 8;
+/// Steps per period of the study's coupled runs. 128.
+pub const STUDY_STEPS: usize = 128;
 /// Relative tolerance of the coupled figures against the committed `results/sliders.csv`
 /// (same strips and code path; the contact solvers have changed since: measured 2.6e-4 at 10 N
 /// to 7.9e-3 at 100 N on the 50 µm slider), an order below the lumped errors the study
@@ -69,6 +84,9 @@ struct CachedStrip {
     share: f64,
     normal: Vec<f64>,
     tangential: Vec<f64>,
+    /// Wall time of the strip's meshing and FEM when it was made (s; 0 if unknown).
+    #[serde(default)]
+    prep_s: f64,
 }
 
 /// A strip's post positions, share, and normal and tangential tip compliance (m/N).
@@ -77,6 +95,7 @@ struct Strip {
     share: f64,
     normal: DMatrix<f64>,
     tangential: DMatrix<f64>,
+    prep_s: f64,
 }
 
 fn cache_file(d: f64, per_side: usize) -> PathBuf {
@@ -95,6 +114,7 @@ fn strip(d: f64, per_side: usize) -> Result<Strip, ValidationError> {
         None => {
             let mut params = StaticParams::square_array(d, per_side);
             params.strip_posts = Some(strip_posts(params.post_pitch_m, per_side));
+            let started = Instant::now();
             let prepared = prepare_strip(&params).map_err(|e| failed("strip FEM", e))?;
             let tips = prepared
                 .model
@@ -105,6 +125,7 @@ fn strip(d: f64, per_side: usize) -> Result<Strip, ValidationError> {
                 share: params.strip_share(),
                 normal: tips.normal_m_per_n.as_slice().to_vec(),
                 tangential: tips.tangential_m_per_n.as_slice().to_vec(),
+                prep_s: started.elapsed().as_secs_f64(),
             };
             write_cache(&file, &c)?;
             c
@@ -116,6 +137,7 @@ fn strip(d: f64, per_side: usize) -> Result<Strip, ValidationError> {
         tangential: DMatrix::from_column_slice(n, n, &cached.tangential),
         x_m: cached.x_m,
         share: cached.share,
+        prep_s: cached.prep_s,
     })
 }
 
@@ -163,7 +185,7 @@ fn static_eta(s: &Strip, k_n: f64, preload: f64) -> Result<(f64, f64), Validatio
     Ok((fit.eta.unwrap_or(f64::NAN), fit.relative_rms_residual))
 }
 
-fn coupled_scene(s: &Strip, preload: f64) -> CoupledScene {
+fn coupled_scene(s: &Strip, preload: f64, steps: usize) -> CoupledScene {
     let mut scene = CoupledScene::independent_posts(
         Wave::paper_default(),
         s.x_m.clone(),
@@ -177,7 +199,7 @@ fn coupled_scene(s: &Strip, preload: f64) -> CoupledScene {
     scene.tangential_compliance_m_per_n = s.tangential.clone();
     scene.strip_share = s.share;
     scene.preload_balance = PreloadBalance::Instant;
-    scene.steps_per_period = 128;
+    scene.steps_per_period = steps;
     scene
 }
 
@@ -240,7 +262,7 @@ fn committed(d: f64, per_side: usize, preload: f64) -> Option<(f64, f64)> {
 /// CSV rows (`results/sliders.csv`'s columns).
 pub fn run(scenes: &[(f64, usize, f64)]) -> Result<(Vec<Check>, String), ValidationError> {
     let mut csv = String::from(
-        "post_diameter_m,posts_per_side,preload_n,strip_posts,eta_static,eta_fit_misfit,eta_dyn,coupled_stall_thrust_n,coupled_no_load_speed_m_per_s,lumped_static_stall_thrust_n,lumped_static_no_load_speed_m_per_s,lumped_static_error,lumped_error_estimate,energy_balance_residual\n",
+        "post_diameter_m,posts_per_side,preload_n,strip_posts,eta_static,eta_fit_misfit,eta_dyn,eta_dyn_misfit,coupled_stall_thrust_n,coupled_no_load_speed_m_per_s,lumped_static_stall_thrust_n,lumped_static_no_load_speed_m_per_s,lumped_dyn_stall_thrust_n,lumped_dyn_no_load_speed_m_per_s,lumped_static_error,lumped_dyn_error,lumped_error_estimate,coupled_wall_time_s,energy_balance_residual,strip_prep_s\n",
     );
     let mut checks = Vec::new();
     for &(d, per_side, preload) in scenes {
@@ -250,10 +272,18 @@ pub fn run(scenes: &[(f64, usize, f64)]) -> Result<(Vec<Check>, String), Validat
             .k_n_n_per_m;
         let base = lumped_scene(d, per_side, preload)?;
         let (eta_static, misfit) = static_eta(&s, k_n, preload)?;
-        let model = CoupledModel::new(&coupled_scene(&s, preload))
+        let started = Instant::now();
+        let model = CoupledModel::new(&coupled_scene(&s, preload, STUDY_STEPS))
             .map_err(|e| failed("coupled model", e))?;
         let r = solve(&model, Some(&base)).map_err(|e| failed("coupled run", e))?;
+        let wall_s = started.elapsed().as_secs_f64();
         let ls = lumped(&base, eta_static.min(1.5))?;
+        let eta_dyn = r.eta_dyn.unwrap_or(f64::NAN);
+        let ld = if eta_dyn.is_finite() {
+            lumped(&base, eta_dyn)?
+        } else {
+            (f64::NAN, f64::NAN)
+        };
         let coupled = (r.stall_thrust_n, r.no_load_speed_m_per_s);
         let lumped_error = error(ls, coupled);
         let estimate = lumped_error_estimate(&LumpedEvidence {
@@ -262,14 +292,18 @@ pub fn run(scenes: &[(f64, usize, f64)]) -> Result<(Vec<Check>, String), Validat
             crest_speed_m_per_s: Wave::paper_default().crest_speed_m_per_s(),
         });
         csv += &format!(
-            "{d},{per_side},{preload},{},{eta_static},{misfit},{},{},{},{},{},{lumped_error},{estimate},{}\n",
+            "{d},{per_side},{preload},{},{eta_static},{misfit},{eta_dyn},{},{},{},{},{},{},{},{lumped_error},{},{estimate},{wall_s},{},{}\n",
             s.x_m.len(),
-            r.eta_dyn.unwrap_or(f64::NAN),
+            r.eta_dyn_misfit.unwrap_or(f64::NAN),
             coupled.0,
             coupled.1,
             ls.0,
             ls.1,
-            r.energy_balance_residual
+            ld.0,
+            ld.1,
+            error(ld, coupled),
+            r.energy_balance_residual,
+            s.prep_s
         );
         let slider = format!(
             "{:.0} µm × {}, {preload} N, {}-post strip",
@@ -310,4 +344,162 @@ pub fn run(scenes: &[(f64, usize, f64)]) -> Result<(Vec<Check>, String), Validat
         ));
     }
     Ok((checks, csv))
+}
+
+/// (stall N, no-load m/s, wall s) of the coupled model on the strip at `steps` per period.
+fn coupled_at(s: &Strip, preload: f64, steps: usize) -> Result<(f64, f64, f64), ValidationError> {
+    let started = Instant::now();
+    let model = CoupledModel::new(&coupled_scene(s, preload, steps))
+        .map_err(|e| failed("coupled model", e))?;
+    let stall = model
+        .stall_thrust_n()
+        .map_err(|e| failed("coupled stall", e))?;
+    let v0 = model
+        .no_load_speed_m_per_s(stall)
+        .map_err(|e| failed("coupled no-load speed", e))?;
+    Ok((stall, v0, started.elapsed().as_secs_f64()))
+}
+
+/// (stall N, no-load m/s, wall s) of the lumped transient (phase groups and the slider in time,
+/// return mapping) at η and `steps` per period.
+fn transient_at(
+    base: &DynamicScene,
+    eta: f64,
+    steps: usize,
+) -> Result<(f64, f64, f64), ValidationError> {
+    let mut scene = base.clone();
+    scene.slider.effective_ratio = eta;
+    scene.model = ModelChoice::Transient;
+    scene.integrator = stick_slip::Integrator::ReturnMapping {
+        dt_s: scene.wave.period_s() / steps as f64,
+    };
+    let started = Instant::now();
+    let r = stick_slip::solve(&scene).map_err(|e| failed("lumped transient", e))?;
+    Ok((
+        r.stall_thrust_n,
+        r.no_load_speed_m_per_s,
+        started.elapsed().as_secs_f64(),
+    ))
+}
+
+/// Default slider (20 µm × 10000) at 40 N on its short strip: the README's work-precision
+/// chart. Writes `results/work_precision.csv` and `figures/work_precision.svg` into `out`.
+pub fn work_precision(out: &Path) -> Result<Vec<Check>, ValidationError> {
+    let (d, per_side, preload) = (20e-6, 100, 40.0);
+    let s = strip(d, per_side)?;
+    let reference = coupled_at(&s, preload, 1024)?;
+    let r = (reference.0, reference.1);
+    let mut csv = String::from(
+        "model,steps_per_period,stall_thrust_n,no_load_speed_m_per_s,error,wall_time_s\n",
+    );
+    let _ = writeln!(csv, "coupled,1024,{},{},0,{}", r.0, r.1, reference.2);
+    let mut coupled = Vec::new();
+    for steps in [32, 64, 128, 256, 512] {
+        let c = coupled_at(&s, preload, steps)?;
+        let e = error((c.0, c.1), r);
+        let _ = writeln!(csv, "coupled,{steps},{},{},{e},{}", c.0, c.1, c.2);
+        coupled.push((steps, c.2, e));
+    }
+    let base = lumped_scene(d, per_side, preload)?;
+    let k_n = post_springs(&Material::silicon(), &Material::lithium_niobate(), 0.5 * d)
+        .map_err(|e| failed("post springs", e))?
+        .k_n_n_per_m;
+    let (eta_static, _) = static_eta(&s, k_n, preload)?;
+    let model = CoupledModel::new(&coupled_scene(&s, preload, 256))
+        .map_err(|e| failed("coupled model", e))?;
+    let eta_dyn = solve(&model, Some(&base))
+        .map_err(|e| failed("coupled run", e))?
+        .eta_dyn
+        .ok_or_else(|| failed("coupled run", "no η_dyn"))?;
+    let mut lumped_points = Vec::new();
+    for (label, eta) in [
+        ("lumped-static-eta", eta_static),
+        ("lumped-eta-dyn", eta_dyn),
+    ] {
+        let started = Instant::now();
+        let l = lumped(&base, eta)?;
+        let w = started.elapsed().as_secs_f64();
+        let e = error(l, r);
+        let _ = writeln!(csv, "{label},closed-form,{},{},{e},{w}", l.0, l.1);
+        lumped_points.push((label, (w, e)));
+    }
+    let mut transient = Vec::new();
+    for steps in [64, 256] {
+        let t = transient_at(&base, eta_dyn, steps)?;
+        let e = error((t.0, t.1), r);
+        let _ = writeln!(csv, "transient-eta-dyn,{steps},{},{},{e},{}", t.0, t.1, t.2);
+        transient.push((t.2, e));
+    }
+    super::coupled_dynamics::write(&out.join("results/work_precision.csv"), &csv)?;
+    work_precision_chart(out, &coupled, &lumped_points, &transient)?;
+    Ok(work_precision_checks(&coupled, lumped_points[0].1.1))
+}
+
+fn work_precision_chart(
+    out: &Path,
+    coupled: &[(usize, f64, f64)],
+    lumped_points: &[(&str, (f64, f64))],
+    transient: &[(f64, f64)],
+) -> Result<(), ValidationError> {
+    let mut chart = Chart::new(
+        "Work-precision, default slider, 40 N (reference: coupled, T/1024)",
+        "wall time (s)",
+        "max relative error of stall thrust and no-load speed",
+    )
+    .log_log();
+    chart.series.push(Series::new(
+        "coupled, T/32 … T/512",
+        coupled.iter().map(|c| (c.1, c.2)).collect(),
+        Style::LineMarkers,
+    ));
+    for (label, p) in lumped_points {
+        chart
+            .series
+            .push(Series::new(*label, vec![*p], Style::Markers));
+    }
+    chart.series.push(Series::new(
+        "transient at η_dyn, T/64, T/256",
+        transient.to_vec(),
+        Style::LineMarkers,
+    ));
+    write_chart(&chart, &out.join("figures/work_precision"))
+        .map(|_| ())
+        .map_err(|e| failed("work-precision chart", e))
+}
+
+fn work_precision_checks(coupled: &[(usize, f64, f64)], lumped_static_error: f64) -> Vec<Check> {
+    let slider = "20 µm × 10000, 40 N, 33-post strip";
+    let source = "validation/coupled-dynamics/README.md, work-precision on the short strip";
+    let mut checks: Vec<Check> = coupled
+        .windows(2)
+        .map(|w| {
+            Check::at_most(
+                CASE,
+                format!(
+                    "{slider}: step error at T/{} over T/{} (falls with the step)",
+                    w[1].0, w[0].0
+                ),
+                w[1].2 / w[0].2,
+                1.0,
+                source,
+            )
+        })
+        .collect();
+    if let Some(c) = coupled.iter().find(|c| c.0 == 128) {
+        checks.push(Check::at_most(
+            CASE,
+            format!("{slider}: coupled step error at T/128"),
+            c.2,
+            T128_ERROR,
+            source,
+        ));
+        checks.push(Check::at_least(
+            CASE,
+            format!("{slider}: lumped (static η) error against coupled T/1024, above the T/128 step error"),
+            lumped_static_error,
+            c.2,
+            source,
+        ));
+    }
+    checks
 }
