@@ -167,7 +167,10 @@ fn bad_ball_inputs_are_refused_in_one_line_naming_the_key_and_writing_nothing() 
         ("static.phases=2", "static.phases"),
         ("slider.length=3mm", "slider.length"),
         ("contact.effective_ratio=0.36", "contact.effective_ratio"),
-        ("model.integrator=post-mass", "model.integrator"),
+        (
+            "model.lumped.integrator=post-mass",
+            "model.lumped.integrator",
+        ),
         ("friction.kinetic=0.2", "friction.kinetic"),
         ("wave.attenuation=on", "wave.attenuation"),
         ("wave.decay_length=20mm", "wave.decay_length"),

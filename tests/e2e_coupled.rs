@@ -96,7 +96,7 @@ fn the_cached_strip_compliance_gives_the_same_coupled_result_bitwise() {
     let dir = tempfile::tempdir().expect("temp dir");
     let set = [
         "model.dynamics=coupled",
-        "model.steps_per_period=32",
+        "model.coupled.steps_per_period=32",
         "model.curve_points=5",
     ];
     let fresh = dynamic_json(dir.path(), &set);
@@ -163,7 +163,11 @@ fn auto_picks_the_coupled_model_only_beyond_the_lumped_tolerance() {
     let tight = format!("model.lumped_tolerance={}", 0.5 * estimate);
     let strict = dynamic_json(
         dir.path(),
-        &[&tight, "model.steps_per_period=32", "model.curve_points=5"],
+        &[
+            &tight,
+            "model.coupled.steps_per_period=32",
+            "model.curve_points=5",
+        ],
     );
     assert_eq!(
         strict["model"], "coupled",
@@ -218,16 +222,19 @@ fn coupled_settings_that_cannot_apply_are_refused_by_name() {
             "contact.effective_ratio",
         ),
         (
-            vec!["model.dynamics=coupled", "model.vertical=dynamic"],
-            "model.vertical",
+            vec!["model.dynamics=coupled", "model.lumped.vertical=dynamic"],
+            "model.lumped.vertical",
         ),
         (
-            vec!["model.dynamics=coupled", "model.steps_per_period=8"],
-            "model.steps_per_period",
+            vec!["model.dynamics=coupled", "model.coupled.steps_per_period=8"],
+            "model.coupled.steps_per_period",
         ),
         (
-            vec!["model.dynamics=transient", "model.steps_per_period=64"],
-            "model.steps_per_period",
+            vec![
+                "model.dynamics=transient",
+                "model.coupled.steps_per_period=64",
+            ],
+            "model.coupled.steps_per_period",
         ),
         (
             vec!["model.dynamics=coupled", "model.lumped_tolerance=0.1"],

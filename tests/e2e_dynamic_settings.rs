@@ -76,8 +76,11 @@ fn bursts_and_decaying_waves_run_through_dynamic_and_write_their_files() {
 #[test]
 fn four_billion_periods_are_refused_with_the_memory_estimate_naming_the_key() {
     let stderr = dynamic_err(
-        &["model.dynamics=transient", "model.periods=4294967295"],
-        "model.periods",
+        &[
+            "model.dynamics=transient",
+            "model.transient.periods=4294967295",
+        ],
+        "model.transient.periods",
     );
     assert!(
         stderr.contains("bytes") && stderr.contains("limit"),
@@ -87,9 +90,9 @@ fn four_billion_periods_are_refused_with_the_memory_estimate_naming_the_key() {
 
 #[test]
 fn the_regularized_integrator_is_refused_with_its_estimated_cost() {
-    let stderr = dynamic_err(&["model.integrator=regularized"], "post-steps");
+    let stderr = dynamic_err(&["model.lumped.integrator=regularized"], "post-steps");
     assert!(
-        stderr.contains("exceeds the limit") && stderr.contains("model.time_step"),
+        stderr.contains("exceeds the limit") && stderr.contains("model.lumped.time_step"),
         "the refusal states the estimated cost, the limit and the keys to change: {stderr}"
     );
 }
@@ -98,7 +101,7 @@ fn the_regularized_integrator_is_refused_with_its_estimated_cost() {
 fn a_time_step_with_the_auto_integrator_is_honoured_or_refused_never_ignored() {
     let out = tempfile::tempdir().unwrap();
     let auto = dynamic_json(out.path(), &[]);
-    let coarse = dynamic_json(out.path(), &["model.time_step=6ns"]);
+    let coarse = dynamic_json(out.path(), &["model.lumped.time_step=6ns"]);
     assert_eq!(
         auto["model"], "transient",
         "the small scene with a light slider runs the transient"
@@ -117,7 +120,10 @@ fn a_time_step_with_the_auto_integrator_is_honoured_or_refused_never_ignored() {
         ("50ns", "T/2.08"),
         ("1e-30 s", "T/16384"),
     ] {
-        let stderr = dynamic_err(&[&format!("model.time_step={step}")], "model.time_step");
+        let stderr = dynamic_err(
+            &[&format!("model.lumped.time_step={step}")],
+            "model.lumped.time_step",
+        );
         assert!(
             stderr.contains(says),
             "a step outside T/16384..T/16 is refused: {stderr}"
@@ -130,9 +136,9 @@ fn a_time_step_with_the_auto_integrator_is_honoured_or_refused_never_ignored() {
             "--set",
             "effective_ratio=0.36",
             "--set",
-            "model.time_step=1ns",
+            "model.lumped.time_step=1ns",
         ],
-        "model.time_step",
+        "model.lumped.time_step",
     );
     assert!(stderr.contains("no time step"), "{stderr}");
 }
@@ -140,14 +146,14 @@ fn a_time_step_with_the_auto_integrator_is_honoured_or_refused_never_ignored() {
 #[test]
 fn model_settings_the_running_model_does_not_use_are_refused_naming_the_key() {
     for (set, key) in [
-        ("model.periods=10", "model.periods"),
+        ("model.transient.periods=10", "model.transient.periods"),
         (
-            "model.regularization_velocity=1mm/s",
-            "model.regularization_velocity",
+            "model.lumped.regularization_velocity=1mm/s",
+            "model.lumped.regularization_velocity",
         ),
         (
-            "model.vertical_damping_ratio=0.1",
-            "model.vertical_damping_ratio",
+            "model.lumped.vertical_damping_ratio=0.1",
+            "model.lumped.vertical_damping_ratio",
         ),
     ] {
         sawdrive_err(
@@ -160,13 +166,22 @@ fn model_settings_the_running_model_does_not_use_are_refused_naming_the_key() {
 #[test]
 fn periods_and_curve_points_change_the_transient() {
     let out = tempfile::tempdir().unwrap();
-    let short = dynamic_json(out.path(), &["model.periods=40", "model.curve_points=3"]);
-    let long = dynamic_json(out.path(), &["model.periods=400", "model.curve_points=3"]);
+    let short = dynamic_json(
+        out.path(),
+        &["model.transient.periods=40", "model.curve_points=3"],
+    );
+    let long = dynamic_json(
+        out.path(),
+        &["model.transient.periods=400", "model.curve_points=3"],
+    );
     assert_ne!(
         short["curve"], long["curve"],
-        "model.periods changes the transient's curve"
+        "model.transient.periods changes the transient's curve"
     );
-    let more = dynamic_json(out.path(), &["model.periods=40", "model.curve_points=5"]);
+    let more = dynamic_json(
+        out.path(),
+        &["model.transient.periods=40", "model.curve_points=5"],
+    );
     assert!(
         more["curve"].as_array().unwrap().len() > short["curve"].as_array().unwrap().len(),
         "model.curve_points sets the transient's loads"

@@ -117,7 +117,10 @@ fn sweep_names_and_chart_files_that_would_escape_out_are_refused() {
 fn counts_and_steps_that_would_abort_or_mislead_are_refused_by_key() {
     let scene = small_scene();
     for (sets, needle) in [
-        (vec!["model.time_step=\"1 us\""], "model.time_step"),
+        (
+            vec!["model.lumped.time_step=\"1 us\""],
+            "model.lumped.time_step",
+        ),
         (vec!["static.phases=1000000000"], "static.phases"),
         (vec!["posts.count=100000x100000"], "posts.count"),
         (
@@ -130,9 +133,9 @@ fn counts_and_steps_that_would_abort_or_mislead_are_refused_by_key() {
         (
             vec![
                 "model.dynamics=coupled",
-                "model.steps_per_period=1000000000",
+                "model.coupled.steps_per_period=1000000000",
             ],
-            "model.steps_per_period",
+            "model.coupled.steps_per_period",
         ),
         (vec!["model.curve_points=1000000000"], "model.curve_points"),
     ] {

@@ -128,7 +128,7 @@ def long_scene():
     """The small scene through a 4000-period transient (≈ 4 s of work): long enough for an
     interrupt at 0.3 s, whatever the machine (its FEM run alone now takes ≈ 0.3 s)."""
     scene = sawdrive.Scene.load(SMALL_SCENE).set("effective_ratio", ETA)
-    return scene.set("model.dynamics", "transient").set("model.periods", 4000)
+    return scene.set("model.dynamics", "transient").set("model.transient.periods", 4000)
 
 
 def test_interrupted_run_keeps_the_earlier_results(tmp_path):
@@ -156,7 +156,7 @@ def test_an_interrupted_run_leaves_no_scratch_folder_when_the_interpreter_exits(
     code = f"""
 import sawdrive
 scene = sawdrive.Scene.load({str(SMALL_SCENE)!r}).set("effective_ratio", {ETA})
-scene = scene.set("model.dynamics", "transient").set("model.periods", 20000)
+scene = scene.set("model.dynamics", "transient").set("model.transient.periods", 20000)
 def interrupt(elapsed_s, done, total):
     raise KeyboardInterrupt
 try:
@@ -175,7 +175,7 @@ def test_an_interrupt_stops_the_dynamic_stage_instead_of_finishing_it_in_the_bac
     # its next run. CPU time (all threads of this process) is what load from other processes
     # does not inflate; the bound leaves room for the run in progress and a few more.
     out = tmp_path / "out"
-    scene = long_scene().set("model.periods", 20000)
+    scene = long_scene().set("model.transient.periods", 20000)
 
     def interrupt(elapsed_s, done, total):
         raise KeyboardInterrupt
@@ -223,12 +223,12 @@ def test_long_calls_release_the_gil():
 
 
 def test_stage_failure_is_a_pipeline_error_with_the_cli_message(cli, tmp_path):
-    overrides = ["effective_ratio=0.36", "model.periods=20"]  # periods with the period average: refused
+    overrides = ["effective_ratio=0.36", "model.transient.periods=20"]  # periods with the period average: refused
     scene = sawdrive.Scene.default()
     for o in overrides:
         scene.set(*o.split("=", 1))
     with pytest.raises(sawdrive.PipelineError) as error:
         sawdrive.dynamic(scene)
-    assert "model.periods" in str(error.value)
+    assert "model.transient.periods" in str(error.value)
     shown = run_cli(cli, "dynamic", *sum((["--set", o] for o in overrides), []), cwd=tmp_path)
     assert shown.stderr.strip() == f"error: {error.value}", "same one-line message as the CLI"

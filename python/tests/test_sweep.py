@@ -67,12 +67,12 @@ def test_failed_points_raise_with_the_completed_ones(tmp_path):
     file = tmp_path / "half.toml"
     file.write_text(
         f'name = "half"\nscene = "{SMALL_SCENE}"\n[set]\neffective_ratio = 0.36\n'
-        '[grid]\n"model.regularization_velocity" = ["auto", "1 m/s"]\n'
+        '[grid]\n"model.lumped.regularization_velocity" = ["auto", "1 m/s"]\n'
     )
     with pytest.raises(sawdrive.SweepPointsFailed) as error:
         sawdrive.sweep(file, out=tmp_path, jobs=1)
     assert "1 of 2 sweep points failed" in str(error.value)
-    assert "model.regularization_velocity" in error.value.failures[0][1]
+    assert "model.lumped.regularization_velocity" in error.value.failures[0][1]
     assert len(error.value.result) == 1, "the completed point is kept"
 
 
@@ -82,7 +82,7 @@ def slow_sweep(tmp_path, points=8):
     preloads = ", ".join(f'"{0.1 + 0.05 * k:.2f} N"' for k in range(points))
     path.write_text(
         f'name = "slow"\nscene = "{SMALL_SCENE}"\n[set]\neffective_ratio = 0.36\n'
-        f'"model.dynamics" = "transient"\n"model.periods" = 200\n[grid]\npreload = [{preloads}]\n'
+        f'"model.dynamics" = "transient"\n"model.transient.periods" = 200\n[grid]\npreload = [{preloads}]\n'
     )
     return path
 

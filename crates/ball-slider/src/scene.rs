@@ -6,7 +6,7 @@
 //! own mass), `wave.*` → [`BallScene::wave`], `stator.material` → [`BallScene::stator`],
 //! `friction.mu` → [`BallScene::friction_coefficient`] (μ_static must equal μ_kinetic),
 //! `load.preload` → [`BallScene::preload_n`], `load.external` → [`BallScene::external_load_n`],
-//! `model.steps_per_period`, `model.ball_springs`, `dynamic.curve_points` → [`Numerics`].
+//! `model.ball.steps_per_period`, `model.curve_points` → [`Numerics`].
 
 use std::f64::consts::PI;
 

@@ -146,7 +146,11 @@ fn every_refusal_names_the_field_at_fault() {
         ("[stator]\nmaterial = \"steel\"\n", &[], "stator.material"),
         ("[load]\npreload = \"0 N\"\n", &[], "load.preload"),
         ("", &["friction=-0.1"], "friction.static"),
-        ("", &["model.vertical=sideways"], "model.vertical"),
+        (
+            "",
+            &["model.lumped.vertical=sideways"],
+            "model.lumped.vertical",
+        ),
         (
             "[wave]\nfrequency = \"9.61 MHz\"\ncolour = \"red\"\n",
             &[],
@@ -194,8 +198,16 @@ fn overflowing_underflowing_and_non_decimal_values_are_refused_naming_the_key() 
         ("", &["posts.diameter=1e-200 m"], "posts.diameter"),
         ("", &["posts.count=0x5"], "posts.count"),
         ("", &["posts.count=+5x5"], "posts.count"),
-        ("", &["model.periods=0x10"], "model.periods"),
-        ("[model]\nperiods = 0x10\n", &[], "model.periods"),
+        (
+            "",
+            &["model.transient.periods=0x10"],
+            "model.transient.periods",
+        ),
+        (
+            "[model.transient]\nperiods = 0x10\n",
+            &[],
+            "model.transient.periods",
+        ),
         ("[posts]\ncount = \"0x5x5\"\n", &[], "posts.count"),
     ];
     for (text, overrides, field) in cases {
@@ -297,4 +309,78 @@ fn static_fem_solver_defaults_to_auto_takes_the_three_names_and_refuses_others_i
     assert!(e.contains("static.fem_solver"), "names the key: {e}");
     assert!(e.contains("\"iterative\""), "lists the choices: {e}");
     assert_eq!(e.trim().lines().count(), 1, "one line: {e}");
+}
+
+#[test]
+fn each_models_settings_are_set_in_its_own_sub_table() {
+    let set = |o: &[&str]| {
+        let o: Vec<String> = o.iter().map(|s| s.to_string()).collect();
+        load_scene(None, &o).unwrap()
+    };
+    let coupled = set(&["model.coupled.steps_per_period=96"]);
+    assert_eq!(coupled.model.steps_per_period, Some(96));
+    let transient = set(&["model.dynamics=transient", "model.transient.periods=300"]);
+    assert_eq!(transient.model.periods, Some(300));
+    let lumped = set(&[
+        "model.lumped.integrator=post-mass",
+        "model.lumped.time_step=5ns",
+    ]);
+    assert_eq!(lumped.model.time_step_s, Some(5e-9));
+    let text = "name = \"sub\"\n[model.coupled]\nsteps_per_period = 32\n";
+    let file = scene_file(text);
+    let from_file = load_scene(Some(file.path()), &[]).unwrap();
+    assert_eq!(from_file.model.steps_per_period, Some(32));
+}
+
+#[test]
+fn an_old_flat_model_key_is_refused_naming_its_new_spelling() {
+    for (old, new) in [
+        ("steps_per_period = 96", "model.coupled.steps_per_period"),
+        ("periods = 300", "model.transient.periods"),
+        ("integrator = \"post-mass\"", "model.lumped.integrator"),
+        ("time_step = \"5 ns\"", "model.lumped.time_step"),
+        ("vertical = \"dynamic\"", "model.lumped.vertical"),
+    ] {
+        let e = error_of(&format!("name = \"old\"\n[model]\n{old}\n"), &[]);
+        assert!(e.contains(new), "{old}: {e}");
+        let key = old.split(' ').next().unwrap();
+        assert!(e.contains(&format!("model.{key}")), "{old}: {e}");
+    }
+    let e = error_of("name = \"old\"\n", &["model.steps_per_period=96"]);
+    assert!(e.contains("model.coupled.steps_per_period"), "{e}");
+}
+
+#[test]
+fn a_misplaced_or_unused_model_setting_is_refused_by_name() {
+    for (text, overrides, key) in [
+        (
+            "[model.coupled]\nperiods = 10\n",
+            &[][..],
+            "model.coupled.periods",
+        ),
+        (
+            "",
+            &[
+                "model.dynamics=periodic-average",
+                "model.transient.periods=10",
+            ][..],
+            "model.transient.periods",
+        ),
+        (
+            "",
+            &[
+                "model.dynamics=transient",
+                "model.coupled.steps_per_period=64",
+            ][..],
+            "model.coupled.steps_per_period",
+        ),
+        (
+            "",
+            &["model.ball.steps_per_period=64"][..],
+            "model.ball.steps_per_period",
+        ),
+    ] {
+        let e = error_of(&format!("name = \"m\"\n{text}"), overrides);
+        assert!(e.contains(key), "{text} {overrides:?}: {e}");
+    }
 }

@@ -293,7 +293,10 @@ fn coupled_model_settings_are_refused_naming_the_key() {
     for (set, key) in [
         ("model.dynamics=coupled", "model.dynamics"),
         ("model.lumped_tolerance=0.01", "model.lumped_tolerance"),
-        ("model.steps_per_period=128", "model.steps_per_period"),
+        (
+            "model.coupled.steps_per_period=128",
+            "model.coupled.steps_per_period",
+        ),
     ] {
         let scene = load_scene(
             None,

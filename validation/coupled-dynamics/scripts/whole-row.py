@@ -18,7 +18,7 @@ STEPS_PER_PERIOD = 128
 
 def run(binary, out, diameter, count, preload):
     sets = [f"posts.diameter={diameter}", f"posts.count={count}", f"preload={preload}",
-            "model.dynamics=coupled", f"model.steps_per_period={STEPS_PER_PERIOD}",
+            "model.dynamics=coupled", f"model.coupled.steps_per_period={STEPS_PER_PERIOD}",
             "wave.attenuation=off"]
     args = [binary, "dynamic", "--out", out, "--json"]
     for s in sets:

@@ -138,7 +138,7 @@ fn scene_key(field: &str) -> &str {
         "friction.mu_kinetic" => "friction.kinetic",
         "preload_n" => "load.preload",
         "external_load_n" => "load.external",
-        "numerics.steps_per_period" => "model.steps_per_period",
+        "numerics.steps_per_period" => "model.ball.steps_per_period",
         "numerics.curve_points" => "model.curve_points",
         "wave.decay_length_m" => "wave.decay_length",
         "wave.burst_periods" => "wave.burst_periods",
@@ -159,14 +159,16 @@ fn ball_error(e: BallError) -> PipelineError {
         message: match key {
             Some(key) => format!("{key}: {e}"),
             None => {
-                format!("{e} [scene: model.steps_per_period, slider.ball_diameter, load.preload]")
+                format!(
+                    "{e} [scene: model.ball.steps_per_period, slider.ball_diameter, load.preload]"
+                )
             }
         },
     }
 }
 
 /// The ball model's input for a ball `scene`: the motor's wave, stator, friction and load
-/// (`BallScene::for_motor`), the scene's ball, and `model.steps_per_period`,
+/// (`BallScene::for_motor`), the scene's ball, and `model.ball.steps_per_period`,
 /// `model.curve_points` as its numerics (absent: the crate's 128 and 21).
 pub fn ball_scene(scene: &Scene) -> Result<BallScene, PipelineError> {
     let ball = scene
@@ -254,7 +256,7 @@ pub fn run_ball_stage(scene: &Scene) -> Result<BallStage, PipelineError> {
     }
     if !result.all_steady {
         warnings.push(Warning::new(
-            "model.steps_per_period",
+            "model.ball.steps_per_period",
             "a free-ball check of the curve did not reach a steady speed",
         ));
     }

@@ -627,9 +627,10 @@ fn run_coupled_model(
     if let VerticalModel::Dynamic { .. } = scene.model.vertical {
         return Err(PipelineError::Unsupported {
             stage: "dynamic",
-            message: "model.vertical = \"dynamic\": the coupled model balances the preload at \
+            message:
+                "model.lumped.vertical = \"dynamic\": the coupled model balances the preload at \
                       every instant (a quasi-static slider); use vertical = \"quasi-static\""
-                .into(),
+                    .into(),
         });
     }
     let tips = strip_tips(scene, statics, cache_dir)?;

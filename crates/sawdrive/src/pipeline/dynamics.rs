@@ -85,7 +85,7 @@ fn options(m: &Model, kind: ModelKind) -> Result<SolveOptions, PipelineError> {
         ModelKind::PeriodicAverage => {
             if let Some(periods) = m.periods {
                 return Err(unused(
-                    "model.periods",
+                    "model.transient.periods",
                     periods,
                     "this scene runs the period average, which simulates no wave periods (periodic by construction)",
                 ));
@@ -125,9 +125,9 @@ fn integrator(
         );
     if let (Some(dt), true) = (m.time_step_s, closed_form) {
         return Err(unused(
-            "model.time_step",
+            "model.lumped.time_step",
             format!("{dt:e} s"),
-            "the period average runs the closed-form event-driven post, which has no time step; set model.integrator to return-mapping, post-mass or regularized, or model.dynamics = \"transient\"",
+            "the period average runs the closed-form event-driven post, which has no time step; set model.lumped.integrator to return-mapping, post-mass or regularized, or model.dynamics = \"transient\"",
         ));
     }
     let explicit_step = |candidate: Integrator| -> Result<f64, PipelineError> {
@@ -218,13 +218,13 @@ pub fn run_dynamic_cancellable(
 fn name_scene_keys(error: StickSlipError) -> PipelineError {
     let keys = match &error {
         StickSlipError::MemoryLimit { parameter, .. } => match *parameter {
-            "options.transient.periods" => "model.periods",
+            "options.transient.periods" => "model.transient.periods",
             "options.curve_points" => "model.curve_points",
             "slider.layout" => "posts.count",
             _ => return error.into(),
         },
         StickSlipError::CostLimit { .. } => {
-            "model.time_step, model.periods, model.integrator, posts.count"
+            "model.lumped.time_step, model.transient.periods, model.lumped.integrator, posts.count"
         }
         _ => return error.into(),
     };

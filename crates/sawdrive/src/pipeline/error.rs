@@ -81,7 +81,7 @@ pub type ShouldStop<'a> = &'a (dyn Fn() -> bool + Sync);
 /// The scene keys that set a lumped model's iterations, named when one did not converge.
 fn dynamic_hint(not_converged: bool) -> &'static str {
     if not_converged {
-        "; the scene keys that set it: model.integrator, model.time_step, model.periods, model.dynamics (e.g. \"periodic-average\")"
+        "; the scene keys that set it: model.lumped.integrator, model.lumped.time_step, model.transient.periods, model.dynamics (e.g. \"periodic-average\")"
     } else {
         ""
     }
@@ -90,7 +90,7 @@ fn dynamic_hint(not_converged: bool) -> &'static str {
 /// The scene keys that set the coupled model's contact solves, named when one did not converge.
 fn coupled_hint(not_converged: bool) -> &'static str {
     if not_converged {
-        "; the scene keys that set it: model.steps_per_period, static.tolerance, model.dynamics (a lumped model)"
+        "; the scene keys that set it: model.coupled.steps_per_period, static.tolerance, model.dynamics (a lumped model)"
     } else {
         ""
     }
@@ -108,7 +108,10 @@ mod tests {
             iterations: 50,
             residual: 1e-3,
         });
-        assert!(lumped.to_string().contains("model.time_step"), "{lumped}");
+        assert!(
+            lumped.to_string().contains("model.lumped.time_step"),
+            "{lumped}"
+        );
         let other = PipelineError::Dynamic(stick_slip::StickSlipError::ModelNotApplicable {
             model: "periodic-average",
             reason: "a burst".into(),

@@ -212,7 +212,7 @@ fn fidelity_params(params: SliderParams, fidelity: Fidelity) -> SliderParams {
 ///   for the reason the pipeline's `auto` gives with a whole-slider static stage (its η carries
 ///   the imperfections, the coupled model the strip's ideal posts);
 /// * `coupled`, and the keys only the coupled model or its choice use
-///   (`model.lumped_tolerance`, `model.steps_per_period`): refused.
+///   (`model.lumped_tolerance`, `model.coupled.steps_per_period`): refused.
 pub fn check_dynamics(scene: &Scene) -> Result<(), PipelineError> {
     let refuse = |message: String| {
         Err(PipelineError::Unsupported {
@@ -237,7 +237,7 @@ pub fn check_dynamics(scene: &Scene) -> Result<(), PipelineError> {
     }
     if let Some(n) = m.steps_per_period {
         return refuse(format!(
-            "model.steps_per_period = {n} is not used by uq/design: it sets the coupled model, \
+            "model.coupled.steps_per_period = {n} is not used by uq/design: it sets the coupled model, \
              and they run the lumped one; remove it (\"auto\")"
         ));
     }

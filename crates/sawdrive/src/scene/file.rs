@@ -212,7 +212,9 @@ pub struct ContactFile {
     pub effective_ratio: EffectiveRatio,
 }
 
-/// Dynamic-model settings.
+/// Dynamic-model settings: the choice and the curve's size at the top of `[model]`, each model's
+/// own settings in its sub-table, so that a setting cannot be written where its model does not
+/// read it (every table refuses unknown keys).
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ModelFile {
@@ -221,25 +223,58 @@ pub struct ModelFile {
     /// Largest estimated relative error of the lumped model that `dynamics = "auto"` accepts
     /// before it runs the coupled model; `"auto"`: 0.02 (`model.dynamics = "auto"` only).
     pub lumped_tolerance: AutoOr<f64>,
+    /// Points on the speed–thrust curve of whichever model runs (period average: speeds;
+    /// transient: loads; coupled and ball: curve points); `"auto"`: each model's default.
+    pub curve_points: AutoOr<u32>,
+    /// `[model.lumped]`: the lumped models (period average and transient).
+    pub lumped: LumpedFile,
+    /// `[model.transient]`: the transient lumped model.
+    pub transient: TransientFile,
+    /// `[model.coupled]`: the coupled model of every post of the strip.
+    pub coupled: CoupledFile,
+    /// `[model.ball]`: the ball model (`slider.shape = "ball"`).
+    pub ball: BallFile,
+}
+
+/// `[model.lumped]`: settings of the lumped model of N_eff = η·N posts (period average and
+/// transient; it also runs beside the coupled model as its comparison).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LumpedFile {
     /// `auto`, `event-driven`, `return-mapping`, `regularized` or `post-mass`.
     pub integrator: String,
     /// Integrator time step; `"auto"` picks one inside the stability limit.
     pub time_step: AutoOr<Time>,
     /// Regularisation velocity of the tanh friction law (regularized integrator only).
     pub regularization_velocity: AutoOr<Velocity>,
-    /// Points on the speed–thrust curve (period average: speeds; transient: loads); `"auto"`: 50
-    /// speeds for the period average, 6 loads for the transient.
-    pub curve_points: AutoOr<u32>,
-    /// Wave periods simulated by the transient model; `"auto"`: 1000. Refused for the period
-    /// average, which simulates none.
-    pub periods: AutoOr<u32>,
-    /// Time steps per wave period of the coupled model; `"auto"`: 64 (`dynamics = "coupled"`,
-    /// or `"auto"` when it picks the coupled model).
-    pub steps_per_period: AutoOr<u32>,
     /// `quasi-static` (⟨ΣN⟩ = P over a period) or `dynamic` (M z̈ = ΣN − P).
     pub vertical: String,
     /// Damping ratio ζ of the slider's vertical mode (`vertical = "dynamic"` only); `"auto"`: 0.05.
     pub vertical_damping_ratio: AutoOr<f64>,
+}
+
+/// `[model.transient]`: settings of the transient lumped model only.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TransientFile {
+    /// Wave periods simulated by the transient model; `"auto"`: 1000.
+    pub periods: AutoOr<u32>,
+}
+
+/// `[model.coupled]`: settings of the coupled model only.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CoupledFile {
+    /// Time steps per wave period; `"auto"`: 64.
+    pub steps_per_period: AutoOr<u32>,
+}
+
+/// `[model.ball]`: settings of the ball model only.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BallFile {
+    /// Time steps per wave period; `"auto"`: the ball crate's 128.
+    pub steps_per_period: AutoOr<u32>,
 }
 
 /// Static FEM contact settings.

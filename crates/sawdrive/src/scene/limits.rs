@@ -12,7 +12,7 @@
 //!   a period; a coarser step misses it and silently lowers the thrust);
 //! * a decay length of at least one wavelength (a SAW decays over millimetres to centimetres).
 //!
-//! Bounded where they are used, with a memory estimate: transient `model.periods` and the
+//! Bounded where they are used, with a memory estimate: transient `model.transient.periods` and the
 //! integrators' total post-steps (`stick_slip`), sweep points (`sweep::file`), Monte Carlo
 //! samples (`design::uq`).
 
@@ -26,7 +26,7 @@ use crate::units::{Dimension, format_quantity};
 pub const MAX_POSTS_PER_AXIS: u32 = 2000;
 /// Largest friction coefficient accepted.
 pub const MAX_FRICTION: f64 = 2.0;
-/// Fewest time steps per wave period (a fixed `model.time_step` of at most T/16): the coupled
+/// Fewest time steps per wave period (a fixed `model.lumped.time_step` of at most T/16): the coupled
 /// model's own minimum, which resolves a post's contact arc.
 pub const MIN_STEPS_PER_PERIOD: usize = coupled_dynamics::scene::MIN_STEPS_PER_PERIOD;
 /// Most time steps per wave period (coupled `steps_per_period`, or T/`time_step`): 64× the
@@ -98,7 +98,7 @@ pub(super) fn time_step(time_step_s: f64, frequency_hz: f64) -> Result<(), Scene
     }
     let time = |t: f64| format_quantity(t, Dimension::Time);
     Err(invalid(
-        "model.time_step",
+        "model.lumped.time_step",
         format!(
             "{} is T/{steps:.3} of the wave period T = {}: give a step between T/{MAX_STEPS_PER_PERIOD} = {} and T/{MIN_STEPS_PER_PERIOD} = {} (a coarser step misses the posts' contact arcs), or \"auto\"",
             time(time_step_s),
@@ -109,13 +109,14 @@ pub(super) fn time_step(time_step_s: f64, frequency_hz: f64) -> Result<(), Scene
     ))
 }
 
-/// Coupled time steps per period within [[`MIN_STEPS_PER_PERIOD`], [`MAX_STEPS_PER_PERIOD`]].
-pub(super) fn steps_per_period(n: u32) -> Result<(), SceneError> {
+/// Time steps per period (key `field`: the coupled model's or the ball's) within
+/// [[`MIN_STEPS_PER_PERIOD`], [`MAX_STEPS_PER_PERIOD`]].
+pub(super) fn steps_per_period(field: &str, n: u32) -> Result<(), SceneError> {
     if (MIN_STEPS_PER_PERIOD..=MAX_STEPS_PER_PERIOD).contains(&(n as usize)) {
         return Ok(());
     }
     Err(invalid(
-        "model.steps_per_period",
+        field,
         format!(
             "{n} is outside {MIN_STEPS_PER_PERIOD} to {MAX_STEPS_PER_PERIOD} (fewer cannot resolve a post's contact arc; more changes nothing but the time)"
         ),

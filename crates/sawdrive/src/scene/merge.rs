@@ -168,8 +168,8 @@ mod tests {
             "a..b=1",
             "posts.count=",
             "posts.count=0x5",
-            "model.periods=0o17",
-            "model.periods=-0b1",
+            "model.transient.periods=0o17",
+            "model.transient.periods=-0b1",
         ] {
             assert!(override_table(text).is_err(), "{text} must be refused");
         }

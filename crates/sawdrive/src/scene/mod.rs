@@ -10,6 +10,7 @@ mod drive;
 mod file;
 pub mod limits;
 mod merge;
+mod moved;
 mod quantity;
 mod resolved;
 mod shape;
@@ -134,6 +135,7 @@ pub fn load_scene_text(
     for text in overrides {
         merge::deep_merge(&mut table, merge::override_table(text)?);
     }
+    moved::check_scene_keys(&table, &origin)?;
     shape::check_ball_keys(&table, &default)?;
     let file: file::SceneFile = serde_path_to_error::deserialize(toml::Value::Table(table))
         .map_err(|e| {

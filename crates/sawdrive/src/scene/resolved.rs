@@ -11,7 +11,7 @@ use stick_slip::{IntegratorKind, ModelChoice, VerticalModel, Warning};
 
 use super::crystal::{self, CrystalWave};
 use super::drive::{self, Drive};
-use super::file::{CustomMaterial, LoadFile, MaterialSpec, SceneFile};
+use super::file::{CustomMaterial, LoadFile, LumpedFile, MaterialSpec, ModelFile, SceneFile};
 use super::quantity::{AutoOr, EffectiveRatio};
 use super::shape;
 use super::{SceneError, limits};
@@ -136,18 +136,18 @@ pub struct Model {
     pub vertical: VerticalModel,
 }
 
-/// Time steps per wave period of the coupled model when `model.steps_per_period = "auto"`.
+/// Time steps per wave period of the coupled model when `model.coupled.steps_per_period = "auto"`.
 /// Default 64: on the default slider's strip at 40 N the coupled model's error against 512
 /// steps is 2.2e-3 at 32 steps and falls with order ≈ 1.8 (validation/coupled-dynamics), so 64
 /// steps keep it near 6e-4, well inside the 2 % that the `auto` choice works to, at a quarter
 /// of the library's 256-step cost.
 pub const DEFAULT_COUPLED_STEPS_PER_PERIOD: u32 = 64;
-/// Wave periods of the transient when `model.periods = "auto"`. Default 1000.
+/// Wave periods of the transient when `model.transient.periods = "auto"`. Default 1000.
 pub const DEFAULT_TRANSIENT_PERIODS: u32 = 1000;
 /// Points on the period average's speed–thrust curve when `model.curve_points = "auto"`.
 /// Default 50.
 pub const DEFAULT_CURVE_POINTS: u32 = 50;
-/// Damping ratio of the slider's vertical mode when `model.vertical_damping_ratio = "auto"`.
+/// Damping ratio of the slider's vertical mode when `model.lumped.vertical_damping_ratio = "auto"`.
 /// Default 0.05.
 pub const DEFAULT_VERTICAL_DAMPING_RATIO: f64 = 0.05;
 
@@ -498,6 +498,176 @@ fn refuse_tangential_with_drive(w: &super::file::WaveFile) -> Result<(), SceneEr
     }
 }
 
+/// `[model]` and its sub-tables: the choice, the curve and each model's settings, SI. A
+/// sub-table of a model that cannot run is refused naming its key when it gives a value
+/// (`"auto"` leaves it to the program): `[model.coupled]` under a lumped `dynamics`,
+/// `[model.transient]` under `periodic-average`, `[model.ball]` without a ball (a ball's
+/// refusals of the other models' keys are [`shape::check_ball_keys`]).
+fn resolve_model(m: &ModelFile, frequency_hz: f64, is_ball: bool) -> Result<Model, SceneError> {
+    let dynamics = choice("model.dynamics", &m.dynamics, &Dynamics::NAMES)?;
+    let lumped_tolerance = match m.lumped_tolerance {
+        AutoOr::Auto => None,
+        AutoOr::Value(_) if dynamics != Dynamics::Auto => {
+            return Err(invalid(
+                "model.lumped_tolerance",
+                "applies only to dynamics = \"auto\" (it decides between the lumped and the coupled model); remove it or set it to \"auto\"",
+            ));
+        }
+        AutoOr::Value(t) if !(t > 0.0 && t < 1.0) => {
+            return Err(invalid(
+                "model.lumped_tolerance",
+                format!("must lie in (0, 1), got {t}"),
+            ));
+        }
+        AutoOr::Value(t) => Some(t),
+    };
+    let steps_per_period = steps_per_period(m, dynamics, is_ball)?;
+    let periods = match m.transient.periods {
+        AutoOr::Auto => None,
+        AutoOr::Value(_) if dynamics == Dynamics::Lumped(ModelChoice::PeriodicAverage) => {
+            return Err(invalid(
+                "model.transient.periods",
+                "is not used: dynamics = \"periodic-average\" simulates no wave periods \
+                 (periodic by construction); remove it or set it to \"auto\"",
+            ));
+        }
+        AutoOr::Value(0) => {
+            return Err(invalid(
+                "model.transient.periods",
+                "need at least one wave period",
+            ));
+        }
+        AutoOr::Value(n) => Some(n),
+    };
+    let curve_points = match m.curve_points {
+        AutoOr::Auto => None,
+        AutoOr::Value(n) if n < 2 => {
+            return Err(invalid(
+                "model.curve_points",
+                "need at least 2 points on the speed–thrust curve",
+            ));
+        }
+        AutoOr::Value(n) => {
+            let max = limits::MAX_CURVE_POINTS;
+            limits::at_most("model.curve_points", n.into(), max.into(), "curve points")?;
+            Some(n)
+        }
+    };
+    let lumped = resolve_lumped(&m.lumped, frequency_hz)?;
+    Ok(Model {
+        dynamics,
+        lumped_tolerance,
+        steps_per_period,
+        integrator: lumped.integrator,
+        time_step_s: lumped.time_step_s,
+        regularization_velocity_m_per_s: lumped.regularization_velocity_m_per_s,
+        curve_points,
+        periods,
+        vertical: lumped.vertical,
+    })
+}
+
+/// `model.coupled.steps_per_period` (refused under a lumped `dynamics`), or for a ball
+/// `model.ball.steps_per_period` (refused for the post array): the one resolved
+/// [`Model::steps_per_period`] of the model that steps in time per period.
+fn steps_per_period(
+    m: &ModelFile,
+    dynamics: Dynamics,
+    is_ball: bool,
+) -> Result<Option<u32>, SceneError> {
+    let (key, given) = if is_ball {
+        ("model.ball.steps_per_period", m.ball.steps_per_period)
+    } else {
+        if let AutoOr::Value(_) = m.ball.steps_per_period {
+            return Err(invalid(
+                "model.ball.steps_per_period",
+                "applies only to slider.shape = \"ball\" (the coupled model takes \
+                 model.coupled.steps_per_period); remove it or set it to \"auto\"",
+            ));
+        }
+        ("model.coupled.steps_per_period", m.coupled.steps_per_period)
+    };
+    match given {
+        AutoOr::Auto => Ok(None),
+        AutoOr::Value(_) if !is_ball && matches!(dynamics, Dynamics::Lumped(_)) => Err(invalid(
+            key,
+            "applies only to the coupled model (dynamics = \"coupled\" or \"auto\"); the lumped \
+             models take model.lumped.time_step",
+        )),
+        AutoOr::Value(n) => {
+            limits::steps_per_period(key, n)?;
+            Ok(Some(n))
+        }
+    }
+}
+
+/// The resolved `[model.lumped]` settings.
+struct LumpedSettings {
+    integrator: IntegratorKind,
+    time_step_s: Option<f64>,
+    regularization_velocity_m_per_s: Option<f64>,
+    vertical: VerticalModel,
+}
+
+/// `[model.lumped]`: integrator, its step and regularisation, the vertical slider model.
+fn resolve_lumped(l: &LumpedFile, frequency_hz: f64) -> Result<LumpedSettings, SceneError> {
+    let integrator = choice(
+        "model.lumped.integrator",
+        &l.integrator,
+        &IntegratorKind::NAMES,
+    )?;
+    let vertical_dynamic = choice(
+        "model.lumped.vertical",
+        &l.vertical,
+        &[("quasi-static", false), ("dynamic", true)],
+    )?;
+    let time_step_s = match l.time_step {
+        AutoOr::Auto => None,
+        AutoOr::Value(t) => {
+            let t = positive("model.lumped.time_step", t.0)?;
+            limits::time_step(t, frequency_hz)?;
+            Some(t)
+        }
+    };
+    let regularization_velocity_m_per_s = match l.regularization_velocity {
+        AutoOr::Auto => None,
+        AutoOr::Value(_) if integrator != IntegratorKind::Regularized => {
+            return Err(invalid(
+                "model.lumped.regularization_velocity",
+                "applies only to integrator = \"regularized\" (tanh friction); remove it or set it to \"auto\"",
+            ));
+        }
+        AutoOr::Value(v) => Some(positive("model.lumped.regularization_velocity", v.0)?),
+    };
+    let damping_ratio = match l.vertical_damping_ratio {
+        AutoOr::Auto => DEFAULT_VERTICAL_DAMPING_RATIO,
+        AutoOr::Value(_) if !vertical_dynamic => {
+            return Err(invalid(
+                "model.lumped.vertical_damping_ratio",
+                "applies only to vertical = \"dynamic\" (the quasi-static slider has no vertical mode); remove it or set it to \"auto\"",
+            ));
+        }
+        AutoOr::Value(zeta) if !(zeta.is_finite() && zeta >= 0.0) => {
+            return Err(invalid(
+                "model.lumped.vertical_damping_ratio",
+                format!("must be ≥ 0, got {zeta}"),
+            ));
+        }
+        AutoOr::Value(zeta) => zeta,
+    };
+    let vertical = if vertical_dynamic {
+        VerticalModel::Dynamic { damping_ratio }
+    } else {
+        VerticalModel::PeriodMean
+    };
+    Ok(LumpedSettings {
+        integrator,
+        time_step_s,
+        regularization_velocity_m_per_s,
+        vertical,
+    })
+}
+
 impl Scene {
     /// Check and convert a scene file.
     pub(crate) fn resolve(file: SceneFile) -> Result<Self, SceneError> {
@@ -801,118 +971,7 @@ impl Scene {
             },
         };
 
-        let m = &file.model;
-        let dynamics = choice("model.dynamics", &m.dynamics, &Dynamics::NAMES)?;
-        let lumped_tolerance = match m.lumped_tolerance {
-            AutoOr::Auto => None,
-            AutoOr::Value(_) if dynamics != Dynamics::Auto => {
-                return Err(invalid(
-                    "model.lumped_tolerance",
-                    "applies only to dynamics = \"auto\" (it decides between the lumped and the coupled model); remove it or set it to \"auto\"",
-                ));
-            }
-            AutoOr::Value(t) if !(t > 0.0 && t < 1.0) => {
-                return Err(invalid(
-                    "model.lumped_tolerance",
-                    format!("must lie in (0, 1), got {t}"),
-                ));
-            }
-            AutoOr::Value(t) => Some(t),
-        };
-        let steps_per_period = match m.steps_per_period {
-            AutoOr::Auto => None,
-            AutoOr::Value(_) if matches!(dynamics, Dynamics::Lumped(_)) => {
-                return Err(invalid(
-                    "model.steps_per_period",
-                    "applies only to the coupled model (dynamics = \"coupled\" or \"auto\"); the lumped models take model.time_step",
-                ));
-            }
-            AutoOr::Value(n) => {
-                limits::steps_per_period(n)?;
-                Some(n)
-            }
-        };
-        let integrator = choice("model.integrator", &m.integrator, &IntegratorKind::NAMES)?;
-        let vertical_dynamic = choice(
-            "model.vertical",
-            &m.vertical,
-            &[("quasi-static", false), ("dynamic", true)],
-        )?;
-        let time_step_s = match m.time_step {
-            AutoOr::Auto => None,
-            AutoOr::Value(t) => {
-                let t = positive("model.time_step", t.0)?;
-                limits::time_step(t, frequency_hz)?;
-                Some(t)
-            }
-        };
-        let regularization_velocity_m_per_s = match m.regularization_velocity {
-            AutoOr::Auto => None,
-            AutoOr::Value(v) => {
-                if integrator != IntegratorKind::Regularized {
-                    return Err(invalid(
-                        "model.regularization_velocity",
-                        "applies only to integrator = \"regularized\" (tanh friction); remove it or set it to \"auto\"",
-                    ));
-                }
-                Some(positive("model.regularization_velocity", v.0)?)
-            }
-        };
-        let curve_points = match m.curve_points {
-            AutoOr::Auto => None,
-            AutoOr::Value(n) if n < 2 => {
-                return Err(invalid(
-                    "model.curve_points",
-                    "need at least 2 points on the speed–thrust curve",
-                ));
-            }
-            AutoOr::Value(n) => {
-                let max = limits::MAX_CURVE_POINTS;
-                limits::at_most("model.curve_points", n.into(), max.into(), "curve points")?;
-                Some(n)
-            }
-        };
-        let periods = match m.periods {
-            AutoOr::Auto => None,
-            AutoOr::Value(0) => {
-                return Err(invalid("model.periods", "need at least one wave period"));
-            }
-            AutoOr::Value(n) => Some(n),
-        };
-        let vertical_damping_ratio = match m.vertical_damping_ratio {
-            AutoOr::Auto => None,
-            AutoOr::Value(_) if !vertical_dynamic => {
-                return Err(invalid(
-                    "model.vertical_damping_ratio",
-                    "applies only to vertical = \"dynamic\" (the quasi-static slider has no vertical mode); remove it or set it to \"auto\"",
-                ));
-            }
-            AutoOr::Value(zeta) if !(zeta.is_finite() && zeta >= 0.0) => {
-                return Err(invalid(
-                    "model.vertical_damping_ratio",
-                    format!("must be ≥ 0, got {zeta}"),
-                ));
-            }
-            AutoOr::Value(zeta) => Some(zeta),
-        };
-        let vertical = if vertical_dynamic {
-            VerticalModel::Dynamic {
-                damping_ratio: vertical_damping_ratio.unwrap_or(DEFAULT_VERTICAL_DAMPING_RATIO),
-            }
-        } else {
-            VerticalModel::PeriodMean
-        };
-        let model = Model {
-            dynamics,
-            lumped_tolerance,
-            steps_per_period,
-            integrator,
-            time_step_s,
-            regularization_velocity_m_per_s,
-            curve_points,
-            periods,
-            vertical,
-        };
+        let model = resolve_model(&file.model, frequency_hz, ball.is_some())?;
 
         let st = &file.static_fem;
         if st.phases == 0 {

@@ -6,8 +6,8 @@
 //! `slider.ball_diameter` → diameter, `slider.material` (default bearing steel) → the ball's
 //! material, `slider.mass` → moving mass (`"auto"`: the ball's own ρπd³/6), `wave.*` → the wave,
 //! `stator.material` → stator, `friction.*` → one μ (static = kinetic, Mindlin's theory),
-//! `load.preload`, `load.external` → the forces, `model.steps_per_period`, `model.curve_points`
-//! → numerics. What a ball does not use — the plate's size, tilt and bow, `[posts]`,
+//! `load.preload`, `load.external` → the forces, `model.ball.steps_per_period`,
+//! `model.curve_points` → numerics. What a ball does not use — the plate's size, tilt and bow, `[posts]`,
 //! `[contact]`, `[static]`, the preload mechanism and the lumped and coupled models' settings —
 //! is refused, naming the key, when it differs from the default scene's value, as are a wave the
 //! ball model does not represent (a decay length, a burst) and `wave.attenuation = "on"` (the
@@ -19,6 +19,7 @@ use toml::{Table, Value};
 
 use super::SceneError;
 use super::file::SceneFile;
+use super::moved::at;
 use super::quantity::AutoOr;
 
 /// `slider.shape` names: whether the slider is a ball.
@@ -26,7 +27,7 @@ pub const SHAPE_NAMES: [(&str, bool); 2] = [("post-array", false), ("ball", true
 
 /// Scene keys (or whole tables) that a ball does not use; a value other than the default
 /// scene's is refused naming its key.
-const NOT_FOR_A_BALL: [&str; 19] = [
+const NOT_FOR_A_BALL: [&str; 16] = [
     "slider.length",
     "slider.width",
     "slider.thickness",
@@ -40,12 +41,9 @@ const NOT_FOR_A_BALL: [&str; 19] = [
     "load.point",
     "model.dynamics",
     "model.lumped_tolerance",
-    "model.integrator",
-    "model.time_step",
-    "model.regularization_velocity",
-    "model.periods",
-    "model.vertical",
-    "model.vertical_damping_ratio",
+    "model.lumped",
+    "model.transient",
+    "model.coupled",
 ];
 
 fn invalid(field: &str, message: impl Into<String>) -> SceneError {
@@ -53,16 +51,6 @@ fn invalid(field: &str, message: impl Into<String>) -> SceneError {
         field: field.to_owned(),
         message: message.into(),
     }
-}
-
-/// The value at a dotted `path` of `table`, if any.
-fn at<'a>(table: &'a Table, path: &str) -> Option<&'a Value> {
-    let mut parts = path.split('.');
-    let mut value = table.get(parts.next()?)?;
-    for part in parts {
-        value = value.as_table()?.get(part)?;
-    }
-    Some(value)
 }
 
 /// The first dotted key under `path` whose value in `merged` differs from `default`.

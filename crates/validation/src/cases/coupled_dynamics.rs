@@ -386,7 +386,7 @@ pub fn whole_row_sets(d: f64, per_side: usize, preload_n: f64) -> Vec<String> {
         format!("posts.count={per_side}x{per_side}"),
         format!("preload={preload_n} N"),
         "model.dynamics=coupled".into(),
-        "model.steps_per_period=128".into(),
+        "model.coupled.steps_per_period=128".into(),
         // The committed study is at the constant-amplitude wave (the energy-conserving wave,
         // `wave.attenuation`, has its own checks below).
         "wave.attenuation=off".into(),
