@@ -144,6 +144,12 @@ pub struct SliderParams {
     pub slider_thickness_m: f64,
     /// Normal wave amplitude A_n (m); 0 for a flat stator.
     pub wave_amplitude_m: f64,
+    /// The local amplitude along the slider, A(x_i)/A_n of each post column i (x ascending;
+    /// empty: the constant-amplitude wave): the energy-conserving wave's profile, under which
+    /// the static stage fits η at the amplitudes the posts see (docs/physics.md §5.5). Left
+    /// out of the serialised parameters when empty, so constant-amplitude runs keep their keys.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub amplitude_scale_x: Vec<f64>,
     /// Wavelength λ (m).
     pub wavelength_m: f64,
     /// Preload P (N).
@@ -187,6 +193,7 @@ impl SliderParams {
             slider_width_m: motor.slider.width_m,
             slider_thickness_m: motor.slider.thickness_m,
             wave_amplitude_m: motor.wave.normal_amplitude_m,
+            amplitude_scale_x: Vec::new(),
             wavelength_m: motor.wave.wavelength_m(),
             preload_n: motor.load.preload_n,
             phases: 4,
@@ -241,6 +248,16 @@ impl SliderParams {
                 self.wave_amplitude_m,
                 "must be ≥ 0 and finite",
             ));
+        }
+        if !self.amplitude_scale_x.is_empty() && self.amplitude_scale_x.len() != self.posts_x {
+            return Err(invalid(
+                "amplitude_scale_x",
+                self.amplitude_scale_x.len() as f64,
+                format!("one factor per post column ({} columns), or none", self.posts_x),
+            ));
+        }
+        if let Some(a) = self.amplitude_scale_x.iter().find(|a| !(**a >= 0.0 && a.is_finite())) {
+            return Err(invalid("amplitude_scale_x", *a, "factors must be ≥ 0 and finite"));
         }
         if self.phases == 0 {
             return Err(invalid("phases", 0.0, "at least one phase"));
@@ -471,7 +488,8 @@ impl SliderModel {
         let mut h = self.post_offset_m.clone();
         if let Some(theta) = phase_rad {
             for i in 0..g.posts_x {
-                let w = p.wave_amplitude_m * (theta - k * g.x_m(i)).sin();
+                let local = p.amplitude_scale_x.get(i).copied().unwrap_or(1.0);
+                let w = local * p.wave_amplitude_m * (theta - k * g.x_m(i)).sin();
                 for j in 0..g.posts_y {
                     h[g.index(i, j)] += w;
                 }

@@ -218,3 +218,57 @@ fn bad_scene_inputs_are_one_line_errors_naming_the_scene_key() {
         "point mechanism with its load point"
     );
 }
+
+#[test]
+fn a_local_amplitude_profile_scales_each_columns_wave_and_moves_eta() {
+    let uniform = small(Imperfections::default());
+    let ones = SliderParams {
+        amplitude_scale_x: vec![1.0; uniform.posts_x],
+        ..uniform.clone()
+    };
+    let falling = SliderParams {
+        amplitude_scale_x: (0..uniform.posts_x)
+            .map(|i| 1.0 - 0.05 * i as f64)
+            .collect(),
+        ..uniform.clone()
+    };
+    let (u, o, h) = (
+        SliderModel::build(&uniform).unwrap(),
+        SliderModel::build(&ones).unwrap(),
+        SliderModel::build(&falling).unwrap(),
+    );
+    let phase = Some(0.7);
+    assert_eq!(
+        u.obstacle_heights(phase),
+        o.obstacle_heights(phase),
+        "unit profile = constant wave"
+    );
+    let (hu, hh) = (u.obstacle_heights(phase), h.obstacle_heights(phase));
+    let g = uniform.geometry();
+    for i in 0..g.posts_x {
+        let idx = g.index(i, 3);
+        let expected = (1.0 - 0.05 * i as f64) * hu[idx];
+        assert!(
+            (hh[idx] - expected).abs() <= 1e-15 * hu[idx].abs().max(1e-9),
+            "column {i}"
+        );
+    }
+    let (eu, eh) = (
+        u.analyse(uniform.preload_n)
+            .unwrap()
+            .effective_contact_ratio,
+        h.analyse(uniform.preload_n)
+            .unwrap()
+            .effective_contact_ratio,
+    );
+    assert!(
+        eu.is_some() && eh.is_some() && eu != eh,
+        "η fitted at the local amplitudes differs"
+    );
+    let wrong = SliderParams {
+        amplitude_scale_x: vec![1.0; 3],
+        ..uniform.clone()
+    };
+    let e = SliderModel::build(&wrong).unwrap_err().to_string();
+    assert!(e.contains("amplitude_scale_x"), "{e}");
+}
