@@ -6,7 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
-cargo build --release -p sawdrive
+cargo build --release -p sawdrive-cli
 level=${1:-full}
 /usr/bin/time -f "paper-figures: %e s wall, %M KB max RSS" \
   target/release/sawdrive validate paper-figures --level "$level" --out validation/paper-figures

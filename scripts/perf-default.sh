@@ -16,7 +16,7 @@
 #
 #   scripts/perf-default.sh [--runs N] [--no-sweep]
 #
-# Builds the release binary first (cargo build --release -p sawdrive). On a machine shared with
+# Builds the release binary first (cargo build --release -p sawdrive-cli). On a machine shared with
 # other jobs, user+sys (CPU time) is the steadier number; the wall time is what a user waits.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -32,7 +32,7 @@ while [[ $# -gt 0 ]]; do
 done
 [[ "$runs" =~ ^[1-9][0-9]*$ ]] || { echo "error: --runs must be a positive integer" >&2; exit 2; }
 
-cargo build --release -q -p sawdrive
+cargo build --release -q -p sawdrive-cli
 bin="$PWD/target/release/sawdrive"
 scratch="$(mktemp -d)"
 trap 'rm -rf "$scratch"' EXIT

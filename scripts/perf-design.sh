@@ -13,7 +13,7 @@
 #
 #   scripts/perf-design.sh [--samples N] [--no-design]
 #
-# Builds the release binary first (cargo build --release -p sawdrive). No FEM runs here: the
+# Builds the release binary first (cargo build --release -p sawdrive-cli). No FEM runs here: the
 # whole-slider lattice model needs none. On a machine shared with other jobs, user+sys (CPU time)
 # is the steadier number; the wall time is what a user waits.
 set -euo pipefail
@@ -30,7 +30,7 @@ while [[ $# -gt 0 ]]; do
 done
 [[ "$samples" =~ ^[1-9][0-9]*$ ]] || { echo "error: --samples must be a positive integer" >&2; exit 2; }
 
-cargo build --release -q -p sawdrive
+cargo build --release -q -p sawdrive-cli
 bin="$PWD/target/release/sawdrive"
 scratch="$(mktemp -d)"
 trap 'rm -rf "$scratch"' EXIT

@@ -185,7 +185,7 @@ def section_default_stage(quick):
     repeat = 1 if quick else 3
     started, before = time.time(), load()
     with tempfile.TemporaryDirectory() as scratch:
-        run(["cargo", "build", "--release", "-q", "-p", "sawdrive"])
+        run(["cargo", "build", "--release", "-q", "-p", "sawdrive-cli"])
         run([str(TARGET / "release" / "sawdrive"), "run", "--out", f"{scratch}/out"])
         cached = sorted(pathlib.Path(scratch).glob("out/**/compliance-*.json"))
         if not cached:
@@ -292,7 +292,7 @@ def section_bench_slider(quick):
 
 def section_whole_slider_cli(quick):
     started, before = time.time(), load()
-    run(["cargo", "build", "--release", "-q", "-p", "sawdrive"])
+    run(["cargo", "build", "--release", "-q", "-p", "sawdrive-cli"])
     rows = []
     with tempfile.TemporaryDirectory() as scratch:
         env = {"SAWDRIVE_MESH_CACHE": f"{scratch}/meshes"}
@@ -342,7 +342,7 @@ def section_uq(quick):
 def section_sharded(quick):
     command = ["scripts/slurm-speedup.sh", str(TARGET / "release" / "sawdrive"), "2"]
     started, before = time.time(), load()
-    run(["cargo", "build", "--release", "-q", "-p", "sawdrive"])
+    run(["cargo", "build", "--release", "-q", "-p", "sawdrive-cli"])
     out = run(command)
     table = [line for line in out.splitlines() if line.strip()]
     return [stamp(started, before, "scripts/slurm-speedup.sh target/release/sawdrive 2"), "",

@@ -4,4 +4,4 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
-cargo run --release -q -p sawdrive -- run "$@"
+cargo run --release -q -p sawdrive-cli -- run "$@"

@@ -22,7 +22,7 @@ for case in springs stick-slip whole-slider coupled-dynamics; do
   target/debug/sawdrive validate "$case" --level quick --out "$validate_out/$case"
 done
 rm -rf "$validate_out"
-cargo test -p sawdrive --test relocated_binary -- --ignored
+cargo test -p sawdrive-cli --test relocated_binary -- --ignored
 cargo check -p stick-slip -p static-contact --no-default-features  # solvers build without plotting (feature `charts` off)
 python/test.sh  # the Python package: pip install ./python into target/python-venv, then pytest
 if [ "${CI:-}" = true ]; then du -sh target 2>/dev/null || true; df -h . | tail -1; fi  # disk footprint, logged

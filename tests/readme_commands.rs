@@ -1,8 +1,8 @@
 //! The README's shell examples are real command lines: every `sawdrive …` line in a ```sh block
-//! parses with the command line's own definition (`sawdrive::cli::Cli`).
+//! parses with the command line's own definition (`sawdrive_cli::cli::Cli`).
 
 use clap::Parser;
-use sawdrive::cli::Cli;
+use sawdrive_cli::cli::Cli;
 
 const README: &str = include_str!("../README.md");
 

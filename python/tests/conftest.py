@@ -14,7 +14,7 @@ SMALL_SWEEP = REPO / "tests" / "sweeps" / "small-preload.toml"
 @pytest.fixture(scope="session")
 def cli() -> Path:
     """The `sawdrive` binary: $SAWDRIVE_CLI, or target/{release,debug}/sawdrive of this
-    repository (built with `cargo build -p sawdrive --bin sawdrive` when missing)."""
+    repository (built with `cargo build -p sawdrive-cli --bin sawdrive` when missing)."""
     given = os.environ.get("SAWDRIVE_CLI")
     if given:
         return Path(given)
@@ -22,7 +22,7 @@ def cli() -> Path:
         binary = REPO / "target" / profile / "sawdrive"
         if binary.exists():
             return binary
-    subprocess.run(["cargo", "build", "-p", "sawdrive", "--bin", "sawdrive"], cwd=REPO, check=True)
+    subprocess.run(["cargo", "build", "-p", "sawdrive-cli", "--bin", "sawdrive"], cwd=REPO, check=True)
     return REPO / "target" / "debug" / "sawdrive"
 
 

@@ -5,7 +5,7 @@
 //! `$HOME/.cache/sawdrive`, `--cache DIR` overriding both.
 //!
 //! The meshing runs need gmsh and take about a minute:
-//! `cargo test -p sawdrive --test relocated_binary -- --ignored`.
+//! `cargo test -p sawdrive-cli --test relocated_binary -- --ignored`.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -106,7 +106,7 @@ impl Relocated {
 }
 
 #[test]
-#[ignore = "meshes with gmsh (about a minute): cargo test -p sawdrive --test relocated_binary -- --ignored"]
+#[ignore = "meshes with gmsh (about a minute): cargo test -p sawdrive-cli --test relocated_binary -- --ignored"]
 fn copied_binary_meshes_and_validates_from_an_empty_folder_into_its_cache() {
     let r = Relocated::new();
     // A meshed static run: the embedded slider-strip.geo and the mesh go to the XDG cache.

@@ -336,7 +336,7 @@ fn fem_shards_sharing_one_cache_condense_each_geometry_once() {
 
 /// The Slurm job-array script under a throwaway single-node Slurm (`scripts/slurm-selftest.sh`).
 /// Needs root and the Debian packages `slurmd slurmctld slurm-client munge`, so it is not in the
-/// default run: `cargo test -p sawdrive --test sweep_shards -- --ignored slurm`.
+/// default run: `cargo test -p sawdrive-cli --test sweep_shards -- --ignored slurm`.
 #[test]
 #[ignore = "needs root and a Slurm installation (apt-get install slurmd slurmctld slurm-client munge)"]
 fn slurm_job_array_merges_to_the_unsharded_results() {

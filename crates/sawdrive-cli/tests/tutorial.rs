@@ -7,7 +7,7 @@
 //! with the release build, under a minute with the test profile.
 
 use clap::Parser;
-use sawdrive::cli::Cli;
+use sawdrive_cli::cli::Cli;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

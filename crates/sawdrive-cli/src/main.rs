@@ -1,7 +1,6 @@
 //! The `sawdrive` command line.
 
-use sawdrive::cli;
-mod commands;
+use sawdrive_cli::{cli, commands};
 
 use std::any::Any;
 use std::panic::{AssertUnwindSafe, catch_unwind, resume_unwind};

@@ -117,7 +117,7 @@ pub struct SweepArgs {
     /// Run only shard K of N (1-based): points K, K+N, K+2N, … in sweep order. The shard that
     /// saves the last point writes results.csv and the charts. For job arrays on a cluster.
     #[arg(long, value_name = "K/N", conflicts_with = "merge")]
-    pub shard: Option<crate::sweep::Shard>,
+    pub shard: Option<sawdrive::sweep::Shard>,
     /// Run no point: collect the points saved by all shards into results.csv and the charts
     /// (refused, naming the missing points, until every point is saved).
     #[arg(long)]

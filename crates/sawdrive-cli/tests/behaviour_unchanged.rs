@@ -28,7 +28,7 @@
 //! exact. Runtime: ≈ 10 s in the test profile (the design case is the longest).
 //!
 //! Regenerate (only for a change of behaviour that is meant, and say so in the commit):
-//! `SAWDRIVE_BLESS_GOLDEN=1 cargo test -p sawdrive --test behaviour_unchanged`.
+//! `SAWDRIVE_BLESS_GOLDEN=1 cargo test -p sawdrive-cli --test behaviour_unchanged`.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
