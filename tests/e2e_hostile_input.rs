@@ -259,7 +259,7 @@ fn design_settings_that_would_be_ignored_are_refused() {
         };
         std::fs::write(
             &design,
-            format!("name = \"d\"\n{top}[variables]\npreload = [\"10 N\", \"100 N\"]\n{optimiser}"),
+            format!("name = \"d\"\n{top}[variables]\n\"load.preload\" = [\"10 N\", \"100 N\"]\n{optimiser}"),
         )
         .unwrap();
         let out = root.path().join("out");

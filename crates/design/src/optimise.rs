@@ -105,7 +105,7 @@ impl Variable {
 }
 
 /// Whether the objective is maximised or minimised.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Sense {
     /// Larger is better.

@@ -23,7 +23,7 @@
 //! are truncated to [[`MIN_FRICTION`], ∞), (0, ∞) and (0, ∞): a uniform range reaching below
 //! them is refused.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use std::path::Path;
 
@@ -39,7 +39,7 @@ pub const MIN_FRACTION_OF_NOMINAL: f64 = 1e-3;
 const UNBOUNDED: f64 = 1e300;
 
 /// How a spread is read.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum SpreadKind {
     /// Standard deviation of a (truncated) normal.
@@ -92,36 +92,86 @@ pub const RENAMED_SCATTER_KEYS: [(&str, &str); 6] = [
     ("diameter", "posts.diameter"),
 ];
 
-/// `table` with nested tables as dotted keys (`posts.diameter = …` in TOML is a table `posts`
-/// holding `diameter`), so that a dotted and a quoted key name the same entry.
-pub fn dotted_keys(table: &toml::Table) -> Vec<(String, toml::Value)> {
-    let mut out = Vec::new();
-    for (key, value) in table {
-        match value {
-            toml::Value::Table(inner) => out.extend(
-                dotted_keys(inner)
-                    .into_iter()
-                    .map(|(k, v)| (format!("{key}.{k}"), v)),
-            ),
-            _ => out.push((key.clone(), value.clone())),
-        }
-    }
-    out
+pub use motor::input::dotted_keys;
+
+/// The `[scatter]` section as written: each entry under the scene key whose value it spreads
+/// (`posts.diameter = "0.5 um"`), every table refusing unknown keys. Quantities keep their text
+/// ([`Quantity`]) until the evaluator parses them as their scene key.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScatterFile {
+    /// `normal` (standard deviations) or `uniform` (half-widths).
+    #[serde(default)]
+    pub distribution: SpreadKind,
+    /// `posts.height_scatter`, `posts.diameter`.
+    #[serde(default)]
+    pub posts: PostsScatter,
+    /// `slider.tilt_x`, `slider.tilt_y`, `slider.bow`.
+    #[serde(default)]
+    pub slider: SliderScatter,
+    /// `load.preload`.
+    #[serde(default)]
+    pub load: LoadScatter,
+    /// Spread of both friction coefficients.
+    pub friction: Option<f64>,
 }
 
-fn quantity<E: Evaluator>(ev: &E, value: &toml::Value, key: &str) -> Result<f64, StudyError> {
-    let full = format!("scatter.{key}");
-    let text = value.as_str().ok_or_else(|| {
-        StudyError::input(
-            &full,
-            format!(
-                "expected a quantity with its unit, e.g. {}",
-                ev.example(key)
-            ),
-        )
-    })?;
-    ev.quantity(key, text)
-        .map_err(|e| StudyError::input(&full, e))
+/// `[scatter]` entries under `posts`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PostsScatter {
+    /// σ of each post's extra height.
+    pub height_scatter: Option<Quantity>,
+    /// Post-diameter tolerance.
+    pub diameter: Option<Quantity>,
+}
+
+/// `[scatter]` entries under `slider`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SliderScatter {
+    /// Spread of the tilt across the length.
+    pub tilt_x: Option<Quantity>,
+    /// Spread of the tilt across the width.
+    pub tilt_y: Option<Quantity>,
+    /// Spread of the bow.
+    pub bow: Option<Quantity>,
+}
+
+/// `[scatter]` entries under `load`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadScatter {
+    /// Preload tolerance.
+    pub preload: Option<Quantity>,
+}
+
+/// A quantity as written in a study file, `"20 um"`: its text, parsed by the evaluator as the
+/// scene key it belongs to (the scene's own units and parser); a bare number is refused here.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Quantity(pub String);
+
+impl<'de> Deserialize<'de> for Quantity {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        match toml::Value::deserialize(deserializer)? {
+            toml::Value::String(text) => Ok(Quantity(text)),
+            other => Err(serde::de::Error::custom(format!(
+                "expected a quantity with its unit, like \"20 um\", got {other}"
+            ))),
+        }
+    }
+}
+
+fn quantity<E: Evaluator>(ev: &E, q: &Option<Quantity>, key: &str) -> Result<f64, StudyError> {
+    match q {
+        None => Ok(0.0),
+        Some(Quantity(text)) => {
+            let value = ev
+                .quantity(key, text)
+                .map_err(|e| StudyError::input(format!("scatter.{key}"), e))?;
+            spread(value, key)
+        }
+    }
 }
 
 fn spread(value: f64, key: &str) -> Result<f64, StudyError> {
@@ -135,58 +185,53 @@ fn spread(value: f64, key: &str) -> Result<f64, StudyError> {
     }
 }
 
+/// The former `[scatter]` keys, for [`motor::input::first_moved`].
+fn renamed_scatter_keys() -> Vec<(String, String)> {
+    RENAMED_SCATTER_KEYS
+        .iter()
+        .map(|(old, new)| (format!("scatter.{old}"), format!("scatter.{new} (`{new} = …` in [scatter]): scatter entries are named by the scene key they spread")))
+        .collect()
+}
+
 impl ScatterSpec {
-    /// Reads the `[scatter]` table; errors are one line naming `scatter.<key>`. Quantities are
+    /// Reads the `[scatter]` table (dotted or quoted scene keys) into [`ScatterFile`]; errors
+    /// are one line naming `scatter.<key>`, a former key naming its scene key. Quantities are
     /// parsed by `ev`, as the scene key they spread.
     pub fn from_table<E: Evaluator>(ev: &E, table: &toml::Table) -> Result<Self, StudyError> {
-        let mut s = Self::default();
-        for (key, value) in &dotted_keys(table) {
-            match key.as_str() {
-                "distribution" => {
-                    s.distribution = match value.as_str() {
-                        Some("normal") => SpreadKind::Normal,
-                        Some("uniform") => SpreadKind::Uniform,
-                        _ => {
-                            return Err(StudyError::input(
-                                "scatter.distribution",
-                                format!("{value} is not \"normal\" or \"uniform\""),
-                            ));
-                        }
-                    }
-                }
-                "posts.height_scatter" => {
-                    s.height_scatter_m = spread(quantity(ev, value, key)?, key)?
-                }
-                "slider.tilt_x" => s.tilt_x_m = spread(quantity(ev, value, key)?, key)?,
-                "slider.tilt_y" => s.tilt_y_m = spread(quantity(ev, value, key)?, key)?,
-                "slider.bow" => s.bow_m = spread(quantity(ev, value, key)?, key)?,
-                "load.preload" => s.preload_n = spread(quantity(ev, value, key)?, key)?,
-                "posts.diameter" => s.diameter_m = spread(quantity(ev, value, key)?, key)?,
-                "friction" => {
-                    let v = value
-                        .as_float()
-                        .or_else(|| value.as_integer().map(|i| i as f64))
-                        .ok_or_else(|| {
-                            StudyError::input(
-                                "scatter.friction",
-                                format!("expected a number, got {value}"),
-                            )
-                        })?;
-                    s.friction = spread(v, key)?;
-                }
-                other => {
-                    let message = match RENAMED_SCATTER_KEYS.iter().find(|r| r.0 == other) {
-                        Some((_, new)) => format!(
-                            "renamed: scatter entries are named by the scene key they spread; \
-                             write scatter.{new} (`{new} = …` in [scatter])"
-                        ),
-                        None => format!("unknown key (known: {})", SCATTER_KEYS.join(", ")),
-                    };
-                    return Err(StudyError::input(format!("scatter.{other}"), message));
-                }
-            }
+        let mut wrapped = toml::Table::new();
+        wrapped.insert(
+            "scatter".into(),
+            toml::Value::Table(motor::input::nest_dotted_keys(table)),
+        );
+        let renamed = renamed_scatter_keys();
+        let renamed: Vec<(&str, &str)> = renamed
+            .iter()
+            .map(|(o, n)| (o.as_str(), n.as_str()))
+            .collect();
+        if let Some(e) = motor::input::first_moved(&wrapped, &renamed) {
+            return Err(StudyError::input(
+                e.field,
+                format!("renamed: {}", e.message),
+            ));
         }
-        Ok(s)
+        #[derive(Deserialize)]
+        #[serde(deny_unknown_fields)]
+        struct Section {
+            scatter: ScatterFile,
+        }
+        let file = motor::input::from_table::<Section>(wrapped)
+            .map_err(|e| StudyError::input(e.field, e.message))?
+            .scatter;
+        Ok(Self {
+            distribution: file.distribution,
+            height_scatter_m: quantity(ev, &file.posts.height_scatter, "posts.height_scatter")?,
+            tilt_x_m: quantity(ev, &file.slider.tilt_x, "slider.tilt_x")?,
+            tilt_y_m: quantity(ev, &file.slider.tilt_y, "slider.tilt_y")?,
+            bow_m: quantity(ev, &file.slider.bow, "slider.bow")?,
+            friction: spread(file.friction.unwrap_or(0.0), "friction")?,
+            preload_n: quantity(ev, &file.load.preload, "load.preload")?,
+            diameter_m: quantity(ev, &file.posts.diameter, "posts.diameter")?,
+        })
     }
 
     /// Spreads within the range where the models hold (the scene's bounds): friction spread ≤

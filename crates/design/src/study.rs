@@ -52,13 +52,13 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
 use crate::error::StudyError;
 use crate::evaluator::{Evaluator, Fidelity, MotorSample, OUTPUT_NAMES, SceneFacts};
 use crate::files::{staged_results, write_atomically};
-use crate::scatter::{ScatterSpec, dotted_keys};
+use crate::scatter::{Quantity, ScatterSpec, dotted_keys};
 use crate::uq::MAX_SAMPLES;
 use crate::{
     Evaluation, Objective, OptimiserSettings, Outcome, Sense, Variable, VariableSensitivity,
@@ -133,82 +133,146 @@ pub struct DesignSpec {
     pub optimiser: OptimiserSettings,
 }
 
-type Table = toml::Table;
+/// A design file as written (module doc): every table refuses unknown keys, each entry under
+/// its scene key. Quantities keep their text ([`Quantity`]) until the evaluator parses them as
+/// their scene key; counts are whole numbers.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DesignFile {
+    /// Results folder name (default `design`).
+    pub name: Option<String>,
+    /// Scene file, relative to the design file.
+    pub scene: Option<PathBuf>,
+    /// Scene overrides: a table of scene keys (checked by [`scene_overrides`]).
+    pub set: Option<toml::Value>,
+    /// Output optimised (default `max_output_power_w`).
+    pub objective: Option<String>,
+    /// `maximise` (default) or `minimise`.
+    pub sense: Option<Sense>,
+    /// Robust quantile under `[scatter]`.
+    pub quantile: Option<f64>,
+    /// Full-fidelity samples per design (default 16).
+    pub samples: Option<u64>,
+    /// Cheap-fidelity samples per design (default 4).
+    pub cheap_samples: Option<u64>,
+    /// Seed of the scatter (default 1).
+    pub seed: Option<u64>,
+    /// The design variables.
+    #[serde(default)]
+    pub variables: VariablesFile,
+    /// Fabrication constraints.
+    #[serde(default)]
+    pub constraints: ConstraintsFile,
+    /// The scatter, as in `sawdrive uq` ([`ScatterSpec::from_table`]).
+    #[serde(default)]
+    pub scatter: toml::Table,
+    /// Optimiser settings.
+    #[serde(default)]
+    pub optimiser: OptimiserFile,
+}
+
+/// `[variables]`: `[lower, upper]` of each scene key that varies.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VariablesFile {
+    /// `posts.diameter`, `posts.height`, `posts.count`.
+    #[serde(default)]
+    pub posts: PostVariables,
+    /// `load.preload`.
+    #[serde(default)]
+    pub load: LoadVariables,
+}
+
+/// `[variables]` under `posts`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PostVariables {
+    /// Post diameter bounds.
+    pub diameter: Option<[Quantity; 2]>,
+    /// Post height bounds.
+    pub height: Option<[Quantity; 2]>,
+    /// Posts per side of a square array.
+    pub count: Option<[u64; 2]>,
+}
+
+/// `[variables]` under `load`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadVariables {
+    /// Preload bounds.
+    pub preload: Option<[Quantity; 2]>,
+}
+
+/// `[constraints]`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConstraintsFile {
+    /// pitch − diameter ≥ this.
+    pub min_gap: Option<Quantity>,
+    /// N π d²/4 over the array area within [lo, hi].
+    pub contact_area_fraction: Option<[f64; 2]>,
+    /// Preload ≤ this.
+    pub max_preload: Option<Quantity>,
+}
+
+/// `[optimiser]`: [`OptimiserSettings`], each absent one its default.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OptimiserFile {
+    pub presearch_points: Option<u64>,
+    pub starts: Option<u64>,
+    pub max_evaluations_per_start: Option<u64>,
+    pub finalists: Option<u64>,
+    pub refine_evaluations: Option<u64>,
+    pub seed: Option<u64>,
+    pub x_tolerance: Option<f64>,
+}
 
 fn err(key: &str, message: impl std::fmt::Display) -> StudyError {
     StudyError::input(key, message)
 }
 
-/// The human value `v` of design-file key `key`, parsed by the evaluator as scene key
-/// `scene_key`.
+/// The quantity `q` of design-file key `key`, parsed by the evaluator as scene key `scene_key`.
 fn quantity<E: Evaluator>(
     ev: &E,
-    v: &toml::Value,
+    q: &Quantity,
     key: &str,
     scene_key: &str,
 ) -> Result<f64, StudyError> {
-    let s = v.as_str().ok_or_else(|| {
-        err(
-            key,
-            format!(
-                "expected a quantity with its unit, e.g. {}",
-                ev.example(scene_key)
-            ),
-        )
-    })?;
-    ev.quantity(scene_key, s).map_err(|e| err(key, e))
+    ev.quantity(scene_key, &q.0).map_err(|e| err(key, e))
 }
 
-fn number(v: &toml::Value, key: &str) -> Result<f64, StudyError> {
-    v.as_float()
-        .or_else(|| v.as_integer().map(|i| i as f64))
-        .ok_or_else(|| err(key, format!("expected a number, got {v}")))
-}
-
-fn count(v: &toml::Value, key: &str) -> Result<u64, StudyError> {
-    v.as_integer()
-        .and_then(|i| u64::try_from(i).ok())
-        .ok_or_else(|| err(key, format!("expected a whole number ≥ 0, got {v}")))
-}
-
-fn pair(v: &toml::Value, key: &str) -> Result<[toml::Value; 2], StudyError> {
-    match v.as_array().map(Vec::as_slice) {
-        Some([a, b]) => Ok([a.clone(), b.clone()]),
-        _ => Err(err(key, "expected [lower, upper]")),
-    }
-}
-
+/// The variables given, in the order of [`VARIABLES`], with their SI bounds.
 fn parse_variables<E: Evaluator>(
     ev: &E,
-    t: &Table,
+    v: &VariablesFile,
 ) -> Result<(Vec<Variable>, Vec<String>), StudyError> {
     let mut vars = Vec::new();
     let mut keys = Vec::new();
-    for (key, value) in &dotted_keys(t) {
-        let full = format!("variables.{key}");
-        let found = VARIABLES
-            .iter()
-            .find(|v| *v == key)
-            .and_then(|&scene_key| Some((scene_key, ev.variable(scene_key)?)));
-        let Some((scene_key, kind)) = found else {
-            let message = match RENAMED_VARIABLES.iter().find(|r| r.0 == key) {
-                Some((_, new)) => format!(
-                    "renamed: design variables are named by the scene key they set; write \
-                     \"{new}\" = [lower, upper]"
-                ),
-                None => format!("unknown design variable (known: {})", VARIABLES.join(", ")),
-            };
-            return Err(err(&full, message));
+    let count = |[a, b]: [u64; 2]| (a as f64, b as f64);
+    let given: [(&str, Option<(f64, f64)>); 4] = {
+        let bounds = |q: &Option<[Quantity; 2]>, key: &str| -> Result<_, StudyError> {
+            let full = format!("variables.{key}");
+            q.as_ref()
+                .map(|[a, b]| Ok((quantity(ev, a, &full, key)?, quantity(ev, b, &full, key)?)))
+                .transpose()
         };
-        let [a, b] = pair(value, &full)?;
-        let (lower, upper) = if kind.integer {
-            (count(&a, &full)? as f64, count(&b, &full)? as f64)
-        } else {
-            (
-                quantity(ev, &a, &full, scene_key)?,
-                quantity(ev, &b, &full, scene_key)?,
-            )
+        let [d, h, n, p] = VARIABLES;
+        [
+            (d, bounds(&v.posts.diameter, d)?),
+            (h, bounds(&v.posts.height, h)?),
+            (n, v.posts.count.map(count)),
+            (p, bounds(&v.load.preload, p)?),
+        ]
+    };
+    for (scene_key, bounds) in given {
+        let Some((lower, upper)) = bounds else {
+            continue;
         };
+        let full = format!("variables.{scene_key}");
+        let kind = ev
+            .variable(scene_key)
+            .ok_or_else(|| err(&full, "not a design variable of this motor model"))?;
         let v = Variable {
             name: kind.report_name.to_owned(),
             lower,
@@ -227,57 +291,44 @@ fn parse_variables<E: Evaluator>(
     if vars.is_empty() {
         return Err(err("variables", "give at least one design variable"));
     }
-    let mut both: Vec<(Variable, String)> = vars.into_iter().zip(keys).collect();
-    both.sort_by_key(|(_, key)| VARIABLES.iter().position(|v| v == key));
-    Ok(both.into_iter().unzip())
+    Ok((vars, keys))
 }
 
-fn parse_constraints<E: Evaluator>(ev: &E, t: &Table) -> Result<Constraints, StudyError> {
-    let mut c = Constraints::default();
-    for (key, value) in t {
-        let full = format!("constraints.{key}");
-        match key.as_str() {
-            "min_gap" => c.min_gap_m = Some(quantity(ev, value, &full, "posts.diameter")?),
-            "max_preload" => c.max_preload_n = Some(quantity(ev, value, &full, "load.preload")?),
-            "contact_area_fraction" => {
-                let [a, b] = pair(value, &full)?;
-                let (lo, hi) = (number(&a, &full)?, number(&b, &full)?);
-                if !(0.0..=1.0).contains(&lo) || !(0.0..=1.0).contains(&hi) || lo > hi {
-                    return Err(err(
-                        &full,
-                        format!("[{lo}, {hi}] must be an interval within [0, 1]"),
-                    ));
-                }
-                c.contact_area_fraction = Some([lo, hi]);
-            }
-            _ => {
-                return Err(err(
-                    &full,
-                    "unknown constraint (known: min_gap, contact_area_fraction, max_preload)",
-                ));
-            }
+fn parse_constraints<E: Evaluator>(ev: &E, c: &ConstraintsFile) -> Result<Constraints, StudyError> {
+    let contact_area_fraction = match c.contact_area_fraction {
+        Some([lo, hi]) if !(0.0..=1.0).contains(&lo) || !(0.0..=1.0).contains(&hi) || lo > hi => {
+            return Err(err(
+                "constraints.contact_area_fraction",
+                format!("[{lo}, {hi}] must be an interval within [0, 1]"),
+            ));
         }
-    }
-    Ok(c)
+        other => other,
+    };
+    Ok(Constraints {
+        min_gap_m: c
+            .min_gap
+            .as_ref()
+            .map(|q| quantity(ev, q, "constraints.min_gap", "posts.diameter"))
+            .transpose()?,
+        contact_area_fraction,
+        max_preload_n: c
+            .max_preload
+            .as_ref()
+            .map(|q| quantity(ev, q, "constraints.max_preload", "load.preload"))
+            .transpose()?,
+    })
 }
 
-fn parse_optimiser(t: &Table) -> Result<OptimiserSettings, StudyError> {
+fn parse_optimiser(o: &OptimiserFile) -> Result<OptimiserSettings, StudyError> {
     let mut s = OptimiserSettings::default();
-    for (key, value) in t {
-        let full = format!("optimiser.{key}");
-        match key.as_str() {
-            "presearch_points" => s.presearch_points = count(value, &full)? as usize,
-            "starts" => s.starts = count(value, &full)? as usize,
-            "max_evaluations_per_start" => {
-                s.max_evaluations_per_start = count(value, &full)? as usize
-            }
-            "finalists" => s.finalists = count(value, &full)? as usize,
-            "refine_evaluations" => s.refine_evaluations = count(value, &full)? as usize,
-            "seed" => s.seed = count(value, &full)?,
-            "x_tolerance" => s.x_tolerance = number(value, &full)?,
-            _ => return Err(err(&full, "unknown setting")),
-        }
-    }
+    let size = |v: Option<u64>, default: usize| v.map_or(default, |n| n as usize);
+    s.presearch_points = size(o.presearch_points, s.presearch_points);
+    s.starts = size(o.starts, s.starts);
+    s.max_evaluations_per_start = size(o.max_evaluations_per_start, s.max_evaluations_per_start);
+    s.finalists = size(o.finalists, s.finalists);
+    s.refine_evaluations = size(o.refine_evaluations, s.refine_evaluations);
+    s.seed = o.seed.unwrap_or(s.seed);
+    s.x_tolerance = o.x_tolerance.unwrap_or(s.x_tolerance);
     s.validate()
         .map_err(|e| StudyError::Conflict(e.to_string()))?;
     Ok(s)
@@ -318,6 +369,42 @@ fn scene_overrides(value: &toml::Value) -> Result<Vec<String>, StudyError> {
         .collect()
 }
 
+/// A sample count (`samples`, `cheap_samples`) in 1..=[`MAX_SAMPLES`].
+fn sample_count(n: Option<u64>, default: usize, key: &str) -> Result<usize, StudyError> {
+    let Some(n) = n else {
+        return Ok(default);
+    };
+    if n == 0 {
+        return Err(err(key, "must be ≥ 1"));
+    }
+    if n > MAX_SAMPLES as u64 {
+        return Err(err(
+            key,
+            format!("{n} is more than the {MAX_SAMPLES} accepted"),
+        ));
+    }
+    Ok(n as usize)
+}
+
+/// The old spellings of design-file keys, refused naming the new one.
+fn renamed_design_keys() -> Vec<(String, String)> {
+    RENAMED_VARIABLES
+        .iter()
+        .map(|(old, new)| {
+            (
+                format!("variables.{old}"),
+                format!("\"{new}\" = [lower, upper]: design variables are named by the scene key they set"),
+            )
+        })
+        .chain(crate::scatter::RENAMED_SCATTER_KEYS.iter().map(|(old, new)| {
+            (
+                format!("scatter.{old}"),
+                format!("scatter.{new} (`{new} = …` in [scatter]): scatter entries are named by the scene key they spread"),
+            )
+        }))
+        .collect()
+}
+
 impl DesignSpec {
     /// Reads and checks a design file; errors are one line naming the file and the key.
     pub fn read<E: Evaluator>(ev: &E, path: &Path) -> Result<Self, StudyError> {
@@ -330,123 +417,77 @@ impl DesignSpec {
         })
     }
 
-    /// Parses a design file's text; a relative `scene` is taken relative to `base`. Quantities
-    /// are parsed by `ev`, as the scene key they set.
+    /// Parses a design file's text into [`DesignFile`] ([`motor::input`]: the scene's reader);
+    /// a relative `scene` is taken relative to `base`. Quantities are parsed by `ev`, as the
+    /// scene key they set.
     pub fn parse<E: Evaluator>(ev: &E, text: &str, base: &Path) -> Result<Self, StudyError> {
-        let mut t: Table = text.parse().map_err(|e: toml::de::Error| {
-            StudyError::Conflict(format!(
-                "not valid TOML: {}",
-                e.to_string().trim().replace('\n', " ")
-            ))
-        })?;
-        let mut take_table = |k: &str| -> Result<Table, StudyError> {
-            match t.remove(k) {
-                None => Ok(Table::new()),
-                Some(toml::Value::Table(x)) => Ok(x),
-                Some(_) => Err(err(k, "must be a table")),
-            }
-        };
-        let variables = take_table("variables")?;
-        let constraints = take_table("constraints")?;
-        let scatter = take_table("scatter")?;
-        let optimiser = take_table("optimiser")?;
-        let mut spec = Self {
-            name: "design".into(),
-            scene: None,
-            set: Vec::new(),
-            objective: Objective {
-                output: "max_output_power_w".into(),
-                sense: Sense::Maximise,
-            },
-            quantile: None,
-            samples: 16,
-            cheap_samples: 4,
-            seed: 1,
-            variables: Vec::new(),
-            scene_keys: Vec::new(),
-            constraints: Constraints::default(),
-            scatter: ScatterSpec::default(),
-            optimiser: OptimiserSettings::default(),
-        };
-        for (key, value) in &t {
-            match key.as_str() {
-                "name" => {
-                    let name = value
-                        .as_str()
-                        .ok_or_else(|| err(key, "expected a string"))?;
-                    atomic_files::check_name(name).map_err(|e| err(key, e))?;
-                    spec.name = name.to_owned()
-                }
-                "scene" => {
-                    spec.scene =
-                        Some(base.join(value.as_str().ok_or_else(|| err(key, "expected a path"))?))
-                }
-                "set" => spec.set = scene_overrides(value)?,
-                "objective" => {
-                    let o = value
-                        .as_str()
-                        .ok_or_else(|| err(key, "expected an output name"))?;
-                    if !OUTPUT_NAMES.contains(&o) {
-                        return Err(err(
-                            key,
-                            format!(
-                                "unknown output \"{o}\" (known: {})",
-                                OUTPUT_NAMES.join(", ")
-                            ),
-                        ));
-                    }
-                    spec.objective.output = o.to_owned();
-                }
-                "sense" => {
-                    spec.objective.sense = match value.as_str() {
-                        Some("maximise") => Sense::Maximise,
-                        Some("minimise") => Sense::Minimise,
-                        _ => {
-                            return Err(err(
-                                key,
-                                format!("{value} is not \"maximise\" or \"minimise\""),
-                            ));
-                        }
-                    }
-                }
-                "quantile" => {
-                    let q = number(value, key)?;
-                    if !(0.0..=1.0).contains(&q) {
-                        return Err(err(key, format!("{q} outside [0, 1]")));
-                    }
-                    spec.quantile = Some(q);
-                }
-                "samples" | "cheap_samples" => {
-                    let n = count(value, key)? as usize;
-                    if n == 0 {
-                        return Err(err(key, "must be ≥ 1"));
-                    }
-                    if n > MAX_SAMPLES {
-                        return Err(err(
-                            key,
-                            format!("{n} is more than the {MAX_SAMPLES} accepted"),
-                        ));
-                    }
-                    if key == "samples" {
-                        spec.samples = n
-                    } else {
-                        spec.cheap_samples = n
-                    }
-                }
-                "seed" => spec.seed = count(value, key)?,
-                other => {
-                    return Err(err(
-                        other,
-                        "unknown key (known: name, scene, set, objective, sense, quantile, samples, cheap_samples, seed, [variables], [constraints], [scatter], [optimiser])",
-                    ));
-                }
+        let table = motor::input::parse_table(text).map_err(|e| StudyError::Conflict(e.message))?;
+        let renamed = renamed_design_keys();
+        let renamed: Vec<(&str, &str)> = renamed
+            .iter()
+            .map(|(o, n)| (o.as_str(), n.as_str()))
+            .collect();
+        if let Some(e) = motor::input::first_moved(&table, &renamed) {
+            return Err(err(&e.field, format!("renamed: {}", e.message)));
+        }
+        if let Some(set) = table.get("set") {
+            scene_overrides(set)?;
+        }
+        let mut table = table;
+        for section in ["variables", "constraints", "optimiser"] {
+            if let Some(toml::Value::Table(t)) = table.get_mut(section) {
+                *t = motor::input::nest_dotted_keys(t);
             }
         }
-        // The settings first, the design space last: a refused setting is named even in a
-        // file whose variables are refused too.
-        spec.optimiser = parse_optimiser(&optimiser)?;
-        spec.constraints = parse_constraints(ev, &constraints)?;
-        spec.scatter = ScatterSpec::from_table(ev, &scatter)?;
+        let file: DesignFile =
+            motor::input::from_table(table).map_err(|e| err(&e.field, e.message))?;
+        Self::from_file(ev, file, base)
+    }
+
+    /// Checks a [`DesignFile`] and converts it to SI.
+    fn from_file<E: Evaluator>(ev: &E, file: DesignFile, base: &Path) -> Result<Self, StudyError> {
+        let name = file.name.unwrap_or_else(|| "design".into());
+        atomic_files::check_name(&name).map_err(|e| err("name", e))?;
+        let output = file
+            .objective
+            .unwrap_or_else(|| "max_output_power_w".into());
+        if !OUTPUT_NAMES.contains(&output.as_str()) {
+            return Err(err(
+                "objective",
+                format!(
+                    "unknown output \"{output}\" (known: {})",
+                    OUTPUT_NAMES.join(", ")
+                ),
+            ));
+        }
+        if let Some(q) = file.quantile.filter(|q| !(0.0..=1.0).contains(q)) {
+            return Err(err("quantile", format!("{q} outside [0, 1]")));
+        }
+        let mut spec = Self {
+            name,
+            scene: file.scene.map(|s| base.join(s)),
+            set: file
+                .set
+                .as_ref()
+                .map(scene_overrides)
+                .transpose()?
+                .unwrap_or_default(),
+            objective: Objective {
+                output,
+                sense: file.sense.unwrap_or(Sense::Maximise),
+            },
+            quantile: file.quantile,
+            samples: sample_count(file.samples, 16, "samples")?,
+            cheap_samples: sample_count(file.cheap_samples, 4, "cheap_samples")?,
+            seed: file.seed.unwrap_or(1),
+            variables: Vec::new(),
+            scene_keys: Vec::new(),
+            // The settings first, the design space last: a refused setting is named even in a
+            // file whose variables are refused too.
+            optimiser: parse_optimiser(&file.optimiser)?,
+            constraints: parse_constraints(ev, &file.constraints)?,
+            scatter: ScatterSpec::from_table(ev, &file.scatter)?,
+        };
         if spec.quantile.is_none() && spec.scatter != ScatterSpec::default() {
             return Err(err(
                 "scatter",
@@ -468,7 +509,7 @@ impl DesignSpec {
                 ),
             ));
         }
-        (spec.variables, spec.scene_keys) = parse_variables(ev, &variables)?;
+        (spec.variables, spec.scene_keys) = parse_variables(ev, &file.variables)?;
         Ok(spec)
     }
 

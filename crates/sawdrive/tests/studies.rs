@@ -345,7 +345,7 @@ fn bad_scatter_and_sample_count_are_refused_naming_the_key() {
         ScatterSpec::from_table(&SceneEvaluator, &t)
             .unwrap_err()
             .to_string()
-            .starts_with("scatter.sigma: unknown key")
+            .starts_with("scatter.sigma: unknown field")
     );
     let t: toml::Table = "distribution = \"uniform\"\nload.preload = \"50 N\""
         .parse()

@@ -88,9 +88,9 @@ pub fn read_scene_file(path: &Path) -> Result<String, SceneError> {
 }
 
 fn parse_table(text: &str, origin: &str) -> Result<toml::Table, SceneError> {
-    text.parse::<toml::Table>().map_err(|e| SceneError::Syntax {
+    motor::input::parse_table(text).map_err(|e| SceneError::Syntax {
         origin: origin.to_owned(),
-        message: e.to_string().trim().replace('\n', " "),
+        message: e.message.trim_start_matches("not valid TOML: ").to_owned(),
     })
 }
 
@@ -137,18 +137,11 @@ pub fn load_scene_text(
     }
     moved::check_scene_keys(&table, &origin)?;
     shape::check_ball_keys(&table, &default)?;
-    let file: file::SceneFile = serde_path_to_error::deserialize(toml::Value::Table(table))
-        .map_err(|e| {
-            let field = e.path().to_string();
-            // The TOML value deserializer appends "in `path`" on later lines; the path is already named.
-            let message = e.into_inner().to_string();
-            let message = message.lines().next().unwrap_or_default().to_owned();
-            SceneError::Field {
-                origin: origin.clone(),
-                field,
-                message,
-            }
-        })?;
+    let file: file::SceneFile = motor::input::from_table(table).map_err(|e| SceneError::Field {
+        origin: origin.clone(),
+        field: e.field,
+        message: e.message,
+    })?;
     check_name(&file.name)?;
     Scene::resolve(file)
 }

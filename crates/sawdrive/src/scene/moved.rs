@@ -5,7 +5,7 @@
 //! each model's own settings moved into its sub-table (`[model.lumped]`, `[model.transient]`,
 //! `[model.coupled]`, `[model.ball]`), where `deny_unknown_fields` refuses a misplaced key.
 
-use toml::{Table, Value};
+use toml::Table;
 
 use super::SceneError;
 
@@ -29,37 +29,14 @@ pub const MOVED_SCENE_KEYS: [(&str, &str); 7] = [
     ),
 ];
 
-/// The value at a dotted `path` of `table`, if any.
-pub(crate) fn at<'a>(table: &'a Table, path: &str) -> Option<&'a Value> {
-    let mut parts = path.split('.');
-    let mut value = table.get(parts.next()?)?;
-    for part in parts {
-        value = value.as_table()?.get(part)?;
-    }
-    Some(value)
-}
-
-/// The first old key of `moved` present in `table`, with its new spelling.
-pub fn first_moved<'a>(table: &Table, moved: &[(&'a str, &'a str)]) -> Option<(&'a str, &'a str)> {
-    moved
-        .iter()
-        .find(|(old, _)| at(table, old).is_some())
-        .copied()
-}
-
-/// The one-line message for an old key.
-pub fn moved_message(new: &str) -> String {
-    format!("this key has moved: write {new}")
-}
-
 /// Refuse an old scene key in the merged scene `table` (from `origin`), naming its new spelling.
 pub(super) fn check_scene_keys(table: &Table, origin: &str) -> Result<(), SceneError> {
-    match first_moved(table, &MOVED_SCENE_KEYS) {
+    match motor::input::first_moved(table, &MOVED_SCENE_KEYS) {
         None => Ok(()),
-        Some((old, new)) => Err(SceneError::Field {
+        Some(e) => Err(SceneError::Field {
             origin: origin.to_owned(),
-            field: old.to_owned(),
-            message: moved_message(new),
+            field: e.field,
+            message: e.message,
         }),
     }
 }

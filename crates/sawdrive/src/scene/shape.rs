@@ -15,11 +15,11 @@
 
 use ball_slider::{BallSlider, bearing_steel};
 use contact_springs::Material;
+use motor::input::at;
 use toml::{Table, Value};
 
 use super::SceneError;
 use super::file::SceneFile;
-use super::moved::at;
 use super::quantity::AutoOr;
 
 /// `slider.shape` names: whether the slider is a ball.

@@ -136,25 +136,13 @@ impl SweepFile {
                 path: shown.clone(),
                 source: e.into_parts().1,
             })?;
-        let value: toml::Table = text
-            .parse()
-            .map_err(|e: toml::de::Error| SweepError::Field {
-                path: shown.clone(),
-                field: "(file)".into(),
-                message: e.to_string().trim().replace('\n', " "),
-            })?;
-        let mut sweep: SweepFile = serde_path_to_error::deserialize(toml::Value::Table(value))
-            .map_err(|e| SweepError::Field {
-                path: shown.clone(),
-                field: e.path().to_string(),
-                message: e
-                    .into_inner()
-                    .to_string()
-                    .lines()
-                    .next()
-                    .unwrap_or_default()
-                    .to_owned(),
-            })?;
+        let field = |e: motor::input::InputError| SweepError::Field {
+            path: shown.clone(),
+            field: e.field,
+            message: e.message,
+        };
+        let table = motor::input::parse_table(&text).map_err(field)?;
+        let mut sweep: SweepFile = motor::input::from_table(table).map_err(field)?;
         sweep.check().map_err(|message| SweepError::Invalid {
             path: shown.clone(),
             message,
