@@ -1,4 +1,7 @@
-//! Human units at the edge: "20 um", "9.61 MHz", "1.1 m/s", "40 N" → SI numbers.
+//! Human units at the edge: "20 um", "9.61 MHz", "1.1 m/s", "40 N", "125 V" → SI numbers. The
+//! one home of unit parsing: every quantity of a scene, sweep, design or scatter file is read
+//! here (the scene's value types in `scene/quantity.rs` and the studies' evaluator call
+//! [`parse_quantity`]).
 //!
 //! A quantity is a number, optional white space, then a unit made of an optional SI prefix
 //! (`T G M k m u µ n p f`) and a base unit of the expected dimension. The number without a unit
@@ -25,6 +28,8 @@ pub enum Dimension {
     Mass,
     /// Seconds (`s`, `ms`, `us`, `ns`, `ps`).
     Time,
+    /// Volts, peak (`V`, `kV`, `mV`): the transducer's drive voltage V₀₋ₚ.
+    Voltage,
 }
 
 impl Dimension {
@@ -39,6 +44,7 @@ impl Dimension {
             Self::Density => "kg/m3",
             Self::Mass => "g",
             Self::Time => "s",
+            Self::Voltage => "V",
         }
     }
 
@@ -61,6 +67,7 @@ impl Dimension {
             Self::Density => "\"2329 kg/m3\"",
             Self::Mass => "\"29 mg\"",
             Self::Time => "\"1 ns\"",
+            Self::Voltage => "\"125 V\"",
         }
     }
 }
@@ -76,6 +83,7 @@ impl fmt::Display for Dimension {
             Self::Density => "density",
             Self::Mass => "mass",
             Self::Time => "time",
+            Self::Voltage => "voltage",
         };
         f.write_str(name)
     }
@@ -219,6 +227,19 @@ pub fn format_quantity(value_si: f64, dimension: Dimension) -> String {
 mod tests {
     use super::*;
 
+    #[test]
+    fn voltages_parse_to_volts_and_a_missing_unit_is_refused() {
+        for (text, volts) in [("125 V", 125.0), ("0.125 kV", 125.0), ("2500mV", 2.5)] {
+            assert_eq!(parse_quantity(text, Dimension::Voltage), Ok(volts), "{text}");
+        }
+        for text in ["125", "125 W", "V", "1e999 V"] {
+            assert!(
+                parse_quantity(text, Dimension::Voltage).is_err(),
+                "{text} must be refused"
+            );
+        }
+    }
+
     fn close(a: f64, b: f64) -> bool {
         (a - b).abs() <= 1e-12 * b.abs()
     }
@@ -275,6 +296,7 @@ mod tests {
 
     #[test]
     fn formatting_picks_a_readable_prefix_and_round_trips() {
+        assert_eq!(format_quantity(125.0, Dimension::Voltage), "125 V");
         assert_eq!(format_quantity(20e-6, Dimension::Length), "20 um");
         assert_eq!(format_quantity(9.61e6, Dimension::Frequency), "9.61 MHz");
         assert_eq!(format_quantity(40.0, Dimension::Force), "40 N");

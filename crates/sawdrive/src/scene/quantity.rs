@@ -68,46 +68,8 @@ quantity_type!(/// A mass in kilograms.
 quantity_type!(/// A time in seconds.
     Time, Dimension::Time);
 
-/// A peak voltage in volts, written `"125 V"` (prefixes `k`, `m`; V₀₋ₚ). Volts have no
-/// [`Dimension`] of their own, since only this key carries them: the number and unit are read
-/// here with the same rules (a bare number refused, the unit named in the message).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Voltage(pub f64);
-
-/// Voltage units and their factors to volts, longest suffix first (`mV` before `V`).
-const VOLTAGE_UNITS: [(&str, f64); 3] = [("kV", 1e3), ("mV", 1e-3), ("V", 1.0)];
-
-impl Voltage {
-    /// Read `"125 V"`, `"0.125 kV"` or `"125000 mV"` into volts.
-    pub fn parse(text: &str) -> Result<f64, String> {
-        let trimmed = text.trim();
-        let expected = || format!("expected a voltage like \"125 V\" (peak), got \"{text}\"");
-        let (factor, number) = VOLTAGE_UNITS
-            .iter()
-            .find_map(|(unit, factor)| trimmed.strip_suffix(unit).map(|n| (*factor, n.trim())))
-            .ok_or_else(|| format!("{}: the unit is missing or not kV, V or mV", expected()))?;
-        let value: f64 = number
-            .parse()
-            .map_err(|_| format!("{}: it does not start with a number", expected()))?;
-        let volts = value * factor;
-        if !volts.is_finite() {
-            return Err(format!("{}: the number is not finite", expected()));
-        }
-        Ok(volts)
-    }
-}
-
-impl<'de> Deserialize<'de> for Voltage {
-    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        let value = toml::Value::deserialize(deserializer)?;
-        match value.as_str() {
-            Some(text) => Voltage::parse(text).map(Voltage).map_err(de::Error::custom),
-            None => Err(de::Error::custom(format!(
-                "expected a voltage like \"125 V\" (peak), got the bare value {value}: write the unit"
-            ))),
-        }
-    }
-}
+quantity_type!(/// A peak voltage V₀₋ₚ in volts (`"125 V"`, `kV`, `mV`).
+    Voltage, Dimension::Voltage);
 
 /// A value that is either the keyword `"auto"` or a quantity.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -197,20 +159,5 @@ impl<'de> Deserialize<'de> for EffectiveRatio {
         contact_springs::effective_ratio::check(number)
             .map(Self::Given)
             .map_err(de::Error::custom)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::Voltage;
-
-    #[test]
-    fn voltages_parse_to_volts_and_a_missing_unit_is_refused() {
-        for (text, volts) in [("125 V", 125.0), ("0.125 kV", 125.0), ("2500mV", 2.5)] {
-            assert_eq!(Voltage::parse(text), Ok(volts), "{text}");
-        }
-        for text in ["125", "125 W", "V", "1e999 V"] {
-            assert!(Voltage::parse(text).is_err(), "{text} must be refused");
-        }
     }
 }

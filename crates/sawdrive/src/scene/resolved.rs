@@ -11,7 +11,10 @@ use stick_slip::{IntegratorKind, ModelChoice, VerticalModel, Warning};
 
 use super::crystal::{self, CrystalWave};
 use super::drive::{self, Drive};
-use super::file::{CustomMaterial, LoadFile, LumpedFile, MaterialSpec, ModelFile, SceneFile};
+use super::file::{
+    ContactFile, CustomMaterial, FrictionFile, LoadFile, LumpedFile, MaterialSpec, ModelFile,
+    PostsFile, SceneFile, StaticFile, WaveFile,
+};
 use super::quantity::{AutoOr, EffectiveRatio};
 use super::shape;
 use super::{SceneError, limits};
@@ -477,7 +480,7 @@ fn check_static_model(
 /// With a drive voltage the transducer launches both amplitudes (the tangential one is the
 /// cut's |u_x/u_z| times the launched |u_z|): a given tangential value is ambiguous (does it
 /// scale with the voltage?) and refused naming its key; `"auto"` or no value is accepted.
-fn refuse_tangential_with_drive(w: &super::file::WaveFile) -> Result<(), SceneError> {
+fn refuse_tangential_with_drive(w: &WaveFile) -> Result<(), SceneError> {
     let given = [
         (
             "wave.tangential_velocity",
@@ -668,143 +671,205 @@ fn resolve_lumped(l: &LumpedFile, frequency_hz: f64) -> Result<LumpedSettings, S
     })
 }
 
-impl Scene {
-    /// Check and convert a scene file.
-    pub(crate) fn resolve(file: SceneFile) -> Result<Self, SceneError> {
-        let w = &file.wave;
-        let frequency_hz = positive("wave.frequency", w.frequency.0)?;
-        let omega = derived(
-            "wave.frequency",
-            "angular frequency ω = 2πf (rad/s)",
-            2.0 * std::f64::consts::PI * frequency_hz,
-        )?;
-        derived("wave.frequency", "wave period 1/f (s)", 1.0 / frequency_hz)?;
-        let cut = crystal::wave_cut(&file.stator.cut, &file.stator.material)?;
-        let (stator_cut, crystal_wave) = crystal::solve(&cut)?;
-        let mut warnings: Vec<Warning> = Vec::new();
-        warnings.extend(crystal::material_mismatch(&cut, &file.stator.material));
-        let (normal_amplitude_m, drive) = drive::normal_amplitude(
-            w,
-            file.stator.idt.as_ref(),
-            &cut,
-            frequency_hz,
-            &mut warnings,
-        )?;
-        if drive.is_some() {
-            refuse_tangential_with_drive(w)?;
+/// The resolved `[wave]` with its stator cut: the motor's wave, the cut's Rayleigh wave, the
+/// transducer's drive and where the amplitudes and the velocity came from.
+struct WaveParts {
+    wave: Wave,
+    stator_cut: motor::StatorCut,
+    crystal_wave: CrystalWave,
+    drive: Option<Drive>,
+    phase_velocity_source: &'static str,
+    tangential_amplitude_source: &'static str,
+}
+
+/// `wave.frequency`: f > 0 with ω = 2πf and the period 1/f finite; returns (f, ω).
+fn frequency(w: &WaveFile) -> Result<(f64, f64), SceneError> {
+    let frequency_hz = positive("wave.frequency", w.frequency.0)?;
+    let omega = derived(
+        "wave.frequency",
+        "angular frequency ω = 2πf (rad/s)",
+        2.0 * std::f64::consts::PI * frequency_hz,
+    )?;
+    derived("wave.frequency", "wave period 1/f (s)", 1.0 / frequency_hz)?;
+    Ok((frequency_hz, omega))
+}
+
+/// `wave.tangential_velocity` or `wave.tangential_amplitude` (or the cut's |u_x/u_z| A_n):
+/// A_t (m) and its source, `given` or `cut`; a given ratio more than 2 % off the cut's warns.
+fn tangential_amplitude(
+    w: &WaveFile,
+    omega: f64,
+    normal_amplitude_m: f64,
+    has_drive: bool,
+    (stator_cut, crystal_wave): (&motor::StatorCut, &CrystalWave),
+    warnings: &mut Vec<Warning>,
+) -> Result<(f64, &'static str), SceneError> {
+    let (given_m, key) = match (w.tangential_velocity, w.tangential_amplitude) {
+        (None, None) if has_drive => (None, "wave.tangential_amplitude"),
+        (Some(AutoOr::Auto), None) => (None, "wave.tangential_velocity"),
+        (None, Some(AutoOr::Auto)) => (None, "wave.tangential_amplitude"),
+        (Some(AutoOr::Value(v)), None) => (
+            Some(derived(
+                "wave.tangential_velocity",
+                "tangential amplitude V_t/ω (m)",
+                positive("wave.tangential_velocity", v.0)? / omega,
+            )?),
+            "wave.tangential_velocity",
+        ),
+        (None, Some(AutoOr::Value(a))) => (
+            Some(positive("wave.tangential_amplitude", a.0)?),
+            "wave.tangential_amplitude",
+        ),
+        _ => {
+            return Err(invalid(
+                "wave",
+                "give exactly one of tangential_velocity or tangential_amplitude",
+            ));
         }
-        let cut_ratio = crystal_wave.displacement_ratio_ux_over_uz;
-        let (tangential_amplitude_m, tangential_key) =
-            match (w.tangential_velocity, w.tangential_amplitude) {
-                (None, None) if drive.is_some() => (None, "wave.tangential_amplitude"),
-                (Some(AutoOr::Auto), None) => (None, "wave.tangential_velocity"),
-                (None, Some(AutoOr::Auto)) => (None, "wave.tangential_amplitude"),
-                (Some(AutoOr::Value(v)), None) => (
-                    Some(derived(
-                        "wave.tangential_velocity",
-                        "tangential amplitude V_t/ω (m)",
-                        positive("wave.tangential_velocity", v.0)? / omega,
-                    )?),
-                    "wave.tangential_velocity",
-                ),
-                (None, Some(AutoOr::Value(a))) => (
-                    Some(positive("wave.tangential_amplitude", a.0)?),
-                    "wave.tangential_amplitude",
-                ),
-                _ => {
-                    return Err(invalid(
-                        "wave",
-                        "give exactly one of tangential_velocity or tangential_amplitude",
-                    ));
-                }
-            };
-        let tangential_amplitude_source = if tangential_amplitude_m.is_some() {
-            "given"
-        } else {
-            "cut"
-        };
-        let tangential_amplitude_m = match tangential_amplitude_m {
-            Some(a) => {
-                warnings.extend(crystal::mismatch(
-                    tangential_key,
-                    "tangential/normal amplitude ratio A_t/A_n",
-                    a / normal_amplitude_m,
-                    cut_ratio,
-                    &stator_cut.name,
-                    |r| format!("{r:.4}"),
-                ));
-                a
-            }
-            None => derived(
-                tangential_key,
+    };
+    let cut_ratio = crystal_wave.displacement_ratio_ux_over_uz;
+    match given_m {
+        Some(a) => {
+            warnings.extend(crystal::mismatch(
+                key,
+                "tangential/normal amplitude ratio A_t/A_n",
+                a / normal_amplitude_m,
+                cut_ratio,
+                &stator_cut.name,
+                |r| format!("{r:.4}"),
+            ));
+            Ok((a, "given"))
+        }
+        None => Ok((
+            derived(
+                key,
                 "tangential amplitude |u_x/u_z| A_n (m)",
                 cut_ratio * normal_amplitude_m,
             )?,
-        };
-        let cut_velocity = crystal_wave.phase_velocity_free_m_per_s;
-        let (phase_velocity_m_per_s, phase_velocity_source) = match w.phase_velocity {
-            AutoOr::Auto => (cut_velocity, "cut"),
-            AutoOr::Value(c) => {
-                let c = positive("wave.phase_velocity", c.0)?;
-                warnings.extend(crystal::mismatch(
-                    "wave.phase_velocity",
-                    "phase velocity",
-                    c,
-                    cut_velocity,
-                    &stator_cut.name,
-                    |v| format_quantity(v, Dimension::Velocity),
-                ));
-                (c, "given")
-            }
-        };
-        let aperture_m = match (w.aperture, &drive) {
-            (_, Some(d)) => d.transducer.aperture_m,
-            (Some(a), None) => positive("wave.aperture", a.0)?,
-            (None, None) => {
-                return Err(invalid(
-                    "wave.aperture",
-                    "missing: give the beam's width across y, e.g. \"9 mm\"",
-                ));
-            }
-        };
-        let decay_length_m = w
-            .decay_length
-            .map(|d| positive("wave.decay_length", d.0))
-            .transpose()?;
-        let burst_periods = w
-            .burst_periods
-            .map(|b| positive("wave.burst_periods", b))
-            .transpose()?;
-        derived(
-            "wave.tangential_amplitude",
-            "tangential velocity A_t ω (m/s)",
-            tangential_amplitude_m * omega,
-        )?;
-        derived(
-            "wave.phase_velocity",
-            "wavelength λ = c/f (m)",
-            phase_velocity_m_per_s / frequency_hz,
-        )?;
-        if let Some(d) = decay_length_m {
-            limits::decay_length(d, phase_velocity_m_per_s / frequency_hz)?;
+            "cut",
+        )),
+    }
+}
+
+/// `wave.phase_velocity` (or the cut's free-surface velocity for `"auto"`) and its source; a
+/// value more than 2 % off the cut's warns.
+fn phase_velocity(
+    w: &WaveFile,
+    (stator_cut, crystal_wave): (&motor::StatorCut, &CrystalWave),
+    warnings: &mut Vec<Warning>,
+) -> Result<(f64, &'static str), SceneError> {
+    let cut_velocity = crystal_wave.phase_velocity_free_m_per_s;
+    match w.phase_velocity {
+        AutoOr::Auto => Ok((cut_velocity, "cut")),
+        AutoOr::Value(c) => {
+            let c = positive("wave.phase_velocity", c.0)?;
+            warnings.extend(crystal::mismatch(
+                "wave.phase_velocity",
+                "phase velocity",
+                c,
+                cut_velocity,
+                &stator_cut.name,
+                |v| format_quantity(v, Dimension::Velocity),
+            ));
+            Ok((c, "given"))
         }
-        if w.attenuation == Some(stick_slip::AttenuationSetting::On) {
-            let given = [
-                ("wave.decay_length", decay_length_m.is_some()),
-                ("wave.burst_periods", burst_periods.is_some()),
-            ];
-            if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
-                return Err(invalid(
-                    "wave.attenuation",
-                    format!(
-                        "\"on\" solves the amplitude along the slider from the wave's power, and \
-                         {key} prescribes another (a steady, continuous wave is assumed): remove \
-                         {key} or set wave.attenuation = \"off\""
-                    ),
-                ));
-            }
+    }
+}
+
+/// The wave along and across the slider: `wave.aperture` (the transducer's with a drive),
+/// `wave.decay_length` and `wave.burst_periods`. Returns (aperture, decay length, burst periods).
+fn wave_extent(
+    w: &WaveFile,
+    drive: Option<&Drive>,
+) -> Result<(f64, Option<f64>, Option<f64>), SceneError> {
+    let aperture_m = match (w.aperture, drive) {
+        (_, Some(d)) => d.transducer.aperture_m,
+        (Some(a), None) => positive("wave.aperture", a.0)?,
+        (None, None) => {
+            return Err(invalid(
+                "wave.aperture",
+                "missing: give the beam's width across y, e.g. \"9 mm\"",
+            ));
         }
-        let wave = Wave {
+    };
+    let decay_length_m = w
+        .decay_length
+        .map(|d| positive("wave.decay_length", d.0))
+        .transpose()?;
+    let burst_periods = w
+        .burst_periods
+        .map(|b| positive("wave.burst_periods", b))
+        .transpose()?;
+    Ok((aperture_m, decay_length_m, burst_periods))
+}
+
+/// `wave.attenuation = "on"` solves the amplitude along the slider: refused beside a
+/// prescribed `wave.decay_length` or `wave.burst_periods`.
+fn check_attenuation(
+    w: &WaveFile,
+    decay_length_m: Option<f64>,
+    burst_periods: Option<f64>,
+) -> Result<(), SceneError> {
+    if w.attenuation != Some(stick_slip::AttenuationSetting::On) {
+        return Ok(());
+    }
+    let given = [
+        ("wave.decay_length", decay_length_m.is_some()),
+        ("wave.burst_periods", burst_periods.is_some()),
+    ];
+    match given.iter().find(|(_, g)| *g) {
+        None => Ok(()),
+        Some((key, _)) => Err(invalid(
+            "wave.attenuation",
+            format!(
+                "\"on\" solves the amplitude along the slider from the wave's power, and \
+                 {key} prescribes another (a steady, continuous wave is assumed): remove \
+                 {key} or set wave.attenuation = \"off\""
+            ),
+        )),
+    }
+}
+
+/// `[wave]` with `stator.cut`, `stator.material` and `[stator.idt]`: the cut's Rayleigh wave,
+/// the amplitudes (given or from the drive), the velocity, the beam and the wave's extent.
+fn resolve_wave(file: &SceneFile, warnings: &mut Vec<Warning>) -> Result<WaveParts, SceneError> {
+    let w = &file.wave;
+    let (frequency_hz, omega) = frequency(w)?;
+    let cut = crystal::wave_cut(&file.stator.cut, &file.stator.material)?;
+    let (stator_cut, crystal_wave) = crystal::solve(&cut)?;
+    warnings.extend(crystal::material_mismatch(&cut, &file.stator.material));
+    let (normal_amplitude_m, drive) =
+        drive::normal_amplitude(w, file.stator.idt.as_ref(), &cut, frequency_hz, warnings)?;
+    if drive.is_some() {
+        refuse_tangential_with_drive(w)?;
+    }
+    let cut_pair = (&stator_cut, &crystal_wave);
+    let (tangential_amplitude_m, tangential_amplitude_source) = tangential_amplitude(
+        w,
+        omega,
+        normal_amplitude_m,
+        drive.is_some(),
+        cut_pair,
+        warnings,
+    )?;
+    let (phase_velocity_m_per_s, phase_velocity_source) = phase_velocity(w, cut_pair, warnings)?;
+    let (aperture_m, decay_length_m, burst_periods) = wave_extent(w, drive.as_ref())?;
+    derived(
+        "wave.tangential_amplitude",
+        "tangential velocity A_t ω (m/s)",
+        tangential_amplitude_m * omega,
+    )?;
+    let wavelength_m = derived(
+        "wave.phase_velocity",
+        "wavelength λ = c/f (m)",
+        phase_velocity_m_per_s / frequency_hz,
+    )?;
+    if let Some(d) = decay_length_m {
+        limits::decay_length(d, wavelength_m)?;
+    }
+    check_attenuation(w, decay_length_m, burst_periods)?;
+    Ok(WaveParts {
+        wave: Wave {
             frequency_hz,
             normal_amplitude_m,
             tangential_amplitude_m,
@@ -812,243 +877,287 @@ impl Scene {
             decay_length_m,
             burst_periods,
             aperture_m,
-        };
+        },
+        stator_cut,
+        crystal_wave,
+        drive,
+        phase_velocity_source,
+        tangential_amplitude_source,
+    })
+}
 
-        let stator = material("stator.material", &file.stator.material)?;
-        let s = &file.slider;
-        let is_ball = choice(
-            "slider.shape",
-            s.shape.as_deref().unwrap_or("post-array"),
-            &shape::SHAPE_NAMES,
-        )?;
-        let given_material = s
-            .material
-            .as_ref()
-            .map(|spec| material("slider.material", spec))
-            .transpose()?;
-        let ball = shape::ball(&file, is_ball, given_material.clone())?;
-        let slider_material = match (&ball, given_material) {
-            (Some(ball), _) => ball.material.clone(),
-            (None, Some(m)) => m,
-            (None, None) => Material::silicon(),
-        };
-        let length_m = positive("slider.length", s.length.0)?;
-        let width_m = positive("slider.width", s.width.0)?;
-        let thickness_m = positive("slider.thickness", s.thickness.0)?;
+/// `[slider]` up to its mass: the shape (a ball or the post array), the ball, the material
+/// (given, or the shape's default) and the plate's size (m).
+struct SliderParts {
+    ball: Option<ball_slider::BallSlider>,
+    material: Material,
+    length_m: f64,
+    width_m: f64,
+    thickness_m: f64,
+}
 
-        let p = &file.posts;
-        let diameter_m = positive("posts.diameter", p.diameter.0)?;
-        let height_m = positive("posts.height", p.height.0)?;
-        let array_x_m = positive("posts.array", p.array.0)?;
-        let array_y_m = match p.array_y {
-            Some(a) => positive("posts.array_y", a.0)?,
-            None => array_x_m,
-        };
-        if array_x_m > length_m || array_y_m > width_m {
-            let len = |v| format_quantity(v, Dimension::Length);
-            return Err(invalid(
-                "posts.array",
-                format!(
-                    "the post array ({} × {}) must fit on the slider ({} × {})",
-                    len(array_x_m),
-                    len(array_y_m),
-                    len(length_m),
-                    len(width_m)
-                ),
-            ));
-        }
-        let (count_x, count_y) = (p.count.along_x, p.count.along_y);
-        limits::post_counts(count_x, count_y)?;
-        let (pitch_x_m, pitch_y_m) = (
-            derived(
-                "posts.count",
-                "pitch along x (m)",
-                array_x_m / f64::from(count_x),
-            )?,
-            derived(
-                "posts.count",
-                "pitch along y (m)",
-                array_y_m / f64::from(count_y),
-            )?,
-        );
-        if diameter_m >= pitch_x_m.min(pitch_y_m) {
-            return Err(invalid(
-                "posts.diameter",
-                format!(
-                    "posts of {} diameter overlap at a pitch of {} (array / count)",
-                    format_quantity(diameter_m, Dimension::Length),
-                    format_quantity(pitch_x_m.min(pitch_y_m), Dimension::Length)
-                ),
-            ));
-        }
-        let count = u64::from(count_x) * u64::from(count_y);
-        derived(
-            "posts.diameter",
-            "contact area N·πd²/4 (m²)",
-            count as f64 * std::f64::consts::PI * diameter_m * diameter_m / 4.0,
-        )?;
-        let posts = PostArray {
-            diameter_m,
-            height_m,
-            count_x,
-            count_y,
-            array_x_m,
-            array_y_m,
-        };
+fn resolve_slider(file: &SceneFile) -> Result<SliderParts, SceneError> {
+    let s = &file.slider;
+    let is_ball = choice(
+        "slider.shape",
+        s.shape.as_deref().unwrap_or("post-array"),
+        &shape::SHAPE_NAMES,
+    )?;
+    let given_material = s
+        .material
+        .as_ref()
+        .map(|spec| material("slider.material", spec))
+        .transpose()?;
+    let ball = shape::ball(file, is_ball, given_material.clone())?;
+    let material = match (&ball, given_material) {
+        (Some(ball), _) => ball.material.clone(),
+        (None, Some(m)) => m,
+        (None, None) => Material::silicon(),
+    };
+    Ok(SliderParts {
+        ball,
+        material,
+        length_m: positive("slider.length", s.length.0)?,
+        width_m: positive("slider.width", s.width.0)?,
+        thickness_m: positive("slider.thickness", s.thickness.0)?,
+    })
+}
 
-        let (mass_kg, mass_source) = match (&ball, s.mass) {
-            (Some(ball), AutoOr::Auto) => (ball.mass_kg(), "ball"),
-            (Some(ball), AutoOr::Value(_)) => (ball.mass_kg(), "given"),
-            (None, AutoOr::Auto) => (
-                derived(
-                    "slider.mass",
-                    "mass ρ·length·width·thickness (kg)",
-                    slider_material.density_kg_per_m3 * length_m * width_m * thickness_m,
-                )?,
-                "geometry",
+/// `[posts]`: the lattice, on the slider `length_m × width_m`; the array must fit on it and
+/// the posts must not overlap (pitch = array / count).
+fn resolve_posts(p: &PostsFile, length_m: f64, width_m: f64) -> Result<PostArray, SceneError> {
+    let diameter_m = positive("posts.diameter", p.diameter.0)?;
+    let height_m = positive("posts.height", p.height.0)?;
+    let array_x_m = positive("posts.array", p.array.0)?;
+    let array_y_m = match p.array_y {
+        Some(a) => positive("posts.array_y", a.0)?,
+        None => array_x_m,
+    };
+    let len = |v| format_quantity(v, Dimension::Length);
+    if array_x_m > length_m || array_y_m > width_m {
+        return Err(invalid(
+            "posts.array",
+            format!(
+                "the post array ({} × {}) must fit on the slider ({} × {})",
+                len(array_x_m),
+                len(array_y_m),
+                len(length_m),
+                len(width_m)
             ),
-            (None, AutoOr::Value(m)) => (positive("slider.mass", m.0)?, "given"),
-        };
-        derived(
-            "posts.height",
-            "post mass ρπd²h/4 (kg)",
-            slider_material.density_kg_per_m3 * std::f64::consts::PI * diameter_m * diameter_m
-                / 4.0
-                * height_m,
-        )?;
-        let slider = SliderBody {
-            material: slider_material,
-            length_m,
-            width_m,
-            thickness_m,
-            mass_kg,
-        };
+        ));
+    }
+    let (count_x, count_y) = (p.count.along_x, p.count.along_y);
+    limits::post_counts(count_x, count_y)?;
+    let pitch =
+        |array_m: f64, count: u32, what| derived("posts.count", what, array_m / f64::from(count));
+    let pitch_x_m = pitch(array_x_m, count_x, "pitch along x (m)")?;
+    let pitch_y_m = pitch(array_y_m, count_y, "pitch along y (m)")?;
+    if diameter_m >= pitch_x_m.min(pitch_y_m) {
+        return Err(invalid(
+            "posts.diameter",
+            format!(
+                "posts of {} diameter overlap at a pitch of {} (array / count)",
+                len(diameter_m),
+                len(pitch_x_m.min(pitch_y_m))
+            ),
+        ));
+    }
+    let count = u64::from(count_x) * u64::from(count_y);
+    derived(
+        "posts.diameter",
+        "contact area N·πd²/4 (m²)",
+        count as f64 * std::f64::consts::PI * diameter_m * diameter_m / 4.0,
+    )?;
+    Ok(PostArray {
+        diameter_m,
+        height_m,
+        count_x,
+        count_y,
+        array_x_m,
+        array_y_m,
+    })
+}
 
-        let f = &file.friction;
-        for (field, mu) in [
-            ("friction.static", f.mu_static),
-            ("friction.kinetic", f.mu_kinetic),
-        ] {
-            limits::friction(field, mu)?;
-        }
-        if f.mu_kinetic > f.mu_static {
-            return Err(invalid(
-                "friction.kinetic",
-                format!(
-                    "kinetic coefficient {} exceeds the static one {}: stick would break below the force slip sustains",
-                    f.mu_kinetic, f.mu_static
-                ),
-            ));
-        }
-        let friction = Friction {
-            mu_static: f.mu_static,
-            mu_kinetic: f.mu_kinetic,
-        };
-        let preload_n = positive("load.preload", file.load.preload.0)?;
-        let external_load_n = file.load.external.0;
+/// `slider.mass` (or ρ·volume, or the ball's own) with its source, and the slider body; a
+/// post's mass ρπd²h/4 must be a finite positive number.
+fn slider_body(
+    file: &SceneFile,
+    parts: SliderParts,
+    posts: &PostArray,
+) -> Result<(SliderBody, &'static str), SceneError> {
+    let SliderParts {
+        ball,
+        material,
+        length_m,
+        width_m,
+        thickness_m,
+    } = parts;
+    let (mass_kg, mass_source) = match (&ball, file.slider.mass) {
+        (Some(ball), AutoOr::Auto) => (ball.mass_kg(), "ball"),
+        (Some(ball), AutoOr::Value(_)) => (ball.mass_kg(), "given"),
+        (None, AutoOr::Auto) => (
+            derived(
+                "slider.mass",
+                "mass ρ·length·width·thickness (kg)",
+                material.density_kg_per_m3 * length_m * width_m * thickness_m,
+            )?,
+            "geometry",
+        ),
+        (None, AutoOr::Value(m)) => (positive("slider.mass", m.0)?, "given"),
+    };
+    let d = posts.diameter_m;
+    derived(
+        "posts.height",
+        "post mass ρπd²h/4 (kg)",
+        material.density_kg_per_m3 * std::f64::consts::PI * d * d / 4.0 * posts.height_m,
+    )?;
+    let body = SliderBody {
+        material,
+        length_m,
+        width_m,
+        thickness_m,
+        mass_kg,
+    };
+    Ok((body, mass_source))
+}
+
+/// `[friction]`: each coefficient within its bound, μ_k ≤ μ_s.
+fn resolve_friction(f: &FrictionFile) -> Result<Friction, SceneError> {
+    for (field, mu) in [
+        ("friction.static", f.mu_static),
+        ("friction.kinetic", f.mu_kinetic),
+    ] {
+        limits::friction(field, mu)?;
+    }
+    if f.mu_kinetic > f.mu_static {
+        return Err(invalid(
+            "friction.kinetic",
+            format!(
+                "kinetic coefficient {} exceeds the static one {}: stick would break below the force slip sustains",
+                f.mu_kinetic, f.mu_static
+            ),
+        ));
+    }
+    Ok(Friction {
+        mu_static: f.mu_static,
+        mu_kinetic: f.mu_kinetic,
+    })
+}
+
+/// `[contact]`: η given or from the static FEM; a ball's one contact carries the whole
+/// preload (η = 1), so no static stage runs for it, in a run or a sweep's FEM cache.
+fn resolve_contact(c: &ContactFile, is_ball: bool) -> Contact {
+    let (effective_ratio, source) = match c.effective_ratio {
+        _ if is_ball => (Some(1.0), "ball"),
+        EffectiveRatio::Fem => (None, "fem"),
+        EffectiveRatio::Given(eta) => (Some(eta), "given"),
+    };
+    Contact {
+        effective_ratio,
+        effective_ratio_source: source.into(),
+    }
+}
+
+/// `[static]`: counts and tolerances within their bounds, the choices by name; `count_y` is
+/// the posts across the slider (the most rows a strip may hold).
+fn resolve_static(st: &StaticFile, count_y: u32) -> Result<StaticSettings, SceneError> {
+    if st.phases == 0 {
+        return Err(invalid(
+            "static.phases",
+            "need at least one wave snapshot phase",
+        ));
+    }
+    if !matches!(st.element_order, 1 | 2) {
+        return Err(invalid(
+            "static.element_order",
+            format!("must be 1 (Tet4) or 2 (Tet10), got {}", st.element_order),
+        ));
+    }
+    let tolerance = match st.tolerance {
+        AutoOr::Auto => None,
+        AutoOr::Value(t) => Some(positive("static.tolerance", t)?),
+    };
+    let (phases, max_phases) = (st.phases.into(), limits::MAX_PHASES.into());
+    limits::at_most(
+        "static.phases",
+        phases,
+        max_phases,
+        "contact solves per static run",
+    )?;
+    let (iterations, max) = (st.max_iterations.into(), limits::MAX_ITERATIONS.into());
+    limits::at_most("static.max_iterations", iterations, max, "iterations")?;
+    if st.max_iterations == 0 {
+        return Err(invalid("static.max_iterations", "must be ≥ 1"));
+    }
+    if st.strip_rows == 0 || st.strip_rows > count_y {
+        return Err(invalid(
+            "static.strip_rows",
+            format!(
+                "must lie in 1..={count_y} (posts.count_y), got {}",
+                st.strip_rows
+            ),
+        ));
+    }
+    let stator = choice("static.stator", &st.stator, &StatorModel::NAMES)?;
+    Ok(StaticSettings {
+        model: choice("static.model", &st.model, &StaticModel::NAMES)?,
+        phases: st.phases,
+        element_order: st.element_order,
+        mesh: st.mesh.clone(),
+        stator,
+        strip_rows: st.strip_rows,
+        tolerance,
+        max_iterations: st.max_iterations,
+        fem_solver: choice("static.fem_solver", &st.fem_solver, &FEM_SOLVER_NAMES)?,
+    })
+}
+
+/// A beam narrower than the post array across y: a warning naming `wave.aperture`.
+fn aperture_warning(aperture_m: f64, posts: &PostArray) -> Option<Warning> {
+    let len = |v| format_quantity(v, Dimension::Length);
+    (posts.array_y_m > aperture_m).then(|| {
+        Warning::new(
+            "wave.aperture",
+            format!(
+                "the beam ({}) is narrower than the post array across y (posts.array_y {}): \
+                 the dynamics drive every post with the full wave; only the power under the \
+                 array (sawdrive wave) is capped by the aperture",
+                len(aperture_m),
+                len(posts.array_y_m)
+            ),
+        )
+    })
+}
+
+impl Scene {
+    /// Check and convert a scene file, table by table: the wave (with the stator's cut and
+    /// transducer), the slider and its posts, friction, load, imperfections, contact, model and
+    /// static settings; then the checks across tables (the static model against the motor).
+    pub(crate) fn resolve(file: SceneFile) -> Result<Self, SceneError> {
+        let mut warnings: Vec<Warning> = Vec::new();
+        let wave = resolve_wave(&file, &mut warnings)?;
+        let stator = material("stator.material", &file.stator.material)?;
+        let slider = resolve_slider(&file)?;
+        let posts = resolve_posts(&file.posts, slider.length_m, slider.width_m)?;
+        let ball = slider.ball.clone();
+        let (length_m, width_m) = (slider.length_m, slider.width_m);
+        let (slider, mass_source) = slider_body(&file, slider, &posts)?;
+        let friction = resolve_friction(&file.friction)?;
         let load = Load {
-            preload_n,
-            external_load_n,
+            preload_n: positive("load.preload", file.load.preload.0)?,
+            external_load_n: file.load.external.0,
             mechanism: preload_mechanism(&file.load, length_m, width_m)?,
         };
         let imperfections = imperfections(&file, &posts)?;
-        limits::imperfections(&imperfections, height_m)?;
-
-        // A ball's one contact carries the whole preload (η = 1): no static stage to run, in a
-        // run or a sweep's FEM cache.
-        let contact = match file.contact.effective_ratio {
-            _ if ball.is_some() => Contact {
-                effective_ratio: Some(1.0),
-                effective_ratio_source: "ball".into(),
-            },
-            EffectiveRatio::Fem => Contact {
-                effective_ratio: None,
-                effective_ratio_source: "fem".into(),
-            },
-            EffectiveRatio::Given(eta) => Contact {
-                effective_ratio: Some(eta),
-                effective_ratio_source: "given".into(),
-            },
-        };
-
-        let model = resolve_model(&file.model, frequency_hz, ball.is_some())?;
-
-        let st = &file.static_fem;
-        if st.phases == 0 {
-            return Err(invalid(
-                "static.phases",
-                "need at least one wave snapshot phase",
-            ));
-        }
-        if !matches!(st.element_order, 1 | 2) {
-            return Err(invalid(
-                "static.element_order",
-                format!("must be 1 (Tet4) or 2 (Tet10), got {}", st.element_order),
-            ));
-        }
-        let tolerance = match st.tolerance {
-            AutoOr::Auto => None,
-            AutoOr::Value(t) => {
-                positive("static.tolerance", t)?;
-                Some(t)
-            }
-        };
-        let phases = (st.phases.into(), limits::MAX_PHASES.into());
-        limits::at_most(
-            "static.phases",
-            phases.0,
-            phases.1,
-            "contact solves per static run",
-        )?;
-        let iterations = (st.max_iterations.into(), limits::MAX_ITERATIONS.into());
-        limits::at_most(
-            "static.max_iterations",
-            iterations.0,
-            iterations.1,
-            "iterations",
-        )?;
-        if st.max_iterations == 0 {
-            return Err(invalid("static.max_iterations", "must be ≥ 1"));
-        }
-        if st.strip_rows == 0 || st.strip_rows > posts.count_y {
-            return Err(invalid(
-                "static.strip_rows",
-                format!(
-                    "must lie in 1..={} (posts.count_y), got {}",
-                    posts.count_y, st.strip_rows
-                ),
-            ));
-        }
-        let stator_model = choice("static.stator", &st.stator, &StatorModel::NAMES)?;
-        let static_fem = StaticSettings {
-            model: choice("static.model", &st.model, &StaticModel::NAMES)?,
-            phases: st.phases,
-            element_order: st.element_order,
-            mesh: st.mesh.clone(),
-            stator: stator_model,
-            strip_rows: st.strip_rows,
-            tolerance,
-            max_iterations: st.max_iterations,
-            fem_solver: choice("static.fem_solver", &st.fem_solver, &FEM_SOLVER_NAMES)?,
-        };
-
-        if posts.array_y_m > aperture_m {
-            let len = |v| format_quantity(v, Dimension::Length);
-            warnings.push(Warning::new(
-                "wave.aperture",
-                format!(
-                    "the beam ({}) is narrower than the post array across y (posts.array_y {}): \
-                     the dynamics drive every post with the full wave; only the power under the \
-                     array (sawdrive wave) is capped by the aperture",
-                    len(aperture_m),
-                    len(posts.array_y_m)
-                ),
-            ));
-        }
+        limits::imperfections(&imperfections, posts.height_m)?;
+        let contact = resolve_contact(&file.contact, ball.is_some());
+        let model = resolve_model(&file.model, wave.wave.frequency_hz, ball.is_some())?;
+        let static_fem = resolve_static(&file.static_fem, posts.count_y)?;
+        warnings.extend(aperture_warning(wave.wave.aperture_m, &posts));
         let motor = Motor {
-            wave,
+            wave: wave.wave,
             stator,
-            stator_cut,
+            stator_cut: wave.stator_cut,
             slider,
             posts,
             friction,
@@ -1061,11 +1170,11 @@ impl Scene {
             description: file.description,
             motor,
             slider_mass_source: mass_source.into(),
-            crystal_wave,
-            phase_velocity_source: phase_velocity_source.into(),
-            tangential_amplitude_source: tangential_amplitude_source.into(),
+            crystal_wave: wave.crystal_wave,
+            phase_velocity_source: wave.phase_velocity_source.into(),
+            tangential_amplitude_source: wave.tangential_amplitude_source.into(),
             wave_attenuation: file.wave.attenuation.unwrap_or_default(),
-            drive,
+            drive: wave.drive,
             ball,
             warnings,
             contact,
