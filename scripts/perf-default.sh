@@ -5,6 +5,10 @@
 #           result cache;
 #   cached  the same with the mesh cached (the run above made it, with the fill-reducing ordering
 #           of its stiffness stored beside it: no METIS run), still no FEM result cache;
+#   constant_wave  the cached run with `wave.attenuation = "off"` (the default attenuates: the
+#           energy-conserving wave's cost is the ratio of the two);
+#   cached_fem  `sawdrive run` with the FEM result cache filled by the run before it (the dynamic
+#           stage and the output alone), with and without the energy-conserving wave;
 #   static  `sawdrive static` of the default scene, cold and with the mesh cached: the static stage
 #           and its output alone (the dynamic stage the scene picks is not in these two lines);
 #   sweep   validation/paper-figures/fig7-8-post-count.toml (25 points, 5 geometries), empty mesh
@@ -50,6 +54,11 @@ for r in $(seq 1 "$runs"); do
   export SAWDRIVE_MESH_CACHE="$scratch/meshes-$r"
   timed "run_cold" "$bin" run --no-cache --out "$scratch/out-cold-$r"
   timed "run_cached_mesh" "$bin" run --no-cache --out "$scratch/out-cached-$r"
+  timed "run_cached_mesh_constant_wave" "$bin" run --no-cache --set wave.attenuation=off \
+    --out "$scratch/out-constant-$r"
+  timed "run_fem_cache_fill" "$bin" run --out "$scratch/out-fem-$r"
+  timed "run_cached_fem" "$bin" run --out "$scratch/out-fem-$r"
+  timed "run_cached_fem_constant_wave" "$bin" run --set wave.attenuation=off --out "$scratch/out-fem-$r"
   export SAWDRIVE_MESH_CACHE="$scratch/meshes-static-$r"
   timed "static_cold" "$bin" static --no-cache --out "$scratch/out-static-cold-$r"
   timed "static_cached_mesh" "$bin" static --no-cache --out "$scratch/out-static-cached-$r"

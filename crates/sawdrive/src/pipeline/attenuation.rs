@@ -100,14 +100,18 @@ pub fn attenuate_lumped(
     scene: &Scene,
     dynamic: &DynamicScene,
     result: &mut DynamicResult,
-) -> Result<(WaveAttenuation, Vec<WaveBooks>), PipelineError> {
+) -> Result<LumpedAttenuation, PipelineError> {
     let transient = is_transient(result.model);
     let stall_draw_w = lumped_stall_draw_w(dynamic)?;
     let wave = decide(scene, stall_draw_w.unwrap_or(0.0))?;
     if wave.on() {
         let options = stick_slip::AttenuationOptions::new(wave.power_in_w);
-        let (solved, books) = if transient {
+        let (solved, books, stall_profile) = if transient {
             let solved = TransientModel::new(dynamic)?.solve_attenuated(&options)?;
+            let stall_profile = solved.points.first().map(|p| AmplitudeProfile {
+                x_m: p.x_m.clone(),
+                amplitude_scale: p.amplitude_scale.clone(),
+            });
             let books = solved
                 .points
                 .iter()
@@ -117,9 +121,13 @@ pub fn attenuate_lumped(
                     wave_power_out_w: p.wave_power_out_w,
                 })
                 .collect();
-            (solved.result, books)
+            (solved.result, books, stall_profile)
         } else {
             let solved = solve_periodic(dynamic, &options)?;
+            let stall_profile = solved.points.first().map(|p| AmplitudeProfile {
+                x_m: p.x_m.clone(),
+                amplitude_scale: p.amplitude_scale.clone(),
+            });
             let books = solved
                 .points
                 .iter()
@@ -129,7 +137,7 @@ pub fn attenuate_lumped(
                     wave_power_out_w: p.wave_power_out_w,
                 })
                 .collect();
-            (solved.result, books)
+            (solved.result, books, stall_profile)
         };
         let mut attenuated = solved;
         let mut warnings = result.warnings.clone();
@@ -144,12 +152,51 @@ pub fn attenuate_lumped(
             result.model_reason, wave.reason
         );
         *result = attenuated;
-        return Ok((wave, books));
+        return Ok(LumpedAttenuation {
+            wave,
+            books,
+            stall_profile,
+        });
     }
-    Ok((
-        wave.clone(),
-        constant_books(&wave, dynamic, result, transient, stall_draw_w)?,
-    ))
+    Ok(LumpedAttenuation {
+        books: constant_books(&wave, dynamic, result, transient, stall_draw_w)?,
+        wave,
+        stall_profile: None,
+    })
+}
+
+/// What [`attenuate_lumped`] decided and solved: the decision, the wave's books of every curve
+/// point, and with attenuation on the amplitude profile at stall.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LumpedAttenuation {
+    pub wave: WaveAttenuation,
+    pub books: Vec<WaveBooks>,
+    /// A/A₀ along the slider at stall (`None`: attenuation off).
+    pub stall_profile: Option<AmplitudeProfile>,
+}
+
+/// The local amplitude along the slider: A/A₀ at positions x (m, relative to the slider's centre,
+/// ascending: the order the wave reaches them).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AmplitudeProfile {
+    pub x_m: Vec<f64>,
+    pub amplitude_scale: Vec<f64>,
+}
+
+impl AmplitudeProfile {
+    /// A/A₀ at `x_m` (relative to the slider's centre): linear between the profile's points,
+    /// its end values beyond them.
+    pub fn at(&self, x_m: f64) -> f64 {
+        let (xs, a) = (&self.x_m, &self.amplitude_scale);
+        match xs.iter().position(|&x| x >= x_m) {
+            None => *a.last().unwrap_or(&1.0),
+            Some(0) => a[0],
+            Some(k) => {
+                let t = (x_m - xs[k - 1]) / (xs[k] - xs[k - 1]);
+                a[k - 1] + t * (a[k] - a[k - 1])
+            }
+        }
+    }
 }
 
 /// The period average on the energy-conserving wave. Where the fixed point does not settle to

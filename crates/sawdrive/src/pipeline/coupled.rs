@@ -25,6 +25,7 @@ use static_contact::{StaticParams, StripModel};
 use stick_slip::{CurvePoint, DynamicResult, ModelKind, VerticalModel};
 
 use super::attenuation::{self, WaveAttenuation, WaveBooks};
+use super::local_amplitude::LocalAmplitudeEta;
 use super::statics::{StaticDetails, StaticOutcome, geometry_key, sha256_hex, static_params};
 use super::{DynamicRun, PipelineError, run_dynamic_cancellable, write_history_charts};
 use crate::output::io;
@@ -52,6 +53,9 @@ pub struct DynamicStage {
     pub wave: WaveAttenuation,
     /// The wave's books of every point of [`Self::curve`], in its order.
     pub wave_books: Vec<WaveBooks>,
+    /// The whole slider's η at the local amplitude of the energy-conserving wave, when the
+    /// whole slider's static stage feeds a lumped model on it (the curve ran at its η).
+    pub local_amplitude: Option<LocalAmplitudeEta>,
     /// The transducer's figures when the scene gives `wave.drive_voltage`.
     pub drive: Option<DriveFigures>,
 }
@@ -171,6 +175,7 @@ impl DynamicStage {
             wave_attenuation: self.wave.state,
             wave_attenuation_reason: &self.wave.reason,
             wave_power_in_w: self.wave.power_in_w,
+            local_amplitude: self.local_amplitude.as_ref(),
             drive: self.drive,
         }
     }
@@ -241,6 +246,10 @@ pub struct DynamicJson<'a> {
     wave_attenuation_reason: &'a str,
     /// Wave power entering under the post array (W).
     wave_power_in_w: f64,
+    /// The whole slider's η at the local amplitude (whole-slider static stage, lumped model,
+    /// attenuation on).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    local_amplitude: Option<&'a LocalAmplitudeEta>,
     /// `normal_amplitude_m`, `electrical_power_w`, `overall_efficiency` with a drive voltage.
     #[serde(flatten)]
     drive: Option<DriveFigures>,
@@ -423,6 +432,7 @@ pub fn run_dynamic_stage_cancellable(
     let estimate = evidence.as_ref().map(lumped_error_estimate);
     let (run_coupled, reason) = decide(scene, statics, evidence.as_ref())?;
     let mut lumped = lumped;
+    let mut local_amplitude = None;
     let (coupled, coupled_histories, coupled_step_error_estimate, wave, wave_books) =
         match (run_coupled, statics) {
             (true, Some(statics)) => {
@@ -460,9 +470,20 @@ pub fn run_dynamic_stage_cancellable(
                 )
             }
             _ => {
-                let (wave, books) =
+                let mut attenuated =
                     attenuation::attenuate_lumped(scene, &lumped.scene, &mut lumped.result)?;
-                (None, None, None, wave, books)
+                if let Some(statics) = statics {
+                    local_amplitude = super::local_amplitude::settle(
+                        scene,
+                        springs,
+                        statics,
+                        cache_dir,
+                        should_stop,
+                        &mut lumped,
+                        &mut attenuated,
+                    )?;
+                }
+                (None, None, None, attenuated.wave, attenuated.books)
             }
         };
     let mut stage = DynamicStage {
@@ -474,6 +495,7 @@ pub fn run_dynamic_stage_cancellable(
         lumped_error_estimate: estimate,
         wave,
         wave_books,
+        local_amplitude,
         drive: None,
     };
     let max_output_w = stage

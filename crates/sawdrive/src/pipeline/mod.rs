@@ -9,13 +9,17 @@ mod ball;
 mod coupled;
 mod dynamics;
 mod error;
+mod local_amplitude;
 pub mod evaluate;
 mod run;
 mod slider_static;
 mod springs;
 mod statics;
 
-pub use attenuation::{WaveAttenuation, WaveBooks, wave_power_under_array_w};
+pub use attenuation::{
+    AmplitudeProfile, LumpedAttenuation, WaveAttenuation, WaveBooks, wave_power_under_array_w,
+};
+pub use local_amplitude::LocalAmplitudeEta;
 pub use ball::{
     BALL_DRAW_WARNING_FRACTION, BallStage, ball_scene, run_ball_stage, write_ball_stage_files,
 };

@@ -60,7 +60,8 @@ pub struct RunSummary {
     pub springs: Option<PostSprings>,
     /// η used by the dynamic model.
     pub effective_contact_ratio: f64,
-    /// `given` (scene) or `fem` (static stage).
+    /// `given` (scene), `fem` (static stage) or `fem at the local amplitude` (the whole slider's
+    /// static stage on the energy-conserving wave's profile at stall, docs/physics.md §5.5).
     pub effective_contact_ratio_source: String,
     /// N_eff = η·N.
     pub effective_post_count: f64,
@@ -295,8 +296,14 @@ pub fn run_pipeline_cancellable(
     let summary = RunSummary {
         scene: scene.clone(),
         springs: Some(springs),
-        effective_contact_ratio: effective_ratio,
-        effective_contact_ratio_source: source.into(),
+        effective_contact_ratio: stage
+            .local_amplitude
+            .as_ref()
+            .map_or(effective_ratio, |l| l.effective_contact_ratio),
+        effective_contact_ratio_source: match stage.local_amplitude {
+            Some(_) => "fem at the local amplitude".into(),
+            None => source.into(),
+        },
         effective_post_count: stage.lumped.result.effective_post_count,
         static_figures,
         stall_thrust_n: stage.stall_thrust_n(),

@@ -182,9 +182,33 @@ pub fn run_slider_static(
     scene: &Scene,
     cache_dir: Option<&Path>,
 ) -> Result<(SliderStage, f64, bool, Vec<String>), PipelineError> {
+    run_slider_static_at(scene, cache_dir, &[])
+}
+
+/// The whole slider's η under a local amplitude profile (`amplitude_scale_x`: A/A₀ of each post
+/// column, x ascending, the energy-conserving wave's): the static stage's contact solves on the
+/// wave each post sees, with the same near field and verified cache (the profile is part of the
+/// content hash). `None`: not identifiable. The cache's notes are printed on stderr.
+pub fn slider_eta_at_profile(
+    scene: &Scene,
+    cache_dir: Option<&Path>,
+    amplitude_scale_x: &[f64],
+) -> Result<Option<f64>, PipelineError> {
+    let (stage, _, _, notes) = run_slider_static_at(scene, cache_dir, amplitude_scale_x)?;
+    announce(&notes);
+    Ok(stage.report.effective_contact_ratio)
+}
+
+/// [`run_slider_static`] under the local amplitude `amplitude_scale_x` (empty: the constant wave).
+fn run_slider_static_at(
+    scene: &Scene,
+    cache_dir: Option<&Path>,
+    amplitude_scale_x: &[f64],
+) -> Result<(SliderStage, f64, bool, Vec<String>), PipelineError> {
     let mut notes = Vec::new();
     let (cal, fem_s) = near_field(scene, cache_dir, &mut notes)?;
-    let params = slider_params(scene, &cal);
+    let mut params = slider_params(scene, &cal);
+    params.amplitude_scale_x = amplitude_scale_x.to_vec();
     let content_hash = slider_content_hash(&params)?;
     let name = format!("slider-{content_hash}.json");
     let hit = cached(
