@@ -144,7 +144,8 @@ pub struct ValidateArgs {
     /// Name every case and what it validates.
     #[arg(long)]
     pub list: bool,
-    /// Write the Markdown table of every check of the run [default: validation/SUMMARY.md].
+    /// Write the Markdown table of every check of the run into FILE, keeping the sections of
+    /// the cases not run [default: validation/SUMMARY.md].
     #[arg(long, value_name = "FILE", num_args = 0..=1, default_missing_value = "validation/SUMMARY.md")]
     pub summary: Option<PathBuf>,
 }

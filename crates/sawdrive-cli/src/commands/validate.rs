@@ -59,7 +59,10 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<()> {
         outcomes.push(outcome);
     }
     if let Some(path) = &args.summary {
-        let text = cases::summary_markdown(&outcomes, &commit());
+        // The sections of the cases not run here stay as they were (each row names its
+        // level and commit).
+        let previous = std::fs::read_to_string(path).ok();
+        let text = cases::update_summary(previous.as_deref(), &outcomes, &commit());
         sawdrive::output::write_atomically(path, text)?;
         if !args.json {
             println!("summary written to {}", path.display());

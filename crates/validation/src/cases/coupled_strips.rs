@@ -52,13 +52,17 @@ const CASE: &str = "coupled-dynamics";
 pub const STRIP_WAVELENGTHS: f64 = 3.0;
 /// Frozen-wave phases of the static η fit. 8.
 pub const FIT_PHASES: usize = 8;
+/// No-load speed (m/s) at or below which a slider counts as locked (the 1089-post slider at
+/// 100 N: round-off, 5e-11 m/s; the slowest moving scene: 0.23 m/s). 1e-6.
+pub const LOCKED_SPEED_M_PER_S: f64 = 1e-6;
 /// Steps per period of the study's coupled runs. 128.
 pub const STUDY_STEPS: usize = 128;
-/// Relative tolerance of the coupled figures against the committed `results/sliders.csv`
-/// (same strips and code path; the contact solvers have changed since: measured 2.6e-4 at 10 N
-/// to 7.9e-3 at 100 N on the 50 µm slider), an order below the lumped errors the study
-/// reports. 0.01.
-pub const STRIP_REPRODUCTION: f64 = 0.01;
+/// Relative tolerance of the coupled figures against the committed `results/sliders.csv`, a
+/// full run's `results/short_strips.csv`: measured 0 (bit for bit) at the code that wrote it;
+/// room for round-off and the FEM solvers' stopping rules, while any change of the model shows
+/// (the strip FEM's changes before the file was regenerated had moved the near-locking scenes
+/// by 1.1–1.6 %). 1e-4.
+pub const STRIP_REPRODUCTION: f64 = 1e-4;
 
 const SLIDERS_CSV: &str =
     include_str!("../../../../validation/coupled-dynamics/results/sliders.csv");
@@ -98,22 +102,37 @@ struct Strip {
     prep_s: f64,
 }
 
-fn cache_file(d: f64, per_side: usize) -> PathBuf {
-    cache_dir(&StaticParams::default())
+/// The strip's static parameters: the square array, cut to [`strip_posts`].
+fn strip_params(d: f64, per_side: usize) -> StaticParams {
+    let mut params = StaticParams::square_array(d, per_side);
+    params.strip_posts = Some(strip_posts(params.post_pitch_m, per_side));
+    params
+}
+
+/// The cached tip compliances of a strip, keyed by its parameters' content hash (which holds
+/// the static model's version and the mesh script), so a changed FEM is never masked.
+fn cache_file(d: f64, per_side: usize, params: &StaticParams) -> Result<PathBuf, ValidationError> {
+    let hash = params
+        .content_hash()
+        .map_err(|e| failed("strip parameters", e))?;
+    Ok(cache_dir(&StaticParams::default())
         .join("coupled-strips")
-        .join(format!("strip-{:.0}um-{per_side}.json", d * 1e6))
+        .join(format!(
+            "strip-{:.0}um-{per_side}-{}.json",
+            d * 1e6,
+            &hash[..16]
+        )))
 }
 
 fn strip(d: f64, per_side: usize) -> Result<Strip, ValidationError> {
-    let file = cache_file(d, per_side);
+    let params = strip_params(d, per_side);
+    let file = cache_file(d, per_side, &params)?;
     let cached: CachedStrip = match std::fs::read(&file)
         .ok()
         .and_then(|b| serde_json::from_slice(&b).ok())
     {
         Some(c) => c,
         None => {
-            let mut params = StaticParams::square_array(d, per_side);
-            params.strip_posts = Some(strip_posts(params.post_pitch_m, per_side));
             let started = Instant::now();
             let prepared = prepare_strip(&params).map_err(|e| failed("strip FEM", e))?;
             let tips = prepared
@@ -258,6 +277,61 @@ fn committed(d: f64, per_side: usize, preload: f64) -> Option<(f64, f64)> {
     })
 }
 
+/// The checks of one scene: the coupled figures against the committed ones, the lumped error
+/// (at the static η) against its estimate, the energy balance.
+fn scene_checks(
+    slider: &str,
+    coupled: (f64, f64),
+    reference: (f64, f64),
+    (lumped_error, estimate): (f64, f64),
+    energy_balance_residual: f64,
+) -> Vec<Check> {
+    let source = "committed validation/coupled-dynamics/results/sliders.csv (short-strip study)";
+    let mut checks = vec![Check::relative(
+        CASE,
+        format!("{slider}: coupled stall thrust (N)"),
+        coupled.0,
+        reference.0,
+        STRIP_REPRODUCTION,
+        source,
+    )];
+    if reference.1 <= LOCKED_SPEED_M_PER_S {
+        // A locked slider: its no-load speed is round-off, the lumped error against it
+        // meaningless; it must stay locked.
+        checks.push(Check::at_most(
+            CASE,
+            format!("{slider}: coupled no-load speed (m/s), locked as the committed one"),
+            coupled.1,
+            LOCKED_SPEED_M_PER_S,
+            source,
+        ));
+    } else {
+        checks.push(Check::relative(
+            CASE,
+            format!("{slider}: coupled no-load speed (m/s)"),
+            coupled.1,
+            reference.1,
+            STRIP_REPRODUCTION,
+            source,
+        ));
+        checks.push(Check::at_most(
+            CASE,
+            format!("{slider}: lumped error at the static η, must not exceed its estimate"),
+            lumped_error,
+            estimate,
+            "validation/coupled-dynamics/README.md, criterion (the estimate ≥ the measured error in every scene)",
+        ));
+    }
+    checks.push(Check::at_most(
+        CASE,
+        format!("{slider}: energy balance residual of the coupled curve"),
+        energy_balance_residual,
+        ENERGY_BALANCE,
+        "validation/coupled-dynamics/README.md, energy",
+    ));
+    checks
+}
+
 /// Runs the scenes (post diameter m, posts per side, preload N); returns the checks and the
 /// CSV rows (`results/sliders.csv`'s columns).
 pub fn run(scenes: &[(f64, usize, f64)]) -> Result<(Vec<Check>, String), ValidationError> {
@@ -313,34 +387,12 @@ pub fn run(scenes: &[(f64, usize, f64)]) -> Result<(Vec<Check>, String), Validat
         );
         let reference = committed(d, per_side, preload)
             .ok_or_else(|| failed("sliders.csv", format!("no row for {slider}")))?;
-        let source =
-            "committed validation/coupled-dynamics/results/sliders.csv (short-strip study)";
-        for (what, value, committed) in [
-            ("coupled stall thrust (N)", coupled.0, reference.0),
-            ("coupled no-load speed (m/s)", coupled.1, reference.1),
-        ] {
-            checks.push(Check::relative(
-                CASE,
-                format!("{slider}: {what}"),
-                value,
-                committed,
-                STRIP_REPRODUCTION,
-                source,
-            ));
-        }
-        checks.push(Check::at_most(
-            CASE,
-            format!("{slider}: lumped error at the static η, must not exceed its estimate"),
-            lumped_error,
-            estimate,
-            "validation/coupled-dynamics/README.md, criterion (the estimate ≥ the measured error in every scene)",
-        ));
-        checks.push(Check::at_most(
-            CASE,
-            format!("{slider}: energy balance residual of the coupled curve"),
+        checks.extend(scene_checks(
+            &slider,
+            coupled,
+            reference,
+            (lumped_error, estimate),
             r.energy_balance_residual,
-            ENERGY_BALANCE,
-            "validation/coupled-dynamics/README.md, energy",
         ));
     }
     Ok((checks, csv))

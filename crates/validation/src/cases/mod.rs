@@ -209,8 +209,8 @@ pub struct CaseInfo {
     /// The command that regenerates the committed study today, for cases whose checks are not
     /// yet run by `sawdrive validate` (`None`: it runs them).
     pub regenerate: Option<&'static str>,
-    /// How long the full level takes on 2 cores (release build), measured; the summary names it
-    /// beside a section run at another level.
+    /// How long the full level takes on 2 cores (release build, load ≈ 3), measured; the summary
+    /// names it beside a section run at another level.
     pub full_level_time: &'static str,
 }
 
@@ -220,49 +220,49 @@ pub const CASES: &[CaseInfo] = &[
         name: "springs",
         description: "FEM stiffness of a rigid punch on a half-space against the four Johnson springs; convergence, truncation, work-precision, stability (locking, floating punch, distorted meshes), both solver paths",
         regenerate: None,
-        full_level_time: "≈ 14 min with mesh generation, ≈ 4 min with the meshes cached",
+        full_level_time: "231 s with the punch meshes cached, ≈ 14 min generating them",
     },
     CaseInfo {
         name: "stick-slip",
         description: "integrators of the stick/slip post model: work-precision against the closed-form reference, transient against period average, stability maps, the paper's trends",
         regenerate: None,
-        full_level_time: "≈ 35 s",
+        full_level_time: "15 s",
     },
     CaseInfo {
         name: "static-contact",
         description: "static contact: one post's body compliance (static-contact solver) against k_pn and k_sn, converging with the mesh; the strip, preload, diameter and count sections by its example",
         regenerate: None,
-        full_level_time: "a few minutes",
+        full_level_time: "3 s with the punch meshes cached; the first run meshes them with gmsh",
     },
     CaseInfo {
         name: "whole-slider",
         description: "whole-slider static contact: lattice operator against the pairwise sum, force and moment balance of every preload mechanism, eta against scatter, tilt and bow, edge loading, the committed study and the strip FEM",
         regenerate: None,
-        full_level_time: "≈ 1 min",
+        full_level_time: "38 s",
     },
     CaseInfo {
         name: "coupled-dynamics",
         description: "coupled slider dynamics: work-precision of the coupled integrator, energy balance, whole rows against the FEM strip's, the energy-conserving wave",
         regenerate: None,
-        full_level_time: "≈ 11 min with the FEM caches filled, ≈ 30 min cold",
+        full_level_time: "28 s with the whole rows' FEM cache filled; the first run meshes and factors eight whole-row and eight short strips",
     },
     CaseInfo {
         name: "paper-figures",
         description: "the paper's figures 7-12 through the whole pipeline: trends of stall thrust and no-load speed against preload, post count, diameter; the paper's stated numbers",
         regenerate: None,
-        full_level_time: "several minutes",
+        full_level_time: "0.4 s with the FEM cache filled, ≈ 1.5 min cold",
     },
     CaseInfo {
         name: "design",
         description: "the optimiser on known optima (unconstrained, active constraint, integer variable) and the convergence of the UQ statistics",
         regenerate: None,
-        full_level_time: "seconds",
+        full_level_time: "0.05 s",
     },
     CaseInfo {
         name: "fem-peers",
         description: "elastic-fem against peer FEM codes (scikit-fem, CalculiX) on the punch: agreement and time; needs the peers installed",
         regenerate: None,
-        full_level_time: "minutes, with the peers installed",
+        full_level_time: "minutes, with the peers installed (not measured here)",
     },
 ];
 
