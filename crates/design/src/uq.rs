@@ -19,11 +19,11 @@ use sha2::{Digest, Sha256};
 
 use crate::error::StudyError;
 use crate::evaluator::{
-    EvaluationCost, Evaluator, Fidelity, MotorOutputs, MotorSample, OUTPUT_NAMES,
+    EvaluationCost, Evaluator, Fidelity, MotorOutputs, MotorSample, OUTPUT_NAMES, SceneFacts,
 };
 use crate::files::{staged_results, write_atomically};
 use crate::scatter::ScatterSpec;
-use crate::{Band, Sensitivity, band, draw_inputs, histogram, rank_inputs};
+use crate::{Band, ScatterInput, Sensitivity, band, draw_inputs, histogram, rank_inputs};
 
 /// Speeds of the band chart's grid.
 const BAND_SPEEDS: usize = 41;
@@ -257,87 +257,72 @@ pub fn run_uq<E: Evaluator>(
     Ok((report, staged.commit()?))
 }
 
-/// [`run_uq`] up to the commit: the report and its complete results folder, still staged. A
-/// caller that may be interrupted (the Python package) commits it itself, so that an
-/// interrupted call commits nothing; dropped, the staged folder is removed. The samples are
-/// saved for resume either way.
-pub fn run_uq_staged<E: Evaluator>(
-    ev: &E,
-    scene: &E::Scene,
-    scatter: &ScatterSpec,
-    options: &UqOptions,
-) -> Result<(UqReport, StagedDir), StudyError> {
-    let start = Instant::now();
-    check_samples(options.samples).map_err(|e| StudyError::Study {
-        stage: "uq",
-        message: e.to_string(),
-    })?;
-    ev.check_study(scene).map_err(StudyError::Model)?;
-    let facts = ev.facts(scene);
-    let inputs = scatter.inputs(&facts).map_err(|e| StudyError::Study {
-        stage: "uq",
-        message: e.to_string(),
-    })?;
-    let destination = options.out_dir.join(format!("{}-uq", facts.name));
-    let staged = staged_results(&destination, "uq")?;
-    let cache = options.out_dir.join(".uq-samples").join(inputs_hash(
-        ev,
-        scene,
-        scatter,
-        options.seed,
-        options.fidelity,
-    )?);
-    // The operator is built once here; every sample with the nominal post diameter reuses it.
-    let built = Instant::now();
-    let model = ev
-        .prepare(scene, options.fidelity)
-        .map_err(StudyError::Model)?;
-    let operator_s = built.elapsed().as_secs_f64();
-    let nominal = ev
-        .evaluate(&model, scene, &MotorSample::nominal(&facts))
-        .map_err(StudyError::Model)?;
-    let outcomes: Vec<Result<(SampleRecord, bool), StudyError>> = (0..options.samples as u64)
-        .into_par_iter()
-        .map(|k| {
-            let path = cache.join(format!("sample-{k}.json"));
-            if let Some(r) = load_sample(&path).filter(|r| r.index == k) {
-                return Ok((r, true));
-            }
-            let t = Instant::now();
-            let (values, field_seed) = draw_inputs(&inputs, options.seed, k);
-            let sample = scatter.sample(&values, field_seed);
-            // The values used (μ_k clamped to ≤ μ_s), for the CSV and the ranking.
-            let values = vec![
-                sample.preload_n,
-                sample.post_diameter_m,
-                sample.mu_static,
-                sample.mu_kinetic,
-                sample.tilt_x_m,
-                sample.tilt_y_m,
-                sample.bow_m,
-            ];
-            let out = ev.evaluate(&model, scene, &sample).map_err(|source| {
+/// One Monte Carlo sample of a UQ run: drawn, evaluated and saved (`resumed` from its saved
+/// file when one is there).
+struct SampleRun<'a, E: Evaluator> {
+    ev: &'a E,
+    model: &'a E::Prepared,
+    scene: &'a E::Scene,
+    scatter: &'a ScatterSpec,
+    inputs: &'a [ScatterInput],
+    seed: u64,
+    /// Folder of the saved samples.
+    cache: &'a Path,
+}
+
+impl<E: Evaluator> SampleRun<'_, E> {
+    /// Sample `k` and whether it was resumed.
+    fn run(&self, k: u64) -> Result<(SampleRecord, bool), StudyError> {
+        let path = self.cache.join(format!("sample-{k}.json"));
+        if let Some(r) = load_sample(&path).filter(|r| r.index == k) {
+            return Ok((r, true));
+        }
+        let t = Instant::now();
+        let (values, field_seed) = draw_inputs(self.inputs, self.seed, k);
+        let sample = self.scatter.sample(&values, field_seed);
+        // The values used (μ_k clamped to ≤ μ_s), for the CSV and the ranking.
+        let values = vec![
+            sample.preload_n,
+            sample.post_diameter_m,
+            sample.mu_static,
+            sample.mu_kinetic,
+            sample.tilt_x_m,
+            sample.tilt_y_m,
+            sample.bow_m,
+        ];
+        let out = self
+            .ev
+            .evaluate(self.model, self.scene, &sample)
+            .map_err(|source| {
                 // The sample's inputs, so that the failure can be reproduced with `run --set`.
-                let drawn: Vec<String> = inputs
+                let drawn: Vec<String> = self
+                    .inputs
                     .iter()
                     .zip(&values)
                     .map(|(i, v)| format!("{} = {v:e}", i.name))
                     .collect();
                 StudyError::Sample {
                     index: k,
-                    seed: options.seed,
+                    seed: self.seed,
                     field_seed,
                     drawn: drawn.join(", "),
                     source,
                 }
             })?;
-            let r = record(k, values, &sample, &out, t.elapsed().as_secs_f64());
-            write_atomically(&path, serde_json::to_vec(&r)?)?;
-            Ok((r, false))
-        })
-        .collect();
-    // A sample whose model fails (e.g. a stick/slip event loop that does not converge) is
-    // reported by index and left out of the bands; the run fails only if every sample does.
+        let r = record(k, values, &sample, &out, t.elapsed().as_secs_f64());
+        write_atomically(&path, serde_json::to_vec(&r)?)?;
+        Ok((r, false))
+    }
+}
+
+/// The samples that ran (each with whether it was resumed) and the failed ones by index: a
+/// sample whose model fails (e.g. a stick/slip event loop that does not converge) is reported
+/// and left out of the bands; the run fails only if every sample does.
+type SampleOutcomes = (Vec<(SampleRecord, bool)>, Vec<(u64, String)>);
+
+fn gather(
+    outcomes: Vec<Result<(SampleRecord, bool), StudyError>>,
+) -> Result<SampleOutcomes, StudyError> {
     let mut results = Vec::new();
     let mut failed_samples = Vec::new();
     for (k, o) in outcomes.into_iter().enumerate() {
@@ -352,21 +337,31 @@ pub fn run_uq_staged<E: Evaluator>(
             message: format!("every sample failed; first: {}", failed_samples[0].1),
         });
     }
-    let resumed_samples = results.iter().filter(|r| r.1).count();
-    let fresh: Vec<&SampleRecord> = results.iter().filter(|r| !r.1).map(|r| &r.0).collect();
-    let computed: Vec<f64> = fresh.iter().map(|r| r.wall_time_s).collect();
+    Ok((results, failed_samples))
+}
+
+/// The cost of the samples computed in this run (`fresh`), with the nominal operator's.
+fn uq_cost(fresh: &[&SampleRecord], operator_s: f64) -> UqCost {
     let mean = |f: &dyn Fn(&SampleRecord) -> f64| {
         fresh.iter().map(|r| f(r)).sum::<f64>() / fresh.len().max(1) as f64
     };
-    let cost = UqCost {
+    UqCost {
         operator_s,
         computed_samples: fresh.len(),
         static_s: mean(&|r| r.cost.static_s),
         sample_operator_s: mean(&|r| r.cost.operator_s),
         dynamic_s: mean(&|r| r.cost.dynamic_s),
         operators_built: fresh.iter().filter(|r| r.cost.operator_built).count(),
-    };
-    let records: Vec<SampleRecord> = results.into_iter().map(|r| r.0).collect();
+    }
+}
+
+/// Each output's band over `records` and its inputs ranked by |Spearman ρ|.
+type BandsAndRanks = (Vec<Band>, Vec<(String, Vec<Sensitivity>)>);
+
+fn bands_and_ranks(
+    records: &[SampleRecord],
+    inputs: &[ScatterInput],
+) -> Result<BandsAndRanks, StudyError> {
     let column = |k: usize| records.iter().map(|r| r.outputs[k]).collect::<Vec<f64>>();
     let bands: Vec<Band> = (0..OUTPUT_NAMES.len())
         .map(|k| band(&column(k), OUTPUT_NAMES[k]).map_err(StudyError::from))
@@ -389,6 +384,80 @@ pub fn run_uq_staged<E: Evaluator>(
             )
         })
         .collect();
+    Ok((bands, sensitivity))
+}
+
+/// The checked inputs of a UQ run: the scene's facts, the scattered inputs, the staged
+/// results folder and the folder of the saved samples.
+fn prepare_uq<E: Evaluator>(
+    ev: &E,
+    scene: &E::Scene,
+    scatter: &ScatterSpec,
+    options: &UqOptions,
+) -> Result<(SceneFacts, Vec<ScatterInput>, StagedDir, PathBuf), StudyError> {
+    check_samples(options.samples).map_err(|e| StudyError::Study {
+        stage: "uq",
+        message: e.to_string(),
+    })?;
+    ev.check_study(scene).map_err(StudyError::Model)?;
+    let facts = ev.facts(scene);
+    let inputs = scatter.inputs(&facts).map_err(|e| StudyError::Study {
+        stage: "uq",
+        message: e.to_string(),
+    })?;
+    let destination = options.out_dir.join(format!("{}-uq", facts.name));
+    let staged = staged_results(&destination, "uq")?;
+    let cache = options.out_dir.join(".uq-samples").join(inputs_hash(
+        ev,
+        scene,
+        scatter,
+        options.seed,
+        options.fidelity,
+    )?);
+    Ok((facts, inputs, staged, cache))
+}
+
+/// [`run_uq`] up to the commit: the report and its complete results folder, still staged. A
+/// caller that may be interrupted (the Python package) commits it itself, so that an
+/// interrupted call commits nothing; dropped, the staged folder is removed. The samples are
+/// saved for resume either way.
+pub fn run_uq_staged<E: Evaluator>(
+    ev: &E,
+    scene: &E::Scene,
+    scatter: &ScatterSpec,
+    options: &UqOptions,
+) -> Result<(UqReport, StagedDir), StudyError> {
+    let start = Instant::now();
+    let (facts, inputs, staged, cache) = prepare_uq(ev, scene, scatter, options)?;
+    // The operator is built once here; every sample with the nominal post diameter reuses it.
+    let built = Instant::now();
+    let model = ev
+        .prepare(scene, options.fidelity)
+        .map_err(StudyError::Model)?;
+    let operator_s = built.elapsed().as_secs_f64();
+    let nominal = ev
+        .evaluate(&model, scene, &MotorSample::nominal(&facts))
+        .map_err(StudyError::Model)?;
+    let runner = SampleRun {
+        ev,
+        model: &model,
+        scene,
+        scatter,
+        inputs: &inputs,
+        seed: options.seed,
+        cache: &cache,
+    };
+    let outcomes: Vec<_> = (0..options.samples as u64)
+        .into_par_iter()
+        .map(|k| runner.run(k))
+        .collect();
+    let (results, failed_samples) = gather(outcomes)?;
+    let resumed_samples = results.iter().filter(|r| r.1).count();
+    let fresh: Vec<&SampleRecord> = results.iter().filter(|r| !r.1).map(|r| &r.0).collect();
+    let computed: Vec<f64> = fresh.iter().map(|r| r.wall_time_s).collect();
+    let cost = uq_cost(&fresh, operator_s);
+    let records: Vec<SampleRecord> = results.into_iter().map(|r| r.0).collect();
+    let (bands, sensitivity) = bands_and_ranks(&records, &inputs)?;
     let mut report = UqReport {
         scene: facts.name.clone(),
         samples: records.len(),

@@ -160,27 +160,7 @@ impl BalancedCg {
         arms: &[(f64, f64)],
     ) -> Result<CgSolution> {
         let n = op.len();
-        if arms.len() != n || height_m.len() != n || n == 0 {
-            return Err(invalid(
-                "obstacle_height_m",
-                height_m.len() as f64,
-                format!("one height and moment arm per post ({n} posts)"),
-            ));
-        }
-        if !(preload_n > 0.0 && preload_n.is_finite() && length_scale_m > 0.0) {
-            return Err(invalid(
-                "preload_n",
-                preload_n,
-                "must be positive and finite",
-            ));
-        }
-        if let Some(i) = height_m.iter().position(|h| !h.is_finite()) {
-            return Err(invalid(
-                "obstacle_height_m",
-                height_m[i],
-                format!("not finite at post {i}"),
-            ));
-        }
+        check_inputs(n, height_m, preload_n, length_scale_m, arms)?;
         let f0 = preload_n / n as f64;
         let s = f0 / length_scale_m;
         let h: Vec<f64> = height_m.iter().map(|x| x / length_scale_m).collect();
@@ -210,106 +190,40 @@ impl BalancedCg {
             if preconditioner.is_some() && contact != previous_contact {
                 delta = 0.0;
             }
-            for i in 0..n {
-                g[i] = s * u[i] - h[i];
-            }
-            let c = fit_modes(&g, &contact, arms);
-            for (gi, a) in g.iter_mut().zip(arms) {
-                *gi -= c.dot(&phi(*a));
-            }
+            let c = gaps(s, &u, &h, &contact, arms, &mut g);
             let mut residual = complementarity(&f, &g, arms);
             if residual <= self.options.tolerance && updated_for != Some(0) {
                 // Converged on the updated u: confirm on u recomputed from f.
                 op.apply(&f, &mut u);
                 updated_for = Some(0);
-                for i in 0..n {
-                    g[i] = s * u[i] - h[i];
-                }
-                let c = fit_modes(&g, &contact, arms);
-                for (gi, a) in g.iter_mut().zip(arms) {
-                    *gi -= c.dot(&phi(*a));
-                }
+                // The confirmed gaps; the reported rigid position stays the one fitted above.
+                gaps(s, &u, &h, &contact, arms, &mut g);
                 residual = complementarity(&f, &g, arms);
             }
             history.push(residual);
             if residual <= self.options.tolerance {
-                return Ok(CgSolution {
-                    force_n: f.iter().map(|x| x * f0).collect(),
-                    gap_m: g.iter().map(|x| x.max(0.0) * length_scale_m).collect(),
-                    reference_height_m: -c[0] * length_scale_m,
-                    complementarity_residual: residual,
-                    iterations: iteration,
-                    residual_history: history,
-                    rotation_m: [-c[1] * length_scale_m, -c[2] * length_scale_m],
-                });
+                let scales = (f0, length_scale_m);
+                return Ok(solution(&f, &g, c, scales, residual, iteration, history));
             }
             if iteration == self.options.max_iterations {
                 break;
             }
-            // z = P M⁻¹ g in the CG's scaled units (operator s·C): z̃ = M⁻¹(g̃)/s.
-            if let Some(pre) = preconditioner.as_deref_mut() {
-                pre.apply(&contact, &g, &mut z);
-                z.iter_mut().for_each(|x| *x /= s);
-                let cz = fit_modes(&z, &contact, arms);
-                for i in (0..n).filter(|&i| contact[i]) {
-                    z[i] -= cz.dot(&phi(arms[i]));
-                }
-            } else {
-                z.copy_from_slice(&g);
+            let (gt, rt) = Direction {
+                op,
+                contact: &contact,
+                g: &g,
+                s,
+                arms,
             }
-            let g_norm: f64 = (0..n).filter(|&i| contact[i]).map(|i| g[i] * z[i]).sum();
-            for i in 0..n {
-                t[i] = if contact[i] {
-                    z[i] + delta * (g_norm / g_old) * t[i]
-                } else {
-                    0.0
-                };
-            }
-            let ct = fit_modes(&t, &contact, arms);
-            for i in (0..n).filter(|&i| contact[i]) {
-                t[i] -= ct.dot(&phi(arms[i]));
-            }
-            g_old = g_norm;
-            op.apply(&t, &mut r);
-            let (mut gt, mut rt) = (0.0, 0.0);
-            for i in (0..n).filter(|&i| contact[i]) {
-                gt += g[i] * t[i];
-                rt += s * r[i] * t[i];
-            }
-            if gt <= 0.0 && delta != 0.0 {
-                // Not a descent direction (the kept conjugacy failed): steepest descent.
-                delta = 0.0;
-                for i in 0..n {
-                    t[i] = if contact[i] { z[i] } else { 0.0 };
-                }
-                let ct = fit_modes(&t, &contact, arms);
-                for i in (0..n).filter(|&i| contact[i]) {
-                    t[i] -= ct.dot(&phi(arms[i]));
-                }
-                op.apply(&t, &mut r);
-                (gt, rt) = (0.0, 0.0);
-                for i in (0..n).filter(|&i| contact[i]) {
-                    gt += g[i] * t[i];
-                    rt += s * r[i] * t[i];
-                }
-            } else {
-                delta = 1.0;
-            }
+            .search(
+                preconditioner.as_deref_mut(),
+                (&mut delta, &mut g_old),
+                &mut z,
+                &mut t,
+                &mut r,
+            );
             let tau = if rt > 0.0 { gt / rt } else { 0.0 };
-
-            let mut set_changed = false;
-            for i in 0..n {
-                if contact[i] {
-                    let fi = f[i] - tau * t[i];
-                    set_changed |= fi <= 0.0;
-                    f[i] = fi.max(0.0);
-                }
-                if f[i] == 0.0 && g[i] < 0.0 {
-                    // Penetrating post outside the contact set re-enters (Polonsky & Keer step 7).
-                    f[i] = -tau.max(f64::MIN_POSITIVE) * g[i];
-                    set_changed = true;
-                }
-            }
+            let set_changed = step_forces(&mut f, &t, &g, &contact, tau);
             previous_contact = contact;
             updated_for = match updated_for {
                 Some(k) if !set_changed && k < MAX_UPDATED_U => {
@@ -332,6 +246,186 @@ impl BalancedCg {
             posts: n,
             context: String::new(),
         })
+    }
+}
+
+/// The conjugate search direction of one iteration on the contact set.
+struct Direction<'a> {
+    op: &'a dyn ComplianceOperator,
+    contact: &'a [bool],
+    g: &'a [f64],
+    s: f64,
+    arms: &'a [(f64, f64)],
+}
+
+impl Direction<'_> {
+    /// t = P(z + δ (g·z / g_old) t) with z = P M⁻¹ g (or g), r = C t; a direction that does not
+    /// descend restarts as steepest descent (δ = 0), else δ becomes 1. Returns (g·t, t·s·C·t).
+    fn search(
+        &self,
+        preconditioner: Option<&mut (dyn ContactPreconditioner + '_)>,
+        (delta, g_old): (&mut f64, &mut f64),
+        z: &mut [f64],
+        t: &mut [f64],
+        r: &mut [f64],
+    ) -> (f64, f64) {
+        let (contact, g, s, arms) = (self.contact, self.g, self.s, self.arms);
+        let n = g.len();
+        // z = P M⁻¹ g in the CG's scaled units (operator s·C): z̃ = M⁻¹(g̃)/s.
+        match preconditioner {
+            Some(pre) => precondition(pre, contact, g, s, arms, z),
+            None => z.copy_from_slice(g),
+        }
+        let g_norm: f64 = (0..n).filter(|&i| contact[i]).map(|i| g[i] * z[i]).sum();
+        for i in 0..n {
+            t[i] = if contact[i] {
+                z[i] + *delta * (g_norm / *g_old) * t[i]
+            } else {
+                0.0
+            };
+        }
+        remove_modes(t, contact, arms);
+        *g_old = g_norm;
+        self.op.apply(t, r);
+        let (mut gt, mut rt) = descent(g, t, r, s, contact);
+        if gt <= 0.0 && *delta != 0.0 {
+            // Not a descent direction (the kept conjugacy failed): steepest descent.
+            *delta = 0.0;
+            for i in 0..n {
+                t[i] = if contact[i] { z[i] } else { 0.0 };
+            }
+            remove_modes(t, contact, arms);
+            self.op.apply(t, r);
+            (gt, rt) = descent(g, t, r, s, contact);
+        } else {
+            *delta = 1.0;
+        }
+        (gt, rt)
+    }
+}
+
+/// One height and moment arm per post, a positive finite preload and length scale, finite
+/// heights.
+fn check_inputs(
+    n: usize,
+    height_m: &[f64],
+    preload_n: f64,
+    length_scale_m: f64,
+    arms: &[(f64, f64)],
+) -> Result<()> {
+    if arms.len() != n || height_m.len() != n || n == 0 {
+        return Err(invalid(
+            "obstacle_height_m",
+            height_m.len() as f64,
+            format!("one height and moment arm per post ({n} posts)"),
+        ));
+    }
+    if !(preload_n > 0.0 && preload_n.is_finite() && length_scale_m > 0.0) {
+        return Err(invalid(
+            "preload_n",
+            preload_n,
+            "must be positive and finite",
+        ));
+    }
+    if let Some(i) = height_m.iter().position(|h| !h.is_finite()) {
+        return Err(invalid(
+            "obstacle_height_m",
+            height_m[i],
+            format!("not finite at post {i}"),
+        ));
+    }
+    Ok(())
+}
+
+/// The scaled gaps g = s·u − h with the rigid modes fitted on the contact set taken out of
+/// every post; returns the modes' coefficients c (reference height and rotations).
+fn gaps(
+    s: f64,
+    u: &[f64],
+    h: &[f64],
+    contact: &[bool],
+    arms: &[(f64, f64)],
+    g: &mut [f64],
+) -> Vector3<f64> {
+    for i in 0..g.len() {
+        g[i] = s * u[i] - h[i];
+    }
+    let c = fit_modes(g, contact, arms);
+    for (gi, a) in g.iter_mut().zip(arms) {
+        *gi -= c.dot(&phi(*a));
+    }
+    c
+}
+
+/// `v` on the contact set with the rigid modes fitted there taken out (the projection P).
+fn remove_modes(v: &mut [f64], contact: &[bool], arms: &[(f64, f64)]) {
+    let cv = fit_modes(v, contact, arms);
+    for i in (0..v.len()).filter(|&i| contact[i]) {
+        v[i] -= cv.dot(&phi(arms[i]));
+    }
+}
+
+/// z = P M⁻¹ g, in the CG's scaled units (divided by s).
+fn precondition(
+    pre: &mut dyn ContactPreconditioner,
+    contact: &[bool],
+    g: &[f64],
+    s: f64,
+    arms: &[(f64, f64)],
+    z: &mut [f64],
+) {
+    pre.apply(contact, g, z);
+    z.iter_mut().for_each(|x| *x /= s);
+    remove_modes(z, contact, arms);
+}
+
+/// (g·t, t·s·C·t) on the contact set, with r = C t.
+fn descent(g: &[f64], t: &[f64], r: &[f64], s: f64, contact: &[bool]) -> (f64, f64) {
+    let (mut gt, mut rt) = (0.0, 0.0);
+    for i in (0..g.len()).filter(|&i| contact[i]) {
+        gt += g[i] * t[i];
+        rt += s * r[i] * t[i];
+    }
+    (gt, rt)
+}
+
+/// The step f ← max(f − τ t, 0) on the contact set; a penetrating post outside it re-enters
+/// (Polonsky & Keer step 7). Returns whether the contact set changed.
+fn step_forces(f: &mut [f64], t: &[f64], g: &[f64], contact: &[bool], tau: f64) -> bool {
+    let mut set_changed = false;
+    for i in 0..f.len() {
+        if contact[i] {
+            let fi = f[i] - tau * t[i];
+            set_changed |= fi <= 0.0;
+            f[i] = fi.max(0.0);
+        }
+        if f[i] == 0.0 && g[i] < 0.0 {
+            f[i] = -tau.max(f64::MIN_POSITIVE) * g[i];
+            set_changed = true;
+        }
+    }
+    set_changed
+}
+
+/// The converged solution in SI: forces (scaled by `f0`), gaps, rigid-body position and
+/// rotations (scaled by the length scale).
+fn solution(
+    f: &[f64],
+    g: &[f64],
+    c: Vector3<f64>,
+    (f0, length_scale_m): (f64, f64),
+    residual: f64,
+    iterations: usize,
+    residual_history: Vec<f64>,
+) -> CgSolution {
+    CgSolution {
+        force_n: f.iter().map(|x| x * f0).collect(),
+        gap_m: g.iter().map(|x| x.max(0.0) * length_scale_m).collect(),
+        reference_height_m: -c[0] * length_scale_m,
+        complementarity_residual: residual,
+        iterations,
+        residual_history,
+        rotation_m: [-c[1] * length_scale_m, -c[2] * length_scale_m],
     }
 }
 
