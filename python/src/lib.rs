@@ -26,9 +26,8 @@ use std::time::Instant;
 use pyo3::prelude::*;
 use sawdrive::output::{ResultKind, StagedDir};
 use sawdrive::pipeline::{
-    RunOptions, ShouldStop, StaticOutcome, run_dynamic_stage, run_dynamic_stage_cancellable,
-    run_pipeline_cancellable, run_static_cancellable, scene_springs, write_dynamic_stage_files,
-    write_static_files,
+    RunControl, RunOptions, StaticOutcome, run_dynamic_stage, run_pipeline, run_static,
+    scene_springs, write_dynamic_stage_files, write_static_files,
 };
 use sawdrive::scene::{DEFAULT_SCENE_TOML, Scene, load_scene};
 use sawdrive::sweep::Cancel;
@@ -184,14 +183,8 @@ fn static_stage<'py>(
     let (out, cache) = folders(out, cache);
     let (mut value, staged) = worker::run(py, progress, None, move |cancel| {
         let springs = springs_of(&scene)?;
-        let should_stop = cancel.should_stop();
-        let outcome = run_static_cancellable(
-            &scene,
-            &springs,
-            cache.as_deref(),
-            out.is_some(),
-            &should_stop,
-        )?;
+        let control = cancel.control();
+        let outcome = run_static(&scene, &springs, cache.as_deref(), out.is_some(), &control)?;
         worker::check(cancel)?;
         let staged = match &out {
             Some(out) => {
@@ -220,12 +213,12 @@ fn static_stage<'py>(
 fn scene_eta(
     scene: &Scene,
     cache: Option<&Path>,
-    should_stop: ShouldStop<'_>,
+    control: &RunControl,
 ) -> Result<(f64, &'static str, Option<StaticOutcome>), Failure> {
     if let Some(eta) = scene.contact.effective_ratio {
         return Ok((eta, "given", None));
     }
-    let outcome = run_static_cancellable(scene, &springs_of(scene)?, cache, false, should_stop)?;
+    let outcome = run_static(scene, &springs_of(scene)?, cache, false, control)?;
     let eta = outcome.effective_ratio.ok_or_else(|| {
         Failure::text(
             Kind::Pipeline,
@@ -270,16 +263,16 @@ fn dynamic_stage<'py>(
     let inline = out.is_none() && *native.quick_dynamic.get_or_init(|| quick_dynamic(&scene));
     let (out, cache) = folders(out, cache);
     let job = move |cancel: &Cancel| {
-        let should_stop = cancel.should_stop();
-        let (eta, source, statics) = scene_eta(&scene, cache.as_deref(), &should_stop)?;
+        let control = cancel.control();
+        let (eta, source, statics) = scene_eta(&scene, cache.as_deref(), &control)?;
         let springs = springs_of(&scene)?;
-        let stage = run_dynamic_stage_cancellable(
+        let stage = run_dynamic_stage(
             &scene,
             &springs,
             eta,
             statics.as_ref(),
             cache.as_deref(),
-            &should_stop,
+            &control,
         )?;
         worker::check(cancel)?;
         let staged = match &out {
@@ -324,11 +317,10 @@ fn run<'py>(
     let options = RunOptions {
         out_dir: scratch.path().to_owned(),
         cache_dir: cache,
-        progress: false,
         write_files: true,
     };
     let (summary, curve, scratch) = worker::run(py, progress, None, move |cancel| {
-        let (mut summary, _) = run_pipeline_cancellable(&scene, &options, &cancel.should_stop())?;
+        let (mut summary, _) = run_pipeline(&scene, &options, &cancel.control())?;
         let curve = std::mem::take(&mut summary.curve);
         let fields = match serde_json::to_value(&summary)? {
             serde_json::Value::Object(mut map) => {
@@ -386,7 +378,10 @@ impl Drop for Scratch {
 /// package, so that an interrupted call leaves no folder behind when the interpreter exits).
 #[pyfunction]
 fn remove_scratch_folders() {
-    let live = LIVE_SCRATCH.lock().map(|mut l| std::mem::take(&mut *l)).unwrap_or_default();
+    let live = LIVE_SCRATCH
+        .lock()
+        .map(|mut l| std::mem::take(&mut *l))
+        .unwrap_or_default();
     for path in live {
         let _ = std::fs::remove_dir_all(path);
     }
@@ -458,7 +453,7 @@ fn time_rust_dynamic(
         for _ in 0..repeats {
             let start = Instant::now();
             let springs = springs_of(&scene)?;
-            let stage = run_dynamic_stage(&scene, &springs, eta, None, None)?;
+            let stage = run_dynamic_stage(&scene, &springs, eta, None, None, &RunControl::none())?;
             std::hint::black_box(&stage.lumped.result);
             drop(stage);
             times.push(start.elapsed().as_secs_f64());

@@ -17,7 +17,7 @@ use ::design::uq::{UqOptions, run_uq_staged};
 use pyo3::prelude::*;
 use sawdrive::pipeline::evaluate::SceneEvaluator;
 use sawdrive::scene::Scene;
-use sawdrive::sweep::{SweepFile, run_sweep_cancellable};
+use sawdrive::sweep::{SweepFile, run_sweep};
 use serde_json::json;
 
 use crate::errors::{Failure, Kind};
@@ -43,8 +43,11 @@ fn sweep<'py>(
         total: sweep.points().len(),
     };
     let outcome = worker::run(py, progress, Some(count), move |cancel| {
-        Ok(serde_json::to_value(run_sweep_cancellable(
-            &sweep, &out, jobs, cancel,
+        Ok(serde_json::to_value(run_sweep(
+            &sweep,
+            &out,
+            jobs,
+            &cancel.control(),
         )?)?)
     })?;
     convert::to_py(py, &outcome)

@@ -8,7 +8,7 @@
 //! staged folder with it (`StagedDir` removes itself when dropped uncommitted).
 //!
 //! Cancellation: an interrupt also sets the job's [`Cancel`] token, which the jobs hand to the
-//! library as its stop hook ([`Cancel::should_stop`]): the pipeline asks it between the stages,
+//! library as its run control ([`Cancel::control`]): the pipeline asks it between the stages,
 //! before each static contact solve and each dynamic curve point (transient run); a sweep before
 //! each point and inside the running ones. A stopped job ends with the library's `Cancelled`
 //! error, which nobody reads. Not interrupted (the job ends after them): an FEM factorisation

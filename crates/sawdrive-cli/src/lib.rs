@@ -6,3 +6,4 @@
 #[allow(rustdoc::invalid_html_tags, rustdoc::broken_intra_doc_links)]
 pub mod cli;
 pub mod commands;
+pub mod progress;

@@ -5,7 +5,7 @@
 //! ```sh
 //! cargo run -p sawdrive --example pipeline [SCENE.toml]
 //! ```
-use sawdrive::pipeline::{run_dynamic, run_static, scene_springs};
+use sawdrive::pipeline::{RunControl, run_dynamic, run_static, scene_springs};
 use sawdrive::scene::load_scene;
 use stick_slip::CurvePoint;
 
@@ -21,11 +21,14 @@ fn speed_thrust_curve(scene_file: &str) -> anyhow::Result<Vec<CurvePoint>> {
         "k_n = {:.4e} N/m, k_t = {:.4e} N/m",
         springs.k_n_n_per_m, springs.k_t_n_per_m
     );
-    let eta = run_static(&scene, &springs, None, false)?
+    // RunControl::none(): this caller never stops a stage and shows no progress.
+    let eta = run_static(&scene, &springs, None, false, &RunControl::none())?
         .effective_ratio
         .ok_or_else(|| anyhow::anyhow!("η is not identifiable for scene {}", scene.name))?;
     println!("η = {eta:.4}");
-    Ok(run_dynamic(&scene, &springs, eta)?.result.curve)
+    Ok(run_dynamic(&scene, &springs, eta, &RunControl::none())?
+        .result
+        .curve)
 }
 
 fn main() -> anyhow::Result<()> {

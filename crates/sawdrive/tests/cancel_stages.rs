@@ -3,11 +3,10 @@
 //! point, with a `cancelled` error and nothing written (no cache entry, no results folder).
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use sawdrive::pipeline::{
-    RunOptions, run_pipeline_cancellable, run_static_cancellable, scene_springs,
-};
+use sawdrive::pipeline::{RunControl, RunOptions, run_pipeline, run_static, scene_springs};
 use sawdrive::scene::{Scene, load_scene};
 use sawdrive::sweep::Cancel;
 
@@ -39,6 +38,12 @@ impl CancelFromThread {
     fn asked(&self) -> usize {
         self.asked.load(Ordering::SeqCst)
     }
+
+    /// A run control whose stop request is this hook.
+    fn control(self: &Arc<Self>) -> RunControl {
+        let hook = Arc::clone(self);
+        RunControl::none().with_stop(move || hook.ask())
+    }
 }
 
 /// The small end-to-end scene (10 × 10 posts, committed 10-post strip mesh) with `overrides`.
@@ -60,10 +65,9 @@ fn a_static_stage_cancelled_at_its_first_contact_solve_stops_there_and_caches_no
     let springs = scene_springs(&scene).unwrap();
     let cache = tempfile::tempdir().unwrap();
     // Asked: 1 before the stage, 2 before the strip's condensation, 3 before the first phase.
-    let stop = CancelFromThread::new(3);
-    let hook = || stop.ask();
+    let stop = Arc::new(CancelFromThread::new(3));
     let error =
-        run_static_cancellable(&scene, &springs, Some(cache.path()), true, &hook).unwrap_err();
+        run_static(&scene, &springs, Some(cache.path()), true, &stop.control()).unwrap_err();
     assert!(error.is_cancelled(), "a cancel, not a failure: {error}");
     assert!(
         error.to_string().contains("phase 1 of"),
@@ -100,12 +104,10 @@ fn a_run_cancelled_in_the_dynamic_curve_leaves_the_earlier_results_folder_as_it_
     let options = RunOptions {
         out_dir: out.path().to_owned(),
         cache_dir: None,
-        progress: false,
         write_files: true,
     };
-    let stop = CancelFromThread::new(4);
-    let hook = || stop.ask();
-    let error = run_pipeline_cancellable(&scene, &options, &hook).unwrap_err();
+    let stop = Arc::new(CancelFromThread::new(4));
+    let error = run_pipeline(&scene, &options, &stop.control()).unwrap_err();
     assert!(error.is_cancelled(), "a cancel, not a failure: {error}");
     assert!(
         error.to_string().contains("curve point"),

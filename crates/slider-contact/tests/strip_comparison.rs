@@ -202,11 +202,19 @@ fn identical_rows_rigid_back_no_scatter_reproduce_the_strip_eta_within_2_percent
     .k_n_n_per_m;
     let lattice = SliderModel::build(&lattice_params()).unwrap();
     let share = 1000.0 / (params.posts_x * params.posts_y) as f64;
+    let none = static_contact::RunControl::none();
     for preload in [10.0, 40.0, 100.0] {
-        let strip_eta = analyse_preload(model, params, preload, k_n, ActiveSetOptions::default())
-            .unwrap()
-            .effective_contact_ratio
-            .unwrap();
+        let strip_eta = analyse_preload(
+            model,
+            params,
+            preload,
+            k_n,
+            ActiveSetOptions::default(),
+            &none,
+        )
+        .unwrap()
+        .effective_contact_ratio
+        .unwrap();
         let report = lattice.analyse(preload * share).unwrap();
         let eta = report.effective_contact_ratio.unwrap();
         println!(
@@ -261,6 +269,7 @@ fn the_default_slider_reproduces_the_default_strip_eta() {
             preload,
             k_n,
             ActiveSetOptions::default(),
+            &static_contact::RunControl::none(),
         )
         .unwrap()
         .effective_contact_ratio

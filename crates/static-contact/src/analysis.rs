@@ -4,6 +4,7 @@ use std::f64::consts::PI;
 use std::time::Instant;
 
 use contact_springs::PostSprings;
+use run_control::RunControl;
 use serde::{Deserialize, Serialize};
 
 use crate::FemStats;
@@ -242,39 +243,25 @@ fn with_context(e: ContactError, preload_n: f64, phase: Option<f64>) -> ContactE
     }
 }
 
-/// The caller's stop request: `should_stop()` is asked before each contact solve (each phase of
-/// each preload, and the flat stator) and before the strip's condensation; once it returns true
-/// the run ends with [`ContactError::Cancelled`] and returns nothing. The FEM factorisation
-/// inside the condensation is not interrupted.
-pub type ShouldStop<'a> = &'a (dyn Fn() -> bool + Sync);
-
-/// `Err(Cancelled)` naming the step `before` if the caller asked to stop.
-fn stop_check(should_stop: ShouldStop<'_>, before: impl FnOnce() -> String) -> Result<()> {
-    match should_stop() {
+/// `Err(Cancelled)` naming the step `before` if the caller asked to stop. The static stage asks
+/// before each contact solve (each phase of each preload, and the flat stator) and before the
+/// strip's condensation; the FEM factorisation inside the condensation is not interrupted.
+fn stop_check(control: &RunControl, before: impl FnOnce() -> String) -> Result<()> {
+    match control.should_stop() {
         true => Err(ContactError::Cancelled { before: before() }),
         false => Ok(()),
     }
 }
 
-/// Solves every snapshot of one preload on a built model and fits η.
+/// Solves every snapshot of one preload on a built model and fits η; `control` is asked before
+/// each contact solve.
 pub fn analyse_preload(
     model: &StripModel,
     params: &StaticParams,
     preload_n: f64,
     k_n_n_per_m: f64,
     options: ActiveSetOptions,
-) -> Result<PreloadResult> {
-    analyse_preload_cancellable(model, params, preload_n, k_n_n_per_m, options, &|| false)
-}
-
-/// [`analyse_preload`] that asks `should_stop` before each contact solve.
-pub fn analyse_preload_cancellable(
-    model: &StripModel,
-    params: &StaticParams,
-    preload_n: f64,
-    k_n_n_per_m: f64,
-    options: ActiveSetOptions,
-    should_stop: ShouldStop<'_>,
+    control: &RunControl,
 ) -> Result<PreloadResult> {
     let preload_strip_n = preload_n * params.strip_share();
     let scale = (params.wave_amplitude_m > 0.0).then_some(params.wave_amplitude_m);
@@ -282,7 +269,7 @@ pub fn analyse_preload_cancellable(
     let mut samples = Vec::with_capacity(params.phases);
     for k in 0..params.phases {
         let phase = 2.0 * PI * k as f64 / params.phases as f64;
-        stop_check(should_stop, || {
+        stop_check(control, || {
             format!(
                 "the contact solve at preload {preload_n} N, phase {} of {}",
                 k + 1,
@@ -300,7 +287,7 @@ pub fn analyse_preload_cancellable(
         });
         snapshots.push(snapshot(model, heights, Some(phase), solution));
     }
-    stop_check(should_stop, || {
+    stop_check(control, || {
         format!("the flat-stator solve at preload {preload_n} N")
     })?;
     let flat_heights = vec![0.0; model.post_count()];
@@ -415,33 +402,29 @@ pub fn prepare_strip(params: &StaticParams) -> Result<PreparedStrip> {
 
 /// [`run`] with explicit solver options.
 pub fn run_with(params: &StaticParams, options: ActiveSetOptions) -> Result<StaticAnalysis> {
-    run_with_springs(params, &params.post_springs()?, options)
+    run_with_springs(
+        params,
+        &params.post_springs()?,
+        options,
+        &RunControl::none(),
+    )
 }
 
 /// [`run_with`] for a caller that already has the post's Johnson springs (a pipeline computes
-/// them once per run and passes them to every stage).
+/// them once per run and passes them to every stage); `control` is asked before the mesh and
+/// condensation, after it, and before each contact solve.
 pub fn run_with_springs(
     params: &StaticParams,
     springs: &PostSprings,
     options: ActiveSetOptions,
-) -> Result<StaticAnalysis> {
-    run_with_springs_cancellable(params, springs, options, &|| false)
-}
-
-/// [`run_with_springs`] that asks `should_stop` before the mesh and condensation, after it,
-/// and before each contact solve ([`ShouldStop`]).
-pub fn run_with_springs_cancellable(
-    params: &StaticParams,
-    springs: &PostSprings,
-    options: ActiveSetOptions,
-    should_stop: ShouldStop<'_>,
+    control: &RunControl,
 ) -> Result<StaticAnalysis> {
     let start = Instant::now();
     params.validate()?;
     let content_hash = params.content_hash()?;
-    stop_check(should_stop, || "the strip's mesh and condensation".into())?;
+    stop_check(control, || "the strip's mesh and condensation".into())?;
     let prepared = prepare_strip(params)?;
-    let report = report_for_model_cancellable(
+    let report = report_for_model(
         &prepared.model,
         params,
         springs,
@@ -451,7 +434,7 @@ pub fn run_with_springs_cancellable(
         prepared.mesh_s,
         prepared.condensation_s,
         start,
-        should_stop,
+        control,
     )?;
     Ok(StaticAnalysis {
         params: params.clone(),
@@ -461,7 +444,8 @@ pub fn run_with_springs_cancellable(
     })
 }
 
-/// Solves all preloads on an already condensed model and assembles the report.
+/// Solves all preloads on an already condensed model and assembles the report; `control` is
+/// asked before each contact solve.
 #[allow(clippy::too_many_arguments)]
 pub fn report_for_model(
     model: &StripModel,
@@ -473,41 +457,14 @@ pub fn report_for_model(
     mesh_s: f64,
     condensation_s: f64,
     start: Instant,
-) -> Result<StaticReport> {
-    report_for_model_cancellable(
-        model,
-        params,
-        springs,
-        content_hash,
-        mesh_file,
-        options,
-        mesh_s,
-        condensation_s,
-        start,
-        &|| false,
-    )
-}
-
-/// [`report_for_model`] that asks `should_stop` before each contact solve.
-#[allow(clippy::too_many_arguments)]
-pub fn report_for_model_cancellable(
-    model: &StripModel,
-    params: &StaticParams,
-    springs: &PostSprings,
-    content_hash: String,
-    mesh_file: String,
-    options: ActiveSetOptions,
-    mesh_s: f64,
-    condensation_s: f64,
-    start: Instant,
-    should_stop: ShouldStop<'_>,
+    control: &RunControl,
 ) -> Result<StaticReport> {
     let t = Instant::now();
     let k_n = springs.k_n_n_per_m;
     let preloads = params
         .all_preloads_n()
         .into_iter()
-        .map(|p| analyse_preload_cancellable(model, params, p, k_n, options, should_stop))
+        .map(|p| analyse_preload(model, params, p, k_n, options, control))
         .collect::<Result<Vec<_>>>()?;
     let contact_s = t.elapsed().as_secs_f64();
     let main = &preloads[0];

@@ -108,7 +108,7 @@ pub enum ContactError {
         /// What failed.
         detail: String,
     },
-    /// The caller asked the run to stop (its `should_stop` hook returned true) before `before`.
+    /// The caller asked the run to stop (its [`crate::RunControl`]) before `before`.
     #[error("cancelled before {before}")]
     Cancelled {
         /// The step that did not start, e.g. `the contact solve at preload 20 N, phase 3 of 8`.

@@ -17,9 +17,10 @@ pub mod posts;
 pub mod scene;
 
 pub use analysis::{
-    PostResult, PreloadResult, PreparedStrip, ShouldStop, SnapshotResult, StaticAnalysis,
-    StaticReport, prepare_strip, run, run_with, run_with_springs, run_with_springs_cancellable,
+    PostResult, PreloadResult, PreparedStrip, SnapshotResult, StaticAnalysis, StaticReport,
+    prepare_strip, run, run_with, run_with_springs,
 };
+pub use run_control::RunControl;
 pub use body::{BodyCompliance, BodySpec, Disk, FemStats, TangentialCompliance, TipLateral};
 pub use body_solver::{BodySolver, FemSolver};
 pub use error::{ContactError, Result};

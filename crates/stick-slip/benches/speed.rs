@@ -23,7 +23,7 @@ fn periodic_curve(c: &mut Criterion) {
     c.bench_function("periodic_average_curve_50_points", |b| {
         b.iter(|| {
             let model = PeriodicAverageModel::new(black_box(&scene)).unwrap();
-            black_box(model.curve(50).unwrap())
+            black_box(model.curve(50, &stick_slip::RunControl::none()).unwrap())
         })
     });
     c.bench_function("periodic_average_full_solve", |b| {

@@ -122,7 +122,7 @@ pub enum StickSlipError {
         /// The factors of the estimate.
         detail: String,
     },
-    /// The caller asked the run to stop (its `should_stop` hook returned true) before `before`.
+    /// The caller asked the run to stop (its [`crate::RunControl`]) before `before`.
     #[error("cancelled before {before}")]
     Cancelled {
         /// The step that did not start, e.g. `curve point 3 of 12`.

@@ -45,8 +45,7 @@ pub use slider::{
     PAPER_EFFECTIVE_RATIO, PAPER_PITCH_M, PAPER_POSTS_PER_SIDE, PAPER_SLIDER_SIDE_M,
     PAPER_SLIDER_THICKNESS_M, PostLayout, Slider, VerticalModel,
 };
-pub use solve::{
-    RunHistories, ShouldStop, solve, solve_with_histories, solve_with_histories_cancellable,
-};
+pub use run_control::RunControl;
+pub use solve::{RunHistories, solve, solve_with_histories};
 pub use transient::{TransientModel, TransientRun};
 pub use wave::{Wave, WaveLimits};

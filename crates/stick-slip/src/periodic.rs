@@ -19,7 +19,8 @@ use crate::post::stepping::{StepScheme, SteppedPost};
 use crate::post::{Mode, PostParams, PostState, SteadyPost};
 use crate::result::{CurvePoint, DynamicResult, OperatingPoint};
 use crate::scene::{DynamicScene, ModelChoice, ModelKind};
-use crate::solve::{ShouldStop, stop_check};
+use crate::solve::stop_check;
+use run_control::RunControl;
 
 /// Relative tolerance (of the crest speed) of the no-load speed and load-speed roots.
 const SPEED_TOLERANCE: f64 = 1e-12;
@@ -354,22 +355,14 @@ impl PeriodicAverageModel {
         }
     }
 
-    /// The speed–thrust curve: `points` speeds evenly from 0⁺ to the no-load speed.
-    pub fn curve(&self, points: usize) -> Result<Vec<SpeedSample>> {
-        self.curve_cancellable(points, &|| false)
-    }
-
-    /// [`curve`](Self::curve) that asks `should_stop` before each point.
-    pub fn curve_cancellable(
-        &self,
-        points: usize,
-        should_stop: ShouldStop<'_>,
-    ) -> Result<Vec<SpeedSample>> {
+    /// The speed–thrust curve: `points` speeds evenly from 0⁺ to the no-load speed; `control`
+    /// is asked before each point ([`RunControl::none()`]: never stops).
+    pub fn curve(&self, points: usize, control: &RunControl) -> Result<Vec<SpeedSample>> {
         let v0 = self.no_load_speed_m_per_s()?;
         let n = points.max(2);
         (0..n)
             .map(|i| {
-                stop_check(should_stop, || format!("curve point {} of {n}", i + 1))?;
+                stop_check(control, || format!("curve point {} of {n}", i + 1))?;
                 self.at_speed(v0 * i as f64 / (n - 1) as f64)
             })
             .collect()
@@ -475,18 +468,20 @@ impl PeriodicAverageModel {
     }
 
     /// The full result: curve, stall, no-load speed, operating point, efficiency.
+    /// Not stoppable: a caller that may stop runs it through
+    /// [`solve_with_histories`](crate::solve_with_histories), which takes a [`RunControl`].
     pub fn solve(&self) -> Result<DynamicResult> {
-        self.solve_cancellable(&|| false)
+        self.solve_controlled(&RunControl::none())
     }
 
-    /// [`solve`](Self::solve) that asks `should_stop` before each curve point and before the
-    /// operating point.
-    pub fn solve_cancellable(&self, should_stop: ShouldStop<'_>) -> Result<DynamicResult> {
+    /// [`solve`](Self::solve) asking `control` before each curve point and before the operating
+    /// point.
+    pub(crate) fn solve_controlled(&self, control: &RunControl) -> Result<DynamicResult> {
         let started = Instant::now();
         let mut warnings = self.warnings.clone();
         let stall_sample = self.at_speed(0.0)?;
         let samples = if stall_sample.thrust_n > 0.0 {
-            self.curve_cancellable(self.scene.options.curve_points, should_stop)?
+            self.curve(self.scene.options.curve_points, control)?
         } else {
             warnings.push(Warning::new(
                 "slider.preload_n",
@@ -512,7 +507,7 @@ impl PeriodicAverageModel {
         } else if load == 0.0 {
             samples.last().copied()
         } else {
-            stop_check(should_stop, || "the operating point".into())?;
+            stop_check(control, || "the operating point".into())?;
             self.at_load(load)?
         };
         if samples.iter().chain(operating.iter()).any(|s| !s.converged) {

@@ -1,5 +1,7 @@
 //! The one-call entry points: run the model the scene needs.
 
+use run_control::RunControl;
+
 use crate::error::Result;
 use crate::history::{PostHistory, SliderHistory};
 use crate::periodic::PeriodicAverageModel;
@@ -27,39 +29,30 @@ pub struct RunHistories {
     pub slider: Option<SliderHistory>,
 }
 
-/// [`solve`] plus the histories the charts need (`plots::write_post_history_chart`,
-/// `plots::write_slider_history_chart`).
-pub fn solve_with_histories(scene: &DynamicScene) -> Result<(DynamicResult, RunHistories)> {
-    solve_with_histories_cancellable(scene, &|| false)
-}
-
-/// The caller's stop request: `should_stop()` is asked before each long step of a run (each
-/// point of the speed–thrust curve, each transient run); once it returns true the run ends with
+/// `Err(Cancelled)` naming the step `before` if the caller asked to stop. A run asks before
+/// each long step (each point of the speed–thrust curve, each transient run); once the stop
+/// request answers yes it ends with
 /// [`StickSlipError::Cancelled`](crate::StickSlipError::Cancelled) and returns nothing.
-pub type ShouldStop<'a> = &'a (dyn Fn() -> bool + Sync);
-
-/// `Err(Cancelled)` naming the step `before` if the caller asked to stop.
-pub(crate) fn stop_check(
-    should_stop: ShouldStop<'_>,
-    before: impl FnOnce() -> String,
-) -> Result<()> {
-    match should_stop() {
+pub(crate) fn stop_check(control: &RunControl, before: impl FnOnce() -> String) -> Result<()> {
+    match control.should_stop() {
         true => Err(crate::StickSlipError::Cancelled { before: before() }),
         false => Ok(()),
     }
 }
 
-/// [`solve_with_histories`] that asks `should_stop` before each curve point or transient run
-/// (a cancelled run stops within one point and returns [`crate::StickSlipError::Cancelled`]).
-pub fn solve_with_histories_cancellable(
+/// [`solve`] plus the histories the charts need (`plots::write_post_history_chart`,
+/// `plots::write_slider_history_chart`); `control` is asked before each curve point or
+/// transient run (a stopped run ends within one point with
+/// [`crate::StickSlipError::Cancelled`]). [`RunControl::none()`]: never stops.
+pub fn solve_with_histories(
     scene: &DynamicScene,
-    should_stop: ShouldStop<'_>,
+    control: &RunControl,
 ) -> Result<(DynamicResult, RunHistories)> {
     match scene.resolve_model()?.0 {
         ModelKind::PeriodicAverage => {
             let model = PeriodicAverageModel::new(scene)?;
-            let result = model.solve_cancellable(should_stop)?;
-            stop_check(should_stop, || "the post history".into())?;
+            let result = model.solve_controlled(control)?;
+            stop_check(control, || "the post history".into())?;
             let speed = result
                 .operating_point
                 .map_or(0.5 * result.no_load_speed_m_per_s, |op| op.speed_m_per_s);
@@ -68,8 +61,7 @@ pub fn solve_with_histories_cancellable(
             Ok((result, RunHistories { post, slider: None }))
         }
         ModelKind::Transient => {
-            let (result, run) =
-                TransientModel::new(scene)?.solve_with_runs_cancellable(should_stop)?;
+            let (result, run) = TransientModel::new(scene)?.solve_with_runs(control)?;
             let post = run.post_history.unwrap_or_default();
             Ok((
                 result,

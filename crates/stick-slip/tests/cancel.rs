@@ -8,10 +8,7 @@ mod johnson;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
-use stick_slip::{
-    DynamicScene, ModelChoice, StickSlipError, solve_with_histories,
-    solve_with_histories_cancellable,
-};
+use stick_slip::{DynamicScene, ModelChoice, RunControl, StickSlipError, solve_with_histories};
 
 /// A stop hook whose flag another thread sets when the hook is asked for the `at`-th time
 /// (the thread is joined before the hook answers, so the test does not depend on timing).
@@ -43,6 +40,12 @@ impl StopFromThread {
     fn asked(&self) -> usize {
         self.asked.load(Ordering::SeqCst)
     }
+
+    /// A run control whose stop request is this hook.
+    fn control(self: &Arc<Self>) -> RunControl {
+        let hook = Arc::clone(self);
+        RunControl::none().with_stop(move || hook.ask())
+    }
 }
 
 fn paper_scene() -> DynamicScene {
@@ -53,9 +56,8 @@ fn paper_scene() -> DynamicScene {
 #[test]
 fn a_period_average_cancelled_at_the_third_curve_point_stops_there_with_no_result() {
     let scene = paper_scene();
-    let stop = StopFromThread::new(3);
-    let hook = || stop.ask();
-    let error = solve_with_histories_cancellable(&scene, &hook).unwrap_err();
+    let stop = Arc::new(StopFromThread::new(3));
+    let error = solve_with_histories(&scene, &stop.control()).unwrap_err();
     assert!(
         matches!(&error, StickSlipError::Cancelled { before } if before.starts_with("curve point 3 of")),
         "cancel before the third speed of the curve: {error}"
@@ -73,9 +75,8 @@ fn a_transient_cancelled_after_its_operating_point_runs_no_curve_load() {
     scene.model = ModelChoice::Transient;
     scene.options.transient.periods = 20.0;
     scene.options.transient.average_periods = 5.0;
-    let stop = StopFromThread::new(2);
-    let hook = || stop.ask();
-    let error = solve_with_histories_cancellable(&scene, &hook).unwrap_err();
+    let stop = Arc::new(StopFromThread::new(2));
+    let error = solve_with_histories(&scene, &stop.control()).unwrap_err();
     assert!(
         matches!(&error, StickSlipError::Cancelled { before } if before.starts_with("the curve run at load")),
         "cancel before the first curve load of the transient: {error}"
@@ -86,13 +87,14 @@ fn a_transient_cancelled_after_its_operating_point_runs_no_curve_load() {
 #[test]
 fn a_hook_that_never_stops_gives_the_uncancellable_result_bit_for_bit() {
     let scene = paper_scene();
-    let (expected, _) = solve_with_histories(&scene).unwrap();
-    let asked = AtomicUsize::new(0);
-    let hook = || {
-        asked.fetch_add(1, Ordering::SeqCst);
+    let (expected, _) = solve_with_histories(&scene, &RunControl::none()).unwrap();
+    let asked = Arc::new(AtomicUsize::new(0));
+    let counter = Arc::clone(&asked);
+    let control = RunControl::none().with_stop(move || {
+        counter.fetch_add(1, Ordering::SeqCst);
         false
-    };
-    let (result, _) = solve_with_histories_cancellable(&scene, &hook).unwrap();
+    });
+    let (result, _) = solve_with_histories(&scene, &control).unwrap();
     assert_eq!(
         result.stall_thrust_n.to_bits(),
         expected.stall_thrust_n.to_bits(),

@@ -283,6 +283,7 @@ fn stator_section() -> AnyResult<Value> {
             0.0,
             0.0,
             std::time::Instant::now(),
+            &static_contact::RunControl::none(),
         )?;
         params.stator = StatorModel::HalfSpace;
         let half = StripModel::build(mesh, strip_config(&params))?;
@@ -296,6 +297,7 @@ fn stator_section() -> AnyResult<Value> {
             0.0,
             0.0,
             std::time::Instant::now(),
+            &static_contact::RunControl::none(),
         )?;
         // The meshed block has symmetry planes in y (infinitely many rows) and rollers on its x
         // ends (mirror images in x), a clamped bottom 1 mm down. Compare differences C_55 − C_5j,

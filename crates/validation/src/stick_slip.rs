@@ -674,7 +674,7 @@ fn agreement(
     transient_scene.options.transient.curve_loads = loads;
     let transient = TransientModel::new(&transient_scene)?;
     let started = Instant::now();
-    let (transient_result, _) = transient.solve_with_runs()?;
+    let (transient_result, _) = transient.solve_with_runs(&stick_slip::RunControl::none())?;
     let transient_time = started.elapsed().as_secs_f64();
     let stem = out_dir.join("speed_thrust_transient_vs_periodic");
     files.extend(write_speed_thrust_comparison(

@@ -4,8 +4,8 @@
 use anyhow::anyhow;
 use sawdrive::output::{ResultKind, StagedDir};
 use sawdrive::pipeline::{
-    check_dynamic_figures, run_ball_stage, run_dynamic_stage, run_static, scene_springs,
-    write_ball_stage_files, write_dynamic_stage_files,
+    RunControl, check_dynamic_figures, run_ball_stage, run_dynamic_stage, run_static,
+    scene_springs, write_ball_stage_files, write_dynamic_stage_files,
 };
 use sawdrive::scene::{Scene, load_scene};
 
@@ -20,7 +20,13 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
     let cache = (!args.no_cache).then(|| args.out.join(".cache"));
     let statics = match scene.contact.effective_ratio {
         Some(_) => None,
-        None => Some(run_static(&scene, &springs, cache.as_deref(), false)?),
+        None => Some(run_static(
+            &scene,
+            &springs,
+            cache.as_deref(),
+            false,
+            &RunControl::none(),
+        )?),
     };
     let eta = match (&statics, scene.contact.effective_ratio) {
         (_, Some(eta)) => eta,
@@ -29,7 +35,14 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
         })?,
         (None, None) => unreachable!("the static stage runs when η is not given"),
     };
-    let stage = run_dynamic_stage(&scene, &springs, eta, statics.as_ref(), cache.as_deref())?;
+    let stage = run_dynamic_stage(
+        &scene,
+        &springs,
+        eta,
+        statics.as_ref(),
+        cache.as_deref(),
+        &RunControl::none(),
+    )?;
     check_dynamic_figures(&stage)?;
     let staged = StagedDir::create(
         &args.out.join(&scene.name).join("dynamic"),

@@ -4,16 +4,18 @@ use sawdrive::pipeline::{RunOptions, run_pipeline};
 use sawdrive::scene::load_scene;
 
 use crate::cli::StageArgs;
+use crate::progress::Spinner;
 
 pub fn run(args: &StageArgs) -> anyhow::Result<()> {
     let scene = load_scene(args.input.scene.as_deref(), &args.input.overrides)?;
     let options = RunOptions {
         out_dir: args.out.clone(),
         cache_dir: (!args.no_cache).then(|| args.out.join(".cache")),
-        progress: !args.json,
         write_files: true,
     };
-    let (summary, folder) = run_pipeline(&scene, &options)?;
+    let spinner = Spinner::new(!args.json);
+    let (summary, folder) = run_pipeline(&scene, &options, spinner.control())?;
+    spinner.finish();
     if args.json {
         println!("{}", serde_json::to_string_pretty(&summary)?);
         return Ok(());

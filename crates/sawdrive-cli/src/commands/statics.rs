@@ -3,7 +3,9 @@
 use std::io::Write;
 
 use sawdrive::output::{ResultKind, StagedDir};
-use sawdrive::pipeline::{StaticDetails, run_static, scene_springs, write_static_files};
+use sawdrive::pipeline::{
+    RunControl, StaticDetails, run_static, scene_springs, write_static_files,
+};
 use sawdrive::scene::load_scene;
 
 use crate::cli::StageArgs;
@@ -17,7 +19,13 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
     let scene = load_scene(args.input.scene.as_deref(), &args.input.overrides)?;
     let cache = (!args.no_cache).then(|| args.out.join(".cache"));
     let springs = scene_springs(&scene)?;
-    let outcome = run_static(&scene, &springs, cache.as_deref(), true)?;
+    let outcome = run_static(
+        &scene,
+        &springs,
+        cache.as_deref(),
+        true,
+        &RunControl::none(),
+    )?;
     let staged = StagedDir::create(
         &args.out.join(&scene.name).join("static"),
         ResultKind::Static,

@@ -1,6 +1,7 @@
 //! `sawdrive sweep SWEEP.toml [--shard K/N | --merge]`.
 
 use anyhow::bail;
+use sawdrive::pipeline::RunControl;
 use sawdrive::sweep::{
     Shard, ShardOutcome, SweepFile, SweepOutcome, merge_sweep, run_shard, run_sweep,
 };
@@ -20,7 +21,7 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
             (outcome.points, outcome.failures)
         }
         None => {
-            let outcome = run_sweep(&sweep, &args.out, args.jobs)?;
+            let outcome = run_sweep(&sweep, &args.out, args.jobs, &RunControl::none())?;
             if args.json {
                 println!("{}", serde_json::to_string_pretty(&outcome.rows)?);
             } else {

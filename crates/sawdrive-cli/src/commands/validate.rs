@@ -173,11 +173,11 @@ fn pipeline_summary(sets: &[String]) -> Result<sawdrive::pipeline::RunSummary, S
     let options = sawdrive::pipeline::RunOptions {
         out_dir: std::env::temp_dir().join(format!("sawdrive-validate-{}", std::process::id())),
         cache_dir: Some(Path::new(DEFAULT_OUT).join(".cache")),
-        progress: false,
         write_files: false,
     };
+    let none = sawdrive::pipeline::RunControl::none();
     let (summary, folder) =
-        sawdrive::pipeline::run_pipeline(&scene, &options).map_err(|e| e.to_string())?;
+        sawdrive::pipeline::run_pipeline(&scene, &options, &none).map_err(|e| e.to_string())?;
     let _ = std::fs::remove_dir_all(folder);
     Ok(summary)
 }

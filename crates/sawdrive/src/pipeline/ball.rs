@@ -335,13 +335,13 @@ pub fn write_ball_stage_files(
 pub fn run_ball_pipeline(
     scene: &Scene,
     options: &RunOptions,
-    should_stop: super::ShouldStop<'_>,
+    control: &super::RunControl,
 ) -> Result<(RunSummary, PathBuf), PipelineError> {
     let start = Instant::now();
     let staged = StagedDir::create(&options.out_dir.join(&scene.name), ResultKind::Run)?;
-    PipelineError::check(should_stop, "dynamic (ball)")?;
+    PipelineError::check(control, "dynamic (ball)")?;
     let stage = run_ball_stage(scene)?;
-    PipelineError::check(should_stop, "output")?;
+    PipelineError::check(control, "output")?;
     let mut timings = StageTimings {
         dynamic_s: stage.wall_time_s,
         ..StageTimings::default()

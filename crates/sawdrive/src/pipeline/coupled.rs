@@ -27,7 +27,7 @@ use stick_slip::{CurvePoint, DynamicResult, ModelKind, VerticalModel};
 use super::attenuation::{self, WaveAttenuation, WaveBooks};
 use super::local_amplitude::LocalAmplitudeEta;
 use super::statics::{StaticDetails, StaticOutcome, geometry_key, sha256_hex, static_params};
-use super::{DynamicRun, PipelineError, run_dynamic_cancellable, write_history_charts};
+use super::{DynamicRun, PipelineError, RunControl, run_dynamic, write_history_charts};
 use crate::output::io;
 use crate::scene::StaticModel;
 use crate::scene::{DEFAULT_COUPLED_STEPS_PER_PERIOD, Dynamics, Scene};
@@ -398,30 +398,17 @@ fn histories_charts(title: &str, h: &PostHistories) -> [Chart; 2] {
 /// Run the dynamic stage of `scene` at η = `effective_ratio`: the lumped model, and the coupled
 /// one when `model.dynamics` asks for it or `auto` finds the lumped model's estimated error above
 /// `model.lumped_tolerance`. `statics` is the static stage's outcome (`None`: η was given);
-/// `cache_dir` holds the strip's tip compliances between runs.
+/// `cache_dir` holds the strip's tip compliances between runs. `control` is asked before each
+/// point of the lumped curve and before the coupled model (which itself is not interrupted).
 pub fn run_dynamic_stage(
     scene: &Scene,
     springs: &PostSprings,
     effective_ratio: f64,
     statics: Option<&StaticOutcome>,
     cache_dir: Option<&Path>,
+    control: &RunControl,
 ) -> Result<DynamicStage, PipelineError> {
-    run_dynamic_stage_cancellable(scene, springs, effective_ratio, statics, cache_dir, &|| {
-        false
-    })
-}
-
-/// [`run_dynamic_stage`] that asks `should_stop` before each point of the lumped curve and
-/// before the coupled model (which itself is not interrupted).
-pub fn run_dynamic_stage_cancellable(
-    scene: &Scene,
-    springs: &PostSprings,
-    effective_ratio: f64,
-    statics: Option<&StaticOutcome>,
-    cache_dir: Option<&Path>,
-    should_stop: super::ShouldStop<'_>,
-) -> Result<DynamicStage, PipelineError> {
-    let lumped = run_dynamic_cancellable(scene, springs, effective_ratio, should_stop)?;
+    let lumped = run_dynamic(scene, springs, effective_ratio, control)?;
     let evidence = statics.and_then(|s| {
         evidence(
             s,
@@ -436,7 +423,7 @@ pub fn run_dynamic_stage_cancellable(
     let (coupled, coupled_histories, coupled_step_error_estimate, wave, wave_books) =
         match (run_coupled, statics) {
             (true, Some(statics)) => {
-                PipelineError::check(should_stop, "dynamic (coupled model)")?;
+                PipelineError::check(control, "dynamic (coupled model)")?;
                 let mut run = run_coupled_model(scene, statics, &lumped, cache_dir)?;
                 // The scene's own warnings lead the coupled model's, as they lead the lumped one's.
                 let scene_warnings = scene
@@ -447,7 +434,7 @@ pub fn run_dynamic_stage_cancellable(
                 let stall_draw_w = run.result.curve.first().map_or(0.0, |p| p.stator_power_w);
                 let wave = attenuation::decide(scene, stall_draw_w)?;
                 if wave.on() {
-                    PipelineError::check(should_stop, "dynamic (energy-conserving wave)")?;
+                    PipelineError::check(control, "dynamic (energy-conserving wave)")?;
                     attenuate_coupled(&mut run, wave.power_in_w)?;
                 }
                 let books = run
@@ -478,7 +465,7 @@ pub fn run_dynamic_stage_cancellable(
                         springs,
                         statics,
                         cache_dir,
-                        should_stop,
+                        control,
                         &mut lumped,
                         &mut attenuated,
                     )?;

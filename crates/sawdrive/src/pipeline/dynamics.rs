@@ -9,7 +9,7 @@ use stick_slip::{
     TransientOptions,
 };
 
-use super::PipelineError;
+use super::{PipelineError, RunControl};
 use crate::scene::{DEFAULT_CURVE_POINTS, DEFAULT_TRANSIENT_PERIODS, Model, Scene};
 
 /// Steps per wave period of a fixed-step integrator when the scene says `time_step = "auto"`.
@@ -184,26 +184,16 @@ pub struct DynamicRun {
 }
 
 /// Run the dynamic stage with the post springs `springs` and effective contact ratio
-/// `effective_ratio`.
+/// `effective_ratio`; `control` is asked before each point of the curve (each transient run).
 pub fn run_dynamic(
     scene: &Scene,
     springs: &PostSprings,
     effective_ratio: f64,
-) -> Result<DynamicRun, PipelineError> {
-    run_dynamic_cancellable(scene, springs, effective_ratio, &|| false)
-}
-
-/// [`run_dynamic`] that asks `should_stop` before each point of the curve (each transient run).
-pub fn run_dynamic_cancellable(
-    scene: &Scene,
-    springs: &PostSprings,
-    effective_ratio: f64,
-    should_stop: super::ShouldStop<'_>,
+    control: &RunControl,
 ) -> Result<DynamicRun, PipelineError> {
     let dynamic = dynamic_scene(scene, springs, effective_ratio)?;
     let (mut result, histories) =
-        stick_slip::solve_with_histories_cancellable(&dynamic, should_stop)
-            .map_err(name_scene_keys)?;
+        stick_slip::solve_with_histories(&dynamic, control).map_err(name_scene_keys)?;
     // The scene's own warnings (a wave value off the stator's cut, …) lead the model's.
     result.warnings.splice(0..0, scene.warnings.iter().cloned());
     Ok(DynamicRun {

@@ -44,7 +44,7 @@ pub enum PipelineError {
     /// JSON.
     #[error("json: {0}")]
     Json(#[from] serde_json::Error),
-    /// The caller asked the run to stop (its `should_stop` hook) before the stage started.
+    /// The caller asked the run to stop (its [`RunControl`](run_control::RunControl)) before the stage started.
     #[error("{stage} stage: cancelled")]
     Cancelled {
         /// The stage that did not start.
@@ -64,19 +64,17 @@ impl PipelineError {
         )
     }
 
-    /// `Err(Cancelled { stage })` if `should_stop()` says so.
-    pub(crate) fn check(should_stop: ShouldStop<'_>, stage: &'static str) -> Result<(), Self> {
-        match should_stop() {
+    /// `Err(Cancelled { stage })` if the caller asked `control` to stop.
+    pub(crate) fn check(
+        control: &run_control::RunControl,
+        stage: &'static str,
+    ) -> Result<(), Self> {
+        match control.should_stop() {
             true => Err(PipelineError::Cancelled { stage }),
             false => Ok(()),
         }
     }
 }
-
-/// The caller's stop request, asked between the stages and inside them (before each static
-/// contact solve, each dynamic curve point): the library crates' hook
-/// ([`stick_slip::ShouldStop`], [`static_contact::ShouldStop`]).
-pub type ShouldStop<'a> = &'a (dyn Fn() -> bool + Sync);
 
 /// The scene keys that set a lumped model's iterations, named when one did not converge.
 fn dynamic_hint(not_converged: bool) -> &'static str {

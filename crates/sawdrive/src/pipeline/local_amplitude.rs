@@ -23,10 +23,10 @@ use contact_springs::PostSprings;
 use serde::Serialize;
 
 use super::attenuation::{AmplitudeProfile, LumpedAttenuation, attenuate_lumped};
-use super::dynamics::{DynamicRun, run_dynamic_cancellable};
+use super::dynamics::{DynamicRun, run_dynamic};
 use super::slider_static::slider_eta_at_profile;
 use super::statics::{StaticDetails, StaticOutcome};
-use super::{PipelineError, ShouldStop};
+use super::{PipelineError, RunControl};
 use crate::scene::Scene;
 
 /// Relative change of η between two passes below which η is settled. Default 1e-3 (the lumped
@@ -58,7 +58,7 @@ pub(super) fn settle(
     springs: &PostSprings,
     statics: &StaticOutcome,
     cache_dir: Option<&Path>,
-    should_stop: ShouldStop<'_>,
+    control: &RunControl,
     lumped: &mut DynamicRun,
     attenuation: &mut LumpedAttenuation,
 ) -> Result<Option<LocalAmplitudeEta>, PipelineError> {
@@ -76,7 +76,7 @@ pub(super) fn settle(
         .collect();
     let mut eta = eta_constant;
     for pass in 1..=MAX_PASSES {
-        PipelineError::check(should_stop, "static (whole slider at the local amplitude)")?;
+        PipelineError::check(control, "static (whole slider at the local amplitude)")?;
         let scale: Vec<f64> = columns.iter().map(|&x| profile.at(x)).collect();
         let next = slider_eta_at_profile(scene, cache_dir, &scale)?.ok_or_else(|| {
             unsupported(format!(
@@ -97,7 +97,7 @@ pub(super) fn settle(
             }));
         }
         eta = next;
-        *lumped = run_dynamic_cancellable(scene, springs, eta, should_stop)?;
+        *lumped = run_dynamic(scene, springs, eta, control)?;
         *attenuation = attenuate_lumped(scene, &lumped.scene, &mut lumped.result)?;
         profile = attenuation.stall_profile.clone().ok_or_else(|| {
             unsupported(format!(

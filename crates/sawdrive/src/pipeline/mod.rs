@@ -25,16 +25,14 @@ pub use ball::{
 };
 pub use coupled::{
     DriveFigures, DynamicJson, DynamicStage, LumpedFigures, run_dynamic_stage,
-    run_dynamic_stage_cancellable, write_dynamic_stage_files,
+    write_dynamic_stage_files,
 };
-pub use dynamics::{
-    DynamicRun, dynamic_scene, run_dynamic, run_dynamic_cancellable, write_history_charts,
-};
-pub use error::{PipelineError, ShouldStop};
-pub use run::{
-    RunOptions, RunSummary, StageTimings, check_dynamic_figures, run_pipeline,
-    run_pipeline_cancellable,
-};
+pub use dynamics::{DynamicRun, dynamic_scene, run_dynamic, write_history_charts};
+pub use error::PipelineError;
+pub use run::{RunOptions, RunSummary, StageTimings, check_dynamic_figures, run_pipeline};
+/// The caller's stop request and progress sink, passed to every stage that can be stopped
+/// ([`RunControl::none()`]: never stops, reports nothing).
+pub use run_control::{Progress, RunControl};
 pub use slider_static::{
     SliderStage, run_slider_static, slider_content_hash, slider_params, write_slider_maps,
 };
@@ -44,26 +42,15 @@ pub use statics::{
     static_params, write_static_files,
 };
 
-/// The static stage (`statics::run_static`); a ball slider has none and is refused.
+/// The static stage (`statics::run_static`), asking `control` before each contact solve; a
+/// ball slider has none and is refused.
 pub fn run_static(
     scene: &crate::scene::Scene,
     springs: &contact_springs::PostSprings,
     cache_dir: Option<&std::path::Path>,
     with_fields: bool,
+    control: &RunControl,
 ) -> Result<StaticOutcome, PipelineError> {
     ball::refuse_static(scene)?;
-    statics::run_static(scene, springs, cache_dir, with_fields)
-}
-
-/// The static stage with cancellation (`statics::run_static_cancellable`); a ball slider has
-/// none and is refused.
-pub fn run_static_cancellable(
-    scene: &crate::scene::Scene,
-    springs: &contact_springs::PostSprings,
-    cache_dir: Option<&std::path::Path>,
-    with_fields: bool,
-    should_stop: ShouldStop<'_>,
-) -> Result<StaticOutcome, PipelineError> {
-    ball::refuse_static(scene)?;
-    statics::run_static_cancellable(scene, springs, cache_dir, with_fields, should_stop)
+    statics::run_static(scene, springs, cache_dir, with_fields, control)
 }

@@ -1,16 +1,14 @@
 //! `sawdrive run`: scene → springs → static (η) → dynamic → `OUT/<scene>/`, written atomically.
 
-use std::io::IsTerminal;
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use contact_springs::PostSprings;
-use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 
 use super::{
-    DynamicStage, PipelineError, run_dynamic_stage_cancellable, run_static_cancellable,
-    scene_springs, write_dynamic_stage_files, write_static_files,
+    DynamicStage, PipelineError, RunControl, run_dynamic_stage, run_static, scene_springs,
+    write_dynamic_stage_files, write_static_files,
 };
 use crate::output::{ResultKind, StagedDir};
 use crate::scene::Scene;
@@ -22,8 +20,6 @@ pub struct RunOptions {
     pub out_dir: PathBuf,
     /// Cache of FEM results and meshes (keyed by a hash of their inputs); `None`: no cache.
     pub cache_dir: Option<PathBuf>,
-    /// Show a progress spinner on a terminal.
-    pub progress: bool,
     /// Write charts, CSV and VTU files besides `summary.json` (off for sweep points).
     pub write_files: bool,
 }
@@ -164,44 +160,24 @@ impl CoupledFigures {
     }
 }
 
-fn spinner(enabled: bool) -> ProgressBar {
-    if !enabled || !std::io::stderr().is_terminal() {
-        return ProgressBar::hidden();
-    }
-    let bar = ProgressBar::new_spinner();
-    if let Ok(style) = ProgressStyle::with_template("{spinner} [{elapsed}] {msg}") {
-        bar.set_style(style);
-    }
-    bar.enable_steady_tick(Duration::from_millis(120));
-    bar
-}
-
 /// Run every stage of `scene` and write `OUT/<name>/` (replacing earlier results only when all
-/// succeeded). Returns the summary and the folder written.
+/// succeeded). Returns the summary and the folder written. `control` is asked between the
+/// stages and inside them (each static contact solve, each dynamic curve point; a stopped run
+/// leaves `OUT/<name>/` as it was) and told each stage as it starts.
 pub fn run_pipeline(
     scene: &Scene,
     options: &RunOptions,
-) -> Result<(RunSummary, PathBuf), PipelineError> {
-    run_pipeline_cancellable(scene, options, &|| false)
-}
-
-/// [`run_pipeline`] that asks `should_stop` between the stages and inside them (each static
-/// contact solve, each dynamic curve point); a cancelled run leaves `OUT/<name>/` as it was.
-pub fn run_pipeline_cancellable(
-    scene: &Scene,
-    options: &RunOptions,
-    should_stop: super::ShouldStop<'_>,
+    control: &RunControl,
 ) -> Result<(RunSummary, PathBuf), PipelineError> {
     if scene.ball.is_some() {
-        return super::ball::run_ball_pipeline(scene, options, should_stop);
+        return super::ball::run_ball_pipeline(scene, options, control);
     }
     let start = Instant::now();
     let destination = options.out_dir.join(&scene.name);
     let staged = StagedDir::create(&destination, ResultKind::Run)?;
-    let bar = spinner(options.progress);
     let mut timings = StageTimings::default();
 
-    bar.set_message("contact springs");
+    control.stage("contact springs");
     let t = Instant::now();
     let springs = scene_springs(scene)?;
     timings.springs_s = t.elapsed().as_secs_f64();
@@ -211,13 +187,13 @@ pub fn run_pipeline_cancellable(
         match scene.contact.effective_ratio {
             Some(eta) => (eta, "given", None, None),
             None => {
-                bar.set_message("static FEM contact (η)");
-                let outcome = run_static_cancellable(
+                control.stage("static FEM contact (η)");
+                let outcome = run_static(
                     scene,
                     &springs,
                     options.cache_dir.as_deref(),
                     options.write_files,
-                    should_stop,
+                    control,
                 )?;
                 let eta = outcome.effective_ratio.ok_or_else(|| PipelineError::Unsupported {
                 stage: "static",
@@ -244,7 +220,7 @@ pub fn run_pipeline_cancellable(
         };
     timings.static_s = t.elapsed().as_secs_f64();
 
-    bar.set_message("stick/slip dynamics");
+    control.stage("stick/slip dynamics");
     let t = Instant::now();
     // The static fields (VTU snapshot: a displacement solve, stress recovery and ≈ 20 MB of text
     // on the default scene) depend on the static stage only: they are written on a thread of
@@ -257,22 +233,22 @@ pub fn run_pipeline_cancellable(
                 write_static_files(outcome, staged.path())
             })
         });
-        let stage = run_dynamic_stage_cancellable(
+        let stage = run_dynamic_stage(
             scene,
             &springs,
             effective_ratio,
             static_outcome.as_ref(),
             options.cache_dir.as_deref(),
-            should_stop,
+            control,
         );
         let written = static_writer.map(|h| h.join().expect("static file writer panicked"));
         (stage, written)
     });
     let stage = stage?;
-    PipelineError::check(should_stop, "output")?;
+    PipelineError::check(control, "output")?;
     timings.dynamic_s = t.elapsed().as_secs_f64();
 
-    bar.set_message("writing results");
+    control.stage("writing results");
     let t = Instant::now();
     let mut files = Vec::new();
     if let Some(written) = static_files {
@@ -324,6 +300,5 @@ pub fn run_pipeline_cancellable(
     summary.check_finite()?;
     staged.write("summary.json", serde_json::to_vec_pretty(&summary)?)?;
     let folder = staged.commit()?;
-    bar.finish_and_clear();
     Ok((summary, folder))
 }

@@ -14,7 +14,7 @@ use sha2::{Digest, Sha256};
 use static_contact::{ContactError, MeshChoice, StaticAnalysis, StaticParams, StaticReport};
 
 use super::slider_static::{SliderStage, announce, run_slider_static, write_slider_maps};
-use super::{PipelineError, ShouldStop};
+use super::{PipelineError, RunControl};
 use crate::output::{ResultKind, StagedDir, io};
 use crate::scene::{Scene, StaticModel};
 
@@ -294,26 +294,17 @@ fn static_error(error: ContactError, params: &StaticParams) -> PipelineError {
 /// damaged entry is rebuilt, and said so on stderr). With `with_fields`, the cache also keeps
 /// the force chart and the VTU in `cache_dir/static-<hash>/`, and a cached report without them
 /// (e.g. one a sweep filled in) counts as a miss, so that a results folder never lacks them.
+/// `control` is asked before the stage and, for the strip, before its condensation and each
+/// contact solve; a stopped run writes nothing to the cache. The whole slider's solve and the
+/// FEM factorisation are not interrupted.
 pub fn run_static(
     scene: &Scene,
     springs: &PostSprings,
     cache_dir: Option<&Path>,
     with_fields: bool,
+    control: &RunControl,
 ) -> Result<StaticOutcome, PipelineError> {
-    run_static_cancellable(scene, springs, cache_dir, with_fields, &|| false)
-}
-
-/// [`run_static`] that asks `should_stop` before the stage and, for the strip, before its
-/// condensation and each contact solve; a cancelled run writes nothing to the cache. The whole
-/// slider's solve and the FEM factorisation are not interrupted.
-pub fn run_static_cancellable(
-    scene: &Scene,
-    springs: &PostSprings,
-    cache_dir: Option<&Path>,
-    with_fields: bool,
-    should_stop: ShouldStop<'_>,
-) -> Result<StaticOutcome, PipelineError> {
-    PipelineError::check(should_stop, "static")?;
+    PipelineError::check(control, "static")?;
     let (model, reason) = scene.static_fem.model.choose(&scene.motor);
     if model == StaticModel::Slider {
         let (stage, cell_fem_s, cached, mut notes) = run_slider_static(scene, cache_dir)?;
@@ -363,9 +354,8 @@ pub fn run_static_cancellable(
     }
     announce(&notes);
     let options = params.solver_options();
-    let analysis =
-        static_contact::run_with_springs_cancellable(&params, springs, options, should_stop)
-            .map_err(|e| static_error(e, &params))?;
+    let analysis = static_contact::run_with_springs(&params, springs, options, control)
+        .map_err(|e| static_error(e, &params))?;
     announce(&analysis.notes);
     notes.extend(analysis.notes.iter().cloned());
     if let Some(dir) = &fields_dir {
@@ -523,6 +513,7 @@ fn condense_and_cache(
             prepared.mesh_s,
             prepared.condensation_s,
             std::time::Instant::now(),
+            &RunControl::none(),
         )
         .map_err(|e| static_error(e, params))?;
         store(

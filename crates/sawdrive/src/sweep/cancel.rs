@@ -1,9 +1,9 @@
 //! Cancelling a running sweep or stage from another thread (the Python binding's Ctrl-C).
 //!
-//! A [`Cancel`] token is a shared flag. The sweep checks it before each point it has not started
-//! and before each geometry of the static-cache fill; the points already running see it through
-//! the pipeline's stop hook ([`Cancel::should_stop`], the library crates' `ShouldStop`), which
-//! is asked before each static contact solve and each point of the dynamic curve. Once set, no
+//! A [`Cancel`] token is a shared flag; [`Cancel::control`] is the [`RunControl`] that stops
+//! when it is set, the one argument every stoppable function takes. The sweep asks it before
+//! each point it has not started and before each geometry of the static-cache fill; the points
+//! already running ask it before each static contact solve and each point of the dynamic curve. Once set, no
 //! new point or FEM condensation starts, the running points stop within one solve or curve
 //! point and save nothing (a rerun computes them), and the sweep returns
 //! [`super::SweepRunError::Cancelled`] without writing `results.csv` or the charts. Not
@@ -13,6 +13,8 @@
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
+
+use crate::pipeline::RunControl;
 
 /// A cancellation flag shared between the thread that runs a sweep and the threads that may stop
 /// it. Clones share the flag. The default token is never cancelled unless [`Cancel::cancel`] is
@@ -36,10 +38,11 @@ impl Cancel {
         self.0.load(Ordering::Relaxed)
     }
 
-    /// The token as the pipeline's stop hook ([`crate::pipeline::ShouldStop`]):
-    /// `run_pipeline_cancellable(scene, options, &cancel.should_stop())`.
-    pub fn should_stop(&self) -> impl Fn() -> bool + Sync + '_ {
-        || self.is_cancelled()
+    /// A run control that stops once this token (or a clone) is cancelled:
+    /// `run_pipeline(scene, options, &cancel.control())`.
+    pub fn control(&self) -> RunControl {
+        let token = self.clone();
+        RunControl::none().with_stop(move || token.is_cancelled())
     }
 }
 
@@ -55,7 +58,16 @@ mod tests {
             !seen_by_worker.is_cancelled(),
             "a new token is not cancelled"
         );
+        let control = token.control();
+        assert!(
+            !control.should_stop(),
+            "its run control does not stop before the cancel"
+        );
         token.cancel();
         assert!(seen_by_worker.is_cancelled(), "the clone sees the cancel");
+        assert!(
+            control.should_stop(),
+            "its run control stops after the cancel"
+        );
     }
 }

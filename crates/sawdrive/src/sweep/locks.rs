@@ -29,7 +29,8 @@ use std::fs::{File, TryLockError};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use super::{Cancel, SweepRunError};
+use super::SweepRunError;
+use crate::pipeline::RunControl;
 use crate::pipeline::{fill_static_cache, geometry_key, static_params};
 use crate::scene::Scene;
 
@@ -108,13 +109,13 @@ fn groups(pending: &[(Scene, bool)], cache: &Path) -> Vec<Group> {
 
 /// Fill the static cache for the geometries of the caller's pending scenes under the geometry
 /// locks (see the module text); `rotation` (the shard index) staggers the visiting order.
-/// Returns the number of FEM condensations this process ran. A set `cancel` starts no further
+/// Returns the number of FEM condensations this process ran. A stop request of `control` starts no further
 /// geometry (the caller then reports the cancel).
 pub(super) fn fill_static_cache_shared(
     pending: &[(Scene, bool)],
     cache: &Path,
     rotation: usize,
-    cancel: &Cancel,
+    control: &RunControl,
 ) -> Result<usize, SweepRunError> {
     let mut groups = groups(pending, cache);
     if groups.is_empty() {
@@ -129,9 +130,9 @@ pub(super) fn fill_static_cache_shared(
     let next = AtomicUsize::new(0);
     std::thread::scope(|scope| {
         for _ in 0..meshers {
-            scope.spawn(|| mesh_ahead(&groups, &next, cache, cancel));
+            scope.spawn(|| mesh_ahead(&groups, &next, cache, control));
         }
-        let condensed = condense_groups(groups.iter().collect(), cache, cancel);
+        let condensed = condense_groups(groups.iter().collect(), cache, control);
         // After an error or a cancel no mesher claims another geometry.
         next.store(groups.len(), Ordering::Relaxed);
         condensed
@@ -139,13 +140,13 @@ pub(super) fn fill_static_cache_shared(
 }
 
 /// Make the meshes of `groups` in order, each taken by the first thread to claim it via `next`,
-/// until all are claimed or `cancel` is set. Errors are left to the condensation, which resolves
+/// until all are claimed or `control` asks to stop. Errors are left to the condensation, which resolves
 /// the mesh again and reports the failure with its scene.
-fn mesh_ahead(groups: &[Group], next: &AtomicUsize, cache: &Path, cancel: &Cancel) {
+fn mesh_ahead(groups: &[Group], next: &AtomicUsize, cache: &Path, control: &RunControl) {
     loop {
         let i = next.fetch_add(1, Ordering::Relaxed);
         let Some(group) = groups.get(i) else { return };
-        if cancel.is_cancelled() {
+        if control.should_stop() {
             return;
         }
         let _ = make_mesh(group, cache);
@@ -157,12 +158,12 @@ fn mesh_ahead(groups: &[Group], next: &AtomicUsize, cache: &Path, cancel: &Cance
 fn condense_groups(
     groups: Vec<&Group>,
     cache: &Path,
-    cancel: &Cancel,
+    control: &RunControl,
 ) -> Result<usize, SweepRunError> {
     let mut condensations = 0;
     let mut busy = Vec::new();
     for group in groups {
-        if cancel.is_cancelled() {
+        if control.should_stop() {
             return Ok(condensations);
         }
         let (file, path) = lock_file(cache, &format!("geometry-{}.lock", group.key))?;
@@ -173,7 +174,7 @@ fn condense_groups(
         }
     }
     for group in busy {
-        if cancel.is_cancelled() {
+        if control.should_stop() {
             return Ok(condensations);
         }
         let _held = lock_exclusive(cache, &format!("geometry-{}.lock", group.key))?;

@@ -11,6 +11,5 @@ pub use cancel::Cancel;
 pub use file::{ChartSpec, MAX_SWEEP_POINTS, SweepError, SweepFile, SweepPoint, Variant};
 pub use run::{
     MAX_JOBS, NUMERIC_COLUMNS, PointRow, SweepOutcome, SweepRunError, results_csv, run_sweep,
-    run_sweep_cancellable,
 };
 pub use shard::{MAX_LISTED_POINTS, Shard, ShardOutcome, merge_sweep, run_shard};

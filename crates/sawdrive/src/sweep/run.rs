@@ -4,14 +4,15 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use super::{Cancel, SweepFile, SweepPoint};
+use super::{SweepFile, SweepPoint};
 use crate::output::{Saved, read_verified_json, to_verified_json, write_atomically};
-use crate::pipeline::{RunOptions, run_pipeline_cancellable};
+use crate::pipeline::{Progress, RunControl, RunOptions, run_pipeline};
 use crate::scene::load_scene;
 
 /// Numeric result columns a chart may use.
@@ -154,7 +155,7 @@ pub enum SweepRunError {
         /// The error.
         source: std::io::Error,
     },
-    /// The sweep was cancelled ([`Cancel`]) before every point ran: the points saved so far are
+    /// The sweep was stopped ([`RunControl`]) before every point ran: the points saved so far are
     /// kept (a rerun resumes them); `results.csv` and the charts are not written.
     #[error(
         "sweep {sweep}: cancelled with {saved} of {total} points saved in {}; rerun to resume",
@@ -185,8 +186,8 @@ pub enum SweepRunError {
 fn lock_hint(source: &std::io::Error) -> &'static str {
     /// ENOLCK: no locks available (Linux).
     const ENOLCK: i32 = 37;
-    let unsupported = source.kind() == std::io::ErrorKind::Unsupported
-        || source.raw_os_error() == Some(ENOLCK);
+    let unsupported =
+        source.kind() == std::io::ErrorKind::Unsupported || source.raw_os_error() == Some(ENOLCK);
     if unsupported {
         " (shards sharing OUT/.cache need a file system with file locks, e.g. NFSv4, or Lustre mounted with -o flock)"
     } else {
@@ -222,29 +223,26 @@ enum PointFailure {
     Failed(String),
 }
 
-/// Run `point` through the pipeline, which stops inside its stages once `cancel` is set.
+/// Run `point` through the pipeline, which stops inside its stages once `control` asks to.
 fn run_point(
     sweep: &SweepFile,
     point: &SweepPoint,
     hash: &str,
     folder: &Path,
     cache: &Path,
-    cancel: &Cancel,
+    control: &RunControl,
 ) -> Result<PointRow, PointFailure> {
     let failed = |e: &dyn std::fmt::Display| PointFailure::Failed(e.to_string());
     let scene = load_scene(sweep.scene.as_deref(), &point.overrides).map_err(|e| failed(&e))?;
     let options = RunOptions {
         out_dir: folder.join("runs").join(hash),
         cache_dir: Some(cache.to_owned()),
-        progress: false,
         write_files: false,
     };
     let (summary, _) =
-        run_pipeline_cancellable(&scene, &options, &cancel.should_stop()).map_err(|e| {
-            match e.is_cancelled() {
-                true => PointFailure::Cancelled,
-                false => failed(&e),
-            }
+        run_pipeline(&scene, &options, control).map_err(|e| match e.is_cancelled() {
+            true => PointFailure::Cancelled,
+            false => failed(&e),
         })?;
     let values = BTreeMap::from([
         ("preload_n".to_owned(), scene.motor.load.preload_n),
@@ -380,22 +378,23 @@ impl Prepared<'_> {
     /// Run the points `selected` (0-based, ascending) that are not saved yet with `jobs`
     /// threads, saving each as it finishes. The static cache is filled first, one FEM
     /// condensation per geometry across every process sharing the cache ([`super::locks`]);
-    /// `rotation` staggers the order in which concurrent shards visit the geometries. A set
-    /// `cancel` starts no further geometry or point and returns [`SweepRunError::Cancelled`].
+    /// `rotation` staggers the order in which concurrent shards visit the geometries. A stop
+    /// request of `control` starts no further geometry or point and returns
+    /// [`SweepRunError::Cancelled`]; each finished point is reported as a count of `selected`.
     pub(super) fn run_points(
         &self,
         selected: &[usize],
         jobs: Option<usize>,
         rotation: usize,
-        cancel: &Cancel,
+        control: &RunControl,
     ) -> Result<PointsRun, SweepRunError> {
         std::fs::create_dir_all(&self.points_dir)
             .map_err(crate::output::io("create", &self.points_dir))?;
         self.note_altered(selected);
         let saved: Vec<Option<PointRow>> = selected.iter().map(|&i| self.saved(i)).collect();
         let resumed = saved.iter().filter(|s| s.is_some()).count();
-        let condensations = self.fill_static_cache(selected, &saved, rotation, cancel)?;
-        self.check_cancel(cancel)?;
+        let condensations = self.fill_static_cache(selected, &saved, rotation, control)?;
+        self.check_cancel(control)?;
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(jobs.unwrap_or(0))
             .build()
@@ -403,6 +402,10 @@ impl Prepared<'_> {
                 jobs: jobs.unwrap_or(0),
                 message: e.to_string(),
             })?;
+        // The points run side by side: their stage messages are not reported, their count is.
+        let point_control = control.without_progress();
+        let done = AtomicUsize::new(resumed);
+        let total = selected.len();
         // `None`: skipped after a cancel.
         let results: Vec<Option<Result<PointRow, (String, String)>>> = pool.install(|| {
             selected
@@ -410,8 +413,15 @@ impl Prepared<'_> {
                 .zip(saved)
                 .map(|(&i, saved)| match saved {
                     Some(row) => Some(Ok(row)),
-                    None if cancel.is_cancelled() => None,
-                    None => self.compute_and_save(i, cancel),
+                    None if control.should_stop() => None,
+                    None => {
+                        let outcome = self.compute_and_save(i, &point_control);
+                        if outcome.is_some() {
+                            let done = done.fetch_add(1, Ordering::Relaxed) + 1;
+                            control.report(Progress::Count { done, total });
+                        }
+                        outcome
+                    }
                 })
                 .collect()
         });
@@ -442,7 +452,7 @@ impl Prepared<'_> {
         selected: &[usize],
         saved: &[Option<PointRow>],
         rotation: usize,
-        cancel: &Cancel,
+        control: &RunControl,
     ) -> Result<usize, SweepRunError> {
         let mine: Vec<usize> = selected
             .iter()
@@ -458,12 +468,12 @@ impl Prepared<'_> {
             .filter(|i| mine.binary_search(i).is_ok() || self.saved(*i).is_none())
             .filter_map(|i| scene(i).ok().map(|s| (s, mine.binary_search(&i).is_ok())))
             .collect();
-        super::locks::fill_static_cache_shared(&pending, &self.cache, rotation, cancel)
+        super::locks::fill_static_cache_shared(&pending, &self.cache, rotation, control)
     }
 
-    /// [`SweepRunError::Cancelled`] if `cancel` is set.
-    fn check_cancel(&self, cancel: &Cancel) -> Result<(), SweepRunError> {
-        match cancel.is_cancelled() {
+    /// [`SweepRunError::Cancelled`] if `control` asks to stop.
+    fn check_cancel(&self, control: &RunControl) -> Result<(), SweepRunError> {
+        match control.should_stop() {
             true => Err(self.cancelled()),
             false => Ok(()),
         }
@@ -481,16 +491,16 @@ impl Prepared<'_> {
         }
     }
 
-    /// Run point `i` through the pipeline and save its row atomically; `None` if `cancel`
+    /// Run point `i` through the pipeline and save its row atomically; `None` if `control`
     /// stopped it (nothing saved), else its row or (overrides, error).
     fn compute_and_save(
         &self,
         i: usize,
-        cancel: &Cancel,
+        control: &RunControl,
     ) -> Option<Result<PointRow, (String, String)>> {
         let (point, hash) = (&self.points[i], &self.hashes[i]);
         let failed = |e: String| (point.overrides.join(" "), e);
-        let row = match run_point(self.sweep, point, hash, &self.folder, &self.cache, cancel) {
+        let row = match run_point(self.sweep, point, hash, &self.folder, &self.cache, control) {
             Ok(row) => row,
             Err(PointFailure::Cancelled) => return None,
             Err(PointFailure::Failed(e)) => return Some(Err(failed(e))),
@@ -524,27 +534,20 @@ pub(super) struct PointsRun {
     pub(super) condensations: usize,
 }
 
-/// Run `sweep` into `out_dir/<sweep name>/` with `jobs` threads (None: all cores).
+/// Run `sweep` into `out_dir/<sweep name>/` with `jobs` threads (None: all cores). Stops when
+/// `control` asks to: no point or FEM condensation starts after it, the running points stop
+/// inside their stages and save nothing, and the sweep returns [`SweepRunError::Cancelled`]
+/// without writing `results.csv` or the charts (`sweep::cancel`). Progress: the count of
+/// points finished ([`crate::pipeline::Progress::Count`]).
 pub fn run_sweep(
     sweep: &SweepFile,
     out_dir: &Path,
     jobs: Option<usize>,
-) -> Result<SweepOutcome, SweepRunError> {
-    run_sweep_cancellable(sweep, out_dir, jobs, &Cancel::new())
-}
-
-/// [`run_sweep`] that stops when `cancel` is set: no point or FEM condensation starts after
-/// it, the running points stop inside their stages and save nothing, and the sweep returns
-/// [`SweepRunError::Cancelled`] without writing `results.csv` or the charts (`sweep::cancel`).
-pub fn run_sweep_cancellable(
-    sweep: &SweepFile,
-    out_dir: &Path,
-    jobs: Option<usize>,
-    cancel: &Cancel,
+    control: &RunControl,
 ) -> Result<SweepOutcome, SweepRunError> {
     let prepared = prepare(sweep, out_dir, jobs)?;
     let all: Vec<usize> = (0..prepared.points.len()).collect();
-    let run = prepared.run_points(&all, jobs, 0, cancel)?;
+    let run = prepared.run_points(&all, jobs, 0, control)?;
     let files = prepared.write_results(&run.rows)?;
     Ok(SweepOutcome {
         folder: prepared.folder,
@@ -688,7 +691,10 @@ mod tests {
         let root = tempfile::tempdir().unwrap();
         let sweep = one_point_sweep(root.path());
         let out = root.path().join("out");
-        let computed = run_sweep(&sweep, &out, Some(1)).unwrap().rows[0].clone();
+        let computed = run_sweep(&sweep, &out, Some(1), &RunControl::none())
+            .unwrap()
+            .rows[0]
+            .clone();
         std::fs::remove_dir_all(out.join(&sweep.name)).unwrap();
 
         // A stale result (stall thrust 123 N) saved by a build with an older dynamic model.
@@ -697,7 +703,7 @@ mod tests {
             ..CURRENT_MODELS
         };
         save_point(&sweep, &out, older, stale_row(&computed));
-        let outcome = run_sweep(&sweep, &out, Some(1)).unwrap();
+        let outcome = run_sweep(&sweep, &out, Some(1), &RunControl::none()).unwrap();
         assert_eq!(outcome.resumed, 0, "stale point not resumed");
         assert_eq!(
             outcome.rows[0].values["stall_thrust_n"], computed.values["stall_thrust_n"],
@@ -707,7 +713,7 @@ mod tests {
         // The same file saved with the current versions is resumed (the check above can fail).
         std::fs::remove_dir_all(out.join(&sweep.name)).unwrap();
         save_point(&sweep, &out, CURRENT_MODELS, stale_row(&computed));
-        let outcome = run_sweep(&sweep, &out, Some(1)).unwrap();
+        let outcome = run_sweep(&sweep, &out, Some(1), &RunControl::none()).unwrap();
         assert_eq!(outcome.resumed, 1);
         assert_eq!(
             outcome.rows[0].values["stall_thrust_n"], 123.0,
@@ -720,7 +726,10 @@ mod tests {
         let root = tempfile::tempdir().unwrap();
         let sweep = one_point_sweep(root.path());
         let out = root.path().join("out");
-        let computed = run_sweep(&sweep, &out, Some(1)).unwrap().rows[0].clone();
+        let computed = run_sweep(&sweep, &out, Some(1), &RunControl::none())
+            .unwrap()
+            .rows[0]
+            .clone();
         let file = out
             .join(&sweep.name)
             .join("points")
@@ -737,11 +746,11 @@ mod tests {
             String::new(),
         ] {
             std::fs::write(&file, edited).unwrap();
-            let outcome = run_sweep(&sweep, &out, Some(1)).unwrap();
+            let outcome = run_sweep(&sweep, &out, Some(1), &RunControl::none()).unwrap();
             assert_eq!(outcome.resumed, 0, "an altered point is not resumed");
             assert_eq!(outcome.rows[0].values, computed.values, "it is recomputed");
         }
-        let outcome = run_sweep(&sweep, &out, Some(1)).unwrap();
+        let outcome = run_sweep(&sweep, &out, Some(1), &RunControl::none()).unwrap();
         assert_eq!(
             outcome.resumed, 1,
             "the recomputed point is saved intact again"
@@ -753,9 +762,8 @@ mod tests {
         let root = tempfile::tempdir().unwrap();
         let sweep = one_point_sweep(root.path());
         let out = root.path().join("out");
-        let cancel = Cancel::new();
-        cancel.cancel();
-        let error = run_sweep_cancellable(&sweep, &out, Some(1), &cancel).unwrap_err();
+        let stopped = RunControl::none().with_stop(|| true);
+        let error = run_sweep(&sweep, &out, Some(1), &stopped).unwrap_err();
         assert!(
             matches!(
                 error,
@@ -775,7 +783,7 @@ mod tests {
         );
         let points = std::fs::read_dir(folder.join("points")).unwrap().count();
         assert_eq!(points, 0, "no point saved after a cancel before the start");
-        let outcome = run_sweep_cancellable(&sweep, &out, Some(1), &Cancel::new()).unwrap();
+        let outcome = run_sweep(&sweep, &out, Some(1), &RunControl::none()).unwrap();
         assert_eq!(
             (outcome.rows.len(), outcome.resumed),
             (1, 0),
@@ -790,7 +798,7 @@ mod tests {
         let sweep = one_point_sweep(root.path());
         let out = root.path().join("out");
         for jobs in [0, MAX_JOBS + 1, 100_000] {
-            let error = run_sweep(&sweep, &out, Some(jobs)).unwrap_err();
+            let error = run_sweep(&sweep, &out, Some(jobs), &RunControl::none()).unwrap_err();
             assert!(
                 matches!(error, SweepRunError::Jobs { jobs: j, .. } if j == jobs),
                 "--jobs {jobs} refused: {error}"
@@ -814,8 +822,14 @@ mod tests {
             .to_string()
         };
         let folder = lock(std::io::Error::from(std::io::ErrorKind::IsADirectory));
-        assert!(!folder.contains("file system"), "a folder is not the file system's fault: {folder}");
+        assert!(
+            !folder.contains("file system"),
+            "a folder is not the file system's fault: {folder}"
+        );
         let unsupported = lock(std::io::Error::from_raw_os_error(37));
-        assert!(unsupported.contains("file system with file locks"), "{unsupported}");
+        assert!(
+            unsupported.contains("file system with file locks"),
+            "{unsupported}"
+        );
     }
 }

@@ -21,7 +21,8 @@ use std::str::FromStr;
 use serde::Serialize;
 
 use super::run::{Prepared, prepare};
-use super::{Cancel, PointRow, SweepFile, SweepOutcome, SweepRunError};
+use super::{PointRow, SweepFile, SweepOutcome, SweepRunError};
+use crate::pipeline::RunControl;
 
 /// Most missing points the merge error names one by one (the rest are counted), to keep it one
 /// readable line. Unit: points.
@@ -126,7 +127,7 @@ pub fn run_shard(
     let mine: Vec<usize> = (0..prepared.points.len())
         .filter(|&i| shard.owns(i))
         .collect();
-    let run = prepared.run_points(&mine, jobs, shard.index - 1, &Cancel::new())?;
+    let run = prepared.run_points(&mine, jobs, shard.index - 1, &RunControl::none())?;
     let missing = missing_points(&prepared).len();
     let merged = match missing {
         0 => Some(merge_prepared(&prepared)?),

@@ -42,7 +42,7 @@ use super::{
 use crate::error::{Result, StickSlipError};
 use crate::result::DynamicResult;
 use crate::scene::TransientStart;
-use crate::solve::ShouldStop;
+use run_control::RunControl;
 use crate::transient::CurveRun;
 use crate::transient::run::{PeriodHook, PeriodRecord, Span, is_steady, mean_speed};
 use crate::transient::system::Stepper;
@@ -248,14 +248,14 @@ impl TransientModel {
         &self,
         options: &AttenuationOptions,
     ) -> Result<AttenuatedTransientResult> {
-        self.solve_attenuated_cancellable(options, &|| false)
+        self.solve_attenuated_until(options, &RunControl::none())
     }
 
-    /// [`solve_attenuated`](Self::solve_attenuated) that asks `should_stop` before each run.
-    pub fn solve_attenuated_cancellable(
+    /// [`solve_attenuated`](Self::solve_attenuated) that asks `control` before each run.
+    fn solve_attenuated_until(
         &self,
         options: &AttenuationOptions,
-        should_stop: ShouldStop<'_>,
+        control: &RunControl,
     ) -> Result<AttenuatedTransientResult> {
         options.validate()?;
         check_scene(self.scene(), "transient with the energy-conserving wave")?;
@@ -270,7 +270,7 @@ impl TransientModel {
             warm = Some(result.amplitude_scale.clone());
             Ok(result)
         };
-        let curve = self.curve_with(should_stop, &mut run)?;
+        let curve = self.curve_with(control, &mut run)?;
         let mut result = curve.result;
         result.model_reason = format!("{}; energy-conserving wave", result.model_reason);
         let all = || curve.points.iter().chain(std::iter::once(&curve.operating));

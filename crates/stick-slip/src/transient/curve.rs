@@ -18,7 +18,8 @@ use crate::error::{Result, StickSlipError, Warning};
 use crate::integrator::Integrator;
 use crate::result::{CurvePoint, DynamicResult, OperatingPoint, TransientSummary};
 use crate::scene::{ModelKind, TransientStart};
-use crate::solve::{ShouldStop, stop_check};
+use crate::solve::stop_check;
+use run_control::RunControl;
 
 use super::run::STEADY_TOLERANCE;
 use super::{
@@ -84,21 +85,15 @@ impl TransientModel {
     /// The full result: runs at `curve_loads` loads between 0 and the stall estimate, a stall
     /// search by bisection on the load, and the operating point at the external load.
     pub fn solve(&self) -> Result<DynamicResult> {
-        self.solve_with_runs().map(|(result, _)| result)
+        self.solve_with_runs(&RunControl::none())
+            .map(|(result, _)| result)
     }
 
-    /// As [`solve`](Self::solve), also returning the operating-point run (with histories).
-    pub fn solve_with_runs(&self) -> Result<(DynamicResult, TransientRun)> {
-        self.solve_with_runs_cancellable(&|| false)
-    }
-
-    /// [`solve_with_runs`](Self::solve_with_runs) that asks `should_stop` before each run (the
-    /// operating point, each curve load, each step of the stall search).
-    pub fn solve_with_runs_cancellable(
-        &self,
-        should_stop: ShouldStop<'_>,
-    ) -> Result<(DynamicResult, TransientRun)> {
-        let curve = self.curve_with(should_stop, &mut |model, load, start, record| {
+    /// As [`solve`](Self::solve), also returning the operating-point run (with histories);
+    /// `control` is asked before each run (the operating point, each curve load, each step of
+    /// the stall search).
+    pub fn solve_with_runs(&self, control: &RunControl) -> Result<(DynamicResult, TransientRun)> {
+        let curve = self.curve_with(control, &mut |model, load, start, record| {
             model.run(load, start, record)
         })?;
         Ok((curve.result, curve.operating))
@@ -107,7 +102,7 @@ impl TransientModel {
     /// The curve (module docs) with `run` as the run at each load.
     pub(crate) fn curve_with<R: CurveRun>(
         &self,
-        should_stop: ShouldStop<'_>,
+        control: &RunControl,
         run: &mut RunAt<'_, R>,
     ) -> Result<Curve<R>> {
         let started = Instant::now();
@@ -128,7 +123,7 @@ impl TransientModel {
             periods_simulated += result.periods_simulated();
             Ok(result)
         };
-        let mut runs = self.curve_runs(curve_model, should_stop, &mut counted, &mut warnings)?;
+        let mut runs = self.curve_runs(curve_model, control, &mut counted, &mut warnings)?;
         runs.periods_simulated = periods_simulated;
         Ok(self.assemble(runs, warnings, started))
     }
@@ -137,7 +132,7 @@ impl TransientModel {
     fn curve_runs<R: CurveRun>(
         &self,
         curve_model: &TransientModel,
-        should_stop: ShouldStop<'_>,
+        control: &RunControl,
         run: &mut RunAt<'_, R>,
         warnings: &mut Vec<Warning>,
     ) -> Result<Runs<R>> {
@@ -149,7 +144,7 @@ impl TransientModel {
         } else {
             options.start
         };
-        stop_check(should_stop, || "the operating-point run".into())?;
+        stop_check(control, || "the operating-point run".into())?;
         let operating = run(self, load, start, true)?;
         let mut runs = 1;
         // A locked estimate (F(0⁺) ≤ 0) still needs a positive load scale for the curve.
@@ -161,7 +156,7 @@ impl TransientModel {
         let mut points: Vec<R> = Vec::new();
         for i in 0..options.curve_loads.max(1) {
             let l = stall_estimate * i as f64 / options.curve_loads.max(1) as f64;
-            stop_check(should_stop, || format!("the curve run at load {l:e} N"))?;
+            stop_check(control, || format!("the curve run at load {l:e} N"))?;
             points.push(run(curve_model, l, options.start, false)?);
             runs += 1;
         }
@@ -177,7 +172,7 @@ impl TransientModel {
             let mut hi = stall_estimate.max(lo) * 1.1;
             let mut expansions = 0;
             loop {
-                stop_check(should_stop, || {
+                stop_check(control, || {
                     format!("the stall-bracket run at load {hi:e} N")
                 })?;
                 let result = run(curve_model, hi, TransientStart::Estimate, false)?;
@@ -201,7 +196,7 @@ impl TransientModel {
             let mut iterations = 0;
             while hi - lo > options.stall_tolerance * hi && iterations < MAX_STALL_RUNS {
                 let mid = 0.5 * (lo + hi);
-                stop_check(should_stop, || {
+                stop_check(control, || {
                     format!("the stall-search run at load {mid:e} N")
                 })?;
                 let result = run(curve_model, mid, TransientStart::Estimate, false)?;
