@@ -24,5 +24,5 @@ done
 rm -rf "$validate_out"
 cargo test -p sawdrive-cli --test relocated_binary -- --ignored
 cargo check -p stick-slip -p static-contact --no-default-features  # solvers build without plotting (feature `charts` off)
-python/test.sh  # the Python package: pip install ./python into target/python-venv, then pytest
+python/test.sh  # the Python package: its wheel (maturin build) into target/python-venv and a fresh venv, then pytest
 if [ "${CI:-}" = true ]; then du -sh target 2>/dev/null || true; df -h . | tail -1; fi  # disk footprint, logged
