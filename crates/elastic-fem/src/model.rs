@@ -84,86 +84,8 @@ impl Model {
         material: Material,
     ) -> FemResult<Self> {
         material.validate()?;
-        for (i, x) in nodes.iter().enumerate() {
-            if x.iter().any(|v| !v.is_finite()) {
-                return Err(FemError::NonFiniteCoordinate {
-                    node: i,
-                    coordinates: *x,
-                });
-            }
-        }
-        let n_nodes = nodes.len();
-        for e in 0..connectivity.len() {
-            let en = connectivity.element_nodes(e);
-            for (local, &node) in en.iter().enumerate() {
-                if node >= n_nodes {
-                    return Err(FemError::NodeIndexOutOfRange {
-                        element: e,
-                        local,
-                        node,
-                        node_count: n_nodes,
-                    });
-                }
-                if en[..local].contains(&node) {
-                    return Err(FemError::RepeatedNodeInElement { element: e, node });
-                }
-            }
-        }
-        let checks: Vec<(Result<f64, GeometryDefect>, bool)> = match &connectivity {
-            Connectivity::Tet4(c) => c
-                .par_iter()
-                .map(|el| {
-                    let x = el.map(|n| nodes[n]);
-                    (check_geometry::<4, Tet4>(&x, false), false)
-                })
-                .collect(),
-            Connectivity::Tet10(c) => c
-                .par_iter()
-                .map(|el| {
-                    let x = el.map(|n| nodes[n]);
-                    let curved = !is_straight_sided(&x);
-                    (check_geometry::<10, Tet10>(&x, curved), curved)
-                })
-                .collect(),
-        };
-        let mut quality = QualityReport {
-            min_quality: f64::INFINITY,
-            worst_element: 0,
-            poor_elements: Vec::new(),
-            curved_elements: 0,
-        };
-        let mut curved = Vec::with_capacity(checks.len());
-        for (e, (check, is_curved)) in checks.into_iter().enumerate() {
-            let q = match check {
-                Ok(q) => q,
-                Err(GeometryDefect::Inverted {
-                    det_jacobian,
-                    reference_point,
-                }) => {
-                    return Err(FemError::InvertedElement {
-                        element: e,
-                        det_jacobian,
-                        reference_point,
-                    });
-                }
-                Err(GeometryDefect::Degenerate { quality }) => {
-                    return Err(FemError::DegenerateElement {
-                        element: e,
-                        quality,
-                        minimum: crate::element::MIN_SHAPE_QUALITY,
-                    });
-                }
-            };
-            if q < quality.min_quality {
-                quality.min_quality = q;
-                quality.worst_element = e;
-            }
-            if q < POOR_SHAPE_QUALITY {
-                quality.poor_elements.push(e);
-            }
-            quality.curved_elements += usize::from(is_curved);
-            curved.push(is_curved);
-        }
+        check_nodes(&nodes, &connectivity)?;
+        let (quality, curved) = element_quality(&nodes, &connectivity)?;
         let n_elements = connectivity.len();
         Ok(Self {
             nodes,
@@ -280,4 +202,98 @@ impl Model {
     pub fn bounding_box(&self) -> ([f64; 3], [f64; 3]) {
         crate::locality::bounding_box(&self.nodes)
     }
+}
+
+/// Finite coordinates; every element's nodes in range and distinct.
+fn check_nodes(nodes: &[[f64; 3]], connectivity: &Connectivity) -> FemResult<()> {
+    for (i, x) in nodes.iter().enumerate() {
+        if x.iter().any(|v| !v.is_finite()) {
+            return Err(FemError::NonFiniteCoordinate {
+                node: i,
+                coordinates: *x,
+            });
+        }
+    }
+    let n_nodes = nodes.len();
+    for e in 0..connectivity.len() {
+        let en = connectivity.element_nodes(e);
+        for (local, &node) in en.iter().enumerate() {
+            if node >= n_nodes {
+                return Err(FemError::NodeIndexOutOfRange {
+                    element: e,
+                    local,
+                    node,
+                    node_count: n_nodes,
+                });
+            }
+            if en[..local].contains(&node) {
+                return Err(FemError::RepeatedNodeInElement { element: e, node });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Every element's shape quality (an inverted or degenerate element is an error naming it)
+/// and whether it is curved (a Tet10 with a midside node off its edge's midpoint).
+fn element_quality(
+    nodes: &[[f64; 3]],
+    connectivity: &Connectivity,
+) -> FemResult<(QualityReport, Vec<bool>)> {
+    let checks: Vec<(Result<f64, GeometryDefect>, bool)> = match connectivity {
+        Connectivity::Tet4(c) => c
+            .par_iter()
+            .map(|el| {
+                let x = el.map(|n| nodes[n]);
+                (check_geometry::<4, Tet4>(&x, false), false)
+            })
+            .collect(),
+        Connectivity::Tet10(c) => c
+            .par_iter()
+            .map(|el| {
+                let x = el.map(|n| nodes[n]);
+                let curved = !is_straight_sided(&x);
+                (check_geometry::<10, Tet10>(&x, curved), curved)
+            })
+            .collect(),
+    };
+    let mut quality = QualityReport {
+        min_quality: f64::INFINITY,
+        worst_element: 0,
+        poor_elements: Vec::new(),
+        curved_elements: 0,
+    };
+    let mut curved = Vec::with_capacity(checks.len());
+    for (e, (check, is_curved)) in checks.into_iter().enumerate() {
+        let q = match check {
+            Ok(q) => q,
+            Err(GeometryDefect::Inverted {
+                det_jacobian,
+                reference_point,
+            }) => {
+                return Err(FemError::InvertedElement {
+                    element: e,
+                    det_jacobian,
+                    reference_point,
+                });
+            }
+            Err(GeometryDefect::Degenerate { quality }) => {
+                return Err(FemError::DegenerateElement {
+                    element: e,
+                    quality,
+                    minimum: crate::element::MIN_SHAPE_QUALITY,
+                });
+            }
+        };
+        if q < quality.min_quality {
+            quality.min_quality = q;
+            quality.worst_element = e;
+        }
+        if q < POOR_SHAPE_QUALITY {
+            quality.poor_elements.push(e);
+        }
+        quality.curved_elements += usize::from(is_curved);
+        curved.push(is_curved);
+    }
+    Ok((quality, curved))
 }

@@ -77,6 +77,167 @@ fn same_value(a: f64, b: f64) -> bool {
     (a - b).abs() <= PRESCRIBED_CONFLICT_TOLERANCE * a.abs().max(b.abs())
 }
 
+/// Ties the components of every periodic pair (slave, master) into one class.
+fn link_periodic(
+    uf: &mut UnionFind,
+    constraints: &Constraints,
+    node_count: usize,
+) -> FemResult<()> {
+    for (p, periodic) in constraints.periodic.iter().enumerate() {
+        for &[s, m] in &periodic.pairs {
+            check_node(|| format!("periodic[{p}]"), s, node_count)?;
+            check_node(|| format!("periodic[{p}]"), m, node_count)?;
+            for c in (0..3).filter(|&c| periodic.components[c]) {
+                uf.union(3 * s + c, 3 * m + c);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The prescribed value of each full DOF, if any.
+struct Prescribed(Vec<Option<f64>>);
+
+impl Prescribed {
+    /// Prescribe `value` at `dof`: finite, and equal to any value given before.
+    fn set(&mut self, dof: usize, value: f64, what: &'static str) -> FemResult<()> {
+        if !value.is_finite() {
+            return Err(FemError::NonFiniteInput {
+                what,
+                node: dof / 3,
+                component: dof % 3,
+            });
+        }
+        match self.0[dof] {
+            Some(old) if !same_value(old, value) => Err(FemError::ConflictingPrescribedValues {
+                node: dof / 3,
+                component: dof % 3,
+                first_m: old,
+                second_m: value,
+            }),
+            _ => {
+                self.0[dof] = Some(value);
+                Ok(())
+            }
+        }
+    }
+
+    /// The Dirichlet values of `constraints`.
+    fn dirichlet(&mut self, constraints: &Constraints, node_count: usize) -> FemResult<()> {
+        for (d, dirichlet) in constraints.dirichlet.iter().enumerate() {
+            for &node in &dirichlet.nodes {
+                check_node(|| format!("dirichlet[{d}]"), node, node_count)?;
+                for c in 0..3 {
+                    if let Some(v) = dirichlet.displacement_m[c] {
+                        self.set(3 * node + c, v, "Dirichlet value")?;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Ties each rigid face's loaded or prescribed components into one class (on its first node);
+/// returns the loads, by the first node's DOF.
+fn link_rigid_faces(
+    uf: &mut UnionFind,
+    prescribed: &mut Prescribed,
+    constraints: &Constraints,
+    node_count: usize,
+) -> FemResult<Vec<(usize, f64)>> {
+    let mut class_force: Vec<(usize, f64)> = Vec::new();
+    for (r, face) in constraints.rigid_faces.iter().enumerate() {
+        for &node in &face.nodes {
+            check_node(|| format!("rigid_face[{r}]"), node, node_count)?;
+        }
+        let Some(&first) = face.nodes.first() else {
+            continue;
+        };
+        for c in 0..3 {
+            let tie = |uf: &mut UnionFind| {
+                face.nodes
+                    .iter()
+                    .for_each(|&node| uf.union(3 * first + c, 3 * node + c))
+            };
+            match face.components[c] {
+                RigidComponent::Free => {}
+                RigidComponent::Loaded { force_n } => {
+                    if !force_n.is_finite() {
+                        return Err(FemError::NonFiniteInput {
+                            what: "rigid face force",
+                            node: first,
+                            component: c,
+                        });
+                    }
+                    tie(uf);
+                    class_force.push((3 * first + c, force_n));
+                }
+                RigidComponent::Prescribed { displacement_m } => {
+                    tie(uf);
+                    prescribed.set(3 * first + c, displacement_m, "rigid face displacement")?;
+                }
+            }
+        }
+    }
+    Ok(class_force)
+}
+
+/// Each class's prescribed value (with the DOF that gave it), if any member is prescribed; the
+/// values of one class must agree.
+fn class_values(
+    uf: &mut UnionFind,
+    prescribed: &Prescribed,
+) -> FemResult<Vec<Option<(f64, usize)>>> {
+    let n = prescribed.0.len();
+    let mut class_value: Vec<Option<(f64, usize)>> = vec![None; n];
+    for dof in 0..n {
+        if let Some(v) = prescribed.0[dof] {
+            let root = uf.find(dof);
+            match class_value[root] {
+                Some((old, _)) if !same_value(old, v) => {
+                    return Err(FemError::ConflictingPrescribedValues {
+                        node: dof / 3,
+                        component: dof % 3,
+                        first_m: old,
+                        second_m: v,
+                    });
+                }
+                Some(_) => {}
+                None => class_value[root] = Some((v, dof)),
+            }
+        }
+    }
+    Ok(class_value)
+}
+
+/// The target of every full DOF (its class's value, or its class's reduced unknown, numbered
+/// in the order of the classes' first DOF) and each unknown's representative DOF.
+fn number_classes(
+    uf: &mut UnionFind,
+    class_value: &[Option<(f64, usize)>],
+) -> (Vec<DofTarget>, Vec<usize>) {
+    let n = class_value.len();
+    let mut class_index: Vec<usize> = vec![usize::MAX; n];
+    let mut targets = Vec::with_capacity(n);
+    let mut representative = Vec::new();
+    for dof in 0..n {
+        let root = uf.find(dof);
+        let target = match class_value[root] {
+            Some((v, _)) => DofTarget::Prescribed(v),
+            None => {
+                if class_index[root] == usize::MAX {
+                    class_index[root] = representative.len();
+                    representative.push(dof);
+                }
+                DofTarget::Reduced(class_index[root])
+            }
+        };
+        targets.push(target);
+    }
+    (targets, representative)
+}
+
 /// The map full DOF → reduced unknown or prescribed value, built from [`Constraints`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct DofMap {
@@ -101,121 +262,17 @@ impl DofMap {
     }
 
     /// Builds the map; errors name conflicting values, unknown nodes or non-finite inputs.
+    /// DOFs tied by periodic pairs and rigid faces form classes (union–find); a class with a
+    /// prescribed member is prescribed, every other class is one reduced unknown.
     pub fn new(node_count: usize, constraints: &Constraints) -> FemResult<Self> {
         let n = 3 * node_count;
         let mut uf = UnionFind::new(n);
-        for (p, periodic) in constraints.periodic.iter().enumerate() {
-            for &[s, m] in &periodic.pairs {
-                check_node(|| format!("periodic[{p}]"), s, node_count)?;
-                check_node(|| format!("periodic[{p}]"), m, node_count)?;
-                for c in (0..3).filter(|&c| periodic.components[c]) {
-                    uf.union(3 * s + c, 3 * m + c);
-                }
-            }
-        }
-        let mut prescribed: Vec<Option<f64>> = vec![None; n];
-        let mut set_prescribed = |dof: usize, value: f64, what: &'static str| -> FemResult<()> {
-            if !value.is_finite() {
-                return Err(FemError::NonFiniteInput {
-                    what,
-                    node: dof / 3,
-                    component: dof % 3,
-                });
-            }
-            match prescribed[dof] {
-                Some(old) if !same_value(old, value) => {
-                    Err(FemError::ConflictingPrescribedValues {
-                        node: dof / 3,
-                        component: dof % 3,
-                        first_m: old,
-                        second_m: value,
-                    })
-                }
-                _ => {
-                    prescribed[dof] = Some(value);
-                    Ok(())
-                }
-            }
-        };
-        for (d, dirichlet) in constraints.dirichlet.iter().enumerate() {
-            for &node in &dirichlet.nodes {
-                check_node(|| format!("dirichlet[{d}]"), node, node_count)?;
-                for c in 0..3 {
-                    if let Some(v) = dirichlet.displacement_m[c] {
-                        set_prescribed(3 * node + c, v, "Dirichlet value")?;
-                    }
-                }
-            }
-        }
-        let mut class_force: Vec<(usize, f64)> = Vec::new();
-        for (r, face) in constraints.rigid_faces.iter().enumerate() {
-            for &node in &face.nodes {
-                check_node(|| format!("rigid_face[{r}]"), node, node_count)?;
-            }
-            let Some(&first) = face.nodes.first() else {
-                continue;
-            };
-            for c in 0..3 {
-                match face.components[c] {
-                    RigidComponent::Free => {}
-                    RigidComponent::Loaded { force_n } => {
-                        if !force_n.is_finite() {
-                            return Err(FemError::NonFiniteInput {
-                                what: "rigid face force",
-                                node: first,
-                                component: c,
-                            });
-                        }
-                        face.nodes
-                            .iter()
-                            .for_each(|&node| uf.union(3 * first + c, 3 * node + c));
-                        class_force.push((3 * first + c, force_n));
-                    }
-                    RigidComponent::Prescribed { displacement_m } => {
-                        face.nodes
-                            .iter()
-                            .for_each(|&node| uf.union(3 * first + c, 3 * node + c));
-                        set_prescribed(3 * first + c, displacement_m, "rigid face displacement")?;
-                    }
-                }
-            }
-        }
-        // Resolve classes: a class with any prescribed member is prescribed (values must agree).
-        let mut class_value: Vec<Option<(f64, usize)>> = vec![None; n];
-        for dof in 0..n {
-            if let Some(v) = prescribed[dof] {
-                let root = uf.find(dof);
-                match class_value[root] {
-                    Some((old, _)) if !same_value(old, v) => {
-                        return Err(FemError::ConflictingPrescribedValues {
-                            node: dof / 3,
-                            component: dof % 3,
-                            first_m: old,
-                            second_m: v,
-                        });
-                    }
-                    Some(_) => {}
-                    None => class_value[root] = Some((v, dof)),
-                }
-            }
-        }
-        let mut class_index: Vec<usize> = vec![usize::MAX; n];
-        let mut targets = Vec::with_capacity(n);
-        let mut representative = Vec::new();
-        for dof in 0..n {
-            let root = uf.find(dof);
-            let target = match class_value[root] {
-                Some((v, _)) => DofTarget::Prescribed(v),
-                None => {
-                    if class_index[root] == usize::MAX {
-                        class_index[root] = representative.len();
-                        representative.push(dof);
-                    }
-                    DofTarget::Reduced(class_index[root])
-                }
-            };
-            targets.push(target);
-        }
+        link_periodic(&mut uf, constraints, node_count)?;
+        let mut prescribed = Prescribed(vec![None; n]);
+        prescribed.dirichlet(constraints, node_count)?;
+        let class_force = link_rigid_faces(&mut uf, &mut prescribed, constraints, node_count)?;
+        let class_value = class_values(&mut uf, &prescribed)?;
+        let (targets, representative) = number_classes(&mut uf, &class_value);
         let reduced_count = representative.len();
         let mut reduced_force = vec![0.0; reduced_count];
         for (dof, force) in class_force {

@@ -167,108 +167,13 @@ pub fn free_rigid_body_modes(model: &Model, dof_map: &DofMap) -> FemResult<Vec<F
         });
     }
     let bodies = find_bodies(model);
-    let nb = bodies.first_node.len();
-    let body_of = |dof: usize| Some(bodies.of_node[dof / 3]).filter(|&b| b != usize::MAX);
-    // Bodies coupled by ties form groups; each group is analysed on its own.
-    let mut group_parent: Vec<usize> = (0..nb).collect();
-    fn root(p: &mut [usize], mut x: usize) -> usize {
-        while p[x] != x {
-            p[x] = p[p[x]];
-            x = p[x];
-        }
-        x
-    }
-    let mut orphans = Vec::new();
-    for (dof, target) in dof_map.targets().iter().enumerate() {
-        if let DofTarget::Reduced(j) = target {
-            let rep = dof_map.representative_dof(*j);
-            match (body_of(dof), body_of(rep)) {
-                (None, _) if rep == dof => orphans.push(dof / 3),
-                (Some(a), Some(b)) if a != b => {
-                    let (ra, rb) = (root(&mut group_parent, a), root(&mut group_parent, b));
-                    group_parent[ra.max(rb)] = ra.min(rb);
-                }
-                _ => {}
-            }
-        }
-    }
-    if let Some(&node) = orphans.first() {
-        orphans.dedup();
-        return Err(FemError::UnconstrainedRigidBodyModes {
-            modes: format!(
-                "{} node(s) belong to no element and are not fixed, first node {node}",
-                orphans.len()
-            ),
-        });
-    }
-    let mut group_of_root = vec![usize::MAX; nb];
-    let mut group_bodies: Vec<Vec<usize>> = Vec::new();
-    let mut local = vec![0usize; nb];
-    let mut group_of_body = vec![0usize; nb];
-    for b in 0..nb {
-        let r = root(&mut group_parent, b);
-        if group_of_root[r] == usize::MAX {
-            group_of_root[r] = group_bodies.len();
-            group_bodies.push(Vec::new());
-        }
-        let g = group_of_root[r];
-        local[b] = group_bodies[g].len();
-        group_of_body[b] = g;
-        group_bodies[g].push(b);
-    }
-    let mut grams: Vec<Option<DMatrix<f64>>> = group_bodies
-        .iter()
-        .map(|bs| {
-            (6 * bs.len() <= MAX_GROUP_DIMENSION)
-                .then(|| DMatrix::zeros(6 * bs.len(), 6 * bs.len()))
-        })
-        .collect();
-    let mut row: Vec<(usize, f64)> = Vec::with_capacity(12);
-    for (dof, target) in dof_map.targets().iter().enumerate() {
-        row.clear();
-        let group = match target {
-            DofTarget::Prescribed(_) => {
-                let Some((b, v)) = mode_values(model, &bodies, dof) else {
-                    continue;
-                };
-                row.extend((0..6).map(|m| (6 * local[b] + m, v[m])));
-                group_of_body[b]
-            }
-            DofTarget::Reduced(j) => {
-                let rep = dof_map.representative_dof(*j);
-                if rep == dof {
-                    continue;
-                }
-                let (Some((b, v)), Some((br, vr))) = (
-                    mode_values(model, &bodies, dof),
-                    mode_values(model, &bodies, rep),
-                ) else {
-                    continue;
-                };
-                row.extend((0..6).map(|m| (6 * local[b] + m, v[m])));
-                for m in 0..6 {
-                    let col = 6 * local[br] + m;
-                    match row.iter_mut().find(|(i, _)| *i == col) {
-                        Some(entry) => entry.1 -= vr[m],
-                        None => row.push((col, -vr[m])),
-                    }
-                }
-                group_of_body[b]
-            }
-        };
-        if let Some(g) = grams[group].as_mut() {
-            for &(i, a) in &row {
-                for &(j, b) in &row {
-                    g[(i, j)] += a * b;
-                }
-            }
-        }
-    }
+    let groups = BodyGroups::new(&bodies, dof_map)?;
+    let grams = groups.grams(model, &bodies, dof_map);
     let mut modes = Vec::new();
     for (group, gram) in grams.into_iter().enumerate() {
         let Some(gram) = gram else { continue };
         for col in null_space_pivots(gram) {
-            let body = group_bodies[group][col / 6];
+            let body = groups.bodies[group][col / 6];
             modes.push(FreeRigidMode {
                 body,
                 body_node: bodies.first_node[body],
@@ -289,6 +194,145 @@ pub fn free_rigid_body_modes(model: &Model, dof_map: &DofMap) -> FemResult<Vec<F
         )
     });
     Ok(modes)
+}
+
+/// Bodies coupled by ties (a reduced unknown shared by DOFs of two bodies) form groups; each
+/// group is analysed on its own.
+struct BodyGroups {
+    /// The bodies of each group.
+    bodies: Vec<Vec<usize>>,
+    /// Each body's index within its group.
+    local: Vec<usize>,
+    /// Each body's group.
+    group_of_body: Vec<usize>,
+}
+
+impl BodyGroups {
+    /// The groups of `bodies` under `dof_map`'s ties; free nodes of no element are an error.
+    fn new(bodies: &Bodies, dof_map: &DofMap) -> FemResult<Self> {
+        let nb = bodies.first_node.len();
+        let body_of = |dof: usize| Some(bodies.of_node[dof / 3]).filter(|&b| b != usize::MAX);
+        let mut group_parent: Vec<usize> = (0..nb).collect();
+        fn root(p: &mut [usize], mut x: usize) -> usize {
+            while p[x] != x {
+                p[x] = p[p[x]];
+                x = p[x];
+            }
+            x
+        }
+        let mut orphans = Vec::new();
+        for (dof, target) in dof_map.targets().iter().enumerate() {
+            if let DofTarget::Reduced(j) = target {
+                let rep = dof_map.representative_dof(*j);
+                match (body_of(dof), body_of(rep)) {
+                    (None, _) if rep == dof => orphans.push(dof / 3),
+                    (Some(a), Some(b)) if a != b => {
+                        let (ra, rb) = (root(&mut group_parent, a), root(&mut group_parent, b));
+                        group_parent[ra.max(rb)] = ra.min(rb);
+                    }
+                    _ => {}
+                }
+            }
+        }
+        if let Some(&node) = orphans.first() {
+            orphans.dedup();
+            return Err(FemError::UnconstrainedRigidBodyModes {
+                modes: format!(
+                    "{} node(s) belong to no element and are not fixed, first node {node}",
+                    orphans.len()
+                ),
+            });
+        }
+        let mut group_of_root = vec![usize::MAX; nb];
+        let mut groups = BodyGroups {
+            bodies: Vec::new(),
+            local: vec![0usize; nb],
+            group_of_body: vec![0usize; nb],
+        };
+        for b in 0..nb {
+            let r = root(&mut group_parent, b);
+            if group_of_root[r] == usize::MAX {
+                group_of_root[r] = groups.bodies.len();
+                groups.bodies.push(Vec::new());
+            }
+            let g = group_of_root[r];
+            groups.local[b] = groups.bodies[g].len();
+            groups.group_of_body[b] = g;
+            groups.bodies[g].push(b);
+        }
+        Ok(groups)
+    }
+
+    /// Each group's Gram matrix of the constraint rows on its bodies' rigid modes (`None` for
+    /// a group above [`MAX_GROUP_DIMENSION`]).
+    fn grams(&self, model: &Model, bodies: &Bodies, dof_map: &DofMap) -> Vec<Option<DMatrix<f64>>> {
+        let mut grams: Vec<Option<DMatrix<f64>>> = self
+            .bodies
+            .iter()
+            .map(|bs| {
+                (6 * bs.len() <= MAX_GROUP_DIMENSION)
+                    .then(|| DMatrix::zeros(6 * bs.len(), 6 * bs.len()))
+            })
+            .collect();
+        let mut row: Vec<(usize, f64)> = Vec::with_capacity(12);
+        for (dof, target) in dof_map.targets().iter().enumerate() {
+            row.clear();
+            let Some(group) = self.constraint_row(model, bodies, dof_map, dof, target, &mut row)
+            else {
+                continue;
+            };
+            if let Some(g) = grams[group].as_mut() {
+                for &(i, a) in &row {
+                    for &(j, b) in &row {
+                        g[(i, j)] += a * b;
+                    }
+                }
+            }
+        }
+        grams
+    }
+
+    /// The constraint row of `dof` on its group's modes (a prescribed DOF: its mode values; a
+    /// tied DOF: its values minus its representative's) and the group; `None`: no row.
+    fn constraint_row(
+        &self,
+        model: &Model,
+        bodies: &Bodies,
+        dof_map: &DofMap,
+        dof: usize,
+        target: &DofTarget,
+        row: &mut Vec<(usize, f64)>,
+    ) -> Option<usize> {
+        let local = &self.local;
+        match target {
+            DofTarget::Prescribed(_) => {
+                let (b, v) = mode_values(model, bodies, dof)?;
+                row.extend((0..6).map(|m| (6 * local[b] + m, v[m])));
+                Some(self.group_of_body[b])
+            }
+            DofTarget::Reduced(j) => {
+                let rep = dof_map.representative_dof(*j);
+                if rep == dof {
+                    return None;
+                }
+                let (Some((b, v)), Some((br, vr))) = (
+                    mode_values(model, bodies, dof),
+                    mode_values(model, bodies, rep),
+                ) else {
+                    return None;
+                };
+                row.extend((0..6).map(|m| (6 * local[b] + m, v[m])));
+                for m in 0..6 {
+                    let col = 6 * local[br] + m;
+                    match row.iter_mut().find(|(i, _)| *i == col) {
+                        Some(entry) => entry.1 -= vr[m],
+                        None => row.push((col, -vr[m])),
+                    }
+                }
+                Some(self.group_of_body[b])
+            }
+        }
+    }
 }
 
 /// Null space of the Gram matrix G, named by the pivot columns of its row-reduced basis
