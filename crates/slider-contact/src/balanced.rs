@@ -391,7 +391,7 @@ fn descent(g: &[f64], t: &[f64], r: &[f64], s: f64, contact: &[bool]) -> (f64, f
 
 /// The step f ← max(f − τ t, 0) on the contact set; a penetrating post outside it re-enters
 /// (Polonsky & Keer step 7). Returns whether the contact set changed.
-fn step_forces(f: &mut [f64], t: &[f64], g: &[f64], contact: &[bool], tau: f64) -> bool {
+pub(crate) fn step_forces(f: &mut [f64], t: &[f64], g: &[f64], contact: &[bool], tau: f64) -> bool {
     let mut set_changed = false;
     for i in 0..f.len() {
         if contact[i] {

@@ -186,6 +186,46 @@ impl ConstrainedCg {
         Ok(())
     }
 
+    /// The conjugate direction t = g + δ (|g|² / |g_old|²) t on the contact set and r = s·C t;
+    /// a direction that does not descend restarts as steepest descent (δ = 0), else δ becomes 1.
+    /// Returns (g·t, t·(r − r̄)).
+    fn direction(
+        op: &dyn ComplianceOperator,
+        s: f64,
+        contact: &[bool],
+        g: &[f64],
+        (delta, g_old): (&mut f64, &mut f64),
+        t: &mut [f64],
+        r: &mut [f64],
+    ) -> (f64, f64) {
+        let n = g.len();
+        let g_norm: f64 = (0..n).filter(|&i| contact[i]).map(|i| g[i] * g[i]).sum();
+        for i in 0..n {
+            t[i] = if contact[i] {
+                g[i] + *delta * (g_norm / *g_old) * t[i]
+            } else {
+                0.0
+            };
+        }
+        *g_old = g_norm;
+        op.apply(t, r);
+        r.iter_mut().for_each(|x| *x *= s);
+        let r_mean = mean_on(r, contact);
+        let (mut gt, mut rt) = (0.0, 0.0);
+        for i in (0..n).filter(|&i| contact[i]) {
+            gt += g[i] * t[i];
+            rt += (r[i] - r_mean) * t[i];
+        }
+        if gt <= 0.0 && *delta != 0.0 {
+            // Not a descent direction (the kept conjugacy failed): steepest descent.
+            *delta = 0.0;
+            (gt, rt) = Self::steepest(op, s, contact, g, t, r);
+        } else {
+            *delta = 1.0;
+        }
+        (gt, rt)
+    }
+
     /// Solves the contact of `op`'s posts on obstacle heights `height_m` (m) under `preload_n`;
     /// gaps are scaled by `length_scale_m` (m).
     pub fn solve(
@@ -237,44 +277,17 @@ impl ConstrainedCg {
             if iteration == self.options.max_iterations {
                 break;
             }
-            let g_norm: f64 = (0..n).filter(|&i| contact[i]).map(|i| g[i] * g[i]).sum();
-            for i in 0..n {
-                t[i] = if contact[i] {
-                    g[i] + delta * (g_norm / g_old) * t[i]
-                } else {
-                    0.0
-                };
-            }
-            g_old = g_norm;
-            op.apply(&t, &mut r);
-            r.iter_mut().for_each(|x| *x *= s);
-            let r_mean = mean_on(&r, &contact);
-            let (mut gt, mut rt) = (0.0, 0.0);
-            for i in (0..n).filter(|&i| contact[i]) {
-                gt += g[i] * t[i];
-                rt += (r[i] - r_mean) * t[i];
-            }
-            if gt <= 0.0 && delta != 0.0 {
-                // Not a descent direction (the kept conjugacy failed): steepest descent.
-                delta = 0.0;
-                (gt, rt) = Self::steepest(op, s, &contact, &g, &mut t, &mut r);
-            } else {
-                delta = 1.0;
-            }
+            let (gt, rt) = Self::direction(
+                op,
+                s,
+                &contact,
+                &g,
+                (&mut delta, &mut g_old),
+                &mut t,
+                &mut r,
+            );
             let tau = if rt > 0.0 { gt / rt } else { 0.0 };
-            let mut set_changed = false;
-            for i in 0..n {
-                if contact[i] {
-                    let fi = f[i] - tau * t[i];
-                    set_changed |= fi <= 0.0;
-                    f[i] = fi.max(0.0);
-                }
-                if f[i] == 0.0 && g[i] < 0.0 {
-                    // Penetrating post outside the contact set re-enters (Polonsky & Keer step 7).
-                    f[i] = -tau.max(f64::MIN_POSITIVE) * g[i];
-                    set_changed = true;
-                }
-            }
+            let set_changed = crate::balanced::step_forces(&mut f, &t, &g, &contact, tau);
             let sum: f64 = f.iter().sum();
             if sum <= 0.0 {
                 f.iter_mut().for_each(|x| *x = 1.0);
