@@ -151,29 +151,12 @@ fn write_field(w: &mut dyn Write, field: &Field<'_>) -> std::io::Result<()> {
     writeln!(w, "        </DataArray>")
 }
 
-fn write_document(
+/// `<CellData>`: the given cell fields, then each tetrahedron's gmsh element and physical tags.
+fn write_cell_data(
     w: &mut dyn Write,
     mesh: &TetMesh,
-    point_fields: &[Field<'_>],
     cell_fields: &[Field<'_>],
 ) -> std::io::Result<()> {
-    writeln!(w, "<?xml version=\"1.0\"?>")?;
-    writeln!(
-        w,
-        "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">"
-    )?;
-    writeln!(w, "  <UnstructuredGrid>")?;
-    writeln!(
-        w,
-        "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">",
-        mesh.nodes.len(),
-        mesh.tets.len()
-    )?;
-    writeln!(w, "      <PointData>")?;
-    for field in point_fields {
-        write_field(w, field)?;
-    }
-    writeln!(w, "      </PointData>")?;
     writeln!(w, "      <CellData>")?;
     for field in cell_fields {
         write_field(w, field)?;
@@ -195,16 +178,11 @@ fn write_document(
     }
     writeln!(w, "        </DataArray>")?;
     writeln!(w, "      </CellData>")?;
-    writeln!(w, "      <Points>")?;
-    writeln!(
-        w,
-        "        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">"
-    )?;
-    for p in &mesh.nodes {
-        writeln!(w, "          {:e} {:e} {:e}", p[0], p[1], p[2])?;
-    }
-    writeln!(w, "        </DataArray>")?;
-    writeln!(w, "      </Points>")?;
+    Ok(())
+}
+
+/// `<Cells>`: connectivity (Tet10 in VTK's node order), offsets and cell types.
+fn write_cells(w: &mut dyn Write, mesh: &TetMesh) -> std::io::Result<()> {
     writeln!(w, "      <Cells>")?;
     writeln!(
         w,
@@ -250,6 +228,44 @@ fn write_document(
     }
     writeln!(w, "        </DataArray>")?;
     writeln!(w, "      </Cells>")?;
+    Ok(())
+}
+
+fn write_document(
+    w: &mut dyn Write,
+    mesh: &TetMesh,
+    point_fields: &[Field<'_>],
+    cell_fields: &[Field<'_>],
+) -> std::io::Result<()> {
+    writeln!(w, "<?xml version=\"1.0\"?>")?;
+    writeln!(
+        w,
+        "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">"
+    )?;
+    writeln!(w, "  <UnstructuredGrid>")?;
+    writeln!(
+        w,
+        "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">",
+        mesh.nodes.len(),
+        mesh.tets.len()
+    )?;
+    writeln!(w, "      <PointData>")?;
+    for field in point_fields {
+        write_field(w, field)?;
+    }
+    writeln!(w, "      </PointData>")?;
+    write_cell_data(w, mesh, cell_fields)?;
+    writeln!(w, "      <Points>")?;
+    writeln!(
+        w,
+        "        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">"
+    )?;
+    for p in &mesh.nodes {
+        writeln!(w, "          {:e} {:e} {:e}", p[0], p[1], p[2])?;
+    }
+    writeln!(w, "        </DataArray>")?;
+    writeln!(w, "      </Points>")?;
+    write_cells(w, mesh)?;
     writeln!(w, "    </Piece>")?;
     writeln!(w, "  </UnstructuredGrid>")?;
     writeln!(w, "</VTKFile>")

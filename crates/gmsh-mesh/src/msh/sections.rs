@@ -20,6 +20,73 @@ pub(crate) struct Section {
 /// Longest section name accepted (gmsh's longest is `ElementNodeData`).
 const MAX_SECTION_NAME_BYTES: usize = 64;
 
+/// The name of the section tag `$Name` at `pos` (its line ends at `line_end`): letters, digits
+/// and `_`, at most [`MAX_SECTION_NAME_BYTES`], not a closing tag.
+fn tag_name(source: Source<'_>, pos: usize, line_end: usize) -> Result<String> {
+    let bytes = source.bytes;
+    let tag_offset = pos;
+    let name_bytes = trim_ascii(&bytes[pos + 1..line_end]);
+    let name = match std::str::from_utf8(name_bytes) {
+        Ok(name)
+            if !name.is_empty()
+                && name.len() <= MAX_SECTION_NAME_BYTES
+                && name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_') =>
+        {
+            name.to_string()
+        }
+        _ => {
+            return Err(source.syntax(
+                "",
+                tag_offset,
+                "a section tag \"$Name\" on a line of its own",
+                describe_bytes(&bytes[pos..line_end.min(pos + MAX_SECTION_NAME_BYTES)]),
+            ));
+        }
+    };
+    if let Some(opened) = name.strip_prefix("End") {
+        return Err(source.syntax(
+            "",
+            tag_offset,
+            "a section opening tag",
+            format!("closing tag \"$End{opened}\" without a matching \"${opened}\""),
+        ));
+    }
+    Ok(name)
+}
+
+/// Where the section `name` opened on the line ending at `line_end` closes: the end of its
+/// content (the `$End{name}` line's start) and the end of the closing tag's line, which must
+/// hold nothing else.
+fn section_end(source: Source<'_>, name: &str, line_end: usize) -> Result<(usize, usize)> {
+    let bytes = source.bytes;
+    let closing = format!("\n$End{name}");
+    let content_end = match find(&bytes[line_end..], closing.as_bytes()) {
+        Some(i) => line_end + i + 1,
+        None => {
+            return Err(source.truncated(
+                name,
+                bytes.len(),
+                format!("\"$End{name}\" closing the section"),
+            ));
+        }
+    };
+    // The closing tag must end its line.
+    let after = content_end + closing.len() - 1;
+    let closing_line_end = bytes[after..]
+        .iter()
+        .position(|&b| b == b'\n')
+        .map_or(bytes.len(), |i| after + i);
+    if !trim_ascii(&bytes[after..closing_line_end]).is_empty() {
+        return Err(source.syntax(
+            name,
+            after,
+            format!("end of line after \"$End{name}\""),
+            describe_bytes(&bytes[after..closing_line_end.min(after + MAX_SECTION_NAME_BYTES)]),
+        ));
+    }
+    Ok((content_end, closing_line_end))
+}
+
 /// Split `source` into sections. Text between sections other than whitespace is an error.
 pub(crate) fn scan_sections(source: Source<'_>) -> Result<Vec<Section>> {
     let bytes = source.bytes;
@@ -54,32 +121,7 @@ pub(crate) fn scan_sections(source: Source<'_>) -> Result<Vec<Section>> {
             .iter()
             .position(|&b| b == b'\n')
             .map_or(bytes.len(), |i| pos + i);
-        let name_bytes = trim_ascii(&bytes[pos + 1..line_end]);
-        let name = match std::str::from_utf8(name_bytes) {
-            Ok(name)
-                if !name.is_empty()
-                    && name.len() <= MAX_SECTION_NAME_BYTES
-                    && name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_') =>
-            {
-                name.to_string()
-            }
-            _ => {
-                return Err(source.syntax(
-                    "",
-                    tag_offset,
-                    "a section tag \"$Name\" on a line of its own",
-                    describe_bytes(&bytes[pos..line_end.min(pos + MAX_SECTION_NAME_BYTES)]),
-                ));
-            }
-        };
-        if let Some(opened) = name.strip_prefix("End") {
-            return Err(source.syntax(
-                "",
-                tag_offset,
-                "a section opening tag",
-                format!("closing tag \"$End{opened}\" without a matching \"${opened}\""),
-            ));
-        }
+        let name = tag_name(source, pos, line_end)?;
         if line_end >= bytes.len() {
             return Err(source.truncated(
                 &name,
@@ -88,31 +130,7 @@ pub(crate) fn scan_sections(source: Source<'_>) -> Result<Vec<Section>> {
             ));
         }
         let content_start = line_end + 1;
-        let closing = format!("\n$End{name}");
-        let content_end = match find(&bytes[line_end..], closing.as_bytes()) {
-            Some(i) => line_end + i + 1,
-            None => {
-                return Err(source.truncated(
-                    &name,
-                    bytes.len(),
-                    format!("\"$End{name}\" closing the section"),
-                ));
-            }
-        };
-        // The closing tag must end its line.
-        let after = content_end + closing.len() - 1;
-        let closing_line_end = bytes[after..]
-            .iter()
-            .position(|&b| b == b'\n')
-            .map_or(bytes.len(), |i| after + i);
-        if !trim_ascii(&bytes[after..closing_line_end]).is_empty() {
-            return Err(source.syntax(
-                &name,
-                after,
-                format!("end of line after \"$End{name}\""),
-                describe_bytes(&bytes[after..closing_line_end.min(after + MAX_SECTION_NAME_BYTES)]),
-            ));
-        }
+        let (content_end, closing_line_end) = section_end(source, &name, line_end)?;
         sections.push(Section {
             name,
             tag_offset,
@@ -132,6 +150,43 @@ pub(crate) struct MeshFormat {
 
 /// MSH format version this reader accepts.
 pub(crate) const SUPPORTED_VERSION: &str = "4.1";
+
+/// A binary `$MeshFormat`: the little-endian integer 1 after the format line (ending at
+/// `line_end`), and `data_size`-byte sizes.
+fn binary_encoding(
+    source: Source<'_>,
+    section: &Section,
+    line_end: usize,
+    data_size: usize,
+) -> Result<Encoding> {
+    let bytes = source.bytes;
+    let one_start = line_end + 1;
+    if section.content_end < one_start + 4 {
+        return Err(source.truncated(
+            "MeshFormat",
+            one_start,
+            "the binary integer 1 (endianness check)",
+        ));
+    }
+    let mut word = [0u8; 4];
+    word.copy_from_slice(&bytes[one_start..one_start + 4]);
+    if i32::from_le_bytes(word) != 1 {
+        let found = if i32::from_be_bytes(word) == 1 {
+            "a big-endian file (only little-endian binary MSH is read)".to_string()
+        } else {
+            describe_bytes(&word)
+        };
+        return Err(source.syntax(
+            "MeshFormat",
+            one_start,
+            "the little-endian binary integer 1",
+            found,
+        ));
+    }
+    Ok(Encoding::Binary {
+        size_t_bytes: data_size,
+    })
+}
 
 /// Parse `$MeshFormat`: version 4.1, file type 0 (ASCII) or 1 (binary), data size 4 or 8, and in
 /// binary files the little-endian integer 1.
@@ -194,34 +249,7 @@ pub(crate) fn parse_mesh_format(source: Source<'_>, section: &Section) -> Result
     };
     let encoding = match fields[1] {
         "0" => Encoding::Ascii,
-        "1" => {
-            let one_start = line_end + 1;
-            if section.content_end < one_start + 4 {
-                return Err(source.truncated(
-                    "MeshFormat",
-                    one_start,
-                    "the binary integer 1 (endianness check)",
-                ));
-            }
-            let mut word = [0u8; 4];
-            word.copy_from_slice(&bytes[one_start..one_start + 4]);
-            if i32::from_le_bytes(word) != 1 {
-                let found = if i32::from_be_bytes(word) == 1 {
-                    "a big-endian file (only little-endian binary MSH is read)".to_string()
-                } else {
-                    describe_bytes(&word)
-                };
-                return Err(source.syntax(
-                    "MeshFormat",
-                    one_start,
-                    "the little-endian binary integer 1",
-                    found,
-                ));
-            }
-            Encoding::Binary {
-                size_t_bytes: data_size,
-            }
-        }
+        "1" => binary_encoding(source, section, line_end, data_size)?,
         other => {
             return Err(source.syntax(
                 "MeshFormat",
