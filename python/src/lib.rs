@@ -26,8 +26,8 @@ use std::time::Instant;
 use pyo3::prelude::*;
 use sawdrive::output::{ResultKind, StagedDir};
 use sawdrive::pipeline::{
-    RunControl, RunOptions, StaticOutcome, run_dynamic_stage, run_pipeline, run_static,
-    scene_springs, write_dynamic_stage_files, write_static_files,
+    RunControl, RunOptions, StaticOutcome, effective_ratio, run_dynamic_stage, run_pipeline,
+    run_static, scene_springs, write_dynamic_stage_files, write_static_files,
 };
 use sawdrive::scene::{DEFAULT_SCENE_TOML, Scene, load_scene};
 use sawdrive::sweep::Cancel;
@@ -208,24 +208,15 @@ fn static_stage<'py>(
     convert::to_py(py, &value)
 }
 
-/// η of `scene` with where it came from, and the static stage's outcome when it ran: given, or
-/// from the static stage (as `sawdrive dynamic` does).
+/// η of `scene` with where it came from, and the static stage's outcome when it ran: the
+/// library's one branch ([`effective_ratio`], as `sawdrive run` and `sawdrive dynamic` take it).
 fn scene_eta(
     scene: &Scene,
     cache: Option<&Path>,
     control: &RunControl,
 ) -> Result<(f64, &'static str, Option<StaticOutcome>), Failure> {
-    if let Some(eta) = scene.contact.effective_ratio {
-        return Ok((eta, "given", None));
-    }
-    let outcome = run_static(scene, &springs_of(scene)?, cache, false, control)?;
-    let eta = outcome.effective_ratio.ok_or_else(|| {
-        Failure::text(
-            Kind::Pipeline,
-            "the static stage could not identify η: give --set effective_ratio=0.36",
-        )
-    })?;
-    Ok((eta, "fem", Some(outcome)))
+    let eta = effective_ratio(scene, &springs_of(scene)?, cache, false, control)?;
+    Ok((eta.value, eta.source, eta.statics))
 }
 
 /// Whether the dynamic stage of `scene` is the period average with η given: milliseconds, run

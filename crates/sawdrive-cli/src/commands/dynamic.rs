@@ -1,10 +1,9 @@
 //! `sawdrive dynamic`: the stick/slip model with the scene's η (or the static stage's); for a
 //! ball slider (`slider.shape = "ball"`), the ball model.
 
-use anyhow::anyhow;
 use sawdrive::output::{ResultKind, StagedDir};
 use sawdrive::pipeline::{
-    RunControl, check_dynamic_figures, run_ball_stage, run_dynamic_stage, run_static,
+    RunControl, check_dynamic_figures, effective_ratio, run_ball_stage, run_dynamic_stage,
     scene_springs, write_ball_stage_files, write_dynamic_stage_files,
 };
 use sawdrive::scene::{Scene, load_scene};
@@ -18,23 +17,14 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
     }
     let springs = scene_springs(&scene)?;
     let cache = (!args.no_cache).then(|| args.out.join(".cache"));
-    let statics = match scene.contact.effective_ratio {
-        Some(_) => None,
-        None => Some(run_static(
-            &scene,
-            &springs,
-            cache.as_deref(),
-            false,
-            &RunControl::none(),
-        )?),
-    };
-    let eta = match (&statics, scene.contact.effective_ratio) {
-        (_, Some(eta)) => eta,
-        (Some(outcome), None) => outcome.effective_ratio.ok_or_else(|| {
-            anyhow!("the static stage could not identify η: give --set effective_ratio=0.36")
-        })?,
-        (None, None) => unreachable!("the static stage runs when η is not given"),
-    };
+    let given_or_fem = effective_ratio(
+        &scene,
+        &springs,
+        cache.as_deref(),
+        false,
+        &RunControl::none(),
+    )?;
+    let (eta, statics) = (given_or_fem.value, given_or_fem.statics);
     let stage = run_dynamic_stage(
         &scene,
         &springs,

@@ -14,6 +14,7 @@ pub mod evaluate;
 mod run;
 mod slider_static;
 mod springs;
+mod stages;
 mod statics;
 
 pub use attenuation::{
@@ -37,6 +38,7 @@ pub use slider_static::{
     SliderStage, run_slider_static, slider_content_hash, slider_params, write_slider_maps,
 };
 pub use springs::scene_springs;
+pub use stages::{EffectiveRatio, effective_ratio};
 pub use statics::{
     StaticDetails, StaticOutcome, StaticStageReport, fill_static_cache, geometry_key,
     static_params, write_static_files,

@@ -7,7 +7,7 @@ use contact_springs::PostSprings;
 use serde::Serialize;
 
 use super::{
-    DynamicStage, PipelineError, RunControl, run_dynamic_stage, run_static, scene_springs,
+    DynamicStage, PipelineError, RunControl, effective_ratio, run_dynamic_stage, scene_springs,
     write_dynamic_stage_files, write_static_files,
 };
 use crate::output::{ResultKind, StagedDir};
@@ -183,41 +183,25 @@ pub fn run_pipeline(
     timings.springs_s = t.elapsed().as_secs_f64();
 
     let t = Instant::now();
-    let (effective_ratio, source, static_figures, static_outcome) =
-        match scene.contact.effective_ratio {
-            Some(eta) => (eta, "given", None, None),
-            None => {
-                control.stage("static FEM contact (η)");
-                let outcome = run_static(
-                    scene,
-                    &springs,
-                    options.cache_dir.as_deref(),
-                    options.write_files,
-                    control,
-                )?;
-                let eta = outcome.effective_ratio.ok_or_else(|| PipelineError::Unsupported {
-                stage: "static",
-                message: format!(
-                    "η is not identifiable for this scene ({}); give effective_ratio as a number",
-                    outcome
-                        .report
-                        .effective_contact_ratio_note
-                        .as_deref()
-                        .unwrap_or("no reason given")
-                ),
-            })?;
-                let r = &outcome.report;
-                let figures = StaticFigures {
-                    cached: outcome.cached,
-                    content_hash: outcome.content_hash.clone(),
-                    load_sharing: Some(r.load_sharing),
-                    contact_fraction: Some(r.contact_fraction),
-                    complementarity_residual: Some(r.complementarity_residual),
-                    iterations: Some(r.iterations as u64),
-                };
-                (eta, "fem", Some(figures), Some(outcome))
-            }
-        };
+    let eta = effective_ratio(
+        scene,
+        &springs,
+        options.cache_dir.as_deref(),
+        options.write_files,
+        control,
+    )?;
+    let (effective_ratio, source, static_outcome) = (eta.value, eta.source, eta.statics);
+    let static_figures = static_outcome.as_ref().map(|outcome| {
+        let r = &outcome.report;
+        StaticFigures {
+            cached: outcome.cached,
+            content_hash: outcome.content_hash.clone(),
+            load_sharing: Some(r.load_sharing),
+            contact_fraction: Some(r.contact_fraction),
+            complementarity_residual: Some(r.complementarity_residual),
+            iterations: Some(r.iterations as u64),
+        }
+    });
     timings.static_s = t.elapsed().as_secs_f64();
 
     control.stage("stick/slip dynamics");
