@@ -322,6 +322,43 @@ where
     }
 }
 
+/// The start point and one step along each axis (backwards where a forward step would leave
+/// the unit box), evaluated.
+fn initial_simplex<F, M>(
+    ev: &mut Evaluator<'_, F>,
+    start: &[f64],
+    step: f64,
+) -> Vec<(Vec<f64>, Outcome)>
+where
+    F: Fn(&[f64]) -> std::result::Result<Outcome, M> + Sync,
+    M: std::fmt::Display,
+{
+    let n = start.len();
+    let mut simplex: Vec<(Vec<f64>, Outcome)> = Vec::with_capacity(n + 1);
+    let o = ev.eval(start);
+    simplex.push((start.to_vec(), o));
+    for d in 0..n {
+        let mut p = start.to_vec();
+        p[d] += if p[d] + step <= 1.0 { step } else { -step };
+        let o = ev.eval(&p);
+        simplex.push((p, o));
+    }
+    simplex
+}
+
+/// Best vertex first, worst last (stable for ties).
+fn sort_simplex(simplex: &mut [(Vec<f64>, Outcome)], sense: Sense) {
+    simplex.sort_by(|a, b| {
+        if worse(&a.1, &b.1, sense) {
+            std::cmp::Ordering::Greater
+        } else if worse(&b.1, &a.1, sense) {
+            std::cmp::Ordering::Less
+        } else {
+            std::cmp::Ordering::Equal
+        }
+    });
+}
+
 /// One Nelder–Mead run from unit point `start`.
 fn nelder_mead<F, M>(
     ev: &mut Evaluator<'_, F>,
@@ -335,26 +372,10 @@ fn nelder_mead<F, M>(
 {
     let n = start.len();
     let clamp = |p: Vec<f64>| p.into_iter().map(|v| v.clamp(0.0, 1.0)).collect::<Vec<_>>();
-    let mut simplex: Vec<(Vec<f64>, Outcome)> = Vec::with_capacity(n + 1);
-    let o = ev.eval(start);
-    simplex.push((start.to_vec(), o));
-    for d in 0..n {
-        let mut p = start.to_vec();
-        p[d] += if p[d] + step <= 1.0 { step } else { -step };
-        let o = ev.eval(&p);
-        simplex.push((p, o));
-    }
+    let mut simplex = initial_simplex(ev, start, step);
     let budget = ev.log.len() + budget;
     while ev.log.len() < budget {
-        simplex.sort_by(|a, b| {
-            if worse(&a.1, &b.1, sense) {
-                std::cmp::Ordering::Greater
-            } else if worse(&b.1, &a.1, sense) {
-                std::cmp::Ordering::Less
-            } else {
-                std::cmp::Ordering::Equal
-            }
-        });
+        sort_simplex(&mut simplex, sense);
         let size = simplex[1..]
             .iter()
             .flat_map(|(p, _)| p.iter().zip(&simplex[0].0).map(|(a, b)| (a - b).abs()))

@@ -787,6 +787,31 @@ fn row(spec: &DesignSpec, e: &Evaluation) -> EvaluationRow {
     }
 }
 
+/// The optimum found: its variables by report name, the objective and the outputs.
+fn optimum(spec: &DesignSpec, best: &Evaluation) -> Optimum {
+    Optimum {
+        variables: spec
+            .variables
+            .iter()
+            .map(|v| v.name.clone())
+            .zip(best.x.iter().copied())
+            .collect(),
+        objective: spec.objective.output.clone(),
+        objective_value: best.outcome.objective,
+        fidelity: best.fidelity.clone(),
+        stage: best.stage,
+        outputs: best.outcome.outputs.clone(),
+    }
+}
+
+/// Per fidelity: the evaluations computed and their mean cost (s).
+fn mean_costs(timing: BTreeMap<String, (usize, f64)>) -> Vec<(String, usize, f64)> {
+    timing
+        .into_iter()
+        .map(|(k, (n, s))| (k, n, if n > 0 { s / n as f64 } else { 0.0 }))
+        .collect()
+}
+
 /// Runs the design study; writes `OUT/<name>/` when complete.
 pub fn run_design<E: Evaluator>(
     ev: &E,
@@ -835,27 +860,10 @@ pub fn run_design<E: Evaluator>(
         &full,
     )?;
     let baseline = baseline(ev, spec, &full);
-    let cost = timing
-        .into_inner()
-        .unwrap_or_default()
-        .into_iter()
-        .map(|(k, (n, s))| (k, n, if n > 0 { s / n as f64 } else { 0.0 }))
-        .collect();
+    let cost = mean_costs(timing.into_inner().unwrap_or_default());
     let mut report = DesignReport {
         name: spec.name.clone(),
-        optimum: Optimum {
-            variables: spec
-                .variables
-                .iter()
-                .map(|v| v.name.clone())
-                .zip(best.x.iter().copied())
-                .collect(),
-            objective: spec.objective.output.clone(),
-            objective_value: best.outcome.objective,
-            fidelity: best.fidelity.clone(),
-            stage: best.stage,
-            outputs: best.outcome.outputs.clone(),
-        },
+        optimum: optimum(spec, best),
         baseline,
         quantile: spec.quantile,
         sensitivity,

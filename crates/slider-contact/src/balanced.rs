@@ -164,14 +164,7 @@ impl BalancedCg {
         let f0 = preload_n / n as f64;
         let s = f0 / length_scale_m;
         let h: Vec<f64> = height_m.iter().map(|x| x / length_scale_m).collect();
-        let mut f = vec![1.0; n];
-        if !rebalance(&mut f, arms) {
-            return Err(invalid(
-                "load.point",
-                f64::NAN,
-                "the posts cannot balance the preload's moments (load point outside the post array)",
-            ));
-        }
+        let mut f = initial_forces(n, arms)?;
         let (mut t, mut u, mut r, mut g) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         let mut z = vec![0.0; n];
         let (mut delta, mut g_old) = (0.0, 1.0);
@@ -225,27 +218,63 @@ impl BalancedCg {
             let tau = if rt > 0.0 { gt / rt } else { 0.0 };
             let set_changed = step_forces(&mut f, &t, &g, &contact, tau);
             previous_contact = contact;
-            updated_for = match updated_for {
-                Some(k) if !set_changed && k < MAX_UPDATED_U => {
-                    u.iter_mut().zip(&r).for_each(|(ui, ri)| *ui -= tau * ri);
-                    Some(k + 1)
-                }
-                _ => None,
-            };
+            updated_for = advance_u(updated_for, set_changed, tau, &r, &mut u);
             if updated_for.is_none() && !rebalance(&mut f, arms) {
-                f.iter_mut().for_each(|x| *x = 1.0);
-                rebalance(&mut f, arms);
+                restart_forces(&mut f, arms);
                 delta = 0.0;
             }
         }
-        Err(SliderError::NotConverged {
-            iterations: self.options.max_iterations,
-            residual: history.last().copied().unwrap_or(f64::NAN),
-            tolerance: self.options.tolerance,
-            active: f.iter().filter(|&&x| x > 0.0).count(),
-            posts: n,
-            context: String::new(),
-        })
+        Err(not_converged(&self.options, &history, &f))
+    }
+}
+
+/// u ← u − τ C t (r = C t) while the contact set is unchanged, for at most
+/// [`MAX_UPDATED_U`] iterations; `None`: recompute u from f.
+fn advance_u(
+    updated_for: Option<usize>,
+    set_changed: bool,
+    tau: f64,
+    r: &[f64],
+    u: &mut [f64],
+) -> Option<usize> {
+    match updated_for {
+        Some(k) if !set_changed && k < MAX_UPDATED_U => {
+            u.iter_mut().zip(r).for_each(|(ui, ri)| *ui -= tau * ri);
+            Some(k + 1)
+        }
+        _ => None,
+    }
+}
+
+/// Equal forces balanced against the preload's moments; refused (naming `load.point`) when the
+/// posts cannot balance them.
+fn initial_forces(n: usize, arms: &[(f64, f64)]) -> Result<Vec<f64>> {
+    let mut f = vec![1.0; n];
+    if !rebalance(&mut f, arms) {
+        return Err(invalid(
+            "load.point",
+            f64::NAN,
+            "the posts cannot balance the preload's moments (load point outside the post array)",
+        ));
+    }
+    Ok(f)
+}
+
+/// Forces that cannot be rebalanced start again from equal forces, balanced.
+fn restart_forces(f: &mut [f64], arms: &[(f64, f64)]) {
+    f.iter_mut().for_each(|x| *x = 1.0);
+    rebalance(f, arms);
+}
+
+/// The iteration limit reached: the last residual, the tolerance and the contact set's size.
+pub(crate) fn not_converged(options: &CgOptions, history: &[f64], f: &[f64]) -> SliderError {
+    SliderError::NotConverged {
+        iterations: options.max_iterations,
+        residual: history.last().copied().unwrap_or(f64::NAN),
+        tolerance: options.tolerance,
+        active: f.iter().filter(|&&x| x > 0.0).count(),
+        posts: f.len(),
+        context: String::new(),
     }
 }
 

@@ -25,7 +25,7 @@
 
 use serde::Serialize;
 
-use crate::error::{Result, SliderError, invalid};
+use crate::error::{Result, invalid};
 use crate::lattice::ComplianceOperator;
 
 /// Default tolerance on the scaled complementarity residual max_i |min(f_i N/P, g_i/L)|.
@@ -296,33 +296,37 @@ impl ConstrainedCg {
             } else {
                 let scale = n as f64 / sum;
                 f.iter_mut().for_each(|x| *x *= scale);
-                updated_for = match updated_for {
-                    Some(k) if !set_changed && k < MAX_UPDATED_U => {
-                        // r = s·Ct here.
-                        for (ui, ri) in u.iter_mut().zip(&r) {
-                            *ui = (*ui - tau * ri / s) * scale;
-                        }
-                        Some(k + 1)
-                    }
-                    _ => None,
-                };
+                updated_for = rescaled_u(updated_for, set_changed, (tau, s, scale), &r, &mut u);
             }
         }
-        let last = history.last().copied().unwrap_or(f64::NAN);
-        Err(SliderError::NotConverged {
-            iterations: self.options.max_iterations,
-            residual: last,
-            tolerance: self.options.tolerance,
-            active: f.iter().filter(|&&x| x > 0.0).count(),
-            posts: n,
-            context: String::new(),
-        })
+        Err(crate::balanced::not_converged(&self.options, &history, &f))
+    }
+}
+
+/// u ← (u − τ C t) · scale (r = s·C t) while the contact set is unchanged, for at most
+/// [`MAX_UPDATED_U`] iterations; `None`: recompute u from f.
+fn rescaled_u(
+    updated_for: Option<usize>,
+    set_changed: bool,
+    (tau, s, scale): (f64, f64, f64),
+    r: &[f64],
+    u: &mut [f64],
+) -> Option<usize> {
+    match updated_for {
+        Some(k) if !set_changed && k < MAX_UPDATED_U => {
+            for (ui, ri) in u.iter_mut().zip(r) {
+                *ui = (*ui - tau * ri / s) * scale;
+            }
+            Some(k + 1)
+        }
+        _ => None,
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::SliderError;
     use nalgebra::DMatrix;
     use static_contact::lumped::independent_posts;
 

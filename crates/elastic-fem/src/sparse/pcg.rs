@@ -145,6 +145,27 @@ fn geometric_tail(increments: &[f64], limit: f64) -> Option<f64> {
     (q < limit).then(|| increments[k - 1] * q / (1.0 - q))
 }
 
+/// Whether the energy error estimate meets the tolerance: the last `d` increments over the
+/// energy (delayed estimate, kept in the report), or the geometric tail of the increments.
+fn converged(report: &mut PcgReport, energy: f64, d: usize, options: &PcgOptions) -> bool {
+    let k = report.energy_increments.len();
+    if k >= d {
+        let tail: f64 = report.energy_increments[k - d..].iter().sum();
+        report.relative_energy_error = (tail / energy).sqrt();
+        if report.relative_energy_error <= options.relative_energy_error {
+            return true;
+        }
+    }
+    if let Some(tail) = geometric_tail(&report.energy_increments, options.contraction_limit) {
+        let estimate = (tail / energy).sqrt();
+        if estimate <= options.relative_energy_error {
+            report.relative_energy_error = estimate;
+            return true;
+        }
+    }
+    false
+}
+
 /// Solves A x = b by PCG from x₀ = 0. `apply_a(v, out)` sets out = A v, `apply_m(r, out)` sets
 /// out = M⁻¹ r (symmetric positive definite). On success `x` holds the solution.
 pub fn pcg(
@@ -201,20 +222,8 @@ pub fn pcg(
         energy += increment;
         report.energy_increments.push(increment);
         report.residual_history.push(dot(r, r).sqrt() / b_norm);
-        let k = report.energy_increments.len();
-        if k >= d {
-            let tail: f64 = report.energy_increments[k - d..].iter().sum();
-            report.relative_energy_error = (tail / energy).sqrt();
-            if report.relative_energy_error <= options.relative_energy_error {
-                return Ok(report);
-            }
-        }
-        if let Some(tail) = geometric_tail(&report.energy_increments, options.contraction_limit) {
-            let estimate = (tail / energy).sqrt();
-            if estimate <= options.relative_energy_error {
-                report.relative_energy_error = estimate;
-                return Ok(report);
-            }
+        if converged(&mut report, energy, d, options) {
+            return Ok(report);
         }
         apply_m(r, z)?;
         let gamma_new = dot(r, z);

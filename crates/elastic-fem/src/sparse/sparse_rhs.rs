@@ -113,24 +113,7 @@ impl NumericCholesky {
             .iter()
             .map(|node| node.pattern.iter().min().map(|&r| owner[r]))
             .collect();
-        // Active columns of every supernode (ascending): the columns whose reach holds it.
-        let mut active: Vec<Vec<usize>> = vec![Vec::new(); nodes.len()];
-        let mut stamp = vec![usize::MAX; nodes.len()];
-        for (c, column) in columns.iter().enumerate() {
-            for &(row, _) in column {
-                if row >= dim {
-                    return Err(FemError::SparseBackend(format!(
-                        "row {row} of sparse column {c} is out of range (dim {dim})"
-                    )));
-                }
-                let mut k = Some(owner[inverse_perm[row]]);
-                while let Some(s) = k.filter(|&s| stamp[s] != c) {
-                    stamp[s] = c;
-                    active[s].push(c);
-                    k = parent[s];
-                }
-            }
-        }
+        let active = active_columns(columns, dim, (&owner, &inverse_perm, &parent))?;
         // Y block of supernode k: width × |active[k]| column-major at offset[k].
         let mut offset = Vec::with_capacity(nodes.len() + 1);
         offset.push(0usize);
@@ -178,6 +161,35 @@ impl NumericCholesky {
         }
         Ok(((&gram + gram.transpose()) * 0.5, stats))
     }
+}
+
+/// Active columns of every supernode (ascending): the columns whose reach (the supernodes of
+/// their rows and the ancestors of those in the elimination tree) holds it. `owner` maps a
+/// permuted row to its supernode, `inverse_perm` a row to its permuted row, `parent` a
+/// supernode to its parent. Fails on a row out of range.
+fn active_columns(
+    columns: &[SparseColumn],
+    dim: usize,
+    (owner, inverse_perm, parent): (&[usize], &[usize], &[Option<usize>]),
+) -> FemResult<Vec<Vec<usize>>> {
+    let mut active: Vec<Vec<usize>> = vec![Vec::new(); parent.len()];
+    let mut stamp = vec![usize::MAX; parent.len()];
+    for (c, column) in columns.iter().enumerate() {
+        for &(row, _) in column {
+            if row >= dim {
+                return Err(FemError::SparseBackend(format!(
+                    "row {row} of sparse column {c} is out of range (dim {dim})"
+                )));
+            }
+            let mut k = Some(owner[inverse_perm[row]]);
+            while let Some(s) = k.filter(|&s| stamp[s] != c) {
+                stamp[s] = c;
+                active[s].push(c);
+                k = parent[s];
+            }
+        }
+    }
+    Ok(active)
 }
 
 /// Solves L_kk Y_k = (accumulated right-hand side) in place and adds Y_kᵀ Y_k to the Gram matrix
