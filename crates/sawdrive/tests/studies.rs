@@ -586,3 +586,29 @@ fn the_case_study_samples_that_hit_a_zeno_loop_evaluate() {
         );
     }
 }
+
+#[test]
+fn a_design_files_unknown_or_mistyped_key_is_refused_by_its_dotted_path() {
+    for (from, to, path) in [
+        ("[optimiser]", "[optimiser]\nstart = 2", "optimiser.start"),
+        (
+            "[variables]",
+            "[constraints]\nmin_gaps = \"5 um\"\n[variables]",
+            "constraints.min_gaps",
+        ),
+        (
+            "[variables]",
+            "[variables]\n\"posts.colour\" = [1, 2]",
+            "variables.posts.colour",
+        ),
+        ("[\"1 N\", \"4 N\"]", "[1, 4]", "variables.load.preload"),
+        (
+            "name = \"small\"",
+            "name = \"small\"\nsamples_per_design = 3",
+            "samples_per_design",
+        ),
+    ] {
+        let e = parse(&SMALL_DESIGN.replace(from, to)).unwrap_err();
+        assert!(e.starts_with(path), "{to}: {e}");
+    }
+}
