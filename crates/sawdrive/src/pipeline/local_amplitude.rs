@@ -23,10 +23,10 @@ use contact_springs::PostSprings;
 use serde::Serialize;
 
 use super::attenuation::{AmplitudeProfile, LumpedAttenuation, attenuate_lumped};
-use super::dynamics::{DynamicRun, run_dynamic};
-use super::slider_static::slider_eta_at_profile;
-use super::statics::{StaticDetails, StaticOutcome};
+use super::static_stage::slider::slider_eta_at_profile;
+use super::{DynamicRun, run_dynamic};
 use super::{PipelineError, RunControl};
+use super::{StaticDetails, StaticOutcome};
 use crate::scene::Scene;
 
 /// Relative change of η between two passes below which η is settled. Default 1e-3 (the lumped

@@ -170,7 +170,7 @@ pub fn run_pipeline(
     control: &RunControl,
 ) -> Result<(RunSummary, PathBuf), PipelineError> {
     if scene.ball.is_some() {
-        return super::ball::run_ball_pipeline(scene, options, control);
+        return run_ball_pipeline(scene, options, control);
     }
     let start = Instant::now();
     let destination = options.out_dir.join(&scene.name);
@@ -277,6 +277,62 @@ pub fn run_pipeline(
         coupled: CoupledFigures::of(&stage),
         curve: stage.curve(),
         warnings: stage.lumped.result.warnings.clone(),
+        timings,
+        files: names,
+        drive: stage.drive,
+    };
+    summary.check_finite()?;
+    staged.write("summary.json", serde_json::to_vec_pretty(&summary)?)?;
+    let folder = staged.commit()?;
+    Ok((summary, folder))
+}
+
+/// `sawdrive run` of a ball scene: the ball's dynamic stage and `OUT/<name>/` with its files
+/// and `summary.json` (η and N_eff are 1: the one contact carries the whole preload; no
+/// springs, static figures or lumped estimates).
+fn run_ball_pipeline(
+    scene: &Scene,
+    options: &RunOptions,
+    control: &RunControl,
+) -> Result<(RunSummary, PathBuf), PipelineError> {
+    let start = Instant::now();
+    let staged = StagedDir::create(&options.out_dir.join(&scene.name), ResultKind::Run)?;
+    PipelineError::check(control, "dynamic (ball)")?;
+    let stage = super::run_ball_stage(scene)?;
+    PipelineError::check(control, "output")?;
+    let mut timings = StageTimings {
+        dynamic_s: stage.wall_time_s,
+        ..StageTimings::default()
+    };
+    let t = Instant::now();
+    let mut names = Vec::new();
+    if options.write_files {
+        for file in super::write_ball_stage_files(&scene.name, &stage, staged.path())? {
+            names.extend(file.file_name().and_then(|n| n.to_str()).map(str::to_owned));
+        }
+    }
+    names.push("summary.json".into());
+    timings.output_s = t.elapsed().as_secs_f64();
+    timings.total_s = start.elapsed().as_secs_f64();
+    let r = &stage.result;
+    let summary = RunSummary {
+        scene: scene.clone(),
+        springs: None,
+        effective_contact_ratio: 1.0,
+        effective_contact_ratio_source: "ball".into(),
+        effective_post_count: 1.0,
+        static_figures: None,
+        stall_thrust_n: r.stall_thrust_n,
+        no_load_speed_m_per_s: r.no_load_speed_m_per_s,
+        efficiency: r.max_efficiency,
+        stick_fraction: stage.stick_fraction(),
+        model: "ball".into(),
+        model_reason: super::dynamic_stage::ball::BALL_REASON.into(),
+        lumped_error_estimate: None,
+        model_error_estimate: None,
+        coupled: None,
+        curve: stage.curve(),
+        warnings: stage.warnings.clone(),
         timings,
         files: names,
         drive: stage.drive,

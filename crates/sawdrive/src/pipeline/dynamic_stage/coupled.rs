@@ -20,15 +20,15 @@ use coupled_dynamics::{
     LumpedEvidence, PostHistories, PostMode, PreloadBalance, choose_model, lumped_error_estimate,
 };
 use nalgebra::DMatrix;
-use serde::{Deserialize, Serialize};
-use static_contact::{StaticParams, StripModel};
+use serde::Serialize;
 use stick_slip::{CurvePoint, DynamicResult, ModelKind, VerticalModel};
 
-use super::attenuation::{self, WaveAttenuation, WaveBooks};
-use super::local_amplitude::LocalAmplitudeEta;
-use super::statics::{StaticDetails, StaticOutcome, geometry_key, sha256_hex, static_params};
-use super::{DynamicRun, PipelineError, RunControl, run_dynamic, write_history_charts};
+use super::lumped::{DynamicRun, run_dynamic, write_history_charts};
 use crate::output::io;
+use crate::pipeline::attenuation::{self, WaveAttenuation, WaveBooks};
+use crate::pipeline::local_amplitude::LocalAmplitudeEta;
+use crate::pipeline::{PipelineError, RunControl};
+use crate::pipeline::{StaticDetails, StaticOutcome, strip_tips};
 use crate::scene::StaticModel;
 use crate::scene::{DEFAULT_COUPLED_STEPS_PER_PERIOD, Dynamics, Scene};
 
@@ -460,7 +460,7 @@ pub fn run_dynamic_stage(
                 let mut attenuated =
                     attenuation::attenuate_lumped(scene, &lumped.scene, &mut lumped.result)?;
                 if let Some(statics) = statics {
-                    local_amplitude = super::local_amplitude::settle(
+                    local_amplitude = crate::pipeline::local_amplitude::settle(
                         scene,
                         springs,
                         statics,
@@ -721,127 +721,4 @@ fn step_error_estimate(fine: [f64; 2], coarse: [f64; 2], stall_thrust_n: f64) ->
         .map(|i| (fine[i] - coarse[i]).abs())
         .fold(0.0, f64::max);
     largest / (2f64.powf(COUPLED_STEP_ORDER) - 1.0) / stall_thrust_n
-}
-
-/// Version of a compliance cache entry: its layout and how its values are computed (2: the
-/// tangential compliance from partial forward solves, values within 2e-15 relative of 1's).
-const COMPLIANCE_FORMAT: u32 = 2;
-
-/// The strip's posts and tip compliances (column-major n × n), as cached.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-struct StripTips {
-    post_x_m: Vec<f64>,
-    normal_m_per_n: Vec<f64>,
-    tangential_m_per_n: Vec<f64>,
-    strip_share: f64,
-}
-
-/// A compliance cache entry: the tips and the SHA-256 of their JSON.
-#[derive(Debug, Serialize, Deserialize)]
-struct ComplianceEntry {
-    format: u32,
-    geometry_key: String,
-    tips_sha256: String,
-    tips: StripTips,
-}
-
-impl StripTips {
-    fn of(strip: &StripModel, strip_share: f64) -> Result<Self, PipelineError> {
-        let tips = strip.tip_compliance()?;
-        Ok(Self {
-            post_x_m: strip.posts.iter().map(|p| p.x_m).collect(),
-            normal_m_per_n: tips.normal_m_per_n.as_slice().to_vec(),
-            tangential_m_per_n: tips.tangential_m_per_n.as_slice().to_vec(),
-            strip_share,
-        })
-    }
-}
-
-/// Store the tip compliances of a freshly condensed strip in the compliance cache of
-/// `cache_dir`, so that coupled runs of its geometry (a sweep's points) need no second FEM.
-pub(crate) fn cache_strip_tips(
-    model: &StripModel,
-    params: &StaticParams,
-    cache_dir: &Path,
-) -> Result<(), PipelineError> {
-    let key = geometry_key(params)?;
-    let tips = StripTips::of(model, params.strip_share())?;
-    store(
-        Some(&cache_dir.join(format!("compliance-{key}.json"))),
-        &key,
-        &tips,
-    )
-}
-
-/// The strip's tips: from the fresh static analysis, else from the verified cache, else from
-/// one strip condensation (then cached). A damaged entry is rebuilt and said so on stderr.
-fn strip_tips(
-    scene: &Scene,
-    statics: &StaticOutcome,
-    cache_dir: Option<&Path>,
-) -> Result<StripTips, PipelineError> {
-    let params = static_params(scene, cache_dir.map(|d| d.join("meshes")).as_deref())?;
-    let share = params.strip_share();
-    let key = geometry_key(&params)?;
-    let file = cache_dir.map(|d| d.join(format!("compliance-{key}.json")));
-    if let Some(analysis) = &statics.analysis {
-        let tips = StripTips::of(&analysis.model, share)?;
-        store(file.as_deref(), &key, &tips)?;
-        return Ok(tips);
-    }
-    if let Some(file) = &file {
-        match lookup(file, &key) {
-            Ok(Some(tips)) => return Ok(tips),
-            Ok(None) => {}
-            Err(why) => eprintln!(
-                "note: compliance cache entry {} not used: {why}; recomputing it",
-                file.display()
-            ),
-        }
-    }
-    let prepared = static_contact::prepare_strip(&params)?;
-    let tips = StripTips::of(&prepared.model, share)?;
-    store(file.as_deref(), &key, &tips)?;
-    Ok(tips)
-}
-
-/// A verified entry (`Ok(Some)`), none (`Ok(None)`), or why the entry is damaged.
-fn lookup(file: &Path, key: &str) -> Result<Option<StripTips>, String> {
-    let Ok(bytes) = std::fs::read(file) else {
-        return Ok(None);
-    };
-    let entry: ComplianceEntry = serde_json::from_slice(&bytes)
-        .map_err(|e| format!("not a compliance cache entry ({e})"))?;
-    if entry.format != COMPLIANCE_FORMAT {
-        return Err(format!(
-            "cache format {} (now {COMPLIANCE_FORMAT})",
-            entry.format
-        ));
-    }
-    let tips_bytes = serde_json::to_vec(&entry.tips).map_err(|e| e.to_string())?;
-    if sha256_hex(&tips_bytes) != entry.tips_sha256 {
-        return Err("the compliances do not match the hash stored with them (edited?)".into());
-    }
-    if entry.geometry_key != key {
-        return Err("it holds the compliances of another geometry".into());
-    }
-    let n = entry.tips.post_x_m.len();
-    if entry.tips.normal_m_per_n.len() != n * n || entry.tips.tangential_m_per_n.len() != n * n {
-        return Err(format!("its matrices are not {n} × {n}"));
-    }
-    Ok(Some(entry.tips))
-}
-
-fn store(file: Option<&Path>, key: &str, tips: &StripTips) -> Result<(), PipelineError> {
-    let Some(file) = file else {
-        return Ok(());
-    };
-    let entry = ComplianceEntry {
-        format: COMPLIANCE_FORMAT,
-        geometry_key: key.to_owned(),
-        tips_sha256: sha256_hex(&serde_json::to_vec(tips)?),
-        tips: tips.clone(),
-    };
-    crate::output::write_atomically(file, serde_json::to_vec(&entry)?)?;
-    Ok(())
 }

@@ -22,9 +22,9 @@ use slider_contact::{
     LatticeGeometry, NearFieldCalibration, SliderError, SliderParams, SliderReport,
 };
 
-use super::PipelineError;
-use super::statics::{geometry_key, sha256_hex, static_params};
+use super::keys::{geometry_key, sha256_hex, static_params};
 use crate::output::io;
+use crate::pipeline::PipelineError;
 use crate::scene::{Scene, StaticModel};
 
 /// Layout version of the cache entries of this module (the physics is in the hashes).

@@ -25,9 +25,10 @@ use charts::{Chart, Series, Style};
 use serde::Serialize;
 use stick_slip::Warning;
 
-use super::attenuation::{WaveAttenuation, WaveBooks};
-use super::{DriveFigures, PipelineError, RunOptions, RunSummary, StageTimings};
-use crate::output::{ResultKind, StagedDir, io};
+use super::coupled::DriveFigures;
+use crate::output::io;
+use crate::pipeline::PipelineError;
+use crate::pipeline::attenuation::{WaveAttenuation, WaveBooks};
 use crate::scene::Scene;
 
 /// Fraction of the wave power across the contact's width above which the ball's draw makes the
@@ -69,7 +70,7 @@ struct BallJson<'a> {
 }
 
 /// Why the ball model runs.
-const BALL_REASON: &str = "slider.shape = \"ball\": one Hertz contact with Mindlin–Cattaneo \
+pub(crate) const BALL_REASON: &str = "slider.shape = \"ball\": one Hertz contact with Mindlin–Cattaneo \
                            partial slip (crate ball-slider)";
 
 impl BallStage {
@@ -327,74 +328,4 @@ pub fn write_ball_stage_files(
         .push(Series::new("ball", points, Style::LineMarkers));
     files.extend(charts::write_chart(&chart, &dir.join("speed_thrust"))?);
     Ok(files)
-}
-
-/// `sawdrive run` of a ball scene: the ball's dynamic stage and `OUT/<name>/` with its files
-/// and `summary.json` (η and N_eff are 1: the one contact carries the whole preload; no
-/// springs, static figures or lumped estimates).
-pub fn run_ball_pipeline(
-    scene: &Scene,
-    options: &RunOptions,
-    control: &super::RunControl,
-) -> Result<(RunSummary, PathBuf), PipelineError> {
-    let start = Instant::now();
-    let staged = StagedDir::create(&options.out_dir.join(&scene.name), ResultKind::Run)?;
-    PipelineError::check(control, "dynamic (ball)")?;
-    let stage = run_ball_stage(scene)?;
-    PipelineError::check(control, "output")?;
-    let mut timings = StageTimings {
-        dynamic_s: stage.wall_time_s,
-        ..StageTimings::default()
-    };
-    let t = Instant::now();
-    let mut names = Vec::new();
-    if options.write_files {
-        for file in write_ball_stage_files(&scene.name, &stage, staged.path())? {
-            names.extend(file.file_name().and_then(|n| n.to_str()).map(str::to_owned));
-        }
-    }
-    names.push("summary.json".into());
-    timings.output_s = t.elapsed().as_secs_f64();
-    timings.total_s = start.elapsed().as_secs_f64();
-    let r = &stage.result;
-    let summary = RunSummary {
-        scene: scene.clone(),
-        springs: None,
-        effective_contact_ratio: 1.0,
-        effective_contact_ratio_source: "ball".into(),
-        effective_post_count: 1.0,
-        static_figures: None,
-        stall_thrust_n: r.stall_thrust_n,
-        no_load_speed_m_per_s: r.no_load_speed_m_per_s,
-        efficiency: r.max_efficiency,
-        stick_fraction: stage.stick_fraction(),
-        model: "ball".into(),
-        model_reason: BALL_REASON.into(),
-        lumped_error_estimate: None,
-        model_error_estimate: None,
-        coupled: None,
-        curve: stage.curve(),
-        warnings: stage.warnings.clone(),
-        timings,
-        files: names,
-        drive: stage.drive,
-    };
-    summary.check_finite()?;
-    staged.write("summary.json", serde_json::to_vec_pretty(&summary)?)?;
-    let folder = staged.commit()?;
-    Ok((summary, folder))
-}
-
-/// The static stage has no ball: refused naming `slider.shape`.
-pub fn refuse_static(scene: &Scene) -> Result<(), PipelineError> {
-    match scene.ball {
-        None => Ok(()),
-        Some(_) => Err(PipelineError::Unsupported {
-            stage: "static",
-            message: "slider.shape = \"ball\" has no post array and no static stage (one Hertz \
-                      contact, solved in closed form by the dynamic stage): run `sawdrive \
-                      dynamic` or `sawdrive run`"
-                .into(),
-        }),
-    }
 }

@@ -9,7 +9,7 @@ use stick_slip::{
     TransientOptions,
 };
 
-use super::{PipelineError, RunControl};
+use crate::pipeline::{PipelineError, RunControl};
 use crate::scene::{DEFAULT_CURVE_POINTS, DEFAULT_TRANSIENT_PERIODS, Model, Scene};
 
 /// Steps per wave period of a fixed-step integrator when the scene says `time_step = "auto"`.

@@ -1,6 +1,6 @@
 //! Static stage: the slider pressed on the frozen wave → post forces and η, by the model
 //! `static.model` chooses ([`StaticModel::choose`]): the strip (one post row, FEM) here, the
-//! whole slider in [`super::slider_static`]. The strip's verified cache:
+//! whole slider in [`super::slider`]. The strip's verified cache:
 //! `static-<content hash>.json` holds the typed report with the SHA-256 of its JSON and of the
 //! cached field files; an entry that fails the check is rebuilt and reported on stderr, and
 //! results folders get copies of cached files (never hard links).
@@ -10,53 +10,13 @@ use std::path::{Path, PathBuf};
 
 use contact_springs::PostSprings;
 use serde::{Deserialize, Serialize};
-use sha2::{Digest, Sha256};
-use static_contact::{ContactError, MeshChoice, StaticAnalysis, StaticParams, StaticReport};
+use static_contact::{ContactError, StaticAnalysis, StaticParams, StaticReport};
 
-use super::slider_static::{SliderStage, announce, run_slider_static, write_slider_maps};
-use super::{PipelineError, RunControl};
+use super::keys::{sha256_hex, static_params};
+use super::slider::{SliderStage, announce, run_slider_static, write_slider_maps};
 use crate::output::{ResultKind, StagedDir, io};
+use crate::pipeline::{PipelineError, RunControl};
 use crate::scene::{Scene, StaticModel};
-
-/// Relative tolerance on equal x and y pitch (the strip model needs a square post lattice).
-const PITCH_MISMATCH_TOLERANCE: f64 = 1e-9;
-
-/// The static stage's parameters for `scene`: the motor's ([`StaticParams::for_motor`]) with the
-/// scene's static settings.
-pub fn static_params(
-    scene: &Scene,
-    mesh_cache_dir: Option<&Path>,
-) -> Result<StaticParams, PipelineError> {
-    let posts = &scene.motor.posts;
-    if !posts.is_square_lattice(PITCH_MISMATCH_TOLERANCE) {
-        return Err(PipelineError::Unsupported {
-            stage: "static",
-            message: format!(
-                "the strip model needs equal pitch in x and y, got {} m and {} m (posts.array / count): \
-                 give effective_ratio as a number to skip the static stage",
-                posts.pitch_x_m(),
-                posts.pitch_y_m()
-            ),
-        });
-    }
-    let settings = &scene.static_fem;
-    let mesh = match settings.mesh.as_str() {
-        "auto" => MeshChoice::Auto,
-        path => MeshChoice::File(PathBuf::from(path)),
-    };
-    Ok(StaticParams {
-        phases: settings.phases as usize,
-        element_order: settings.element_order as u8,
-        strip_rows: settings.strip_rows as usize,
-        stator: settings.stator,
-        mesh,
-        contact_tolerance: settings.tolerance_for(StaticModel::Strip),
-        max_iterations: settings.max_iterations as usize,
-        fem_solver: settings.fem_solver,
-        mesh_cache_dir: mesh_cache_dir.map(Path::to_owned),
-        ..StaticParams::for_motor(&scene.motor)
-    })
-}
 
 /// The static stage's report, whichever model ran: the contract's numbers as fields (the same
 /// for both models) and the model's own report. Its JSON is the model's report with `model`,
@@ -192,20 +152,13 @@ struct CacheEntry {
 
 /// What a cache lookup found.
 #[derive(Debug)]
-enum Lookup {
+pub(super) enum Lookup {
     /// A verified report (and verified field files, if they were asked for).
     Hit(Box<StaticReport>),
     /// No entry, or one without the field files that were asked for.
     Miss,
     /// An entry that fails verification, and why.
     Damaged(String),
-}
-
-pub(crate) fn sha256_hex(bytes: &[u8]) -> String {
-    Sha256::digest(bytes)
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect()
 }
 
 /// SHA-256 of every file of `dir` by name.
@@ -222,7 +175,7 @@ fn hash_folder(dir: &Path) -> Result<BTreeMap<String, String>, PipelineError> {
 
 /// Read and verify the entry `file` for the inputs `content_hash`; with `fields`, also the
 /// field files in that folder against the hashes the entry recorded.
-fn lookup(file: &Path, content_hash: &str, fields: Option<&Path>) -> Lookup {
+pub(super) fn lookup(file: &Path, content_hash: &str, fields: Option<&Path>) -> Lookup {
     let Ok(bytes) = std::fs::read(file) else {
         return Lookup::Miss;
     };
@@ -264,7 +217,11 @@ fn lookup(file: &Path, content_hash: &str, fields: Option<&Path>) -> Lookup {
 }
 
 /// Write the entry for `report` (with the hashes of the field files in `fields`, if any).
-fn store(file: &Path, report: &StaticReport, fields: Option<&Path>) -> Result<(), PipelineError> {
+pub(super) fn store(
+    file: &Path,
+    report: &StaticReport,
+    fields: Option<&Path>,
+) -> Result<(), PipelineError> {
     let entry = CacheEntry {
         format: CACHE_FORMAT,
         report_sha256: sha256_hex(&serde_json::to_vec(report)?),
@@ -276,7 +233,7 @@ fn store(file: &Path, report: &StaticReport, fields: Option<&Path>) -> Result<()
 }
 
 /// A solver that stopped names the scene keys that limit it; other errors pass through.
-fn static_error(error: ContactError, params: &StaticParams) -> PipelineError {
+pub(super) fn static_error(error: ContactError, params: &StaticParams) -> PipelineError {
     match error {
         e @ ContactError::NotConverged { .. } => PipelineError::StaticNotConverged {
             source: e,
@@ -436,91 +393,4 @@ pub fn write_static_files(
         _ => {}
     }
     Ok(files)
-}
-
-/// Hash of what the condensed strip model depends on: the static inputs without the preloads
-/// and snapshot phases (which only enter the cheap contact solves).
-pub fn geometry_key(params: &StaticParams) -> Result<String, PipelineError> {
-    let mut geometry = params.clone();
-    geometry.preload_n = 1.0;
-    geometry.preload_sweep_n.clear();
-    geometry.phases = 1;
-    Ok(geometry.content_hash()?)
-}
-
-/// Fill the static cache for many scenes (a sweep) with one FEM condensation per distinct
-/// geometry: scenes that differ only in preload share the factorised strip, and each gets its
-/// own cached report. Scenes with a given η or an existing cache entry are skipped. Returns the
-/// number of condensations run and the groups that failed (their points fail on their own later).
-pub fn fill_static_cache(scenes: &[Scene], cache_dir: &Path) -> (usize, Vec<(String, String)>) {
-    let mut groups: Vec<(String, Vec<(StaticParams, String)>)> = Vec::new();
-    // Whole-slider scenes calibrate and cache on their own (one strip FEM per geometry).
-    for scene in scenes.iter().filter(|s| {
-        s.contact.effective_ratio.is_none()
-            && s.static_fem.model.choose(&s.motor).0 == StaticModel::Strip
-    }) {
-        let Ok(params) = static_params(scene, Some(&cache_dir.join("meshes"))) else {
-            continue;
-        };
-        let (Ok(key), Ok(hash)) = (geometry_key(&params), params.content_hash()) else {
-            continue;
-        };
-        let file = cache_dir.join(format!("static-{hash}.json"));
-        match lookup(&file, &hash, None) {
-            Lookup::Hit(_) => continue,
-            Lookup::Damaged(why) => announce(&[format!(
-                "static cache entry {} not used: {why}; recomputing it",
-                file.display()
-            )]),
-            Lookup::Miss => {}
-        }
-        match groups.iter_mut().find(|(k, _)| *k == key) {
-            Some((_, members)) if !members.iter().any(|(_, h)| *h == hash) => {
-                members.push((params, hash))
-            }
-            Some(_) => {}
-            None => groups.push((key, vec![(params, hash)])),
-        }
-    }
-    let mut built = 0;
-    let mut failures = Vec::new();
-    for (key, members) in groups {
-        if let Err(e) = condense_and_cache(&members, cache_dir) {
-            failures.push((key, e.to_string()));
-        } else {
-            built += 1;
-        }
-    }
-    (built, failures)
-}
-
-/// Build the strip model of the first member once and cache a report for every member.
-fn condense_and_cache(
-    members: &[(StaticParams, String)],
-    cache_dir: &Path,
-) -> Result<(), PipelineError> {
-    let prepared = static_contact::prepare_strip(&members[0].0)?;
-    announce(&prepared.notes);
-    super::coupled::cache_strip_tips(&prepared.model, &members[0].0, cache_dir)?;
-    for (params, hash) in members {
-        let report = static_contact::analysis::report_for_model(
-            &prepared.model,
-            params,
-            &params.post_springs()?,
-            hash.clone(),
-            prepared.mesh_file.clone(),
-            params.solver_options(),
-            prepared.mesh_s,
-            prepared.condensation_s,
-            std::time::Instant::now(),
-            &RunControl::none(),
-        )
-        .map_err(|e| static_error(e, params))?;
-        store(
-            &cache_dir.join(format!("static-{hash}.json")),
-            &report,
-            None,
-        )?;
-    }
-    Ok(())
 }

@@ -1,0 +1,12 @@
+//! The dynamic stage: the lumped model ([`lumped`]: stick-slip's period average or transient on
+//! N_eff = η·N posts), the coupled model of every post of the strip row ([`coupled`], run when
+//! `model.dynamics` asks for it or `auto` finds the lumped model's estimated error above
+//! `model.lumped_tolerance`: the decision is `coupled::run_dynamic_stage`'s), and the ball
+//! slider ([`ball`]). The energy-conserving wave's decision is `pipeline::attenuation`.
+//!
+//! One-way: the stage reads the static stage only through its typed outcome
+//! ([`crate::pipeline::StaticOutcome`]) and tip compliances ([`crate::pipeline::strip_tips`]).
+
+pub(crate) mod ball;
+pub(crate) mod coupled;
+pub(crate) mod lumped;
