@@ -11,9 +11,10 @@
 //! at the static η is never above `coupled_dynamics::lumped_error_estimate` (the README's
 //! criterion, "≥ the measured error in every scene"); the energy balance closes to
 //! [`super::coupled_dynamics::ENERGY_BALANCE`]. The tip compliances are cached (JSON) in
-//! `coupled-strips/` of the mesh cache (`static_contact::mesh_source::cache_dir`); a strip costs
-//! ≈ 45 s of meshing and FEM the first time. [`run`] writes every column of `sliders.csv`
-//! (`results/short_strips.csv`), so a full run's file is the next committed reference.
+//! `coupled-strips/` of the mesh cache (`static_contact::mesh_source::cache_dir`), keyed by the
+//! strip's content hash; a strip costs 1–2 s of meshing and FEM the first time (release
+//! build). [`run`] writes every column of `sliders.csv` (`results/short_strips.csv`), so a full
+//! run's file is the next committed reference.
 //!
 //! [`work_precision`] (full level): the README's work-precision chart of the default slider at
 //! 40 N on its short strip — coupled T/32 … T/512 against coupled T/1024, the lumped closed form
