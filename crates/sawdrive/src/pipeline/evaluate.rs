@@ -271,7 +271,7 @@ pub fn evaluate_with(
     let dynamic = dynamic_scene(&scene, &springs, eta)?;
     let mut result = stick_slip::solve(&dynamic)?;
     // `wave.attenuation`, as in the dynamic stage: the energy-conserving wave when it is on.
-    super::attenuation::attenuate_lumped(&scene, &dynamic, &mut result)?;
+    super::dynamic_stage::attenuation::attenuate_lumped(&scene, &dynamic, &mut result)?;
     let max_output_power_w = result
         .curve
         .iter()

@@ -22,7 +22,7 @@ use std::path::Path;
 use contact_springs::PostSprings;
 use serde::Serialize;
 
-use super::attenuation::{AmplitudeProfile, LumpedAttenuation, attenuate_lumped};
+use super::dynamic_stage::attenuation::{AmplitudeProfile, LumpedAttenuation, attenuate_lumped};
 use super::static_stage::slider::slider_eta_at_profile;
 use super::{DynamicRun, run_dynamic};
 use super::{PipelineError, RunControl};

@@ -4,7 +4,6 @@
 //! Each stage is a function of the scene (and the previous stage's output), so a user can stop
 //! after any stage or feed a hand-chosen η to the dynamics (`effective_ratio = 0.36`).
 
-mod attenuation;
 mod dynamic_stage;
 mod error;
 pub mod evaluate;
@@ -13,7 +12,7 @@ mod run;
 mod stages;
 mod static_stage;
 
-pub use attenuation::{
+pub use dynamic_stage::attenuation::{
     AmplitudeProfile, LumpedAttenuation, WaveAttenuation, WaveBooks, wave_power_under_array_w,
 };
 pub use dynamic_stage::ball::{

@@ -25,10 +25,10 @@ use charts::{Chart, Series, Style};
 use serde::Serialize;
 use stick_slip::Warning;
 
+use super::attenuation::{WaveAttenuation, WaveBooks};
 use super::coupled::DriveFigures;
 use crate::output::io;
 use crate::pipeline::PipelineError;
-use crate::pipeline::attenuation::{WaveAttenuation, WaveBooks};
 use crate::scene::Scene;
 
 /// Fraction of the wave power across the contact's width above which the ball's draw makes the

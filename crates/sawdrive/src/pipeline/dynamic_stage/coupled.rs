@@ -23,9 +23,9 @@ use nalgebra::DMatrix;
 use serde::Serialize;
 use stick_slip::{CurvePoint, DynamicResult, ModelKind, VerticalModel};
 
+use super::attenuation::{self, WaveAttenuation, WaveBooks};
 use super::lumped::{DynamicRun, run_dynamic, write_history_charts};
 use crate::output::io;
-use crate::pipeline::attenuation::{self, WaveAttenuation, WaveBooks};
 use crate::pipeline::local_amplitude::LocalAmplitudeEta;
 use crate::pipeline::{PipelineError, RunControl};
 use crate::pipeline::{StaticDetails, StaticOutcome, strip_tips};

@@ -2,11 +2,16 @@
 //! N_eff = η·N posts), the coupled model of every post of the strip row ([`coupled`], run when
 //! `model.dynamics` asks for it or `auto` finds the lumped model's estimated error above
 //! `model.lumped_tolerance`: the decision is `coupled::run_dynamic_stage`'s), and the ball
-//! slider ([`ball`]). The energy-conserving wave's decision is `pipeline::attenuation`.
+//! slider ([`ball`]); the energy-conserving wave's decision and solves for every dynamic model
+//! ([`attenuation`]).
 //!
 //! One-way: the stage reads the static stage only through its typed outcome
 //! ([`crate::pipeline::StaticOutcome`]) and tip compliances ([`crate::pipeline::strip_tips`]).
 
+pub(crate) mod attenuation;
 pub(crate) mod ball;
 pub(crate) mod coupled;
 pub(crate) mod lumped;
+
+/// The pipeline's error, as `attenuation` names it (`super::PipelineError`).
+use crate::pipeline::PipelineError;
