@@ -41,7 +41,7 @@ const TRANSIENT_STALL_RUNS: f64 = 23.0;
 /// its RK4 steps. Default 900: the event-driven transient of the 10 × 10-post scene (64 RK4
 /// steps per period) takes ≈ 4 × the wall time of the 256-step return mapping (5.6 s against
 /// 1.5 s, `sawdrive dynamic tests/scenes/small-strip.toml --set effective_ratio=0.36 --set
-/// model.integrator=…`).
+/// model.lumped.integrator=…`).
 const EVENT_DRIVEN_EVENT_STEPS_PER_PERIOD: f64 = 900.0;
 /// Bytes of one transient period record (sums, extrema, stored energy) and its mean speed.
 const TRANSIENT_BYTES_PER_PERIOD: f64 = 256.0;

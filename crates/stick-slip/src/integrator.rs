@@ -28,7 +28,7 @@ pub const TRANSIENT_DEFAULT_STEPS_PER_PERIOD: f64 = 256.0;
 pub const EVENT_DRIVEN_STEPS_PER_PERIOD: f64 = 64.0;
 
 /// The integrators by name, without their step settings: what a scene chooses
-/// (`model.integrator`); [`Integrator`] carries the steps.
+/// (`model.lumped.integrator`); [`Integrator`] carries the steps.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum IntegratorKind {
