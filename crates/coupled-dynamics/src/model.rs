@@ -1134,23 +1134,12 @@ impl CoupledModel {
                 requirement: "must be finite".into(),
             });
         }
-        let n = self.kx.len();
         let m = self.normals.len();
         let v = self.scaled_velocity(speed_m_per_s);
         let s = 1.0 - self.doppler * self.sigma * v;
         let h = 2.0 * PI / (m as f64 * s);
-        let mut state = start.map_or_else(
-            || TipState {
-                force: DVector::zeros(n),
-                compliance_force: DVector::zeros(n),
-                mode: vec![PostMode::Separated; n],
-                active: ActiveSet::new(n),
-                change: DVector::zeros(n),
-            },
-            |p| p.0.clone(),
-        );
-        let friction_scale =
-            self.scene.mu_static * self.normals.iter().map(|x| x.amax()).fold(0.0, f64::max);
+        let mut state = start.map_or_else(|| self.rest_state(), |p| p.0.clone());
+        let friction_scale = self.friction_scale();
         let mut ints = Integrals::default();
         let mut stats = SolverStats::default();
         let mut marks = vec![ints];
@@ -1168,7 +1157,7 @@ impl CoupledModel {
             let change = difference.amax();
             let same_modes = state.mode == previous.1;
             if periods >= 2
-                && change <= self.periodic_tolerance * friction_scale.max(1e-300)
+                && change <= self.periodic_tolerance * friction_scale
                 && same_modes
             {
                 converged = true;

@@ -108,10 +108,10 @@ pub fn attenuate_lumped(
         let options = stick_slip::AttenuationOptions::new(wave.power_in_w);
         let (solved, books, stall_profile) = if transient {
             let solved = TransientModel::new(dynamic)?.solve_attenuated(&options)?;
-            let stall_profile = solved.points.first().map(|p| AmplitudeProfile {
-                x_m: p.x_m.clone(),
-                amplitude_scale: p.amplitude_scale.clone(),
-            });
+            let stall_profile = solved
+                .points
+                .first()
+                .map(|p| AmplitudeProfile::of(&p.x_m, &p.amplitude_scale));
             let books = solved
                 .points
                 .iter()
@@ -124,10 +124,10 @@ pub fn attenuate_lumped(
             (solved.result, books, stall_profile)
         } else {
             let solved = solve_periodic(dynamic, &options)?;
-            let stall_profile = solved.points.first().map(|p| AmplitudeProfile {
-                x_m: p.x_m.clone(),
-                amplitude_scale: p.amplitude_scale.clone(),
-            });
+            let stall_profile = solved
+                .points
+                .first()
+                .map(|p| AmplitudeProfile::of(&p.x_m, &p.amplitude_scale));
             let books = solved
                 .points
                 .iter()
@@ -184,6 +184,14 @@ pub struct AmplitudeProfile {
 }
 
 impl AmplitudeProfile {
+    /// The profile of a lumped model's bins or columns (x ascending, A/A₀ each).
+    pub fn of(x_m: &[f64], amplitude_scale: &[f64]) -> Self {
+        Self {
+            x_m: x_m.to_vec(),
+            amplitude_scale: amplitude_scale.to_vec(),
+        }
+    }
+
     /// A/A₀ at `x_m` (relative to the slider's centre): linear between the profile's points,
     /// its end values beyond them.
     pub fn at(&self, x_m: f64) -> f64 {
