@@ -3,21 +3,23 @@
 //! as SVG.
 //!
 //! `cargo run -p coupled-dynamics --profile test --example whole_slider -- [--side N] [--steps M]
-//! [--points K] [--scatter-nm S] [--preload-n P] [--tolerance T] [--point-only] [--out DIR]`
+//! [--points K] [--scatter-nm S] [--preload-n P] [--tolerance T] [--point-only] [--cold] [--out DIR]`
 //!
 //! Defaults: the paper's 100 × 100 posts (`--side` makes an N × N corner-free sub-slider of the
 //! same pitch, slider size N·pitch + the paper's margins), 64 steps per period, 8 curve points,
 //! ideal posts, 40 N, rigid back, Johnson near fields, step tolerance 1e-10. `--point-only`: the normal grid, the
 //! stall point and one point at half the crest speed (the timing of one curve point), no curve.
+//! The curve's no-load search starts from the middle-row strip's no-load speed
+//! (`SliderDynamics::solve_from_guess`); `--cold`: from the crest speed, the maps from rest
+//! (`SliderDynamics::solve`, the earlier sequence).
 //! `--out DIR` writes DIR/results/whole_slider_<side>.json and DIR/figures/*.svg (maps of the
 //! time-mean normal force, slip fraction and friction power per post at half the no-load speed,
 //! and the friction power at stall).
 
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use coupled_dynamics::{SliderDynamics, SliderMaps, SliderScene};
+use coupled_dynamics::{SliderDynamics, SliderScene};
 use motor::Motor;
 use slider_contact::{NearField, SliderModel, SliderParams};
 
@@ -28,6 +30,7 @@ struct Args {
     scatter_m: f64,
     preload_n: f64,
     point_only: bool,
+    cold: bool,
     tolerance: f64,
     out: Option<PathBuf>,
 }
@@ -40,6 +43,7 @@ fn parse() -> Result<Args, String> {
         scatter_m: 0.0,
         preload_n: 40.0,
         point_only: false,
+        cold: false,
         tolerance: coupled_dynamics::slider::DEFAULT_SLIDER_TOLERANCE,
         out: None,
     };
@@ -54,6 +58,7 @@ fn parse() -> Result<Args, String> {
             "--scatter-nm" => a.scatter_m = number(value()?)? * 1e-9,
             "--preload-n" => a.preload_n = number(value()?)?,
             "--point-only" => a.point_only = true,
+            "--cold" => a.cold = true,
             "--tolerance" => a.tolerance = number(value()?)?,
             "--out" => a.out = Some(PathBuf::from(value()?)),
             other => return Err(format!("unknown argument {other}")),
@@ -131,7 +136,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         t.elapsed().as_secs_f64()
     );
     let t = Instant::now();
-    let result = slider.solve(None)?;
+    let result = if args.cold {
+        slider.solve(None)?
+    } else {
+        slider.solve_from_guess(None, Some(strip.no_load_speed_m_per_s))?
+    };
     let solve_s = t.elapsed().as_secs_f64();
     let c = &result.coupled;
     let periods: usize = c.curve.iter().map(|p| p.periods).sum();
@@ -257,7 +266,7 @@ fn write_outputs(
         );
         atomic_files::write_atomically(
             &out.join("figures").join(format!("{name}_{tag}.svg")),
-            heat_map(map, field, &title, unit),
+            map.svg(field, &title, unit),
         )?;
     }
     Ok(())
@@ -277,81 +286,4 @@ fn rounded(v: serde_json::Value) -> serde_json::Value {
         Value::Object(o) => Value::Object(o.into_iter().map(|(k, v)| (k, rounded(v))).collect()),
         other => other,
     }
-}
-
-/// Colour levels of the heat maps (one SVG path per level).
-const COLOUR_LEVELS: usize = 48;
-
-/// An SVG heat map of a per-post field (lattice order) on the posts' positions: x to the right
-/// (the wave travels along +x), y up; colours from dark blue (min) through green to yellow (max).
-fn heat_map(map: &SliderMaps, field: &[f64], title: &str, unit: &str) -> String {
-    let (nx, ny) = (map.posts_x, map.posts_y);
-    let cell = (600.0 / nx.max(ny) as f64).max(1.0);
-    let (w, h) = (cell * nx as f64, cell * ny as f64);
-    let (lo, hi) = (min(field), max(field));
-    let colour = |v: f64| {
-        let t = if hi > lo { (v - lo) / (hi - lo) } else { 0.5 };
-        let stops = [
-            (0.0, [68, 1, 84]),
-            (0.5, [33, 145, 140]),
-            (1.0, [253, 231, 37]),
-        ];
-        let k = if t <= 0.5 { 0 } else { 1 };
-        let u = ((t - stops[k].0) / 0.5).clamp(0.0, 1.0);
-        let c: Vec<u8> = (0..3)
-            .map(|i| {
-                (stops[k].1[i] as f64 + u * (stops[k + 1].1[i] as f64 - stops[k].1[i] as f64)) as u8
-            })
-            .collect();
-        format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2])
-    };
-    let mut s = String::new();
-    let _ = write!(
-        s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{}" height="{}" font-family="sans-serif" font-size="13">"#,
-        w + 140.0,
-        h + 60.0
-    );
-    let _ = write!(s, r#"<text x="10" y="20">{title}</text>"#);
-    let mut paths = vec![String::new(); COLOUR_LEVELS];
-    for i in 0..nx {
-        for j in 0..ny {
-            let v = field[i * ny + j];
-            let t = if hi > lo { (v - lo) / (hi - lo) } else { 0.5 };
-            let level = ((t * COLOUR_LEVELS as f64) as usize).min(COLOUR_LEVELS - 1);
-            let _ = write!(
-                paths[level],
-                "M{:.1} {:.1}h{:.1}v{:.1}h-{:.1}z",
-                10.0 + i as f64 * cell,
-                30.0 + (ny - 1 - j) as f64 * cell,
-                cell,
-                cell,
-                cell
-            );
-        }
-    }
-    for (level, d) in paths.iter().enumerate().filter(|(_, d)| !d.is_empty()) {
-        let v = lo + (hi - lo) * (level as f64 + 0.5) / COLOUR_LEVELS as f64;
-        let _ = write!(s, r#"<path fill="{}" d="{d}"/>"#, colour(v));
-    }
-    for k in 0..=10 {
-        let v = lo + (hi - lo) * k as f64 / 10.0;
-        let y = 30.0 + h - h * k as f64 / 10.0;
-        let _ = write!(
-            s,
-            r#"<rect x="{:.1}" y="{:.1}" width="16" height="{:.1}" fill="{}"/><text x="{:.1}" y="{:.1}">{v:.3e} {unit}</text>"#,
-            w + 20.0,
-            y - h / 10.0,
-            h / 10.0,
-            colour(v),
-            w + 40.0,
-            y + 4.0
-        );
-    }
-    let _ = write!(
-        s,
-        r#"<text x="10" y="{:.1}">x → (wave direction), {nx} × {ny} posts</text></svg>"#,
-        h + 50.0
-    );
-    s
 }

@@ -69,38 +69,29 @@ pub struct CoupledResult {
 /// scene of the same slider: wave, springs, μ, preload, layout) also η_dyn.
 pub fn solve(model: &CoupledModel, lumped: Option<&DynamicScene>) -> Result<CoupledResult> {
     let started = Instant::now();
-    let scene = model.scene();
-    let mut warnings = Vec::new();
     let stall_point = model.at_speed(0.0)?;
     let stall = stall_point.thrust_n;
     let (no_load, top) = model.no_load_search(stall)?;
-    let points = scene.curve_points;
+    let points = model.scene().curve_points;
     let mut curve = vec![stall_point];
     curve.extend(curve_points(model, no_load, points, top.as_ref())?);
-    if stall <= 0.0 {
-        warnings.push(format!(
-            "the slider is locked: F(0⁺) = {stall:.4} N ≤ 0; stall thrust and no-load speed reported as 0"
-        ));
-    }
-    if let Some(k) = model.min_contact_steps().filter(|&k| k < MIN_CONTACT_STEPS) {
-        let needed = scene.steps_per_period * MIN_CONTACT_STEPS.div_ceil(k);
-        warnings.push(format!(
-            "steps_per_period = {}: the shortest contact arc is resolved by {k} steps (< {MIN_CONTACT_STEPS}); the stick/slip events are coarsely located; use steps_per_period ≥ {needed}",
-            scene.steps_per_period
-        ));
-    }
-    let bound = model.never_separating_posts();
-    if bound > 0 {
-        warnings.push(format!(
-            "{bound} posts never separate: at v = 0 their stuck state is not unique; the stall thrust is the steady state reached from zero tangential forces, not the v → 0⁺ limit"
-        ));
-    }
-    if curve.iter().any(|p| !p.converged) {
-        warnings.push(format!(
-            "some speeds reached no periodic cycle within {} periods; averaged over the last half",
-            crate::model::MAX_PERIODS
-        ));
-    }
+    assemble(model, lumped, no_load, curve, started)
+}
+
+/// The result of a solved curve (`curve[0]` the stall point, then the curve points up to the
+/// no-load speed `no_load`): the warnings, η_dyn with `lumped`, the largest residuals; the wall
+/// time from `started` plus the model's normal solves.
+pub(crate) fn assemble(
+    model: &CoupledModel,
+    lumped: Option<&DynamicScene>,
+    no_load: f64,
+    curve: Vec<CoupledPoint>,
+    started: Instant,
+) -> Result<CoupledResult> {
+    let scene = model.scene();
+    let stall_point = curve[0];
+    let stall = stall_point.thrust_n;
+    let warnings = warnings(model, stall, &curve);
     let (eta_dyn, eta_dyn_misfit) = match lumped {
         Some(base) if stall > 0.0 => {
             let (eta, misfit) = fit_eta_dyn(&curve, stall, base)?;
@@ -134,6 +125,38 @@ pub fn solve(model: &CoupledModel, lumped: Option<&DynamicScene>) -> Result<Coup
     })
 }
 
+/// The non-fatal findings of a curve: a locked slider, coarse contact arcs, posts that never
+/// separate, speeds without a periodic cycle.
+fn warnings(model: &CoupledModel, stall: f64, curve: &[CoupledPoint]) -> Vec<String> {
+    let scene = model.scene();
+    let mut warnings = Vec::new();
+    if stall <= 0.0 {
+        warnings.push(format!(
+            "the slider is locked: F(0⁺) = {stall:.4} N ≤ 0; stall thrust and no-load speed reported as 0"
+        ));
+    }
+    if let Some(k) = model.min_contact_steps().filter(|&k| k < MIN_CONTACT_STEPS) {
+        let needed = scene.steps_per_period * MIN_CONTACT_STEPS.div_ceil(k);
+        warnings.push(format!(
+            "steps_per_period = {}: the shortest contact arc is resolved by {k} steps (< {MIN_CONTACT_STEPS}); the stick/slip events are coarsely located; use steps_per_period ≥ {needed}",
+            scene.steps_per_period
+        ));
+    }
+    let bound = model.never_separating_posts();
+    if bound > 0 {
+        warnings.push(format!(
+            "{bound} posts never separate: at v = 0 their stuck state is not unique; the stall thrust is the steady state reached from zero tangential forces, not the v → 0⁺ limit"
+        ));
+    }
+    if curve.iter().any(|p| !p.converged) {
+        warnings.push(format!(
+            "some speeds reached no periodic cycle within {} periods; averaged over the last half",
+            crate::model::MAX_PERIODS
+        ));
+    }
+    warnings
+}
+
 /// The curve points k = 1…`points`−1 at k v₀/(`points`−1), in order: chains of
 /// [`CHAIN_POINTS`] neighbouring speeds solved in parallel, each chain from its fastest point
 /// down, every point started from the periodic state of the one above it; the fastest chain
@@ -145,6 +168,19 @@ fn curve_points(
     points: usize,
     top: Option<&PeriodState>,
 ) -> Result<Vec<CoupledPoint>> {
+    Ok(curve_points_with_states(model, no_load, points, top)?
+        .into_iter()
+        .map(|(p, _)| p)
+        .collect())
+}
+
+/// [`curve_points`] with each point's periodic state (the start of a neighbouring speed).
+pub(crate) fn curve_points_with_states(
+    model: &CoupledModel,
+    no_load: f64,
+    points: usize,
+    top: Option<&PeriodState>,
+) -> Result<Vec<(CoupledPoint, PeriodState)>> {
     let speeds: Vec<f64> = (1..points)
         .map(|k| no_load * k as f64 / (points - 1) as f64)
         .collect();
@@ -156,13 +192,13 @@ fn curve_points(
             let mut out = Vec::with_capacity(chain.len());
             for &speed in chain.iter().rev() {
                 let (point, state) = model.at_speed_from(speed, warm.as_ref())?;
-                warm = Some(state);
-                out.push(point);
+                warm = Some(state.clone());
+                out.push((point, state));
             }
             out.reverse();
             Ok(out)
         })
-        .collect::<Result<Vec<Vec<CoupledPoint>>>>()?;
+        .collect::<Result<Vec<Vec<(CoupledPoint, PeriodState)>>>>()?;
     Ok(solved.into_iter().rev().flatten().collect())
 }
 

@@ -58,19 +58,27 @@ use slider_contact::{
 };
 use stick_slip::{DynamicScene, Wave};
 
-pub use maps::SliderMaps;
+pub use maps::{MAP_FIELDS, SliderMaps};
 
 use crate::error::{CoupledError, Result};
-use crate::model::{ComplianceProduct, CoupledModel};
-use crate::result::{CoupledResult, solve};
-use crate::scene::{
-    CoupledScene, DEFAULT_CURVE_POINTS, DEFAULT_STEPS_PER_PERIOD, PreloadBalance, WaveDirection,
-};
+use crate::model::{ComplianceProduct, CoupledModel, PostHistories};
+use crate::model::CoupledPoint;
+use crate::result::{CoupledResult, assemble, curve_points_with_states, solve};
+use crate::scene::{CoupledScene, DEFAULT_STEPS_PER_PERIOD, PreloadBalance, WaveDirection};
 
 /// Default natural-residual tolerance of the whole slider's step solves (relative to the
 /// friction scale): the CG solves reach it in ≈ √κ log(1/ε) products; the periodicity rule is
 /// 100× it. Default 1e-10.
 pub const DEFAULT_SLIDER_TOLERANCE: f64 = 1e-10;
+/// Default points of the whole slider's speed–thrust curve (stall to no load): each point costs
+/// a steady solve of every post (validation/whole-slider/dynamics: the cost table), the curve
+/// of the strip's model has 50. Default 8.
+pub const DEFAULT_SLIDER_CURVE_POINTS: usize = 8;
+/// Tolerance of the whole slider's no-load speed from a prediction (of the crest speed,
+/// [`SliderDynamics::solve_from_guess`]): the thrust at a speed is known to the periodicity
+/// rule (≈ 1e-8 of the friction scale), so the root is known to ≈ 1e-8 of the crest speed;
+/// tighter costs evaluations that only move it within that. Default 1e-7.
+pub const SLIDER_SPEED_TOLERANCE: f64 = 1e-7;
 
 /// The whole slider's dynamic scene (SI).
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -116,7 +124,7 @@ impl SliderScene {
             wave_direction: WaveDirection::PlusX,
             steps_per_period: DEFAULT_STEPS_PER_PERIOD,
             start_phase_rad: 0.0,
-            curve_points: DEFAULT_CURVE_POINTS,
+            curve_points: DEFAULT_SLIDER_CURVE_POINTS,
             tolerance: DEFAULT_SLIDER_TOLERANCE,
             amplitude_scale: Vec::new(),
         }
@@ -318,6 +326,12 @@ pub struct SliderDynamicsResult {
     pub dundurs_beta: Option<f64>,
     /// Maps at stall and at half the no-load speed.
     pub maps: Vec<SliderMaps>,
+    /// Lattice indices of the posts in [`Self::histories`]: the middle row (j = n_y/2), x
+    /// ascending.
+    pub history_posts: Vec<usize>,
+    /// Forces and modes of the middle row's posts over the steady period of the maps at half
+    /// the no-load speed.
+    pub histories: PostHistories,
     /// Wall time of the normal solves on the phase grid (s).
     pub normal_grid_wall_s: f64,
 }
@@ -402,15 +416,103 @@ impl SliderDynamics {
         Ok(SliderMaps::new(&self.scene.geometry, point, means))
     }
 
+    /// Lattice indices of the middle row's posts (j = n_y/2), x ascending.
+    pub fn middle_row_posts(&self) -> Vec<usize> {
+        let g = &self.scene.geometry;
+        (0..g.posts_x)
+            .map(|i| i * g.posts_y + g.posts_y / 2)
+            .collect()
+    }
+
     /// Stall thrust, no-load speed, curve, energy balance, η_dyn (with `lumped`, the lumped
-    /// scene of the same motor), and the maps at stall and at half the no-load speed.
+    /// scene of the same motor), the maps at stall and at half the no-load speed, and the
+    /// middle row's histories over the latter's period. The no-load speed by the strip model's
+    /// search from the crest speed ([`CoupledModel::no_load_search`]); with a prediction of it,
+    /// [`Self::solve_from_guess`] is cheaper.
     pub fn solve(&self, lumped: Option<&DynamicScene>) -> Result<SliderDynamicsResult> {
-        let mut coupled = solve(&self.model, lumped)?;
+        self.solve_from_guess(lumped, None)
+    }
+
+    /// [`Self::solve`] with the no-load speed searched from the prediction `no_load_guess_m_per_s`
+    /// (the lumped model's, or the middle row's strip) by [`CoupledModel::no_load_search_near`]
+    /// to [`SLIDER_SPEED_TOLERANCE`]; every speed after the stall starts from a neighbouring
+    /// speed's periodic state: the no-load search from the stall's, the curve's chain from the
+    /// search's last, the maps at stall from the stall's and at half the no-load speed from the
+    /// curve point nearest it.
+    pub fn solve_from_guess(
+        &self,
+        lumped: Option<&DynamicScene>,
+        no_load_guess_m_per_s: Option<f64>,
+    ) -> Result<SliderDynamicsResult> {
+        let Some(guess) = no_load_guess_m_per_s else {
+            return self.solve_cold(lumped);
+        };
+        let started = Instant::now();
+        let model = &self.model;
+        let (stall_point, stall_state) = model.at_speed_from(0.0, None)?;
+        let (no_load, top) = model.no_load_search_near(
+            stall_point.thrust_n,
+            guess,
+            SLIDER_SPEED_TOLERANCE,
+            Some(&stall_state),
+        )?;
+        let points = model.scene().curve_points;
+        let solved = curve_points_with_states(model, no_load, points, top.as_ref())?;
+        let half = 0.5 * no_load;
+        let nearest = solved
+            .iter()
+            .min_by(|a, b| {
+                let d = |p: &CoupledPoint| (p.speed_m_per_s - half).abs();
+                d(&a.0).total_cmp(&d(&b.0))
+            })
+            .map(|(_, state)| state.clone());
+        let mut curve = vec![stall_point];
+        curve.extend(solved.into_iter().map(|(p, _)| p));
+        let history_posts = self.middle_row_posts();
+        let (stall, at_half) = rayon::join(
+            || self.model.post_means_from(0.0, Some(&stall_state)),
+            || {
+                self.model
+                    .post_means_and_histories_from(half, nearest.as_ref(), &history_posts)
+            },
+        );
+        let (stall_point, stall_means, _) = stall?;
+        let (point, means, histories, _) = at_half?;
+        let maps = vec![
+            SliderMaps::new(&self.scene.geometry, stall_point, stall_means),
+            SliderMaps::new(&self.scene.geometry, point, means),
+        ];
+        let coupled = assemble(model, lumped, no_load, curve, started)?;
+        Ok(self.finish(coupled, maps, history_posts, histories, started))
+    }
+
+    /// [`Self::solve`]: the strip model's sequence, the maps from rest.
+    fn solve_cold(&self, lumped: Option<&DynamicScene>) -> Result<SliderDynamicsResult> {
+        let started = Instant::now();
+        let coupled = solve(&self.model, lumped)?;
         let half = 0.5 * coupled.no_load_speed_m_per_s;
-        let maps = [0.0, half]
-            .par_iter()
-            .map(|&v| self.maps_at(v))
-            .collect::<Result<Vec<_>>>()?;
+        let history_posts = self.middle_row_posts();
+        let (stall, at_half) = rayon::join(
+            || self.maps_at(0.0),
+            || {
+                self.model
+                    .post_means_and_histories_from(half, None, &history_posts)
+            },
+        );
+        let (point, means, histories, _) = at_half?;
+        let maps = vec![stall?, SliderMaps::new(&self.scene.geometry, point, means)];
+        Ok(self.finish(coupled, maps, history_posts, histories, started))
+    }
+
+    /// The result with the β warning and the wall time from `started` (normal grid included).
+    fn finish(
+        &self,
+        mut coupled: CoupledResult,
+        maps: Vec<SliderMaps>,
+        history_posts: Vec<usize>,
+        histories: PostHistories,
+        started: Instant,
+    ) -> SliderDynamicsResult {
         if let Some(beta) = self
             .dundurs_beta
             .filter(|b| b.abs() > slider_contact::NEGLIGIBLE_DUNDURS_BETA)
@@ -420,14 +522,16 @@ impl SliderDynamics {
                 slider_contact::NEGLIGIBLE_DUNDURS_BETA
             ));
         }
-        coupled.wall_time_s += self.normal_grid_wall_s;
-        Ok(SliderDynamicsResult {
+        coupled.wall_time_s = started.elapsed().as_secs_f64() + self.normal_grid_wall_s;
+        SliderDynamicsResult {
             coupled,
             posts_x: self.scene.geometry.posts_x,
             posts_y: self.scene.geometry.posts_y,
             dundurs_beta: self.dundurs_beta,
             maps,
+            history_posts,
+            histories,
             normal_grid_wall_s: self.normal_grid_wall_s,
-        })
+        }
     }
 }

@@ -65,12 +65,24 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
         for w in coupled.warnings.iter().skip(scene.warnings.len()) {
             eprintln!("warning: {w}");
         }
+        let lattice = stage.coupled_slider.as_ref().map_or(String::new(), |s| {
+            format!(" (whole slider, {} × {})", s.posts_x, s.posts_y)
+        });
         println!(
-            "coupled: {} posts, {} steps per period, η_dyn {}",
+            "coupled: {} posts{lattice}, {} steps per period, η_dyn {}",
             coupled.posts,
             coupled.steps_per_period,
             coupled.eta_dyn.map_or("n/a".into(), |e| format!("{e:.4}"))
         );
+        if let Some(half) = stage.coupled_slider.as_ref().and_then(|s| s.maps.get(1)) {
+            let (i, j) = half.hottest_post();
+            println!(
+                "hottest post at {:.4} m/s   column {i}, row {j}: {:.3e} W of friction (mean {:.3e} W)",
+                half.means.speed_m_per_s,
+                half.means.friction_power_w[i * half.posts_y + j],
+                half.total_friction_power_w() / coupled.posts as f64
+            );
+        }
         println!(
             "stall thrust               {:.4} N   (lumped at the static η: {:.4} N)",
             coupled.stall_thrust_n, result.stall_thrust_n

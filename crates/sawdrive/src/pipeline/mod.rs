@@ -19,8 +19,8 @@ pub use dynamic_stage::ball::{
     BALL_DRAW_WARNING_FRACTION, BallStage, ball_scene, run_ball_stage, write_ball_stage_files,
 };
 pub use dynamic_stage::coupled::{
-    DriveFigures, DynamicJson, DynamicStage, LumpedFigures, run_dynamic_stage,
-    write_dynamic_stage_files,
+    DriveFigures, DynamicJson, DynamicStage, LumpedFigures, SliderCoupledFigures,
+    run_dynamic_stage, write_dynamic_stage_files,
 };
 pub use dynamic_stage::lumped::{DynamicRun, dynamic_scene, run_dynamic, write_history_charts};
 pub use error::PipelineError;

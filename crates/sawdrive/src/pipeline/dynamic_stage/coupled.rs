@@ -1,7 +1,9 @@
 //! Dynamic stage with its model choice: the lumped model of N_eff = η·N independent
 //! posts ([`run_dynamic`](super::run_dynamic)), the coupled model of the static strip's posts with their elastic
-//! interaction (`coupled_dynamics`), and `model.dynamics = "auto"` between them by the
-//! criterion of validation/coupled-dynamics (`coupled_dynamics::choose_model`).
+//! interaction (`coupled_dynamics`) — or of every post of the whole slider when the static
+//! stage ran it (`static.model = "slider"`, [`super::whole_slider`]) — and `model.dynamics =
+//! "auto"` between them by the criterion of validation/coupled-dynamics
+//! (`coupled_dynamics::choose_model`, on the strip's or the whole slider's η fit misfit).
 //!
 //! The lumped model always runs: its no-load speed is the criterion's evidence, its scene the
 //! base of η_dyn, and its estimated error ([`coupled_dynamics::lumped_error_estimate`]) goes
@@ -25,6 +27,8 @@ use stick_slip::{CurvePoint, DynamicResult, ModelKind, VerticalModel};
 
 use super::attenuation::{self, WaveAttenuation, WaveBooks};
 use super::lumped::{DynamicRun, run_dynamic, write_history_charts};
+use super::whole_slider;
+pub use super::whole_slider::SliderCoupledFigures;
 use crate::output::io;
 use crate::pipeline::local_amplitude::LocalAmplitudeEta;
 use crate::pipeline::{PipelineError, RunControl};
@@ -58,6 +62,8 @@ pub struct DynamicStage {
     pub local_amplitude: Option<LocalAmplitudeEta>,
     /// The transducer's figures when the scene gives `wave.drive_voltage`.
     pub drive: Option<DriveFigures>,
+    /// The whole slider's lattice and maps, when the coupled model ran on every post of it.
+    pub coupled_slider: Option<SliderCoupledFigures>,
 }
 
 impl DynamicStage {
@@ -177,6 +183,8 @@ impl DynamicStage {
             wave_power_in_w: self.wave.power_in_w,
             local_amplitude: self.local_amplitude.as_ref(),
             drive: self.drive,
+            coupled_posts: self.coupled.as_ref().map(|c| c.posts),
+            coupled_slider: self.coupled_slider.as_ref(),
         }
     }
 }
@@ -253,6 +261,13 @@ pub struct DynamicJson<'a> {
     /// `normal_amplitude_m`, `electrical_power_w`, `overall_efficiency` with a drive voltage.
     #[serde(flatten)]
     drive: Option<DriveFigures>,
+    /// Posts the coupled model ran (the strip's row, or every post of the whole slider).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    coupled_posts: Option<usize>,
+    /// The whole slider's lattice (`posts_x`, `posts_y`), Dundurs' β and normal-grid time,
+    /// when the coupled model ran on every post of it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    coupled_slider: Option<&'a SliderCoupledFigures>,
 }
 
 #[derive(Debug, Serialize)]
@@ -313,6 +328,9 @@ pub fn write_dynamic_stage_files(
             &histories_charts(title, histories),
             &dir.join("coupled_post_forces"),
         )?);
+    }
+    if let Some(slider) = &stage.coupled_slider {
+        files.extend(whole_slider::write_maps(title, slider, dir)?);
     }
     Ok(files)
 }
@@ -417,73 +435,48 @@ pub fn run_dynamic_stage(
         )
     });
     let estimate = evidence.as_ref().map(lumped_error_estimate);
-    let (run_coupled, reason) = decide(scene, statics, evidence.as_ref())?;
+    let (run_coupled, reason) = decide(scene, statics, evidence.as_ref(), &lumped)?;
     let mut lumped = lumped;
     let mut local_amplitude = None;
-    let (coupled, coupled_histories, coupled_step_error_estimate, wave, wave_books) =
-        match (run_coupled, statics) {
-            (true, Some(statics)) => {
-                PipelineError::check(control, "dynamic (coupled model)")?;
-                let mut run = run_coupled_model(scene, statics, &lumped, cache_dir)?;
-                // The scene's own warnings lead the coupled model's, as they lead the lumped one's.
-                let scene_warnings = scene
-                    .warnings
-                    .iter()
-                    .map(|w| format!("{}: {}", w.parameter, w.message));
-                run.result.warnings.splice(0..0, scene_warnings);
-                let stall_draw_w = run.result.curve.first().map_or(0.0, |p| p.stator_power_w);
-                let wave = attenuation::decide(scene, stall_draw_w)?;
-                if wave.on() {
-                    PipelineError::check(control, "dynamic (energy-conserving wave)")?;
-                    attenuate_coupled(&mut run, wave.power_in_w)?;
+    let outcome = match (run_coupled, statics) {
+        (true, Some(statics)) => {
+            PipelineError::check(control, "dynamic (coupled model)")?;
+            match &statics.report.details {
+                StaticDetails::Slider(stage) => slider_coupled(scene, stage, &lumped)?,
+                StaticDetails::Strip(_) => {
+                    strip_coupled(scene, statics, &lumped, cache_dir, control)?
                 }
-                let books = run
-                    .result
-                    .curve
-                    .iter()
-                    .zip(&run.books)
-                    .map(|(p, out)| WaveBooks {
-                        stator_power_w: p.stator_power_w,
-                        wave_power_in_w: wave.power_in_w,
-                        wave_power_out_w: out.unwrap_or(wave.power_in_w - p.stator_power_w),
-                    })
-                    .collect();
-                (
-                    Some(run.result),
-                    Some(run.histories),
-                    run.step_error,
-                    wave,
-                    books,
-                )
             }
-            _ => {
-                let mut attenuated =
-                    attenuation::attenuate_lumped(scene, &lumped.scene, &mut lumped.result)?;
-                if let Some(statics) = statics {
-                    local_amplitude = crate::pipeline::local_amplitude::settle(
-                        scene,
-                        springs,
-                        statics,
-                        cache_dir,
-                        control,
-                        &mut lumped,
-                        &mut attenuated,
-                    )?;
-                }
-                (None, None, None, attenuated.wave, attenuated.books)
+        }
+        _ => {
+            let mut attenuated =
+                attenuation::attenuate_lumped(scene, &lumped.scene, &mut lumped.result)?;
+            if let Some(statics) = statics {
+                local_amplitude = crate::pipeline::local_amplitude::settle(
+                    scene,
+                    springs,
+                    statics,
+                    cache_dir,
+                    control,
+                    &mut lumped,
+                    &mut attenuated,
+                )?;
             }
-        };
+            CoupledOutcome::lumped(attenuated.wave, attenuated.books)
+        }
+    };
     let mut stage = DynamicStage {
         lumped,
-        coupled,
-        coupled_histories,
-        coupled_step_error_estimate,
+        coupled: outcome.result,
+        coupled_histories: outcome.histories,
+        coupled_step_error_estimate: outcome.step_error,
         dynamics_reason: reason,
         lumped_error_estimate: estimate,
-        wave,
-        wave_books,
+        wave: outcome.wave,
+        wave_books: outcome.books,
         local_amplitude,
         drive: None,
+        coupled_slider: outcome.slider,
     };
     let max_output_w = stage
         .curve()
@@ -492,6 +485,112 @@ pub fn run_dynamic_stage(
         .fold(0.0, f64::max);
     stage.drive = DriveFigures::of(scene, max_output_w)?;
     Ok(stage)
+}
+
+/// What the coupled branch of the dynamic stage hands on (empty after a lumped run).
+struct CoupledOutcome {
+    result: Option<CoupledResult>,
+    histories: Option<PostHistories>,
+    step_error: Option<f64>,
+    wave: WaveAttenuation,
+    books: Vec<WaveBooks>,
+    slider: Option<SliderCoupledFigures>,
+}
+
+impl CoupledOutcome {
+    fn lumped(wave: WaveAttenuation, books: Vec<WaveBooks>) -> Self {
+        Self {
+            result: None,
+            histories: None,
+            step_error: None,
+            wave,
+            books,
+            slider: None,
+        }
+    }
+}
+
+/// The scene's own warnings lead the coupled model's, as they lead the lumped one's.
+fn prepend_scene_warnings(scene: &Scene, result: &mut CoupledResult) {
+    let scene_warnings = scene
+        .warnings
+        .iter()
+        .map(|w| format!("{}: {}", w.parameter, w.message));
+    result.warnings.splice(0..0, scene_warnings);
+}
+
+/// The wave's books of every point of a coupled curve: P_out as the energy-conserving wave gave
+/// it (`out`), else P_in − the stator power the posts draw.
+fn coupled_books(
+    result: &CoupledResult,
+    out: &[Option<f64>],
+    wave: &WaveAttenuation,
+) -> Vec<WaveBooks> {
+    result
+        .curve
+        .iter()
+        .zip(out)
+        .map(|(p, out)| WaveBooks {
+            stator_power_w: p.stator_power_w,
+            wave_power_in_w: wave.power_in_w,
+            wave_power_out_w: out.unwrap_or(wave.power_in_w - p.stator_power_w),
+        })
+        .collect()
+}
+
+/// The coupled model of the static strip's row (with the energy-conserving wave when it is on).
+fn strip_coupled(
+    scene: &Scene,
+    statics: &StaticOutcome,
+    lumped: &DynamicRun,
+    cache_dir: Option<&Path>,
+    control: &RunControl,
+) -> Result<CoupledOutcome, PipelineError> {
+    let mut run = run_coupled_model(scene, statics, lumped, cache_dir)?;
+    prepend_scene_warnings(scene, &mut run.result);
+    let stall_draw_w = run.result.curve.first().map_or(0.0, |p| p.stator_power_w);
+    let wave = attenuation::decide(scene, stall_draw_w)?;
+    if wave.on() {
+        PipelineError::check(control, "dynamic (energy-conserving wave)")?;
+        attenuate_coupled(&mut run, wave.power_in_w)?;
+    }
+    let books = coupled_books(&run.result, &run.books, &wave);
+    Ok(CoupledOutcome {
+        result: Some(run.result),
+        histories: Some(run.histories),
+        step_error: run.step_error,
+        wave,
+        books,
+        slider: None,
+    })
+}
+
+/// The coupled model of every post of the whole slider (constant-amplitude wave).
+fn slider_coupled(
+    scene: &Scene,
+    stage: &crate::pipeline::SliderStage,
+    lumped: &DynamicRun,
+) -> Result<CoupledOutcome, PipelineError> {
+    let run = whole_slider::run(scene, stage, lumped)?;
+    let mut result = run.coupled;
+    prepend_scene_warnings(scene, &mut result);
+    let stall_draw_w = result.curve.first().map_or(0.0, |p| p.stator_power_w);
+    let wave = whole_slider::wave_decision(scene, stall_draw_w)?;
+    let books = coupled_books(&result, &vec![None; result.curve.len()], &wave);
+    Ok(CoupledOutcome {
+        result: Some(result),
+        histories: Some(run.histories),
+        step_error: None,
+        wave,
+        books,
+        slider: Some(SliderCoupledFigures {
+            posts_x: run.posts_x,
+            posts_y: run.posts_y,
+            dundurs_beta: run.dundurs_beta,
+            normal_grid_wall_s: run.normal_grid_wall_s,
+            maps: run.maps,
+        }),
+    })
 }
 
 /// A coupled run: its result, post histories, step-error estimate, the coupled scene it ran
@@ -572,6 +671,7 @@ fn decide(
     scene: &Scene,
     statics: Option<&StaticOutcome>,
     evidence: Option<&LumpedEvidence>,
+    lumped: &DynamicRun,
 ) -> Result<(bool, String), PipelineError> {
     match (scene.model.dynamics, statics, evidence) {
         (Dynamics::Lumped(_), _, _) => Ok((false, "model.dynamics names a lumped model".into())),
@@ -581,24 +681,18 @@ fn decide(
                       but contact.effective_ratio is given: set it to \"fem\""
                 .into(),
         }),
-        (Dynamics::Coupled, Some(s), _) if s.report.model != StaticModel::Strip => {
-            Err(PipelineError::Unsupported {
-                stage: "dynamic",
-                message: "model.dynamics = \"coupled\" runs on the strip's tip compliances, but \
-                          the static stage ran the whole slider (static.model): set static.model \
-                          = \"strip\" (an ideal slider) or use a lumped model"
+        (Dynamics::Coupled, Some(s), _) if s.report.model == StaticModel::Slider => {
+            whole_slider::check_scene(scene)?;
+            Ok((
+                true,
+                "model.dynamics = \"coupled\" asks for it: every post of the whole slider \
+                 (static.model = \"slider\") on its own static state"
                     .into(),
-            })
+            ))
         }
         (Dynamics::Coupled, Some(_), _) => {
             Ok((true, "model.dynamics = \"coupled\" asks for it".into()))
         }
-        (Dynamics::Auto, Some(s), _) if s.report.model != StaticModel::Strip => Ok((
-            false,
-            "lumped: the coupled model runs on the strip's compliances, and the static stage \
-             ran the whole slider (its η carries the imperfections)"
-                .into(),
-        )),
         (Dynamics::Auto, None, _) => Ok((
             false,
             "lumped: η is given (contact.effective_ratio), so no static fit estimates the \
@@ -611,13 +705,36 @@ fn decide(
              estimated"
                 .into(),
         )),
-        (Dynamics::Auto, Some(_), Some(evidence)) => {
+        (Dynamics::Auto, Some(s), Some(evidence)) => {
             let tolerance = scene
                 .model
                 .lumped_tolerance
                 .unwrap_or(DEFAULT_AUTO_TOLERANCE);
             let decision = choose_model(evidence, tolerance)?;
-            Ok((decision.model == DynamicsChoice::Coupled, decision.reason))
+            let coupled = decision.model == DynamicsChoice::Coupled;
+            if s.report.model != StaticModel::Slider {
+                return Ok((coupled, decision.reason));
+            }
+            let reason = format!(
+                "whole slider (every post, static.model = \"slider\"): {}; the estimate uses \
+                 the whole slider's η fit misfit with the strips' envelope factor",
+                decision.reason
+            );
+            let stall_draw_w = attenuation::lumped_stall_draw_w(&lumped.scene)?;
+            if coupled && attenuation::decide(scene, stall_draw_w.unwrap_or(0.0))?.on() {
+                return Ok((
+                    false,
+                    format!(
+                        "{reason}; but the energy-conserving wave is on (wave.attenuation) and \
+                         the whole slider's coupled model keeps the constant-amplitude wave, so \
+                         the lumped model runs (on the local amplitude)"
+                    ),
+                ));
+            }
+            if coupled {
+                whole_slider::check_scene(scene)?;
+            }
+            Ok((coupled, reason))
         }
     }
 }

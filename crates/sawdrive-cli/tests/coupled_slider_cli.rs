@@ -1,0 +1,170 @@
+//! The coupled model of every post of the whole slider through `sawdrive dynamic`
+//! (`static.model = "slider"`): the contract's JSON keys, its files (the strip's coupled files
+//! plus the three 2D maps), the `auto` choice with its reason, and the energy-conserving wave
+//! refused by name before anything runs.
+//!
+//! Scene: a small slider of 12 × 12 posts of the default post cell (20 µm at 40 µm) on a 0.5 mm
+//! square body, the paper's 4 mN a post, Tet4 for the near field's one-off strip FEM,
+//! 32 steps per period and 4 curve points (the run takes about a second).
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+const SCENE: &str = r#"
+name = "small-slider"
+[slider]
+length = "0.5 mm"
+width = "0.5 mm"
+[posts]
+count = "12x12"
+array = "0.48 mm"
+[load]
+preload = "0.576 N"
+[static]
+element_order = 1
+model = "slider"
+[model]
+curve_points = 4
+[model.coupled]
+steps_per_period = 32
+"#;
+
+fn sawdrive(dir: &Path, sets: &[&str]) -> Output {
+    let scene = dir.join("small-slider.toml");
+    std::fs::write(&scene, SCENE).expect("scene file");
+    let mut command = Command::new(env!("CARGO_BIN_EXE_sawdrive"));
+    command
+        .arg("dynamic")
+        .arg(&scene)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .arg("--json");
+    for set in sets {
+        command.args(["--set", set]);
+    }
+    command.output().expect("sawdrive binary runs")
+}
+
+fn json_ok(dir: &Path, sets: &[&str]) -> serde_json::Value {
+    let out = sawdrive(dir, sets);
+    assert!(
+        out.status.success(),
+        "sawdrive dynamic {sets:?} fails: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("dynamic --json prints JSON")
+}
+
+fn number(v: &serde_json::Value, key: &str) -> f64 {
+    v[key]
+        .as_f64()
+        .unwrap_or_else(|| panic!("{key} is a number in {v}"))
+}
+
+#[test]
+fn the_whole_sliders_coupled_model_prints_the_contract_and_writes_its_maps() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = json_ok(dir.path(), &["model.dynamics=coupled"]);
+    assert_eq!(json["model"], "coupled");
+    assert_eq!(
+        json["coupled_posts"], 144,
+        "every post of the 12 × 12 slider"
+    );
+    assert_eq!(json["coupled_slider"]["posts_x"], 12);
+    let stall = number(&json, "stall_thrust_n");
+    let lumped_stall = number(&json["lumped"], "stall_thrust_n");
+    assert!(
+        stall > 0.0 && (stall / lumped_stall - 1.0).abs() < 0.1,
+        "stall thrust {stall} N against the lumped model's {lumped_stall} N"
+    );
+    let crest = 1.1;
+    let v0 = number(&json, "no_load_speed_m_per_s");
+    assert!(v0 > 0.0 && v0 < crest, "no-load speed {v0} m/s");
+    assert!(
+        number(&json, "energy_balance_residual") < 1e-12,
+        "energy balance residual {}",
+        json["energy_balance_residual"]
+    );
+    let eta_dyn = number(&json, "eta_dyn");
+    assert!(eta_dyn > 0.0 && eta_dyn < 1.5, "eta_dyn {eta_dyn}");
+    assert!(number(&json, "wall_time_s") > 0.0);
+    assert!(
+        json["dynamics_reason"]
+            .as_str()
+            .unwrap()
+            .contains("whole slider"),
+        "{}",
+        json["dynamics_reason"]
+    );
+    let folder = dir.path().join("out/small-slider/dynamic");
+    for file in [
+        "dynamic.json",
+        "curve.csv",
+        "speed_thrust.svg",
+        "coupled_post_histories.csv",
+        "coupled_map_mean_normal_force.svg",
+        "coupled_map_slip_fraction.svg",
+        "coupled_map_friction_power.svg",
+        "coupled_post_means_stall.csv",
+        "coupled_post_means_half_no_load.csv",
+    ] {
+        assert!(folder.join(file).is_file(), "{file} written");
+    }
+    let means = std::fs::read_to_string(folder.join("coupled_post_means_stall.csv")).unwrap();
+    assert_eq!(means.lines().count(), 1 + 144, "one row per post");
+}
+
+#[test]
+fn auto_on_the_whole_slider_estimates_the_lumped_error_and_says_why() {
+    let dir = tempfile::tempdir().unwrap();
+    let loose = json_ok(dir.path(), &["model.lumped_tolerance=0.9"]);
+    assert_eq!(loose["model"], "periodic-average");
+    let estimate = number(&loose, "lumped_error_estimate");
+    let reason = loose["dynamics_reason"].as_str().unwrap();
+    assert!(
+        reason.contains("whole slider") && reason.contains("lumped: estimated error"),
+        "{reason}"
+    );
+    let tolerance = format!("model.lumped_tolerance={}", 0.5 * estimate);
+    let tight = json_ok(dir.path(), &[&tolerance, "wave.attenuation=off"]);
+    assert_eq!(tight["model"], "coupled", "{}", tight["dynamics_reason"]);
+    assert_eq!(tight["coupled_posts"], 144);
+    // The small slider's posts draw 14 % of the wave's power at stall: `auto` turns the
+    // energy-conserving wave on, which only the lumped model carries on the whole slider.
+    let attenuated = json_ok(dir.path(), &[&tolerance]);
+    assert_eq!(attenuated["model"], "periodic-average");
+    assert_eq!(attenuated["wave_attenuation"], "on");
+    let reason = attenuated["dynamics_reason"].as_str().unwrap();
+    assert!(
+        reason.contains("coupled: the lumped model's estimated error")
+            && reason.contains("the lumped model runs"),
+        "{reason}"
+    );
+}
+
+#[test]
+fn the_energy_conserving_wave_is_refused_by_name_for_the_whole_sliders_coupled_model() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = sawdrive(
+        dir.path(),
+        &["model.dynamics=coupled", "wave.attenuation=on"],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "attenuation on is refused");
+    assert!(stderr.contains("wave.attenuation"), "{stderr}");
+    assert_eq!(stderr.trim().lines().count(), 1, "one line: {stderr}");
+    assert!(
+        !dir.path().join("out/small-slider/dynamic").exists(),
+        "nothing written"
+    );
+    let auto = json_ok(dir.path(), &["model.dynamics=coupled"]);
+    assert_eq!(auto["wave_attenuation"], "off");
+    assert!(
+        auto["wave_attenuation_reason"]
+            .as_str()
+            .unwrap()
+            .contains("keeps the constant-amplitude wave"),
+        "{}",
+        auto["wave_attenuation_reason"]
+    );
+}
