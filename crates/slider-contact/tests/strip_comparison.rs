@@ -13,20 +13,18 @@
 
 use std::sync::OnceLock;
 
-use contact_springs::post_springs;
 use slider_contact::{
     ComplianceOperator, LatticeOperator, SliderModel, SliderParams, calibrate_near_field,
     calibrate_tangential_near_field,
 };
-use static_contact::analysis::{analyse_preload, strip_config};
 use static_contact::params::{MeshSizes, StaticParams};
-use static_contact::{ActiveSetOptions, MeshChoice, StripModel};
+use static_contact::{MeshChoice, PreparedStrip, RunControl, StripModel};
 
 /// Body margin beyond the first and last post cell of the strip (m): 2t.
 const MARGIN_M: f64 = 1e-3;
 
-fn strip() -> &'static (StaticParams, StripModel) {
-    static STRIP: OnceLock<(StaticParams, StripModel)> = OnceLock::new();
+fn strip() -> &'static (StaticParams, PreparedStrip) {
+    static STRIP: OnceLock<(StaticParams, PreparedStrip)> = OnceLock::new();
     STRIP.get_or_init(|| {
         let dir = std::env::temp_dir().join("slider-contact-tests");
         std::fs::create_dir_all(&dir).expect("temp dir");
@@ -62,14 +60,40 @@ fn strip() -> &'static (StaticParams, StripModel) {
         };
         let mesh = gmsh_mesh::read_msh(&path).expect("strip mesh");
         let _ = std::fs::remove_file(&path);
-        let model = StripModel::build(mesh, strip_config(&params)).expect("strip FEM");
-        (params, model)
+        let model = StripModel::build(mesh, params.strip_config()).expect("strip FEM");
+        let strip = PreparedStrip {
+            model,
+            mesh_file: path.display().to_string(),
+            notes: Vec::new(),
+            mesh_s: 0.0,
+            condensation_s: 0.0,
+        };
+        (params, strip)
     })
+}
+
+/// η of the strip FEM `strip` (built from `params`) at the slider preload `preload_n` alone, with
+/// the contact solver's defaults.
+fn strip_eta(strip: &PreparedStrip, params: &StaticParams, preload_n: f64) -> f64 {
+    let at = StaticParams {
+        preload_n,
+        preload_sweep_n: Vec::new(),
+        // The strip is built already (its mesh file may be gone): the mesh choice only keys the
+        // report.
+        mesh: MeshChoice::Auto,
+        ..params.clone()
+    };
+    strip
+        .analyse(&at, &at.post_springs().unwrap(), &RunControl::none())
+        .unwrap()
+        .effective_contact_ratio
+        .unwrap()
 }
 
 /// The lattice of the strip's slider: 10 × 100 posts, no margins, near field from the strip.
 fn lattice_params() -> SliderParams {
-    let (params, model) = strip();
+    let (params, prepared) = strip();
+    let model = &prepared.model;
     let cal = calibrate_near_field(model, params.slider_thickness_m).expect("calibration");
     SliderParams {
         posts_x: 10,
@@ -83,7 +107,8 @@ fn lattice_params() -> SliderParams {
 
 #[test]
 fn the_lattice_far_field_matches_the_strip_fem_differential_compliances() {
-    let (params, model) = strip();
+    let (params, prepared) = strip();
+    let model = &prepared.model;
     let cal = calibrate_near_field(model, params.slider_thickness_m).unwrap();
     println!(
         "s_post = {:.4e} m/N (Johnson 1/k_pn = {:.4e}), posts {:?}",
@@ -115,7 +140,8 @@ fn the_lattice_far_field_matches_the_strip_fem_differential_compliances() {
 /// field (Cerruti in both bodies + the bonded layer's ΔK_t).
 #[test]
 fn the_tangential_lattice_row_matches_the_strip_fem_tip_compliances() {
-    let (params, model) = strip();
+    let (params, prepared) = strip();
+    let model = &prepared.model;
     let cal = calibrate_tangential_near_field(model, params.slider_thickness_m).unwrap();
     let tips = model.tip_compliance().unwrap();
     let fem = &tips.tangential_m_per_n;
@@ -192,29 +218,11 @@ const TANGENTIAL_TOLERANCE: f64 = 0.02;
 
 #[test]
 fn identical_rows_rigid_back_no_scatter_reproduce_the_strip_eta_within_2_percent() {
-    let (params, model) = strip();
-    let k_n = post_springs(
-        &params.slider_material,
-        &params.stator_material,
-        0.5 * params.post_diameter_m,
-    )
-    .unwrap()
-    .k_n_n_per_m;
+    let (params, prepared) = strip();
     let lattice = SliderModel::build(&lattice_params()).unwrap();
     let share = 1000.0 / (params.posts_x * params.posts_y) as f64;
-    let none = static_contact::RunControl::none();
     for preload in [10.0, 40.0, 100.0] {
-        let strip_eta = analyse_preload(
-            model,
-            params,
-            preload,
-            k_n,
-            ActiveSetOptions::default(),
-            &none,
-        )
-        .unwrap()
-        .effective_contact_ratio
-        .unwrap();
+        let strip_eta = strip_eta(prepared, params, preload);
         let report = lattice.analyse(preload * share).unwrap();
         let eta = report.effective_contact_ratio.unwrap();
         println!(
@@ -242,13 +250,6 @@ fn identical_rows_rigid_back_no_scatter_reproduce_the_strip_eta_within_2_percent
 fn the_default_slider_reproduces_the_default_strip_eta() {
     let params = StaticParams::default();
     let prepared = static_contact::prepare_strip(&params).expect("default strip FEM");
-    let k_n = post_springs(
-        &params.slider_material,
-        &params.stator_material,
-        0.5 * params.post_diameter_m,
-    )
-    .unwrap()
-    .k_n_n_per_m;
     let cal = calibrate_near_field(&prepared.model, params.slider_thickness_m).unwrap();
     println!(
         "default strip: s_post {:.4e} m/N (Johnson {:.4e}), worst differential mismatch {:.4}",
@@ -263,17 +264,7 @@ fn the_default_slider_reproduces_the_default_strip_eta() {
     .unwrap();
     let johnson = SliderModel::build(&SliderParams::default()).unwrap();
     for preload in [10.0, 40.0, 100.0] {
-        let strip_eta = analyse_preload(
-            &prepared.model,
-            &params,
-            preload,
-            k_n,
-            ActiveSetOptions::default(),
-            &static_contact::RunControl::none(),
-        )
-        .unwrap()
-        .effective_contact_ratio
-        .unwrap();
+        let strip_eta = strip_eta(&prepared, &params, preload);
         let eta = calibrated
             .analyse(preload)
             .unwrap()

@@ -9,15 +9,15 @@
 //! ```
 //! Used by `scripts/perf-default.sh`; numbers in the crate README (Speed).
 
-use static_contact::{MeshChoice, StaticParams, run};
+use static_contact::{MeshChoice, RunControl, StaticParams, prepare_strip};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut params = StaticParams::default();
     if let Some(path) = std::env::args_os().nth(1) {
         params.mesh = MeshChoice::File(path.into());
     }
-    let analysis = run(&params)?;
-    let r = &analysis.report;
+    let strip = prepare_strip(&params)?;
+    let r = &strip.analyse(&params, &params.post_springs()?, &RunControl::none())?;
     let f = &r.fem.slider;
     let line = serde_json::json!({
         "mesh_file": r.mesh_file,

@@ -1,4 +1,10 @@
 //! The static stage of the pipeline: parameters → mesh → condensed strip → snapshots → η.
+//!
+//! Two entry points: [`prepare_strip`] (validate the parameters, find or make the mesh, condense
+//! the strip onto its posts: everything that does not depend on the preload) and
+//! [`PreparedStrip::analyse`] (every preload × wave phase and the flat stator solved on that strip,
+//! η fitted by least squares, docs/physics.md §6). A hand-built [`StripModel`] is analysed by
+//! wrapping it in a [`PreparedStrip`].
 
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -166,7 +172,7 @@ pub struct StaticAnalysis {
 }
 
 /// Stator surface height under each post: w(x) = A_n sin(θ₀ − k x) (m).
-pub fn wave_heights(
+fn wave_heights(
     model: &StripModel,
     amplitude_m: f64,
     wavelength_m: f64,
@@ -255,7 +261,7 @@ fn stop_check(control: &RunControl, before: impl FnOnce() -> String) -> Result<(
 
 /// Solves every snapshot of one preload on a built model and fits η; `control` is asked before
 /// each contact solve.
-pub fn analyse_preload(
+fn analyse_preload(
     model: &StripModel,
     params: &StaticParams,
     preload_n: f64,
@@ -315,28 +321,6 @@ pub fn analyse_preload(
     })
 }
 
-/// The strip configuration of the parameters.
-pub fn strip_config(params: &StaticParams) -> StripConfig {
-    StripConfig {
-        slider_material: params.slider_material.clone(),
-        stator_material: params.stator_material.clone(),
-        post_radius_m: 0.5 * params.post_diameter_m,
-        post_height_m: params.post_height_m,
-        pitch_m: params.post_pitch_m,
-        slider_rows: params.posts_y,
-        expected_strip_posts: Some(params.strip_post_count()),
-        stator: params.stator,
-        fem_solver: params.fem_solver,
-    }
-}
-
-/// Runs the static stage: resolves and reads the mesh, condenses the strip, solves every
-/// preload × phase and the flat stator with the parameters' solver settings
-/// ([`StaticParams::solver_options`]), fits η.
-pub fn run(params: &StaticParams) -> Result<StaticAnalysis> {
-    run_with(params, params.solver_options())
-}
-
 /// A condensed strip model and where it came from: everything of a static run that does not
 /// depend on the preload (a sweep over preloads builds it once).
 #[derive(Debug)]
@@ -386,7 +370,7 @@ pub fn prepare_strip(params: &StaticParams) -> Result<PreparedStrip> {
     let t = Instant::now();
     let model = StripModel::build_with_order_cache(
         mesh,
-        strip_config(params),
+        params.strip_config(),
         resolved.cache_dir.as_deref(),
     )?;
     // The FEM solver and its reason are in the report (`fem.slider.solver`, `solver_reason`)
@@ -400,76 +384,73 @@ pub fn prepare_strip(params: &StaticParams) -> Result<PreparedStrip> {
     })
 }
 
-/// [`run`] with explicit solver options.
-pub fn run_with(params: &StaticParams, options: ActiveSetOptions) -> Result<StaticAnalysis> {
-    run_with_springs(
-        params,
-        &params.post_springs()?,
-        options,
-        &RunControl::none(),
-    )
+impl PreparedStrip {
+    /// Solves every preload × phase and the flat stator on this strip with the parameters'
+    /// solver settings ([`StaticParams::solver_options`]) and fits η; `springs` are the post's
+    /// Johnson springs (a pipeline computes them once per run). `params` may differ from the
+    /// strip's own in anything that does not change the mesh or the condensation (preloads,
+    /// wave, phases, solver settings): a sweep over preloads prepares the strip once.
+    /// `control` is asked before each contact solve.
+    pub fn analyse(
+        &self,
+        params: &StaticParams,
+        springs: &PostSprings,
+        control: &RunControl,
+    ) -> Result<StaticReport> {
+        let start = Instant::now();
+        params.validate()?;
+        let content_hash = params.content_hash()?;
+        let k_n = springs.k_n_n_per_m;
+        let options = params.solver_options();
+        let preloads = params
+            .all_preloads_n()
+            .into_iter()
+            .map(|p| analyse_preload(&self.model, params, p, k_n, options, control))
+            .collect::<Result<Vec<_>>>()?;
+        let contact_s = start.elapsed().as_secs_f64();
+        let timings = Timings {
+            mesh_s: self.mesh_s,
+            condensation_s: self.condensation_s,
+            contact_s,
+            wall_time_s: self.mesh_s + self.condensation_s + contact_s,
+        };
+        Ok(report(
+            &self.model,
+            params,
+            k_n,
+            content_hash,
+            self.mesh_file.clone(),
+            timings,
+            preloads,
+        ))
+    }
+
+    /// The run of this strip with `params` and its `report`, for field output
+    /// ([`crate::output`]).
+    pub fn into_analysis(self, params: &StaticParams, report: StaticReport) -> StaticAnalysis {
+        StaticAnalysis {
+            params: params.clone(),
+            model: self.model,
+            report,
+            notes: self.notes,
+        }
+    }
 }
 
-/// [`run_with`] for a caller that already has the post's Johnson springs (a pipeline computes
-/// them once per run and passes them to every stage); `control` is asked before the mesh and
-/// condensation, after it, and before each contact solve.
-pub fn run_with_springs(
-    params: &StaticParams,
-    springs: &PostSprings,
-    options: ActiveSetOptions,
-    control: &RunControl,
-) -> Result<StaticAnalysis> {
-    let start = Instant::now();
-    params.validate()?;
-    let content_hash = params.content_hash()?;
-    stop_check(control, || "the strip's mesh and condensation".into())?;
-    let prepared = prepare_strip(params)?;
-    let report = report_for_model(
-        &prepared.model,
-        params,
-        springs,
-        content_hash,
-        prepared.mesh_file,
-        options,
-        prepared.mesh_s,
-        prepared.condensation_s,
-        start,
-        control,
-    )?;
-    Ok(StaticAnalysis {
-        params: params.clone(),
-        model: prepared.model,
-        report,
-        notes: prepared.notes,
-    })
-}
-
-/// Solves all preloads on an already condensed model and assembles the report; `control` is
-/// asked before each contact solve.
-#[allow(clippy::too_many_arguments)]
-pub fn report_for_model(
+/// The report of every preload's result on `model`: the first preload's η, load sharing and
+/// post forces; the worst residual and the iterations of all.
+fn report(
     model: &StripModel,
     params: &StaticParams,
-    springs: &PostSprings,
+    k_n: f64,
     content_hash: String,
     mesh_file: String,
-    options: ActiveSetOptions,
-    mesh_s: f64,
-    condensation_s: f64,
-    start: Instant,
-    control: &RunControl,
-) -> Result<StaticReport> {
-    let t = Instant::now();
-    let k_n = springs.k_n_n_per_m;
-    let preloads = params
-        .all_preloads_n()
-        .into_iter()
-        .map(|p| analyse_preload(model, params, p, k_n, options, control))
-        .collect::<Result<Vec<_>>>()?;
-    let contact_s = t.elapsed().as_secs_f64();
+    timings: Timings,
+    preloads: Vec<PreloadResult>,
+) -> StaticReport {
     let main = &preloads[0];
     let posts_total = params.posts_x * params.posts_y;
-    Ok(StaticReport {
+    StaticReport {
         content_hash,
         model_version: MODEL_VERSION,
         mesh_file,
@@ -504,12 +485,24 @@ pub fn report_for_model(
                 crate::scene::StatorCompliance::HalfSpace(_) => None,
             },
         },
-        timings: Timings {
-            mesh_s,
-            condensation_s,
-            contact_s,
-            wall_time_s: start.elapsed().as_secs_f64(),
-        },
+        timings,
         preloads,
-    })
+    }
+}
+impl StaticParams {
+    /// The strip configuration of the parameters: materials, post geometry, rows, stator model
+    /// and FEM solver ([`StripModel::build`]'s input).
+    pub fn strip_config(&self) -> StripConfig {
+        StripConfig {
+            slider_material: self.slider_material.clone(),
+            stator_material: self.stator_material.clone(),
+            post_radius_m: 0.5 * self.post_diameter_m,
+            post_height_m: self.post_height_m,
+            pitch_m: self.post_pitch_m,
+            slider_rows: self.posts_y,
+            expected_strip_posts: Some(self.strip_post_count()),
+            stator: self.stator,
+            fem_solver: self.fem_solver,
+        }
+    }
 }

@@ -18,7 +18,7 @@ pub mod scene;
 
 pub use analysis::{
     PostResult, PreloadResult, PreparedStrip, SnapshotResult, StaticAnalysis, StaticReport,
-    prepare_strip, run, run_with, run_with_springs,
+    prepare_strip,
 };
 pub use run_control::RunControl;
 pub use body::{BodyCompliance, BodySpec, Disk, FemStats, TangentialCompliance, TipLateral};

@@ -4,7 +4,6 @@
 
 mod common;
 
-use static_contact::analysis::strip_config;
 use static_contact::scene::StripModel;
 
 #[test]
@@ -15,7 +14,7 @@ fn a_second_build_reuses_the_stored_ordering_and_gives_the_same_compliance() {
     let cache = tempfile::tempdir().expect("temporary cache folder");
     let build = || {
         let mesh = gmsh_mesh::read_msh(&mesh_file).expect("committed 10-post strip");
-        StripModel::build_with_order_cache(mesh, strip_config(&params), Some(cache.path()))
+        StripModel::build_with_order_cache(mesh, params.strip_config(), Some(cache.path()))
             .expect("strip FEM")
     };
     let first = build();

@@ -3,9 +3,10 @@
 
 mod common;
 
+use common::run;
 use static_contact::params::StaticParams;
 use static_contact::scene::{GEOMETRY_MATCH_TOLERANCE, measured_post_height};
-use static_contact::{ContactError, MeshChoice, run};
+use static_contact::{ContactError, MeshChoice};
 
 fn committed_mesh() -> std::path::PathBuf {
     static_contact::mesh_source::workspace_root()

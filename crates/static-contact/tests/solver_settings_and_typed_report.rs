@@ -4,8 +4,9 @@
 
 mod common;
 
+use common::run;
 use static_contact::params::StaticParams;
-use static_contact::{ContactError, MeshChoice, StaticReport, run};
+use static_contact::{ContactError, MeshChoice, StaticReport};
 
 /// The default slider seen through the committed 10-post strip mesh (fast: Tet4, 10 k nodes).
 fn ten_post_params() -> StaticParams {

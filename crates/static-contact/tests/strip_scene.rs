@@ -3,12 +3,13 @@
 
 mod common;
 
+use common::run;
 use nalgebra::DVector;
-use static_contact::analysis::{StaticAnalysis, strip_config};
+use static_contact::StaticAnalysis;
 use static_contact::output::{write_force_chart, write_snapshot_vtu};
 use static_contact::params::{MeshSizes, StaticParams};
 use static_contact::scene::StripModel;
-use static_contact::{ContactError, MeshChoice, run};
+use static_contact::{ContactError, MeshChoice};
 
 fn committed(file: &str) -> std::path::PathBuf {
     static_contact::mesh_source::workspace_root()
@@ -225,7 +226,7 @@ fn snapshot_fields_and_the_force_chart_are_written() {
 #[test]
 fn a_mesh_without_post_tips_is_refused_naming_the_group() {
     let mesh = gmsh_mesh::read_msh(committed("punch_a10um_R20a_tet4_5k.msh")).unwrap();
-    let err = StripModel::build(mesh, strip_config(&ten_post_params(Vec::new()))).unwrap_err();
+    let err = StripModel::build(mesh, ten_post_params(Vec::new()).strip_config()).unwrap_err();
     assert!(
         matches!(err, ContactError::Mesh { .. }),
         "missing group must be a mesh error: {err}"
@@ -298,7 +299,7 @@ fn an_inverted_element_is_refused_naming_its_gmsh_tag() {
         gmsh_mesh::Tets::Linear(tets) => tets[first_slider_tet].swap(0, 1),
         gmsh_mesh::Tets::Quadratic(_) => unreachable!("the committed strip is Tet4"),
     }
-    let err = StripModel::build(mesh, strip_config(&ten_post_params(Vec::new()))).unwrap_err();
+    let err = StripModel::build(mesh, ten_post_params(Vec::new()).strip_config()).unwrap_err();
     assert!(
         err.to_string().contains(&format!("gmsh tag {tag}")),
         "error names the inverted element's gmsh tag {tag}: {err}"

@@ -15,7 +15,6 @@ use std::path::{Path, PathBuf};
 
 use contact_springs::{Material, k_pn, k_sn};
 use serde_json::{Value, json};
-use static_contact::analysis::{report_for_model, strip_config};
 use static_contact::body::{BodyCompliance, BodySpec, Disk, TipLateral};
 use static_contact::halfspace::disk_mutual_compliance;
 use static_contact::mesh_source::{
@@ -24,7 +23,34 @@ use static_contact::mesh_source::{
 use static_contact::output::write_force_chart;
 use static_contact::params::{MeshSizes, StaticParams};
 use static_contact::scene::{PostSite, StatorModel, StripModel};
-use static_contact::{FitSample, PreloadResult, StaticAnalysis, StaticReport, fit_eta, run};
+use static_contact::{
+    FitSample, PreloadResult, PreparedStrip, RunControl, StaticAnalysis, StaticReport, fit_eta,
+    prepare_strip,
+};
+
+/// The static stage of `params`: the strip prepared, then analysed.
+fn run(params: &StaticParams) -> static_contact::Result<StaticAnalysis> {
+    let strip = prepare_strip(params)?;
+    let report = strip.analyse(params, &params.post_springs()?, &RunControl::none())?;
+    Ok(strip.into_analysis(params, report))
+}
+
+/// A strip model built here (not by [`prepare_strip`]) analysed with `params`.
+fn analyse_built(
+    model: StripModel,
+    params: &StaticParams,
+    springs: &contact_springs::PostSprings,
+) -> static_contact::Result<(StripModel, StaticReport)> {
+    let strip = PreparedStrip {
+        model,
+        mesh_file: String::new(),
+        notes: Vec::new(),
+        mesh_s: 0.0,
+        condensation_s: 0.0,
+    };
+    let report = strip.analyse(params, springs, &RunControl::none())?;
+    Ok((strip.model, report))
+}
 
 /// Preloads of the η-against-preload sweeps (N).
 const SWEEP_N: [f64; 7] = [5.0, 10.0, 20.0, 40.0, 60.0, 80.0, 100.0];
@@ -272,33 +298,11 @@ fn stator_section() -> AnyResult<Value> {
         // The run's mesh: a Tet10 strip is the cached Tet4 file raised to Tet10 on reading.
         let mesh = resolve_mesh_verified(&params)?.read()?;
         let springs = params.post_springs()?;
-        let meshed = StripModel::build(mesh.clone(), strip_config(&params))?;
-        let meshed_report = report_for_model(
-            &meshed,
-            &params,
-            &springs,
-            String::new(),
-            String::new(),
-            Default::default(),
-            0.0,
-            0.0,
-            std::time::Instant::now(),
-            &static_contact::RunControl::none(),
-        )?;
+        let meshed = StripModel::build(mesh.clone(), params.strip_config())?;
+        let (meshed, meshed_report) = analyse_built(meshed, &params, &springs)?;
         params.stator = StatorModel::HalfSpace;
-        let half = StripModel::build(mesh, strip_config(&params))?;
-        let half_report = report_for_model(
-            &half,
-            &params,
-            &springs,
-            String::new(),
-            String::new(),
-            Default::default(),
-            0.0,
-            0.0,
-            std::time::Instant::now(),
-            &static_contact::RunControl::none(),
-        )?;
+        let half = StripModel::build(mesh, params.strip_config())?;
+        let (_, half_report) = analyse_built(half, &params, &springs)?;
         // The meshed block has symmetry planes in y (infinitely many rows) and rollers on its x
         // ends (mirror images in x), a clamped bottom 1 mm down. Compare differences C_55 − C_5j,
         // which do not depend on the loads' mean (it only shifts the approach): the half-space

@@ -66,19 +66,9 @@ fn condense_and_cache(
     announce(&prepared.notes);
     super::tips::cache_strip_tips(&prepared.model, &members[0].0, cache_dir)?;
     for (params, hash) in members {
-        let report = static_contact::analysis::report_for_model(
-            &prepared.model,
-            params,
-            &params.post_springs()?,
-            hash.clone(),
-            prepared.mesh_file.clone(),
-            params.solver_options(),
-            prepared.mesh_s,
-            prepared.condensation_s,
-            std::time::Instant::now(),
-            &RunControl::none(),
-        )
-        .map_err(|e| static_error(e, params))?;
+        let report = prepared
+            .analyse(params, &params.post_springs()?, &RunControl::none())
+            .map_err(|e| static_error(e, params))?;
         store(
             &cache_dir.join(format!("static-{hash}.json")),
             &report,

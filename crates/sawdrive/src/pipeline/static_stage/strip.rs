@@ -310,9 +310,8 @@ pub fn run_static(
         }
     }
     announce(&notes);
-    let options = params.solver_options();
-    let analysis = static_contact::run_with_springs(&params, springs, options, control)
-        .map_err(|e| static_error(e, &params))?;
+    let analysis =
+        analyse_strip(&params, springs, control).map_err(|e| static_error(e, &params))?;
     announce(&analysis.notes);
     notes.extend(analysis.notes.iter().cloned());
     if let Some(dir) = &fields_dir {
@@ -333,6 +332,23 @@ pub fn run_static(
         cached_fields: fields_dir,
         notes,
     })
+}
+
+/// The strip of `params` prepared (mesh, condensation) and analysed; `control` is asked before
+/// the mesh and condensation (which cannot be interrupted) and before each contact solve.
+fn analyse_strip(
+    params: &StaticParams,
+    springs: &PostSprings,
+    control: &RunControl,
+) -> Result<StaticAnalysis, ContactError> {
+    if control.should_stop() {
+        return Err(ContactError::Cancelled {
+            before: "the strip's mesh and condensation".into(),
+        });
+    }
+    let strip = static_contact::prepare_strip(params)?;
+    let report = strip.analyse(params, springs, control)?;
+    Ok(strip.into_analysis(params, report))
 }
 
 /// Write the post-force chart and the VTU of the first snapshot of `analysis` into `dir`.
