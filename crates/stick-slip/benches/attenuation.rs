@@ -32,7 +32,7 @@ fn curves(c: &mut Criterion) {
                 black_box(
                     PeriodicAverageModel::new(black_box(&scene))
                         .unwrap()
-                        .solve()
+                        .solve(&stick_slip::RunControl::none())
                         .unwrap(),
                 )
             })

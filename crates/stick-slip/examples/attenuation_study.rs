@@ -61,7 +61,7 @@ fn study(preload_n: f64, out: &Path) -> Result<serde_json::Value, Box<dyn std::e
     let scene = scene(preload_n);
     let t0 = Instant::now();
     let constant_model = PeriodicAverageModel::new(&scene)?;
-    let constant = constant_model.solve()?;
+    let constant = constant_model.solve(&stick_slip::RunControl::none())?;
     let constant_time = t0.elapsed().as_secs_f64();
     let constant_stall_draw = constant_model.at_speed(0.0)?.stator_power_w;
     let options = AttenuationOptions::new(POWER_UNDER_ARRAY_W);

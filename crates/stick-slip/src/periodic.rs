@@ -467,16 +467,10 @@ impl PeriodicAverageModel {
         Ok(history)
     }
 
-    /// The full result: curve, stall, no-load speed, operating point, efficiency.
-    /// Not stoppable: a caller that may stop runs it through
-    /// [`solve_with_histories`](crate::solve_with_histories), which takes a [`RunControl`].
-    pub fn solve(&self) -> Result<DynamicResult> {
-        self.solve_controlled(&RunControl::none())
-    }
-
-    /// [`solve`](Self::solve) asking `control` before each curve point and before the operating
-    /// point.
-    pub(crate) fn solve_controlled(&self, control: &RunControl) -> Result<DynamicResult> {
+    /// The full result: curve, stall, no-load speed, operating point, efficiency; `control` is
+    /// asked before each curve point and before the operating point ([`RunControl::none()`]:
+    /// never stops).
+    pub fn solve(&self, control: &RunControl) -> Result<DynamicResult> {
         let started = Instant::now();
         let mut warnings = self.warnings.clone();
         let stall_sample = self.at_speed(0.0)?;

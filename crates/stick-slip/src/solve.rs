@@ -13,7 +13,7 @@ use crate::transient::TransientModel;
 /// transient, reason in `model_reason`) and run it.
 pub fn solve(scene: &DynamicScene) -> Result<DynamicResult> {
     match scene.resolve_model()?.0 {
-        ModelKind::PeriodicAverage => PeriodicAverageModel::new(scene)?.solve(),
+        ModelKind::PeriodicAverage => PeriodicAverageModel::new(scene)?.solve(&RunControl::none()),
         ModelKind::Transient => TransientModel::new(scene)?.solve(),
     }
 }
@@ -51,7 +51,7 @@ pub fn solve_with_histories(
     match scene.resolve_model()?.0 {
         ModelKind::PeriodicAverage => {
             let model = PeriodicAverageModel::new(scene)?;
-            let result = model.solve_controlled(control)?;
+            let result = model.solve(control)?;
             stop_check(control, || "the post history".into())?;
             let speed = result
                 .operating_point

@@ -94,7 +94,9 @@ fn at_100_n_the_stall_draw_stays_within_the_wave_power_and_the_thrust_falls() {
 fn a_weak_load_recovers_the_constant_amplitude_results() {
     let scene = paper_scene(40.0);
     let constant_model = PeriodicAverageModel::new(&scene).unwrap();
-    let constant = constant_model.solve().unwrap();
+    let constant = constant_model
+        .solve(&stick_slip::RunControl::none())
+        .unwrap();
     let draw = constant_model.at_speed(0.0).unwrap().stator_power_w;
     // The posts draw 1e-8 of the wave's power.
     let model = AttenuatedPeriodicModel::new(&scene, &AttenuationOptions::new(1e8 * draw)).unwrap();

@@ -195,7 +195,10 @@ fn twenty_micron_posts_beat_fifty_micron_posts_at_equal_contact_area() {
 #[test]
 fn speed_thrust_curve_falls_monotonically_from_stall_to_no_load() {
     let scene = paper_scene();
-    let result = PeriodicAverageModel::new(&scene).unwrap().solve().unwrap();
+    let result = PeriodicAverageModel::new(&scene)
+        .unwrap()
+        .solve(&stick_slip::RunControl::none())
+        .unwrap();
     assert_eq!(
         result.curve.len(),
         scene.options.curve_points,
@@ -262,7 +265,7 @@ fn locked_slider_is_reported_with_zero_stall_thrust_and_a_warning() {
         limit < 0.0 && limit.abs() <= 0.3 * 100.0,
         "F(0⁺) of a locked slider {limit} N should be negative, within μP"
     );
-    let result = model.solve().unwrap();
+    let result = model.solve(&stick_slip::RunControl::none()).unwrap();
     assert_eq!(
         result.stall_thrust_n, 0.0,
         "reported stall thrust of a locked slider"

@@ -661,7 +661,7 @@ fn agreement(
     files: &mut Vec<PathBuf>,
 ) -> Result<AgreementReport> {
     let periodic = PeriodicAverageModel::new(scene)?;
-    let periodic_result = periodic.solve()?;
+    let periodic_result = periodic.solve(&stick_slip::RunControl::none())?;
     let mut transient_scene = scene.clone();
     transient_scene.model = ModelChoice::Transient;
     transient_scene.integrator = Integrator::Auto;
@@ -868,7 +868,7 @@ fn trends(
         scene.slider.preload_n = p;
         results.push((
             format!("P = {p} N"),
-            PeriodicAverageModel::new(&scene)?.solve()?,
+            PeriodicAverageModel::new(&scene)?.solve(&stick_slip::RunControl::none())?,
         ));
     }
     let labelled: Vec<(&str, &DynamicResult)> =
