@@ -1,32 +1,47 @@
-//! When is the lumped model (N_eff = η·N independent posts) good enough? A cheap estimate of its
+//! When is the lumped model (N_eff = η·N independent posts) good enough? A bound on its
 //! relative error against the coupled model, from what the static stage already computed, and
 //! the `auto` choice between the two.
 //!
-//! Estimate: e_lumped ≈ [`LUMPED_ERROR_FACTOR`] · r_fit · V_crest / v₀,lumped, where r_fit is
-//! the static η fit's relative rms misfit of the post forces
-//! (`static_contact::EtaFit::relative_rms_residual`), V_crest = A_t ω the crest speed and
-//! v₀,lumped the lumped model's no-load speed at the static η (both cheap: the lumped period
-//! average runs in ≈ 0.3 ms). Reasoning: the lumped model is exact when the posts do not
-//! interact (r_fit = 0); the interaction the scalar η cannot represent shows first in the static
-//! force misfit; and its effect on the relative error grows as the slider nears locking
-//! (v₀ → 0: the no-load speed is then a small difference of stick and slip drive). The error
-//! measured (max of the relative stall-thrust and no-load-speed errors of the lumped model at
-//! the static η against the coupled model) over the study's 24 scenes is 0.04–0.59 × r_fit ·
-//! V_crest/v₀ (validation/coupled-dynamics/README.md), including a nearly locked slider
-//! (v₀ = 0.3 % of V_crest, lumped error 690 %); the factor is that envelope. Valid inside the
-//! study's range: Si posts of 20–50 µm on LiNbO3, 1089 to 10000 posts, 10–100 N, μ = 0.3, the
-//! paper's wave, r_fit ≤ [`STUDY_MAX_FIT_MISFIT`]; beyond, [`choose_model`] says it extrapolates.
+//! Bound: with x = r_fit · V_crest / v₀,lumped and ε = [`LUMPED_ERROR_FACTOR`] · x,
+//! e_lumped ≤ ε / (1 − ε) (infinite for ε ≥ 1), where r_fit is the static η fit's relative rms
+//! misfit of the post forces (`static_contact::EtaFit::relative_rms_residual`), V_crest = A_t ω
+//! the crest speed and v₀,lumped the lumped model's no-load speed at the static η (both cheap:
+//! the lumped period average runs in ≈ 0.3 ms).
+//!
+//! Two steps. (1) Calibrated: ε bounds the difference of the two models *relative to the lumped
+//! figures*, ε_l = max(|ΔF_stall| / F_stall,lumped, |Δv₀| / v₀,lumped) — the figures known before
+//! the coupled run, in which x is measured too. Over the 46 scenes with a moving slider of
+//! validation/coupled-dynamics (23 short FEM strips, `results/sliders.csv`; 23 whole rows,
+//! `results/whole-row.csv`) ε_l / x lies in 0.037–0.581; the factor is that envelope rounded up.
+//! (2) By construction: the error `auto` must bound is relative to the *coupled* figures,
+//! e = max(|ΔF| / F_coupled, |Δv₀| / v₀,coupled). Since F_coupled ≥ F_lumped (1 − ε_l) (and the
+//! same for v₀), e ≤ ε_l / (1 − ε_l) ≤ ε / (1 − ε), whichever model is faster. Step (2) is why an
+//! envelope of e / x itself is not a bound: near locking the lumped model overshoots v₀ by ≈ e,
+//! so e / x grows by the factor 1 + e that ε_l / x does not have (the 1089-post short strip at
+//! 40 N: e = 12.7 %, 0.6 x = 11.6 %, bound 13.1 %).
+//!
+//! Reasoning of the form: the lumped model is exact when the posts do not interact (r_fit = 0);
+//! the interaction the scalar η cannot represent shows first in the static force misfit; and its
+//! effect on the relative error grows as the slider nears locking (v₀ → 0: the no-load speed is
+//! then a small difference of stick and slip drive). The measured e over the bound is 0.06–0.96
+//! in the study, including a nearly locked slider (v₀ = 0.3 % of V_crest, bound infinite). Valid
+//! inside the study's range: Si posts of 20–50 µm on LiNbO3, 1089 to 10000 posts, 10–100 N,
+//! μ = 0.3, the paper's wave, r_fit ≤ [`STUDY_MAX_FIT_MISFIT`]; beyond, [`choose_model`] says it
+//! extrapolates.
 
 use serde::Serialize;
 
 use crate::error::{CoupledError, Result};
 
-/// Envelope factor of the lumped model's relative error over r_fit · V_crest/v₀,lumped
-/// (dimensionless): the largest ratio over the study's scenes (0.59), rounded up. Default 0.6
-/// (validation/coupled-dynamics/README.md).
+/// Envelope factor of the difference of the two models relative to the lumped figures over
+/// r_fit · V_crest/v₀,lumped (dimensionless): the largest ratio over the study's 46 scenes with a
+/// moving slider (0.581), rounded up. Default 0.6 (validation/coupled-dynamics/README.md,
+/// criterion).
 pub const LUMPED_ERROR_FACTOR: f64 = 0.6;
-/// Largest static fit misfit of the study's scenes (dimensionless). Default 0.18.
-pub const STUDY_MAX_FIT_MISFIT: f64 = 0.18;
+/// Largest static fit misfit of the scenes [`LUMPED_ERROR_FACTOR`] is calibrated on
+/// (dimensionless): 0.179 on the short strips, 0.293 on the whole rows (the default slider at
+/// 100 N), rounded up. Default 0.3.
+pub const STUDY_MAX_FIT_MISFIT: f64 = 0.3;
 /// Default tolerance of the `auto` choice: the lumped model is used when its estimated error is
 /// at most this (dimensionless). Default 0.02 (2 %).
 pub const DEFAULT_AUTO_TOLERANCE: f64 = 0.02;
@@ -63,16 +78,21 @@ impl LumpedEvidence {
     }
 }
 
-/// Estimated relative error of the lumped model at the static η against the coupled model
-/// (max of the stall-thrust and no-load-speed errors), see the module docs:
-/// [`LUMPED_ERROR_FACTOR`] · r_fit · V_crest / v₀,lumped; infinite for a locked lumped slider
-/// (v₀ ≤ 0), NaN for NaN evidence.
+/// Bound on the relative error of the lumped model at the static η against the coupled model
+/// (max of the stall-thrust and no-load-speed errors, relative to the coupled figures), see the
+/// module docs: ε / (1 − ε) with ε = [`LUMPED_ERROR_FACTOR`] · r_fit · V_crest / v₀,lumped;
+/// infinite for a locked lumped slider (v₀ ≤ 0) or ε ≥ 1, NaN for NaN evidence.
 pub fn lumped_error_estimate(evidence: &LumpedEvidence) -> f64 {
     let v0 = evidence.lumped_no_load_speed_m_per_s;
     if v0 <= 0.0 {
         return f64::INFINITY;
     }
-    LUMPED_ERROR_FACTOR * evidence.eta_fit_misfit * evidence.crest_speed_m_per_s / v0
+    let relative_to_lumped =
+        LUMPED_ERROR_FACTOR * evidence.eta_fit_misfit * evidence.crest_speed_m_per_s / v0;
+    if relative_to_lumped >= 1.0 {
+        return f64::INFINITY;
+    }
+    relative_to_lumped / (1.0 - relative_to_lumped)
 }
 
 /// The dynamic model to use.
@@ -90,7 +110,7 @@ pub enum DynamicsChoice {
 pub struct ModelDecision {
     /// The model chosen.
     pub model: DynamicsChoice,
-    /// Estimated relative error of the lumped model ([`lumped_error_estimate`]).
+    /// Bound on the relative error of the lumped model ([`lumped_error_estimate`]).
     pub lumped_error_estimate: f64,
     /// Tolerance used.
     pub tolerance: f64,
@@ -197,8 +217,8 @@ mod tests {
             ..evidence(0.01)
         };
         assert!(
-            (lumped_error_estimate(&slow) / small - 50.0).abs() < 1e-9,
-            "50× slower no-load speed, 50× the estimate: {}",
+            lumped_error_estimate(&slow) > 50.0 * small,
+            "50× slower no-load speed, more than 50× the bound: {} vs {small}",
             lumped_error_estimate(&slow)
         );
         let locked = LumpedEvidence {
@@ -209,6 +229,52 @@ mod tests {
             lumped_error_estimate(&locked).is_infinite(),
             "a locked lumped slider cannot be trusted"
         );
+        let beyond = LumpedEvidence {
+            lumped_no_load_speed_m_per_s: 0.9 * LUMPED_ERROR_FACTOR * 0.01 * 1.1,
+            ..evidence(0.01)
+        };
+        assert!(
+            lumped_error_estimate(&beyond).is_infinite(),
+            "a difference as large as the lumped figures themselves bounds nothing"
+        );
+    }
+
+    #[test]
+    fn the_bound_covers_a_lumped_model_that_overshoots_the_coupled_one_by_the_calibrated_share() {
+        // The calibrated difference relative to the lumped figures, ε = C x; the worst case for
+        // the error relative to the coupled figures is a coupled model slower by that share.
+        let e = evidence(0.1);
+        let relative_to_lumped = LUMPED_ERROR_FACTOR * 0.1 * 1.1 / 0.55;
+        let v0_lumped = e.lumped_no_load_speed_m_per_s;
+        let v0_coupled = v0_lumped * (1.0 - relative_to_lumped);
+        let error = v0_lumped / v0_coupled - 1.0;
+        let bound = lumped_error_estimate(&e);
+        assert!(
+            (bound - error).abs() < 1e-12,
+            "bound {bound} vs the worst error {error}"
+        );
+        assert!(
+            bound > relative_to_lumped,
+            "{bound} vs {relative_to_lumped}"
+        );
+    }
+
+    #[test]
+    fn the_bound_holds_on_the_nearly_locked_short_strip_that_broke_the_plain_envelope() {
+        // 20 µm × 1089 at 40 N, 12-post FEM strip (validation/coupled-dynamics/results/
+        // sliders.csv): lumped error against the coupled model 12.68 %, plain 0.6 x = 11.62 %.
+        let strip = LumpedEvidence {
+            eta_fit_misfit: 0.06218188825532182,
+            lumped_no_load_speed_m_per_s: 0.3533128080954697,
+            crest_speed_m_per_s: 1.1,
+        };
+        let measured = 0.12679594096407554;
+        let bound = lumped_error_estimate(&strip);
+        assert!(
+            bound >= measured,
+            "bound {bound} below the measured {measured}"
+        );
+        assert!(bound < 1.1 * measured, "bound {bound} far above {measured}");
     }
 
     #[test]
@@ -219,7 +285,7 @@ mod tests {
         let b = choose_model(&evidence(0.15), DEFAULT_AUTO_TOLERANCE).unwrap();
         assert_eq!(b.model, DynamicsChoice::Coupled, "{}", b.reason);
         assert!(b.reason.contains("exceeds"), "reason: {}", b.reason);
-        let c = choose_model(&evidence(0.3), DEFAULT_AUTO_TOLERANCE).unwrap();
+        let c = choose_model(&evidence(0.35), DEFAULT_AUTO_TOLERANCE).unwrap();
         assert!(c.reason.contains("extrapolated"), "reason: {}", c.reason);
     }
 

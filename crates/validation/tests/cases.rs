@@ -216,3 +216,43 @@ fn summary_update_keeps_the_sections_of_cases_not_run_and_counts_them() {
     assert_eq!(third.matches("## design").count(), 1, "{third}");
     assert!(third.contains("3 checks, 0 failing"), "{third}");
 }
+
+#[test]
+fn summary_lines_stay_short_whatever_the_length_of_sources_and_reasons() {
+    let long = "a reference source described at great length, ".repeat(20);
+    let mut checked = outcome("springs", Level::Quick, true);
+    checked.checks[0].source = long.clone();
+    let skipped = cases::CaseOutcome {
+        case: "fem-peers".into(),
+        level: Level::Full,
+        checks: Vec::new(),
+        skipped: Some(long.clone()),
+        wall_s: 0.0,
+    };
+    let text = cases::summary_markdown(&[checked, skipped], "abc");
+    for line in text.lines() {
+        assert!(
+            line.chars().count() <= 2 * cases::SUMMARY_WIDTH,
+            "{} characters: {line}",
+            line.chars().count()
+        );
+    }
+    // The source is listed once under the table, the row cites its number.
+    assert!(text.contains("| `abc` | [1] |"), "{text}");
+    assert!(text.contains("\n1. a reference source"), "{text}");
+    assert!(text.contains("\nSkipped: a reference source"), "{text}");
+}
+
+#[test]
+fn the_committed_summary_has_no_markdown_line_over_400_characters() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../validation/SUMMARY.md");
+    let text = std::fs::read_to_string(&path).expect("validation/SUMMARY.md");
+    for (k, line) in text.lines().enumerate() {
+        assert!(
+            line.chars().count() <= 400,
+            "validation/SUMMARY.md line {}: {} characters",
+            k + 1,
+            line.chars().count()
+        );
+    }
+}

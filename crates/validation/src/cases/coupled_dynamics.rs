@@ -522,7 +522,7 @@ fn whole_rows(
             format!("{slider}: lumped error, must not exceed its estimate lumped_error_estimate"),
             lumped_error,
             r.lumped_error_estimate,
-            "validation/coupled-dynamics/README.md, whole rows: the criterion holds (error / estimate 0.06–0.46)",
+            "validation/coupled-dynamics/README.md, whole rows: the criterion holds (error / bound 0.06–0.35)",
         ));
         if preload == 10.0 {
             checks.push(Check::at_most(
