@@ -5,9 +5,10 @@ use std::path::Path;
 
 use static_contact::StaticParams;
 
+use super::cache::Lookup;
 use super::keys::{geometry_key, static_params};
 use super::slider::announce;
-use super::strip::{Lookup, lookup, static_error, store};
+use super::strip::{lookup, static_error, store};
 use crate::pipeline::{PipelineError, RunControl};
 use crate::scene::{Scene, StaticModel};
 

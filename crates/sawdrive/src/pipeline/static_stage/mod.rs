@@ -3,11 +3,13 @@
 //! cache and the sweep's cache fill), the whole slider ([`slider`]: the lattice model with the
 //! near field calibrated on the strip FEM), the post springs both use ([`springs`]) and the
 //! strip's tip compliances handed to the coupled dynamics ([`tips`]); the keys they share
-//! ([`keys`]) and the sweep's cache fill ([`fill`]).
+//! ([`keys`]), the one verified cache every cached artefact of the stage goes through
+//! ([`cache`]) and the sweep's cache fill ([`fill`]).
 //!
 //! One-way: nothing here imports the dynamic stage; what leaves the stage is its typed outcome
 //! ([`StaticOutcome`]) and the tip compliances ([`tips::StripTips`]), re-exported by the pipeline.
 
+pub(crate) mod cache;
 pub(crate) mod fill;
 pub(crate) mod keys;
 pub(crate) mod slider;

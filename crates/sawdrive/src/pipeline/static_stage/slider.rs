@@ -22,13 +22,21 @@ use slider_contact::{
     LatticeGeometry, NearFieldCalibration, SliderError, SliderParams, SliderReport,
 };
 
+use super::cache::{self, Entry, Layout, Lookup};
 use super::keys::{geometry_key, sha256_hex, static_params};
 use crate::output::io;
 use crate::pipeline::PipelineError;
 use crate::scene::{Scene, StaticModel};
 
-/// Layout version of the cache entries of this module (the physics is in the hashes).
-const CACHE_FORMAT: u32 = 1;
+/// The cache entries of this module (near field, whole-slider stage): the value and the SHA-256
+/// of its JSON; the inputs' hash is in the file name and checked against the value's own.
+const SLIDER_ENTRY: Layout = Layout {
+    format: 1,
+    key_field: None,
+    hash_field: "sha256",
+    sidecar_field: None,
+    value_field: "value",
+};
 
 /// Posts above which the post-force map is written as PNG only (its SVG, one rectangle per
 /// post, would be ≈ 0.9 MB at 10 000 posts). Default 2500.
@@ -58,45 +66,8 @@ pub struct SliderStage {
     pub report: SliderReport,
 }
 
-/// A verified cache entry: a value and the SHA-256 of its JSON.
-#[derive(Debug, Serialize, Deserialize)]
-struct Entry<T> {
-    format: u32,
-    sha256: String,
-    value: T,
-}
-
-/// Reads `file` if it holds a verified entry; `Err(why)` for a damaged one, `Ok(None)` for none.
-fn read_entry<T: Serialize + for<'de> Deserialize<'de>>(file: &Path) -> Result<Option<T>, String> {
-    let Ok(bytes) = std::fs::read(file) else {
-        return Ok(None);
-    };
-    let entry: Entry<T> =
-        serde_json::from_slice(&bytes).map_err(|e| format!("not a cache entry ({e})"))?;
-    if entry.format != CACHE_FORMAT {
-        return Err(format!(
-            "cache format {} (now {CACHE_FORMAT})",
-            entry.format
-        ));
-    }
-    let again = serde_json::to_vec(&entry.value).unwrap_or_default();
-    if sha256_hex(&again) != entry.sha256 {
-        return Err("its content does not match the hash stored with it (edited?)".into());
-    }
-    Ok(Some(entry.value))
-}
-
-fn write_entry<T: Serialize>(file: &Path, value: &T) -> Result<(), PipelineError> {
-    let entry = Entry {
-        format: CACHE_FORMAT,
-        sha256: sha256_hex(&serde_json::to_vec(value)?),
-        value,
-    };
-    crate::output::write_atomically(file, serde_json::to_vec(&entry)?)?;
-    Ok(())
-}
-
-/// Reads a verified entry of `cache_dir/name`, noting (and dropping) a damaged or foreign one.
+/// Reads a verified entry of `cache_dir/name`, noting (and dropping) a damaged or foreign one
+/// (`matches`: whether the value is of the inputs asked for).
 fn cached<T: Serialize + for<'de> Deserialize<'de>>(
     cache_dir: Option<&Path>,
     name: &str,
@@ -104,23 +75,30 @@ fn cached<T: Serialize + for<'de> Deserialize<'de>>(
     notes: &mut Vec<String>,
 ) -> Option<T> {
     let file = cache_dir?.join(name);
-    match read_entry::<T>(&file) {
-        Ok(Some(value)) if matches(&value) => Some(value),
-        Ok(Some(_)) => {
-            notes.push(format!(
-                "cache entry {} not used: it holds other inputs; recomputing it",
-                file.display()
-            ));
-            None
-        }
-        Ok(None) => None,
-        Err(why) => {
+    let entry = entry(&file);
+    match cache::get(&entry, |value: &T| match matches(value) {
+        true => Ok(()),
+        false => Err("it holds other inputs".into()),
+    }) {
+        Lookup::Hit(value) => Some(value),
+        Lookup::Miss => None,
+        Lookup::Damaged(why) => {
             notes.push(format!(
                 "cache entry {} not used: {why}; recomputing it",
                 file.display()
             ));
             None
         }
+    }
+}
+
+/// The entry `file` of this module's layout.
+fn entry(file: &Path) -> Entry<'_> {
+    Entry {
+        file,
+        layout: &SLIDER_ENTRY,
+        key: "",
+        sidecars: None,
     }
 }
 
@@ -151,7 +129,7 @@ fn near_field(
     let cal = slider_contact::calibrate_near_field(&prepared.model, strip.slider_thickness_m)
         .map_err(slider_error)?;
     if let Some(dir) = cache_dir {
-        write_entry(&dir.join(&name), &cal)?;
+        cache::put(&entry(&dir.join(&name)), &cal)?;
     }
     Ok((cal, start.elapsed().as_secs_f64()))
 }
@@ -170,7 +148,7 @@ pub fn slider_params(scene: &Scene, cal: &NearFieldCalibration) -> SliderParams 
 /// SHA-256 of every input of the whole-slider run (the parameters' JSON: near field, lattice,
 /// materials, wave, preload, phases, solver, imperfections with seed and map heights, mechanism).
 pub fn slider_content_hash(params: &SliderParams) -> Result<String, PipelineError> {
-    let bytes = serde_json::to_vec(&("slider-contact", CACHE_FORMAT, params))?;
+    let bytes = serde_json::to_vec(&("slider-contact", SLIDER_ENTRY.format, params))?;
     Ok(sha256_hex(&bytes))
 }
 
@@ -228,7 +206,7 @@ fn run_slider_static_at(
         report,
     };
     if let Some(dir) = cache_dir {
-        write_entry(&dir.join(&name), &stage)?;
+        cache::put(&entry(&dir.join(&name)), &stage)?;
     }
     Ok((stage, fem_s, false, notes))
 }

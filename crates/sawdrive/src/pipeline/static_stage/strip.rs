@@ -1,18 +1,18 @@
 //! Static stage: the slider pressed on the frozen wave → post forces and η, by the model
 //! `static.model` chooses ([`StaticModel::choose`]): the strip (one post row, FEM) here, the
-//! whole slider in [`super::slider`]. The strip's verified cache:
+//! whole slider in [`super::slider`]. The strip's verified cache ([`super::cache`]):
 //! `static-<content hash>.json` holds the typed report with the SHA-256 of its JSON and of the
 //! cached field files; an entry that fails the check is rebuilt and reported on stderr, and
 //! results folders get copies of cached files (never hard links).
 
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use contact_springs::PostSprings;
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 use static_contact::{ContactError, StaticAnalysis, StaticParams, StaticReport};
 
-use super::keys::{sha256_hex, static_params};
+use super::cache::{self, Entry, Layout, Lookup};
+use super::keys::static_params;
 use super::slider::{SliderStage, announce, run_slider_static, write_slider_maps};
 use crate::output::{ResultKind, StagedDir, io};
 use crate::pipeline::{PipelineError, RunControl};
@@ -132,88 +132,36 @@ pub struct StaticOutcome {
     pub notes: Vec<String>,
 }
 
-/// Layout version of a static cache entry (the physics is in the content hash, not here); 2: the
-/// report gained the FEM ordering flag and the whole-slider stage report.
-const CACHE_FORMAT: u32 = 2;
-
-/// A static cache entry, `static-<content hash>.json`: the typed report and what verifies it.
-#[derive(Debug, Serialize, Deserialize)]
-struct CacheEntry {
-    /// [`CACHE_FORMAT`].
-    format: u32,
-    /// SHA-256 of the report's JSON (`serde_json::to_vec(&report)`).
-    report_sha256: String,
-    /// SHA-256 of each file in `static-<hash>/` (force chart, VTU) by name; `None`: the entry
-    /// has the report only (a sweep's).
-    field_files: Option<BTreeMap<String, String>>,
-    /// The report.
-    report: StaticReport,
-}
-
-/// What a cache lookup found.
-#[derive(Debug)]
-pub(super) enum Lookup {
-    /// A verified report (and verified field files, if they were asked for).
-    Hit(Box<StaticReport>),
-    /// No entry, or one without the field files that were asked for.
-    Miss,
-    /// An entry that fails verification, and why.
-    Damaged(String),
-}
-
-/// SHA-256 of every file of `dir` by name.
-fn hash_folder(dir: &Path) -> Result<BTreeMap<String, String>, PipelineError> {
-    let mut hashes = BTreeMap::new();
-    for entry in std::fs::read_dir(dir).map_err(io("read the cached fields", dir))? {
-        let path = entry.map_err(io("read the cached fields", dir))?.path();
-        let bytes = std::fs::read(&path).map_err(io("read a cached field file", &path))?;
-        let name = path.file_name().unwrap_or_default().to_string_lossy();
-        hashes.insert(name.into_owned(), sha256_hex(&bytes));
-    }
-    Ok(hashes)
-}
+/// The strip report's cache entries, `static-<content hash>.json`: the typed report (which
+/// carries its content hash) with the SHA-256 of its JSON and of the cached field files. Format
+/// 2: the report gained the FEM ordering flag and the whole-slider stage report.
+const REPORT_ENTRY: Layout = Layout {
+    format: 2,
+    key_field: None,
+    hash_field: "report_sha256",
+    sidecar_field: Some("field_files"),
+    value_field: "report",
+};
 
 /// Read and verify the entry `file` for the inputs `content_hash`; with `fields`, also the
 /// field files in that folder against the hashes the entry recorded.
-pub(super) fn lookup(file: &Path, content_hash: &str, fields: Option<&Path>) -> Lookup {
-    let Ok(bytes) = std::fs::read(file) else {
-        return Lookup::Miss;
+pub(super) fn lookup(
+    file: &Path,
+    content_hash: &str,
+    fields: Option<&Path>,
+) -> Lookup<StaticReport> {
+    let entry = Entry {
+        file,
+        layout: &REPORT_ENTRY,
+        key: content_hash,
+        sidecars: fields,
     };
-    let entry: CacheEntry = match serde_json::from_slice(&bytes) {
-        Ok(entry) => entry,
-        Err(e) => return Lookup::Damaged(format!("not a static cache entry ({e})")),
-    };
-    if entry.format != CACHE_FORMAT {
-        return Lookup::Damaged(format!(
-            "cache format {} (now {CACHE_FORMAT})",
-            entry.format
-        ));
-    }
-    let report_bytes = serde_json::to_vec(&entry.report).unwrap_or_default();
-    if sha256_hex(&report_bytes) != entry.report_sha256 {
-        return Lookup::Damaged(
-            "the report does not match the content hash stored with it (edited?)".into(),
-        );
-    }
-    if entry.report.content_hash != content_hash {
-        return Lookup::Damaged("it holds the report of other inputs".into());
-    }
-    if let Some(dir) = fields {
-        let Some(recorded) = &entry.field_files else {
-            return Lookup::Miss;
-        };
-        match hash_folder(dir) {
-            Ok(found) if found == *recorded => {}
-            Ok(_) => {
-                return Lookup::Damaged(format!(
-                    "the field files in {} differ from those recorded with it",
-                    dir.display()
-                ));
-            }
-            Err(_) => return Lookup::Miss,
+    cache::get(&entry, |report: &StaticReport| {
+        match report.content_hash == content_hash {
+            true => Ok(()),
+            false => Err("it holds the report of other inputs".into()),
         }
-    }
-    Lookup::Hit(Box::new(entry.report))
+    })
 }
 
 /// Write the entry for `report` (with the hashes of the field files in `fields`, if any).
@@ -222,14 +170,13 @@ pub(super) fn store(
     report: &StaticReport,
     fields: Option<&Path>,
 ) -> Result<(), PipelineError> {
-    let entry = CacheEntry {
-        format: CACHE_FORMAT,
-        report_sha256: sha256_hex(&serde_json::to_vec(report)?),
-        field_files: fields.map(hash_folder).transpose()?,
-        report: report.clone(),
+    let entry = Entry {
+        file,
+        layout: &REPORT_ENTRY,
+        key: &report.content_hash,
+        sidecars: fields,
     };
-    crate::output::write_atomically(file, serde_json::to_vec(&entry)?)?;
-    Ok(())
+    cache::put(&entry, report)
 }
 
 /// A solver that stopped names the scene keys that limit it; other errors pass through.
@@ -293,7 +240,7 @@ pub fn run_static(
             Lookup::Hit(report) => {
                 return Ok(StaticOutcome {
                     effective_ratio: report.effective_contact_ratio,
-                    report: StaticStageReport::strip(*report, reason),
+                    report: StaticStageReport::strip(report, reason),
                     content_hash,
                     cached: true,
                     cell_fem_s: 0.0,

@@ -9,14 +9,22 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 use static_contact::{StaticParams, StripModel};
 
-use super::keys::{geometry_key, sha256_hex, static_params};
+use super::cache::{self, Entry, Layout, Lookup};
+use super::keys::{geometry_key, static_params};
 use super::strip::StaticOutcome;
 use crate::pipeline::PipelineError;
 use crate::scene::Scene;
 
-/// Version of a compliance cache entry: its layout and how its values are computed (2: the
-/// tangential compliance from partial forward solves, values within 2e-15 relative of 1's).
-const COMPLIANCE_FORMAT: u32 = 2;
+/// The compliance cache's entries, `compliance-<geometry key>.json`: the tips with the key and
+/// the SHA-256 of their JSON. Format 2: the tangential compliance from partial forward solves,
+/// values within 2e-15 relative of format 1's.
+const TIPS_ENTRY: Layout = Layout {
+    format: 2,
+    key_field: Some("geometry_key"),
+    hash_field: "tips_sha256",
+    sidecar_field: None,
+    value_field: "tips",
+};
 
 /// The strip's posts and tip compliances (column-major n × n), as cached.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -29,15 +37,6 @@ pub struct StripTips {
     pub tangential_m_per_n: Vec<f64>,
     /// The strip's share of the slider's posts.
     pub strip_share: f64,
-}
-
-/// A compliance cache entry: the tips and the SHA-256 of their JSON.
-#[derive(Debug, Serialize, Deserialize)]
-struct ComplianceEntry {
-    format: u32,
-    geometry_key: String,
-    tips_sha256: String,
-    tips: StripTips,
 }
 
 impl StripTips {
@@ -86,9 +85,9 @@ pub fn strip_tips(
     }
     if let Some(file) = &file {
         match lookup(file, &key) {
-            Ok(Some(tips)) => return Ok(tips),
-            Ok(None) => {}
-            Err(why) => eprintln!(
+            Lookup::Hit(tips) => return Ok(tips),
+            Lookup::Miss => {}
+            Lookup::Damaged(why) => eprintln!(
                 "note: compliance cache entry {} not used: {why}; recomputing it",
                 file.display()
             ),
@@ -100,43 +99,32 @@ pub fn strip_tips(
     Ok(tips)
 }
 
-/// A verified entry (`Ok(Some)`), none (`Ok(None)`), or why the entry is damaged.
-fn lookup(file: &Path, key: &str) -> Result<Option<StripTips>, String> {
-    let Ok(bytes) = std::fs::read(file) else {
-        return Ok(None);
+/// The entry `file` of the geometry `key`, verified (the matrices must be n × n too).
+fn lookup(file: &Path, key: &str) -> Lookup<StripTips> {
+    let entry = Entry {
+        file,
+        layout: &TIPS_ENTRY,
+        key,
+        sidecars: None,
     };
-    let entry: ComplianceEntry = serde_json::from_slice(&bytes)
-        .map_err(|e| format!("not a compliance cache entry ({e})"))?;
-    if entry.format != COMPLIANCE_FORMAT {
-        return Err(format!(
-            "cache format {} (now {COMPLIANCE_FORMAT})",
-            entry.format
-        ));
-    }
-    let tips_bytes = serde_json::to_vec(&entry.tips).map_err(|e| e.to_string())?;
-    if sha256_hex(&tips_bytes) != entry.tips_sha256 {
-        return Err("the compliances do not match the hash stored with them (edited?)".into());
-    }
-    if entry.geometry_key != key {
-        return Err("it holds the compliances of another geometry".into());
-    }
-    let n = entry.tips.post_x_m.len();
-    if entry.tips.normal_m_per_n.len() != n * n || entry.tips.tangential_m_per_n.len() != n * n {
-        return Err(format!("its matrices are not {n} × {n}"));
-    }
-    Ok(Some(entry.tips))
+    cache::get(&entry, |tips: &StripTips| {
+        let n = tips.post_x_m.len();
+        match tips.normal_m_per_n.len() == n * n && tips.tangential_m_per_n.len() == n * n {
+            true => Ok(()),
+            false => Err(format!("its matrices are not {n} × {n}")),
+        }
+    })
 }
 
 fn store(file: Option<&Path>, key: &str, tips: &StripTips) -> Result<(), PipelineError> {
     let Some(file) = file else {
         return Ok(());
     };
-    let entry = ComplianceEntry {
-        format: COMPLIANCE_FORMAT,
-        geometry_key: key.to_owned(),
-        tips_sha256: sha256_hex(&serde_json::to_vec(tips)?),
-        tips: tips.clone(),
+    let entry = Entry {
+        file,
+        layout: &TIPS_ENTRY,
+        key,
+        sidecars: None,
     };
-    crate::output::write_atomically(file, serde_json::to_vec(&entry)?)?;
-    Ok(())
+    cache::put(&entry, tips)
 }
