@@ -161,6 +161,232 @@ fn mesh_error(spec: &BodySpec<'_>, source: gmsh_mesh::MeshError) -> ContactError
     }
 }
 
+/// A mesh-mismatch error naming the body's mesh file.
+fn mismatch(spec: &BodySpec<'_>, detail: String) -> ContactError {
+    ContactError::MeshMismatch {
+        file: spec.mesh.source.clone(),
+        detail,
+    }
+}
+
+/// The sub-mesh of the body's volume, renumbered: its tetrahedra, each mesh node's local number
+/// (`usize::MAX`: not in the body) and each local node's mesh node.
+struct SubMesh {
+    tets: Vec<usize>,
+    local: Vec<usize>,
+    mesh_node: Vec<usize>,
+}
+
+impl SubMesh {
+    fn of(spec: &BodySpec<'_>) -> Result<Self> {
+        let tets = spec
+            .mesh
+            .group_tets(&spec.volume_group)
+            .map_err(|e| mesh_error(spec, e))?;
+        if tets.is_empty() {
+            return Err(mismatch(
+                spec,
+                format!("volume group `{}` has no tetrahedra", spec.volume_group),
+            ));
+        }
+        let mut local = vec![usize::MAX; spec.mesh.nodes.len()];
+        let mut mesh_node = Vec::new();
+        for &t in &tets {
+            for &n in spec.mesh.tets.nodes(t) {
+                if local[n] == usize::MAX {
+                    local[n] = mesh_node.len();
+                    mesh_node.push(n);
+                }
+            }
+        }
+        Ok(Self {
+            tets,
+            local,
+            mesh_node,
+        })
+    }
+
+    /// The FEM model of the sub-mesh; a bad element is named by its gmsh tag.
+    fn model(&self, spec: &BodySpec<'_>) -> Result<Model> {
+        let nodes: Vec<[f64; 3]> = self.mesh_node.iter().map(|&n| spec.mesh.nodes[n]).collect();
+        let local = &self.local;
+        let tets = &self.tets;
+        let connectivity = match &spec.mesh.tets {
+            Tets::Linear(all) => {
+                Connectivity::Tet4(tets.iter().map(|&t| all[t].map(|n| local[n])).collect())
+            }
+            Tets::Quadratic(all) => {
+                Connectivity::Tet10(tets.iter().map(|&t| all[t].map(|n| local[n])).collect())
+            }
+        };
+        Model::new(nodes, connectivity, spec.material).map_err(|e| {
+            // Name the gmsh element tag of a bad element.
+            let tag = |element: usize| spec.mesh.tet_tags[tets[element]];
+            let e = match e {
+                FemError::InvertedElement { element, .. }
+                | FemError::DegenerateElement { element, .. } => {
+                    return mismatch(
+                        spec,
+                        format!(
+                            "{} element with gmsh tag {} is inverted or degenerate: {e}",
+                            spec.name,
+                            tag(element)
+                        ),
+                    );
+                }
+                other => other,
+            };
+            fem_error(spec, e)
+        })
+    }
+
+    /// The local numbers of the nodes of `group`; a node outside the body is a mismatch.
+    fn group_local_nodes(&self, spec: &BodySpec<'_>, group: &str) -> Result<Vec<usize>> {
+        let nodes = spec
+            .mesh
+            .group_nodes(group)
+            .map_err(|e| mesh_error(spec, e))?;
+        nodes
+            .iter()
+            .map(|&n| {
+                let l = self.local[n];
+                if l == usize::MAX {
+                    Err(mismatch(
+                        spec,
+                        format!(
+                            "node tag {} of group `{group}` is not a node of the {} volume",
+                            spec.mesh.node_tags[n], spec.name
+                        ),
+                    ))
+                } else {
+                    Ok(l)
+                }
+            })
+            .collect()
+    }
+}
+
+/// The contact nodes of each disk (within [`DISK_NODE_TOLERANCE`] of its circle); at least 3
+/// per disk, no node in two disks.
+fn disk_nodes(
+    spec: &BodySpec<'_>,
+    model: &Model,
+    sub: &SubMesh,
+    contact: &[usize],
+) -> Result<Vec<Vec<usize>>> {
+    let mut owner = vec![usize::MAX; model.node_count()];
+    let mut disk_nodes = Vec::with_capacity(spec.disks.len());
+    for (d, disk) in spec.disks.iter().enumerate() {
+        let tol = DISK_NODE_TOLERANCE * disk.radius_m;
+        let picked: Vec<usize> = contact
+            .iter()
+            .copied()
+            .filter(|&n| {
+                let x = model.nodes()[n];
+                let r =
+                    ((x[0] - disk.centre_m[0]).powi(2) + (x[1] - disk.centre_m[1]).powi(2)).sqrt();
+                r <= disk.radius_m + tol && (x[2] - disk.centre_m[2]).abs() <= tol
+            })
+            .collect();
+        if picked.len() < 3 {
+            return Err(mismatch(
+                spec,
+                format!(
+                    "contact disk {d} of the {} (centre {:?} m, radius {:.3e} m) has {} nodes in group `{}`: is the mesh made for this post layout?",
+                    spec.name,
+                    disk.centre_m,
+                    disk.radius_m,
+                    picked.len(),
+                    spec.contact_group
+                ),
+            ));
+        }
+        for &n in &picked {
+            if owner[n] != usize::MAX {
+                return Err(mismatch(
+                    spec,
+                    format!(
+                        "node {} lies in contact disks {} and {d}",
+                        spec.mesh.node_tags[sub.mesh_node[n]], owner[n]
+                    ),
+                ));
+            }
+            owner[n] = d;
+        }
+        disk_nodes.push(picked);
+    }
+    Ok(disk_nodes)
+}
+
+/// The body's constraints: clamped and roller groups, one rigid face per disk (z loaded, x and
+/// y free or bonded as `spec.lateral` says).
+fn constraints(
+    spec: &BodySpec<'_>,
+    sub: &SubMesh,
+    disk_nodes: &[Vec<usize>],
+) -> Result<Constraints> {
+    let mut constraints = Constraints::default();
+    for g in &spec.clamped_groups {
+        constraints
+            .dirichlet
+            .push(Dirichlet::clamped(sub.group_local_nodes(spec, g)?));
+    }
+    for (g, c) in &spec.roller_groups {
+        constraints.dirichlet.push(Dirichlet::component(
+            sub.group_local_nodes(spec, g)?,
+            *c,
+            0.0,
+        ));
+    }
+    for nodes in disk_nodes {
+        let lateral = match spec.lateral {
+            TipLateral::Free => RigidComponent::Free,
+            TipLateral::Bonded => RigidComponent::Prescribed {
+                displacement_m: 0.0,
+            },
+        };
+        constraints.rigid_faces.push(RigidFace {
+            nodes: nodes.clone(),
+            components: [lateral, lateral, RigidComponent::Loaded { force_n: 0.0 }],
+        });
+    }
+    Ok(constraints)
+}
+
+/// The numeric assembly and, beside it, what needs only the structure: the reduced pattern, the
+/// solver choice and the symbolic analysis (METIS when not cached). Returns the reduced system,
+/// its stiffness and the solver plan.
+#[allow(clippy::type_complexity)]
+fn assemble_and_plan(
+    spec: &BodySpec<'_>,
+    model: &Model,
+    pattern: &StiffnessPattern,
+    dof_map: DofMap,
+    masters: &[usize],
+    order_cache: Option<&Path>,
+    solver: FemSolver,
+) -> Result<(
+    ReducedSystem,
+    SymmetricMatrix,
+    crate::body_solver::SolverPlan,
+)> {
+    let (stiffness, planned) = rayon::join(
+        || assemble_stiffness(model, pattern).map_err(|e| fem_error(spec, e)),
+        || -> Result<_> {
+            let reduced =
+                ReducedSystem::from_pattern(pattern, dof_map).map_err(|e| fem_error(spec, e))?;
+            let k_red = reduced.zero_matrix();
+            let plan = plan_body(spec, model, &k_red, masters, order_cache, solver)?;
+            Ok((reduced, k_red, plan))
+        },
+    );
+    let (reduced, mut k_red, plan) = planned?;
+    reduced
+        .reduce_matrix_into(&stiffness?, &mut k_red)
+        .map_err(|e| fem_error(spec, e))?;
+    Ok((reduced, k_red, plan))
+}
+
 /// Symbolic analysis of the body's reduced stiffness with the disk ties eliminated last; the
 /// fill-reducing ordering is read from, or stored in, the folder `order_cache` when given.
 /// Returns whether the ordering came from the cache.
@@ -215,10 +441,6 @@ impl BodyCompliance {
         solver: FemSolver,
     ) -> Result<Self> {
         let start = Instant::now();
-        let mismatch = |detail: String| ContactError::MeshMismatch {
-            file: spec.mesh.source.clone(),
-            detail,
-        };
         if !(spec.disk_fraction > 0.0 && spec.disk_fraction <= 1.0) {
             return Err(ContactError::InvalidParameter {
                 parameter: "disk_fraction",
@@ -226,133 +448,11 @@ impl BodyCompliance {
                 reason: "must lie in (0, 1]".into(),
             });
         }
-        // Sub-mesh of the body's volume, renumbered.
-        let tets = spec
-            .mesh
-            .group_tets(&spec.volume_group)
-            .map_err(|e| mesh_error(spec, e))?;
-        if tets.is_empty() {
-            return Err(mismatch(format!(
-                "volume group `{}` has no tetrahedra",
-                spec.volume_group
-            )));
-        }
-        let mut local = vec![usize::MAX; spec.mesh.nodes.len()];
-        let mut mesh_node = Vec::new();
-        for &t in &tets {
-            for &n in spec.mesh.tets.nodes(t) {
-                if local[n] == usize::MAX {
-                    local[n] = mesh_node.len();
-                    mesh_node.push(n);
-                }
-            }
-        }
-        let nodes: Vec<[f64; 3]> = mesh_node.iter().map(|&n| spec.mesh.nodes[n]).collect();
-        let connectivity = match &spec.mesh.tets {
-            Tets::Linear(all) => {
-                Connectivity::Tet4(tets.iter().map(|&t| all[t].map(|n| local[n])).collect())
-            }
-            Tets::Quadratic(all) => {
-                Connectivity::Tet10(tets.iter().map(|&t| all[t].map(|n| local[n])).collect())
-            }
-        };
-        let model = Model::new(nodes, connectivity, spec.material).map_err(|e| {
-            // Name the gmsh element tag of a bad element.
-            let tag = |element: usize| spec.mesh.tet_tags[tets[element]];
-            let e = match e {
-                FemError::InvertedElement { element, .. }
-                | FemError::DegenerateElement { element, .. } => {
-                    return mismatch(format!(
-                        "{} element with gmsh tag {} is inverted or degenerate: {e}",
-                        spec.name,
-                        tag(element)
-                    ));
-                }
-                other => other,
-            };
-            fem_error(spec, e)
-        })?;
-        let group_local_nodes = |group: &str| -> Result<Vec<usize>> {
-            let nodes = spec
-                .mesh
-                .group_nodes(group)
-                .map_err(|e| mesh_error(spec, e))?;
-            nodes
-                .iter()
-                .map(|&n| {
-                    let l = local[n];
-                    if l == usize::MAX {
-                        Err(mismatch(format!(
-                            "node tag {} of group `{group}` is not a node of the {} volume",
-                            spec.mesh.node_tags[n], spec.name
-                        )))
-                    } else {
-                        Ok(l)
-                    }
-                })
-                .collect()
-        };
-        // Disk nodes.
-        let contact = group_local_nodes(&spec.contact_group)?;
-        let mut owner = vec![usize::MAX; model.node_count()];
-        let mut disk_nodes = Vec::with_capacity(spec.disks.len());
-        for (d, disk) in spec.disks.iter().enumerate() {
-            let tol = DISK_NODE_TOLERANCE * disk.radius_m;
-            let picked: Vec<usize> = contact
-                .iter()
-                .copied()
-                .filter(|&n| {
-                    let x = model.nodes()[n];
-                    let r = ((x[0] - disk.centre_m[0]).powi(2) + (x[1] - disk.centre_m[1]).powi(2))
-                        .sqrt();
-                    r <= disk.radius_m + tol && (x[2] - disk.centre_m[2]).abs() <= tol
-                })
-                .collect();
-            if picked.len() < 3 {
-                return Err(mismatch(format!(
-                    "contact disk {d} of the {} (centre {:?} m, radius {:.3e} m) has {} nodes in group `{}`: is the mesh made for this post layout?",
-                    spec.name,
-                    disk.centre_m,
-                    disk.radius_m,
-                    picked.len(),
-                    spec.contact_group
-                )));
-            }
-            for &n in &picked {
-                if owner[n] != usize::MAX {
-                    return Err(mismatch(format!(
-                        "node {} lies in contact disks {} and {d}",
-                        spec.mesh.node_tags[mesh_node[n]], owner[n]
-                    )));
-                }
-                owner[n] = d;
-            }
-            disk_nodes.push(picked);
-        }
-        // Constraints.
-        let mut constraints = Constraints::default();
-        for g in &spec.clamped_groups {
-            constraints
-                .dirichlet
-                .push(Dirichlet::clamped(group_local_nodes(g)?));
-        }
-        for (g, c) in &spec.roller_groups {
-            constraints
-                .dirichlet
-                .push(Dirichlet::component(group_local_nodes(g)?, *c, 0.0));
-        }
-        for nodes in &disk_nodes {
-            let lateral = match spec.lateral {
-                TipLateral::Free => RigidComponent::Free,
-                TipLateral::Bonded => RigidComponent::Prescribed {
-                    displacement_m: 0.0,
-                },
-            };
-            constraints.rigid_faces.push(RigidFace {
-                nodes: nodes.clone(),
-                components: [lateral, lateral, RigidComponent::Loaded { force_n: 0.0 }],
-            });
-        }
+        let sub = SubMesh::of(spec)?;
+        let model = sub.model(spec)?;
+        let contact = sub.group_local_nodes(spec, &spec.contact_group)?;
+        let disk_nodes = disk_nodes(spec, &model, &sub, &contact)?;
+        let constraints = constraints(spec, &sub, &disk_nodes)?;
         let pattern = StiffnessPattern::build(&model);
         let dof_map =
             DofMap::new(model.node_count(), &constraints).map_err(|e| fem_error(spec, e))?;
@@ -361,28 +461,24 @@ impl BodyCompliance {
             .enumerate()
             .map(|(d, nodes)| match dof_map.target(3 * nodes[0] + 2) {
                 DofTarget::Reduced(j) => Ok(j),
-                DofTarget::Prescribed(_) => Err(mismatch(format!(
-                    "contact disk {d} of the {} touches a clamped group: its z is prescribed",
-                    spec.name
-                ))),
+                DofTarget::Prescribed(_) => Err(mismatch(
+                    spec,
+                    format!(
+                        "contact disk {d} of the {} touches a clamped group: its z is prescribed",
+                        spec.name
+                    ),
+                )),
             })
             .collect::<Result<_>>()?;
-        // The numeric assembly and, beside it, what needs only the structure: the reduced
-        // pattern, the solver choice and the symbolic analysis (METIS when not cached).
-        let (stiffness, planned) = rayon::join(
-            || assemble_stiffness(&model, &pattern).map_err(|e| fem_error(spec, e)),
-            || -> Result<_> {
-                let reduced = ReducedSystem::from_pattern(&pattern, dof_map)
-                    .map_err(|e| fem_error(spec, e))?;
-                let k_red = reduced.zero_matrix();
-                let plan = plan_body(spec, &model, &k_red, &masters, order_cache, solver)?;
-                Ok((reduced, k_red, plan))
-            },
-        );
-        let (reduced, mut k_red, plan) = planned?;
-        reduced
-            .reduce_matrix_into(&stiffness?, &mut k_red)
-            .map_err(|e| fem_error(spec, e))?;
+        let (reduced, k_red, plan) = assemble_and_plan(
+            spec,
+            &model,
+            &pattern,
+            dof_map,
+            &masters,
+            order_cache,
+            solver,
+        )?;
         let assembly_s = start.elapsed().as_secs_f64();
         let condensed = condense_body(spec, &model, &reduced, &k_red, &masters, plan)?;
         let stats = FemStats {
@@ -409,7 +505,7 @@ impl BodyCompliance {
             reduced,
             factor: condensed.solver,
             masters,
-            mesh_node,
+            mesh_node: sub.mesh_node,
             disk_nodes,
             disk_fraction: spec.disk_fraction,
             force_sign: spec.force_sign,

@@ -228,7 +228,7 @@ impl ActiveSetSolver {
         let top = (0..n)
             .max_by(|&a, &b| s.h[a].total_cmp(&s.h[b]))
             .unwrap_or(0);
-        let mut active = match start {
+        let active = match start {
             Some(set) if set.len() == n && set.iter().any(|&a| a) => set.to_vec(),
             _ => {
                 let mut cold = vec![false; n];
@@ -236,22 +236,38 @@ impl ActiveSetSolver {
                 cold
             }
         };
-        let mut seen: HashSet<Vec<bool>> = HashSet::new();
         let mut iteration = 0;
-        // Phase 1: primal–dual active set.
-        while iteration
+        if let Some(solution) = self.primal_dual(problem, &s, active, &mut iteration, &mut log)? {
+            return Ok(solution);
+        }
+        self.primal(problem, &s, top, iteration, log)
+    }
+
+    /// Phase 1: primal–dual active set from `active`; `None` when it stalls or cycles (the
+    /// monotone primal method takes over).
+    fn primal_dual(
+        &self,
+        problem: &ContactProblem,
+        s: &Scaled,
+        mut active: Vec<bool>,
+        iteration: &mut usize,
+        log: &mut Vec<IterationLog>,
+    ) -> Result<Option<ContactSolution>> {
+        let n = s.h.len();
+        let mut seen: HashSet<Vec<bool>> = HashSet::new();
+        while *iteration
             < self
                 .options
                 .max_primal_dual_iterations
                 .min(self.options.max_iterations)
         {
-            iteration += 1;
+            *iteration += 1;
             seen.insert(active.clone());
-            let (f, z) = equality_solve(&s, &active)?;
-            let g = gaps(&s, &f, z);
+            let (f, z) = equality_solve(s, &active)?;
+            let g = gaps(s, &f, z);
             let residual = natural_residual(&f, &g);
             log.push(IterationLog {
-                iteration,
+                iteration: *iteration,
                 phase: Phase::PrimalDual,
                 active: count(&active),
                 residual,
@@ -260,97 +276,129 @@ impl ActiveSetSolver {
                 .map(|i| f[i] - self.options.primal_dual_weight * g[i] > 0.0)
                 .collect();
             if next == active && residual <= self.options.tolerance {
-                return Ok(finish(problem, &s, f, g, z, active, iteration, log));
+                let log = std::mem::take(log);
+                return Ok(Some(finish(problem, s, f, g, z, active, *iteration, log)));
             }
             if next == active || seen.contains(&next) || !next.iter().any(|&a| a) {
                 break; // stalled or cycling: hand over to the monotone primal method
             }
             active = next;
         }
-        // Phase 2: primal active set from a feasible point (all load on the highest post).
+        Ok(None)
+    }
+
+    /// Phase 2: primal active set from a feasible point (all load on the highest post `top`).
+    fn primal(
+        &self,
+        problem: &ContactProblem,
+        s: &Scaled,
+        top: usize,
+        mut iteration: usize,
+        mut log: Vec<IterationLog>,
+    ) -> Result<ContactSolution> {
+        let n = s.h.len();
         let mut f = DVector::zeros(n);
         f[top] = 1.0;
         let mut working = vec![false; n];
         working[top] = true;
         loop {
             if iteration >= self.options.max_iterations {
-                let (fz, z) = equality_solve(&s, &working)?;
-                let residual = natural_residual(&fz, &gaps(&s, &fz, z));
-                return Err(ContactError::NotConverged {
-                    iterations: iteration,
-                    active: count(&working),
-                    posts: n,
-                    residual,
-                    tolerance: self.options.tolerance,
-                    context: String::new(),
-                });
+                let (fz, z) = equality_solve(s, &working)?;
+                let residual = natural_residual(&fz, &gaps(s, &fz, z));
+                return Err(self.not_converged(iteration, &working, residual, String::new()));
             }
             iteration += 1;
-            let (candidate, z) = equality_solve(&s, &working)?;
+            let (candidate, z) = equality_solve(s, &working)?;
             let negative: Vec<usize> = (0..n)
                 .filter(|&i| working[i] && candidate[i] <= 0.0)
                 .collect();
-            if negative.is_empty() {
-                f = candidate;
-                let g = gaps(&s, &f, z);
-                let residual = natural_residual(&f, &g);
-                log.push(IterationLog {
-                    iteration,
-                    phase: Phase::Primal,
-                    active: count(&working),
-                    residual,
-                });
-                // Most violated constraint outside the working set.
-                let entering = (0..n)
-                    .filter(|&i| !working[i])
-                    .min_by(|&a, &b| g[a].total_cmp(&g[b]));
-                match entering {
-                    Some(i) if g[i] < -self.options.tolerance => working[i] = true,
-                    _ => {
-                        if residual <= self.options.tolerance {
-                            return Ok(finish(problem, &s, f, g, z, working, iteration, log));
-                        }
-                        return Err(ContactError::NotConverged {
-                            iterations: iteration,
-                            active: count(&working),
-                            posts: n,
-                            residual,
-                            tolerance: self.options.tolerance,
-                            context: " (primal active set stalled: ill-conditioned compliance?)"
-                                .into(),
-                        });
-                    }
-                }
-            } else {
-                // Step towards the candidate until the first force reaches zero; drop it.
-                let alpha = negative
-                    .iter()
-                    .map(|&i| f[i] / (f[i] - candidate[i]))
-                    .fold(1.0, f64::min)
-                    .max(0.0);
-                f = &f + (&candidate - &f) * alpha;
-                for i in 0..n {
-                    if working[i]
-                        && (f[i] <= 0.0 || (negative.contains(&i) && f[i] <= f64::EPSILON))
-                    {
-                        working[i] = false;
-                        f[i] = 0.0;
-                    }
-                }
-                if !working.iter().any(|&w| w) {
-                    working[top] = true;
-                    f = DVector::zeros(n);
-                    f[top] = 1.0;
-                }
-                let g = gaps(&s, &f, z);
+            if !negative.is_empty() {
+                step_back(&mut f, &candidate, &negative, &mut working, top);
+                let g = gaps(s, &f, z);
                 log.push(IterationLog {
                     iteration,
                     phase: Phase::Primal,
                     active: count(&working),
                     residual: natural_residual(&f, &g),
                 });
+                continue;
+            }
+            f = candidate;
+            let g = gaps(s, &f, z);
+            let residual = natural_residual(&f, &g);
+            log.push(IterationLog {
+                iteration,
+                phase: Phase::Primal,
+                active: count(&working),
+                residual,
+            });
+            // Most violated constraint outside the working set.
+            let entering = (0..n)
+                .filter(|&i| !working[i])
+                .min_by(|&a, &b| g[a].total_cmp(&g[b]));
+            match entering {
+                Some(i) if g[i] < -self.options.tolerance => working[i] = true,
+                _ if residual <= self.options.tolerance => {
+                    return Ok(finish(problem, s, f, g, z, working, iteration, log));
+                }
+                _ => {
+                    return Err(self.not_converged(
+                        iteration,
+                        &working,
+                        residual,
+                        " (primal active set stalled: ill-conditioned compliance?)".into(),
+                    ));
+                }
             }
         }
+    }
+
+    /// The solver's not-converged error at `iteration` with the set `working`.
+    fn not_converged(
+        &self,
+        iteration: usize,
+        working: &[bool],
+        residual: f64,
+        context: String,
+    ) -> ContactError {
+        ContactError::NotConverged {
+            iterations: iteration,
+            active: count(working),
+            posts: working.len(),
+            residual,
+            tolerance: self.options.tolerance,
+            context,
+        }
+    }
+}
+
+/// A primal step that would make forces of the working set negative: step from `f` towards
+/// `candidate` until the first force reaches zero and drop it (all dropped: back to the load on
+/// the highest post `top`).
+fn step_back(
+    f: &mut DVector<f64>,
+    candidate: &DVector<f64>,
+    negative: &[usize],
+    working: &mut [bool],
+    top: usize,
+) {
+    let n = f.len();
+    let alpha = negative
+        .iter()
+        .map(|&i| f[i] / (f[i] - candidate[i]))
+        .fold(1.0, f64::min)
+        .max(0.0);
+    *f = &*f + (candidate - &*f) * alpha;
+    for i in 0..n {
+        if working[i] && (f[i] <= 0.0 || (negative.contains(&i) && f[i] <= f64::EPSILON)) {
+            working[i] = false;
+            f[i] = 0.0;
+        }
+    }
+    if !working.iter().any(|&w| w) {
+        working[top] = true;
+        *f = DVector::zeros(n);
+        f[top] = 1.0;
     }
 }
 

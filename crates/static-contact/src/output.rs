@@ -12,10 +12,14 @@ use charts::{Chart, Series, Style, write_stacked};
 use gmsh_mesh::{Field, FieldValues, write_vtu};
 
 use crate::BodyCompliance;
+#[cfg(feature = "charts")]
+use crate::analysis::PreloadResult;
 use crate::analysis::{SnapshotResult, StaticAnalysis};
 use crate::error::{ContactError, Result};
 #[cfg(feature = "charts")]
 use crate::lumped::independent_posts;
+#[cfg(feature = "charts")]
+use crate::params::StaticParams;
 use crate::scene::StatorCompliance;
 
 /// Points per wavelength of the drawn wave. Default 48.
@@ -111,7 +115,6 @@ pub fn write_force_chart(
     snapshot_index: usize,
     stem: &Path,
 ) -> Result<Vec<PathBuf>> {
-    let params = &analysis.params;
     let report = &analysis.report;
     let preload = report
         .preloads
@@ -127,6 +130,22 @@ pub fn write_force_chart(
         .snapshots
         .get(snapshot_index)
         .unwrap_or(&preload.flat_stator);
+    let force_chart = force_chart(analysis, preload, snapshot);
+    let wave_chart = wave_chart(&analysis.params, snapshot);
+    write_stacked(&[force_chart, wave_chart], stem).map_err(|e| ContactError::Output {
+        path: stem.to_path_buf(),
+        detail: e.to_string(),
+    })
+}
+
+/// The post forces of `snapshot` against x: the FEM's, and the lumped model's with the fitted η.
+#[cfg(feature = "charts")]
+fn force_chart(
+    analysis: &StaticAnalysis,
+    preload: &PreloadResult,
+    snapshot: &SnapshotResult,
+) -> Chart {
+    let (params, report) = (&analysis.params, &analysis.report);
     let mm = 1e3;
     let fem: Vec<(f64, f64)> = snapshot
         .posts
@@ -167,6 +186,13 @@ pub fn write_force_chart(
             Style::Line,
         ));
     }
+    force_chart
+}
+
+/// The frozen wave w(x) of `snapshot` and each post's tip height w + gap (m shown in nm).
+#[cfg(feature = "charts")]
+fn wave_chart(params: &StaticParams, snapshot: &SnapshotResult) -> Chart {
+    let mm = 1e3;
     let x0 = snapshot.posts.first().map_or(0.0, |p| p.x_m);
     let x1 = snapshot.posts.last().map_or(0.0, |p| p.x_m);
     let samples = ((x1 - x0) / params.wavelength_m * WAVE_CHART_POINTS_PER_WAVELENGTH as f64)
@@ -204,8 +230,5 @@ pub fn write_force_chart(
         tips,
         Style::Markers,
     ));
-    write_stacked(&[force_chart, wave_chart], stem).map_err(|e| ContactError::Output {
-        path: stem.to_path_buf(),
-        detail: e.to_string(),
-    })
+    wave_chart
 }

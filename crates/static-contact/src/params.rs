@@ -213,6 +213,13 @@ impl StaticParams {
 
     /// Checks ranges and consistency; errors name the parameter.
     pub fn validate(&self) -> Result<()> {
+        self.validate_materials_and_sizes()?;
+        self.validate_array()?;
+        self.validate_settings()
+    }
+
+    /// The materials, and every length and load positive.
+    fn validate_materials_and_sizes(&self) -> Result<()> {
         self.slider_material.validate().map_err(|e| {
             invalid(
                 "slider_material",
@@ -236,6 +243,12 @@ impl StaticParams {
         for &p in &self.preload_sweep_n {
             positive("preload_sweep_n", p)?;
         }
+        Ok(())
+    }
+
+    /// The post array: posts narrower than the pitch, at least one post, the slider as long and
+    /// as wide as the array.
+    fn validate_array(&self) -> Result<()> {
         if self.post_diameter_m >= self.post_pitch_m {
             return Err(invalid(
                 "post_diameter_m",
@@ -266,6 +279,12 @@ impl StaticParams {
                 format!("narrower than the post array {array_y} m"),
             ));
         }
+        Ok(())
+    }
+
+    /// The wave, the snapshot phases, the strip, the stator, the mesh sizes and the contact
+    /// solver's settings.
+    fn validate_settings(&self) -> Result<()> {
         if !(self.wave_amplitude_m >= 0.0 && self.wave_amplitude_m.is_finite()) {
             return Err(invalid(
                 "wave_amplitude_m",

@@ -195,51 +195,11 @@ impl StripModel {
         config: StripConfig,
         order_cache: Option<&std::path::Path>,
     ) -> Result<Self> {
-        let file = mesh.source.clone();
-        let mismatch = |detail: String| ContactError::MeshMismatch {
-            file: file.clone(),
-            detail,
-        };
         // Half disks: the one-row strip cut at its mirror plane y = W/2 (slider-strip.geo
         // `half_y`); each body then carries half of each post's force.
         let (disks, disk_fraction) =
             crate::posts::find_tip_disks_with_fraction(&mesh, "post_tips")?;
-        if let Some(n) = config.expected_strip_posts
-            && disks.len() != n
-        {
-            // A half strip meshed for reflection (slider-strip.geo `mirror_x = 1`) given as a
-            // file: it is used as it is, so say what it is.
-            let hint = if mesh.group("slider_mirror_x").is_some() {
-                "; this mesh is the half x ≤ L/2 of a strip (slider-strip.geo mirror_x = 1): \
-                 give the whole strip (mirror_x = 0)"
-            } else {
-                ""
-            };
-            return Err(mismatch(format!(
-                "group `post_tips` has {} tip disks, the scene has {n} posts in the strip{hint}",
-                disks.len()
-            )));
-        }
-        for (i, d) in disks.iter().enumerate() {
-            if (d.radius_m / config.post_radius_m - 1.0).abs() > GEOMETRY_MATCH_TOLERANCE {
-                return Err(mismatch(format!(
-                    "post {i} has radius {:.4e} m, the scene asks for post_radius_m = {:.4e} m \
-                     (tolerance {} %)",
-                    d.radius_m,
-                    config.post_radius_m,
-                    GEOMETRY_MATCH_TOLERANCE * 100.0
-                )));
-            }
-        }
-        let height_m = measured_post_height(&mesh, &disks)?;
-        if (height_m / config.post_height_m - 1.0).abs() > GEOMETRY_MATCH_TOLERANCE {
-            return Err(mismatch(format!(
-                "the posts are {height_m:.4e} m high, the scene asks for post_height_m = {:.4e} m \
-                 (tolerance {} %)",
-                config.post_height_m,
-                GEOMETRY_MATCH_TOLERANCE * 100.0
-            )));
-        }
+        check_tip_disks(&mesh, &config, &disks)?;
         let y0 = mesh.bounding_box().map_or(0.0, |b| b[0][1]);
         let posts: Vec<PostSite> = disks
             .iter()
@@ -277,57 +237,9 @@ impl StripModel {
             config.fem_solver,
         )?;
         let stator = match config.stator {
-            StatorModel::HalfSpace => {
-                if config.slider_rows < strip_rows {
-                    return Err(ContactError::InvalidParameter {
-                        parameter: "posts_y",
-                        value: config.slider_rows as f64,
-                        reason: format!("the slider has fewer rows than the strip ({strip_rows})"),
-                    });
-                }
-                let sites: Vec<StripPost> = posts
-                    .iter()
-                    .map(|p| StripPost {
-                        x_m: p.x_m,
-                        row: p.row,
-                    })
-                    .collect();
-                let layout = RowLayout {
-                    pitch_m: config.pitch_m,
-                    strip_rows,
-                    slider_rows: config.slider_rows,
-                };
-                StatorCompliance::HalfSpace(strip_compliance(
-                    config.stator_material.shear_modulus_pa,
-                    config.stator_material.poisson_ratio,
-                    config.post_radius_m,
-                    &sites,
-                    &layout,
-                ))
-            }
+            StatorModel::HalfSpace => half_space_stator(&config, &posts, strip_rows)?,
             StatorModel::MeshedBlock => {
-                StatorCompliance::Meshed(Box::new(BodyCompliance::build_with_solver(
-                    &BodySpec {
-                        name: "stator",
-                        mesh: &mesh,
-                        volume_group: "stator".into(),
-                        material: fem_material(&config.stator_material)?,
-                        contact_group: "stator_top".into(),
-                        disks,
-                        lateral: TipLateral::Free,
-                        clamped_groups: vec!["stator_bottom".into()],
-                        roller_groups: vec![
-                            ("stator_sym_y0".into(), 1),
-                            ("stator_sym_y1".into(), 1),
-                            ("stator_x0".into(), 0),
-                            ("stator_x1".into(), 0),
-                        ],
-                        disk_fraction,
-                        force_sign: -1.0,
-                    },
-                    order_cache,
-                    config.fem_solver,
-                )?))
+                meshed_stator(&mesh, &config, disks, disk_fraction, order_cache)?
             }
         };
         let compliance_m_per_n = &slider.compliance_m_per_n + stator.matrix();
@@ -430,4 +342,119 @@ impl StripModel {
         };
         ActiveSetSolver::new(options).solve(&problem)
     }
+}
+
+/// The tip disks found in the mesh against the scene: their count (if the scene says it), radius
+/// and the posts' height, each within [`GEOMETRY_MATCH_TOLERANCE`].
+fn check_tip_disks(mesh: &TetMesh, config: &StripConfig, disks: &[Disk]) -> Result<()> {
+    let mismatch = |detail: String| ContactError::MeshMismatch {
+        file: mesh.source.clone(),
+        detail,
+    };
+    if let Some(n) = config.expected_strip_posts
+        && disks.len() != n
+    {
+        // A half strip meshed for reflection (slider-strip.geo `mirror_x = 1`) given as a
+        // file: it is used as it is, so say what it is.
+        let hint = if mesh.group("slider_mirror_x").is_some() {
+            "; this mesh is the half x ≤ L/2 of a strip (slider-strip.geo mirror_x = 1): \
+             give the whole strip (mirror_x = 0)"
+        } else {
+            ""
+        };
+        return Err(mismatch(format!(
+            "group `post_tips` has {} tip disks, the scene has {n} posts in the strip{hint}",
+            disks.len()
+        )));
+    }
+    for (i, d) in disks.iter().enumerate() {
+        if (d.radius_m / config.post_radius_m - 1.0).abs() > GEOMETRY_MATCH_TOLERANCE {
+            return Err(mismatch(format!(
+                "post {i} has radius {:.4e} m, the scene asks for post_radius_m = {:.4e} m \
+                 (tolerance {} %)",
+                d.radius_m,
+                config.post_radius_m,
+                GEOMETRY_MATCH_TOLERANCE * 100.0
+            )));
+        }
+    }
+    let height_m = measured_post_height(mesh, disks)?;
+    if (height_m / config.post_height_m - 1.0).abs() > GEOMETRY_MATCH_TOLERANCE {
+        return Err(mismatch(format!(
+            "the posts are {height_m:.4e} m high, the scene asks for post_height_m = {:.4e} m \
+             (tolerance {} %)",
+            config.post_height_m,
+            GEOMETRY_MATCH_TOLERANCE * 100.0
+        )));
+    }
+    Ok(())
+}
+
+/// The half-space stator's compliance at the strip's posts, summed over the slider's rows.
+fn half_space_stator(
+    config: &StripConfig,
+    posts: &[PostSite],
+    strip_rows: usize,
+) -> Result<StatorCompliance> {
+    if config.slider_rows < strip_rows {
+        return Err(ContactError::InvalidParameter {
+            parameter: "posts_y",
+            value: config.slider_rows as f64,
+            reason: format!("the slider has fewer rows than the strip ({strip_rows})"),
+        });
+    }
+    let sites: Vec<StripPost> = posts
+        .iter()
+        .map(|p| StripPost {
+            x_m: p.x_m,
+            row: p.row,
+        })
+        .collect();
+    let layout = RowLayout {
+        pitch_m: config.pitch_m,
+        strip_rows,
+        slider_rows: config.slider_rows,
+    };
+    Ok(StatorCompliance::HalfSpace(strip_compliance(
+        config.stator_material.shear_modulus_pa,
+        config.stator_material.poisson_ratio,
+        config.post_radius_m,
+        &sites,
+        &layout,
+    )))
+}
+
+/// The meshed stator block's compliance at the tip disks (bottom clamped, rollers on its
+/// symmetry planes and x ends).
+fn meshed_stator(
+    mesh: &TetMesh,
+    config: &StripConfig,
+    disks: Vec<Disk>,
+    disk_fraction: f64,
+    order_cache: Option<&std::path::Path>,
+) -> Result<StatorCompliance> {
+    Ok(StatorCompliance::Meshed(Box::new(
+        BodyCompliance::build_with_solver(
+            &BodySpec {
+                name: "stator",
+                mesh,
+                volume_group: "stator".into(),
+                material: fem_material(&config.stator_material)?,
+                contact_group: "stator_top".into(),
+                disks,
+                lateral: TipLateral::Free,
+                clamped_groups: vec!["stator_bottom".into()],
+                roller_groups: vec![
+                    ("stator_sym_y0".into(), 1),
+                    ("stator_sym_y1".into(), 1),
+                    ("stator_x0".into(), 0),
+                    ("stator_x1".into(), 0),
+                ],
+                disk_fraction,
+                force_sign: -1.0,
+            },
+            order_cache,
+            config.fem_solver,
+        )?,
+    )))
 }
