@@ -435,18 +435,8 @@ impl PeriodicAverageModel {
                         seg.mode,
                     );
                 }
-                for seg in segments.iter().filter(|seg| seg.mode == Mode::Stick) {
-                    let interval = (
-                        (seg.start - theta0) / s * time_unit,
-                        (seg.end - theta0) / s * time_unit,
-                    );
-                    match history.stick_intervals_s.last_mut() {
-                        Some(last) if (last.1 - interval.0).abs() <= 1e-12 * time_unit => {
-                            last.1 = interval.1
-                        }
-                        _ => history.stick_intervals_s.push(interval),
-                    }
-                }
+                let to_time = |theta: f64| (theta - theta0) / s * time_unit;
+                history.stick_intervals_s = stick_intervals(&segments, to_time, time_unit);
             }
             Some(scheme) => {
                 let stepped = SteppedPost::new(*p, v, scheme)?;
@@ -544,4 +534,22 @@ impl PeriodicAverageModel {
             transient: None,
         })
     }
+}
+
+/// The stick intervals (s) of the analytic post's `segments`, adjacent ones merged; `to_time`
+/// maps a wave phase to the history's time.
+fn stick_intervals(
+    segments: &[crate::post::analytic::Segment],
+    to_time: impl Fn(f64) -> f64,
+    time_unit: f64,
+) -> Vec<(f64, f64)> {
+    let mut intervals: Vec<(f64, f64)> = Vec::new();
+    for seg in segments.iter().filter(|seg| seg.mode == Mode::Stick) {
+        let interval = (to_time(seg.start), to_time(seg.end));
+        match intervals.last_mut() {
+            Some(last) if (last.1 - interval.0).abs() <= 1e-12 * time_unit => last.1 = interval.1,
+            _ => intervals.push(interval),
+        }
+    }
+    intervals
 }

@@ -152,6 +152,71 @@ impl AnalyticPost {
         }
     }
 
+    /// The stick line of a post stuck at (θ, `deflection`) and its first slip event on
+    /// [θ, `limit`]: where it leaves the static band upwards (sign +1) or downwards (−1).
+    /// `restuck`: the post re-stuck at θ itself, so that event is not reported again.
+    fn stick_event(
+        &self,
+        theta: f64,
+        deflection: f64,
+        limit: f64,
+        restuck: bool,
+        scratch: &mut Vec<f64>,
+    ) -> (TrigLinear, Option<(f64, f64)>) {
+        let p = &self.p;
+        let bound_s = p.mu_static / p.stiffness_ratio;
+        let line = self.stick_line(theta, deflection);
+        let c_term = bound_s * p.height.c;
+        let upper = TrigLinear {
+            b: -bound_s,
+            d: line.d + c_term,
+            ..line
+        };
+        let lower = TrigLinear {
+            b: bound_s,
+            d: line.d - c_term,
+            ..line
+        };
+        let tol = Self::x_tol(limit);
+        // Just re-stuck here: the event just handled is not reported again.
+        let from = if restuck {
+            (theta + Self::x_tol(theta)).min(limit)
+        } else {
+            theta
+        };
+        let up = upper.first_crossing(from, limit, Crossing::Upward, tol, scratch);
+        let down = lower.first_crossing(from, limit, Crossing::Downward, tol, scratch);
+        let event = match (up, down) {
+            (Some(u), Some(d)) => Some(if u <= d { (u, 1.0) } else { (d, -1.0) }),
+            (Some(u), None) => Some((u, 1.0)),
+            (None, Some(d)) => Some((d, -1.0)),
+            (None, None) => None,
+        };
+        (line, event)
+    }
+
+    /// A post slipping in direction `sign` at θ: its deflection at the kinetic bound.
+    fn slipping(&self, sign: f64, theta: f64) -> PostState {
+        let p = &self.p;
+        PostState {
+            mode: Mode::Slip(sign),
+            deflection: sign * p.mu_kinetic * p.normal(theta) / p.stiffness_ratio,
+            tip_velocity: 0.0,
+        }
+    }
+
+    /// Where a post slipping in direction `sign` from θ re-sticks before `limit`: the slip
+    /// rate's first crossing of zero (downward for sign +1, upward for −1).
+    fn restick(&self, sign: f64, theta: f64, limit: f64, scratch: &mut Vec<f64>) -> Option<f64> {
+        let rate = self.slip_rate(sign);
+        let dir = if sign > 0.0 {
+            Crossing::Downward
+        } else {
+            Crossing::Upward
+        };
+        rate.first_crossing(theta, limit, dir, Self::x_tol(limit), scratch)
+    }
+
     /// Advance from (θ, state) to θ_end, appending the closed-form segments; energy released by
     /// static→kinetic drops is added to `dissipated`.
     pub fn advance(
@@ -163,7 +228,6 @@ impl AnalyticPost {
         dissipated: &mut f64,
     ) -> Result<PostState> {
         let p = &self.p;
-        let bound_s = p.mu_static / p.stiffness_ratio;
         let mut scratch = Vec::new();
         // Phase of the last event that left the post stuck (the hysteresis of the module doc).
         let mut restuck_at = None;
@@ -182,35 +246,16 @@ impl AnalyticPost {
                 return Ok(state);
             }
             let window = p.contact_window(theta);
-            // End of the current contact (if it ends before θ_end) and whether it separates there.
-            let contact_limit = match window {
-                None => Some((theta_end, false)),
-                Some((true, sep)) => Some(if sep < theta_end {
-                    (sep, true)
-                } else {
-                    (theta_end, false)
-                }),
-                Some((false, _)) => None,
-            };
+            let contact_limit = contact_limit(window, theta_end);
             match state.mode {
                 Mode::Separated => match window {
-                    None | Some((true, _)) => {
-                        state = PostState {
-                            mode: Mode::Stick,
-                            deflection: 0.0,
-                            tip_velocity: 0.0,
-                        }
-                    }
+                    None | Some((true, _)) => state = touched_down(),
                     Some((false, touchdown)) => {
                         let end = touchdown.min(theta_end);
                         push(segments, Mode::Separated, theta, end, 0.0);
                         theta = end;
                         if touchdown <= theta_end {
-                            state = PostState {
-                                mode: Mode::Stick,
-                                deflection: 0.0,
-                                tip_velocity: 0.0,
-                            };
+                            state = touched_down();
                         }
                     }
                 },
@@ -219,34 +264,9 @@ impl AnalyticPost {
                         state = PostState::separated();
                         continue;
                     };
-                    let line = self.stick_line(theta, state.deflection);
-                    let c_term = bound_s * p.height.c;
-                    let upper = TrigLinear {
-                        b: -bound_s,
-                        d: line.d + c_term,
-                        ..line
-                    };
-                    let lower = TrigLinear {
-                        b: bound_s,
-                        d: line.d - c_term,
-                        ..line
-                    };
-                    let tol = Self::x_tol(limit);
-                    // Just re-stuck here: the event just handled is not reported again.
-                    let from = if restuck_at == Some(theta) {
-                        (theta + Self::x_tol(theta)).min(limit)
-                    } else {
-                        theta
-                    };
-                    let up = upper.first_crossing(from, limit, Crossing::Upward, tol, &mut scratch);
-                    let down =
-                        lower.first_crossing(from, limit, Crossing::Downward, tol, &mut scratch);
-                    let event = match (up, down) {
-                        (Some(u), Some(d)) => Some(if u <= d { (u, 1.0) } else { (d, -1.0) }),
-                        (Some(u), None) => Some((u, 1.0)),
-                        (None, Some(d)) => Some((d, -1.0)),
-                        (None, None) => None,
-                    };
+                    let restuck = restuck_at == Some(theta);
+                    let (line, event) =
+                        self.stick_event(theta, state.deflection, limit, restuck, &mut scratch);
                     match event {
                         Some((at, sign)) => {
                             push(segments, Mode::Stick, theta, at, state.deflection);
@@ -269,20 +289,12 @@ impl AnalyticPost {
                         state = PostState::separated();
                         continue;
                     };
-                    let rate = self.slip_rate(sign);
-                    let dir = if sign > 0.0 {
-                        Crossing::Downward
-                    } else {
-                        Crossing::Upward
-                    };
-                    match rate.first_crossing(theta, limit, dir, Self::x_tol(limit), &mut scratch) {
+                    match self.restick(sign, theta, limit, &mut scratch) {
                         Some(at) => {
                             push(segments, Mode::Slip(sign), theta, at, state.deflection);
-                            let deflection = sign * p.mu_kinetic * p.normal(at) / p.stiffness_ratio;
                             state = PostState {
                                 mode: Mode::Stick,
-                                deflection,
-                                tip_velocity: 0.0,
+                                ..self.slipping(sign, at)
                             };
                             theta = at;
                             restuck_at = Some(at);
@@ -290,16 +302,9 @@ impl AnalyticPost {
                         None => {
                             push(segments, Mode::Slip(sign), theta, limit, state.deflection);
                             theta = limit;
-                            state = if separates {
-                                PostState::separated()
-                            } else {
-                                let deflection =
-                                    sign * p.mu_kinetic * p.normal(limit) / p.stiffness_ratio;
-                                PostState {
-                                    mode: Mode::Slip(sign),
-                                    deflection,
-                                    tip_velocity: 0.0,
-                                }
+                            state = match separates {
+                                true => PostState::separated(),
+                                false => self.slipping(sign, limit),
                             };
                         }
                     }
@@ -593,6 +598,29 @@ impl AnalyticPost {
                 residual: last_change,
             }),
         }
+    }
+}
+
+/// End of the current contact (if it ends before `theta_end`) and whether it separates there,
+/// from the contact `window` at θ (`None` there: in contact throughout); `None`: not in contact.
+fn contact_limit(window: Option<(bool, f64)>, theta_end: f64) -> Option<(f64, bool)> {
+    match window {
+        None => Some((theta_end, false)),
+        Some((true, sep)) => Some(if sep < theta_end {
+            (sep, true)
+        } else {
+            (theta_end, false)
+        }),
+        Some((false, _)) => None,
+    }
+}
+
+/// A post that has just touched down: stuck, undeflected, at rest.
+fn touched_down() -> PostState {
+    PostState {
+        mode: Mode::Stick,
+        deflection: 0.0,
+        tip_velocity: 0.0,
     }
 }
 

@@ -162,54 +162,15 @@ impl TransientModel {
         }
         let no_load = points[0].run().speed_m_per_s.max(0.0);
         let stalled = |run: &TransientRun| run.speed_m_per_s <= STALL_SPEED_FRACTION * no_load;
-        let mut lo = points
+        let lo = points
             .iter()
             .map(CurveRun::run)
             .filter(|r| !stalled(r))
             .map(|r| r.load_n)
             .fold(0.0, f64::max);
         let stall = if options.find_stall && no_load > 0.0 {
-            let mut hi = stall_estimate.max(lo) * 1.1;
-            let mut expansions = 0;
-            loop {
-                stop_check(control, || {
-                    format!("the stall-bracket run at load {hi:e} N")
-                })?;
-                let result = run(curve_model, hi, TransientStart::Estimate, false)?;
-                runs += 1;
-                if stalled(result.run()) {
-                    break;
-                }
-                points.push(result);
-                lo = hi;
-                hi *= 1.25;
-                expansions += 1;
-                if expansions > 6 {
-                    return Err(StickSlipError::NotConverged {
-                        model: "transient",
-                        what: "upper bracket of the stall thrust",
-                        iterations: expansions,
-                        residual: hi,
-                    });
-                }
-            }
-            let mut iterations = 0;
-            while hi - lo > options.stall_tolerance * hi && iterations < MAX_STALL_RUNS {
-                let mid = 0.5 * (lo + hi);
-                stop_check(control, || {
-                    format!("the stall-search run at load {mid:e} N")
-                })?;
-                let result = run(curve_model, mid, TransientStart::Estimate, false)?;
-                runs += 1;
-                iterations += 1;
-                if stalled(result.run()) {
-                    hi = mid;
-                } else {
-                    lo = mid;
-                    points.push(result);
-                }
-            }
-            0.5 * (lo + hi)
+            let bracket = (lo, stall_estimate.max(lo) * 1.1);
+            self.stall_search(curve_model, control, run, &mut points, bracket, &mut runs)?
         } else if no_load <= 0.0 {
             warnings.push(Warning::new(
                 "slider.preload_n",
@@ -217,17 +178,7 @@ impl TransientModel {
             ));
             0.0
         } else {
-            // Linear extrapolation of the two slowest points to zero speed.
-            points.sort_by(|a, b| a.run().speed_m_per_s.total_cmp(&b.run().speed_m_per_s));
-            match points.as_slice() {
-                [a, b, ..] if b.run().speed_m_per_s > a.run().speed_m_per_s => {
-                    let (a, b) = (a.run(), b.run());
-                    a.thrust_n
-                        - a.speed_m_per_s * (b.thrust_n - a.thrust_n)
-                            / (b.speed_m_per_s - a.speed_m_per_s)
-                }
-                _ => stall_estimate,
-            }
+            extrapolated_stall(&mut points, stall_estimate)
         };
         Ok(Runs {
             operating,
@@ -239,25 +190,74 @@ impl TransientModel {
         })
     }
 
-    /// The result of the curve's runs.
-    fn assemble<R: CurveRun>(
+    /// The stall thrust by bracketing from `bracket` = (lo, hi) (hi × 1.25 until a run stalls,
+    /// at most 6 times) and bisection to `stall_tolerance`; the runs that move are added to
+    /// `points`, every run counted in `runs`.
+    fn stall_search<R: CurveRun>(
         &self,
-        runs: Runs<R>,
-        mut warnings: Vec<Warning>,
-        started: Instant,
-    ) -> Curve<R> {
+        curve_model: &TransientModel,
+        control: &RunControl,
+        run: &mut RunAt<'_, R>,
+        points: &mut Vec<R>,
+        bracket: (f64, f64),
+        runs: &mut usize,
+    ) -> Result<f64> {
+        let options = &self.scene.options.transient;
+        let no_load = points[0].run().speed_m_per_s.max(0.0);
+        let stalled = |run: &TransientRun| run.speed_m_per_s <= STALL_SPEED_FRACTION * no_load;
+        let (mut lo, mut hi) = bracket;
+        let mut expansions = 0;
+        loop {
+            stop_check(control, || {
+                format!("the stall-bracket run at load {hi:e} N")
+            })?;
+            let result = run(curve_model, hi, TransientStart::Estimate, false)?;
+            *runs += 1;
+            if stalled(result.run()) {
+                break;
+            }
+            points.push(result);
+            lo = hi;
+            hi *= 1.25;
+            expansions += 1;
+            if expansions > 6 {
+                return Err(StickSlipError::NotConverged {
+                    model: "transient",
+                    what: "upper bracket of the stall thrust",
+                    iterations: expansions,
+                    residual: hi,
+                });
+            }
+        }
+        let mut iterations = 0;
+        while hi - lo > options.stall_tolerance * hi && iterations < MAX_STALL_RUNS {
+            let mid = 0.5 * (lo + hi);
+            stop_check(control, || {
+                format!("the stall-search run at load {mid:e} N")
+            })?;
+            let result = run(curve_model, mid, TransientStart::Estimate, false)?;
+            *runs += 1;
+            iterations += 1;
+            if stalled(result.run()) {
+                hi = mid;
+            } else {
+                lo = mid;
+                points.push(result);
+            }
+        }
+        Ok(0.5 * (lo + hi))
+    }
+
+    /// Warnings on the runs: not steady after the periods asked, or an energy balance residual
+    /// above 1 % at the operating point (neither for a burst).
+    fn run_warnings<R: CurveRun>(
+        &self,
+        points: &[R],
+        operating: &TransientRun,
+        warnings: &mut Vec<Warning>,
+    ) {
         let scene = &self.scene;
         let options = &scene.options.transient;
-        let load = scene.slider.external_load_n;
-        let Runs {
-            operating: operating_run,
-            mut points,
-            stall_n: stall,
-            no_load_m_per_s: no_load,
-            runs,
-            periods_simulated,
-        } = runs;
-        let operating = operating_run.run();
         if points
             .iter()
             .map(CurveRun::run)
@@ -285,39 +285,52 @@ impl TransientModel {
                 ),
             ));
         }
-        points.sort_by(|a, b| a.run().speed_m_per_s.total_cmp(&b.run().speed_m_per_s));
-        let mut curve = vec![CurvePoint {
-            speed_m_per_s: 0.0,
-            thrust_n: stall,
-            output_power_w: 0.0,
-            efficiency: 0.0,
-            stick_fraction: f64::NAN,
-        }];
-        curve.extend(
-            points
-                .iter()
-                .map(CurveRun::run)
-                .filter(|r| r.speed_m_per_s > 0.0)
-                .map(curve_point),
-        );
-        if let Some(first) = points.first() {
-            curve[0].stick_fraction = first.run().stick_fraction;
+    }
+
+    /// The transient's own summary of the operating-point run (`runs`: runs of the curve).
+    fn summary(&self, operating: &TransientRun, runs: usize) -> TransientSummary {
+        let scene = &self.scene;
+        TransientSummary {
+            phase_groups: self.groups,
+            periods_per_run: scene.options.transient.periods,
+            runs,
+            steady: operating.steady,
+            speed_ripple_m_per_s: operating.speed_ripple_m_per_s,
+            vertical_bounce_m: operating.vertical_bounce_m,
+            steps: operating.steps,
+            burst_displacement_m: scene.wave.burst_periods.map(|_| operating.displacement_m),
+            burst_peak_speed_m_per_s: scene
+                .wave
+                .burst_periods
+                .map(|_| operating.peak_speed_m_per_s),
         }
+    }
+
+    /// The result of the curve's runs.
+    fn assemble<R: CurveRun>(
+        &self,
+        runs: Runs<R>,
+        mut warnings: Vec<Warning>,
+        started: Instant,
+    ) -> Curve<R> {
+        let scene = &self.scene;
+        let load = scene.slider.external_load_n;
+        let Runs {
+            operating: operating_run,
+            mut points,
+            stall_n: stall,
+            no_load_m_per_s: no_load,
+            runs,
+            periods_simulated,
+        } = runs;
+        let operating = operating_run.run();
+        self.run_warnings(&points, operating, &mut warnings);
+        points.sort_by(|a, b| a.run().speed_m_per_s.total_cmp(&b.run().speed_m_per_s));
+        let curve = curve_of(&points, stall);
         let efficiency = curve.iter().map(|p| p.efficiency).fold(0.0, f64::max);
         let max_power = curve.iter().map(|p| p.output_power_w).fold(0.0, f64::max);
-        let operating_point =
-            (load <= stall || scene.wave.burst_periods.is_some()).then_some(OperatingPoint {
-                load_n: load,
-                speed_m_per_s: operating.speed_m_per_s,
-                thrust_n: operating.thrust_n,
-                output_power_w: operating.output_power_w,
-                stator_power_w: operating.stator_power_w,
-                friction_dissipation_w: operating.friction_dissipation_w,
-                efficiency: operating.efficiency,
-                stick_fraction: operating.stick_fraction,
-                contact_fraction: operating.contact_fraction,
-                energy_balance_residual: operating.energy_balance_residual,
-            });
+        let operating_point = (load <= stall || scene.wave.burst_periods.is_some())
+            .then(|| operating_point(load, operating));
         if operating_point.is_none() {
             warnings.push(Warning::new(
                 "slider.external_load_n",
@@ -349,20 +362,7 @@ impl TransientModel {
             crest_speed_m_per_s: scene.wave.crest_speed_m_per_s(),
             wall_time_s: started.elapsed().as_secs_f64(),
             warnings,
-            transient: Some(TransientSummary {
-                phase_groups: self.groups,
-                periods_per_run: options.periods,
-                runs,
-                steady: operating.steady,
-                speed_ripple_m_per_s: operating.speed_ripple_m_per_s,
-                vertical_bounce_m: operating.vertical_bounce_m,
-                steps: operating.steps,
-                burst_displacement_m: scene.wave.burst_periods.map(|_| operating.displacement_m),
-                burst_peak_speed_m_per_s: scene
-                    .wave
-                    .burst_periods
-                    .map(|_| operating.peak_speed_m_per_s),
-            }),
+            transient: Some(self.summary(operating, runs)),
         };
         // The run behind each curve point: the slowest moving run backs the stall point (a
         // curve load beyond the stall thrust slides the slider backwards: not a stall state).
@@ -379,5 +379,58 @@ impl TransientModel {
             runs,
             periods_simulated,
         }
+    }
+}
+
+/// The stall thrust by linear extrapolation of the two slowest points to zero speed (sorts
+/// `points` by speed); `stall_estimate` if they do not bracket a slope.
+fn extrapolated_stall<R: CurveRun>(points: &mut [R], stall_estimate: f64) -> f64 {
+    points.sort_by(|a, b| a.run().speed_m_per_s.total_cmp(&b.run().speed_m_per_s));
+    match &*points {
+        [a, b, ..] if b.run().speed_m_per_s > a.run().speed_m_per_s => {
+            let (a, b) = (a.run(), b.run());
+            a.thrust_n
+                - a.speed_m_per_s * (b.thrust_n - a.thrust_n) / (b.speed_m_per_s - a.speed_m_per_s)
+        }
+        _ => stall_estimate,
+    }
+}
+
+/// The curve: the stall point (stall thrust at zero speed, the slowest run's stick fraction),
+/// then every run that moves, in the order of `points` (sorted by speed).
+fn curve_of<R: CurveRun>(points: &[R], stall: f64) -> Vec<CurvePoint> {
+    let mut curve = vec![CurvePoint {
+        speed_m_per_s: 0.0,
+        thrust_n: stall,
+        output_power_w: 0.0,
+        efficiency: 0.0,
+        stick_fraction: f64::NAN,
+    }];
+    curve.extend(
+        points
+            .iter()
+            .map(CurveRun::run)
+            .filter(|r| r.speed_m_per_s > 0.0)
+            .map(curve_point),
+    );
+    if let Some(first) = points.first() {
+        curve[0].stick_fraction = first.run().stick_fraction;
+    }
+    curve
+}
+
+/// The operating point at the external load `load_n` from its run.
+fn operating_point(load_n: f64, operating: &TransientRun) -> OperatingPoint {
+    OperatingPoint {
+        load_n,
+        speed_m_per_s: operating.speed_m_per_s,
+        thrust_n: operating.thrust_n,
+        output_power_w: operating.output_power_w,
+        stator_power_w: operating.stator_power_w,
+        friction_dissipation_w: operating.friction_dissipation_w,
+        efficiency: operating.efficiency,
+        stick_fraction: operating.stick_fraction,
+        contact_fraction: operating.contact_fraction,
+        energy_balance_residual: operating.energy_balance_residual,
     }
 }

@@ -296,6 +296,58 @@ impl<'a> EventDriven<'a> {
         }
     }
 
+    /// The earliest event crossing among the groups within the step of `h` just taken (as a
+    /// fraction τ of the step, and the group); groups held after a transition are skipped.
+    fn earliest_event(&self, h: f64) -> Option<(f64, usize)> {
+        let n = self.sys.groups.len();
+        let mut earliest: Option<(f64, usize)> = None;
+        for g in 0..n {
+            if self.held_until[g] >= self.t {
+                continue;
+            }
+            let (mut a, b) = (self.events0[g], self.events1[g]);
+            if a > EVENT_TOLERANCE {
+                continue;
+            }
+            let mut lo = 0.0;
+            if a >= -EVENT_TOLERANCE {
+                // On the line (just switched, or a tangency): judge by the local direction, not
+                // by the step end, which a coarse step can carry past a grazing contact.
+                let probe = self.interpolated_event(g, h, PROBE_FRACTION);
+                if probe > EVENT_TOLERANCE {
+                    if earliest.is_none_or(|(best, _)| 0.0 < best) {
+                        earliest = Some((0.0, g));
+                    }
+                    continue;
+                }
+                a = probe;
+                lo = PROBE_FRACTION;
+            }
+            // The midpoint catches a crossing and return within one step (a short slip); the
+            // stage estimate screens out groups far from any event.
+            let screened = self.events_mid[g] < -MIDPOINT_SCREEN * h * h - EVENT_TOLERANCE;
+            let m = if screened {
+                f64::NEG_INFINITY
+            } else {
+                self.interpolated_event(g, h, 0.5)
+            };
+            let bracket = if m > EVENT_TOLERANCE {
+                Some((lo, 0.5))
+            } else if b > EVENT_TOLERANCE.max(a) {
+                Some((0.5, 1.0))
+            } else {
+                None
+            };
+            if let Some((lo, hi)) = bracket {
+                let tau = bracketed_root(|tau| self.interpolated_event(g, h, tau), lo, hi, 1e-13);
+                if earliest.is_none_or(|(best, _)| tau < best) {
+                    earliest = Some((tau, g));
+                }
+            }
+        }
+        earliest
+    }
+
     /// Event value of group g at fraction τ ∈ [0, 1] of a step of length h (cubic Hermite).
     fn interpolated_event(&self, g: usize, h: f64, tau: f64) -> f64 {
         let sys = self.sys;
@@ -519,52 +571,7 @@ impl Stepper for EventDriven<'_> {
             f1,
             Some(events1),
         );
-        // Earliest crossing among the groups.
-        let mut earliest: Option<(f64, usize)> = None;
-        for g in 0..n {
-            if self.held_until[g] >= self.t {
-                continue;
-            }
-            let (mut a, b) = (self.events0[g], self.events1[g]);
-            if a > EVENT_TOLERANCE {
-                continue;
-            }
-            let mut lo = 0.0;
-            if a >= -EVENT_TOLERANCE {
-                // On the line (just switched, or a tangency): judge by the local direction, not
-                // by the step end, which a coarse step can carry past a grazing contact.
-                let probe = self.interpolated_event(g, h, PROBE_FRACTION);
-                if probe > EVENT_TOLERANCE {
-                    if earliest.is_none_or(|(best, _)| 0.0 < best) {
-                        earliest = Some((0.0, g));
-                    }
-                    continue;
-                }
-                a = probe;
-                lo = PROBE_FRACTION;
-            }
-            // The midpoint catches a crossing and return within one step (a short slip); the
-            // stage estimate screens out groups far from any event.
-            let screened = self.events_mid[g] < -MIDPOINT_SCREEN * h * h - EVENT_TOLERANCE;
-            let m = if screened {
-                f64::NEG_INFINITY
-            } else {
-                self.interpolated_event(g, h, 0.5)
-            };
-            let bracket = if m > EVENT_TOLERANCE {
-                Some((lo, 0.5))
-            } else if b > EVENT_TOLERANCE.max(a) {
-                Some((0.5, 1.0))
-            } else {
-                None
-            };
-            if let Some((lo, hi)) = bracket {
-                let tau = bracketed_root(|tau| self.interpolated_event(g, h, tau), lo, hi, 1e-13);
-                if earliest.is_none_or(|(best, _)| tau < best) {
-                    earliest = Some((tau, g));
-                }
-            }
-        }
+        let earliest = self.earliest_event(h);
         match earliest {
             Some((tau, g)) if tau < 1.0 => {
                 let h_event = tau * h;

@@ -43,6 +43,23 @@ pub(crate) struct MassivePosts<'a> {
 }
 
 impl<'a> MassivePosts<'a> {
+    /// The slider's explicit step of `h` from the forces at the old time: (v, x, z, w) new.
+    fn slider_step(&self, h: f64) -> (f64, f64, f64, f64) {
+        let sys = &*self.sys;
+        // Slider: explicit forces at t0.
+        let (force0, normal0) = self.totals();
+        let v1 = self.st.v + h * (force0 + sys.load) / sys.mass;
+        let x1 = self.st.x + h * v1;
+        let (z1, w1) = match sys.vertical_damping {
+            Some(damping) => {
+                let w1 = self.st.w + h * (normal0 - sys.preload - damping * self.st.w) / sys.mass;
+                (self.st.z + h * w1, w1)
+            }
+            None => (sys.z_equilibrium, 0.0),
+        };
+        (v1, x1, z1, w1)
+    }
+
     /// A stepper with step ≈ `step` (shortened to divide the wave period) from `start`.
     pub fn new(
         sys: &'a System,
@@ -111,17 +128,7 @@ impl Stepper for MassivePosts<'_> {
         let (h, m) = (self.h, self.mass);
         let t0 = self.st.t;
         let t1 = sys.t_start + (self.steps + 1) as f64 * h;
-        // Slider: explicit forces at t0.
-        let (force0, normal0) = self.totals();
-        let v1 = self.st.v + h * (force0 + sys.load) / sys.mass;
-        let x1 = self.st.x + h * v1;
-        let (z1, w1) = match sys.vertical_damping {
-            Some(damping) => {
-                let w1 = self.st.w + h * (normal0 - sys.preload - damping * self.st.w) / sys.mass;
-                (self.st.z + h * w1, w1)
-            }
-            None => (sys.z_equilibrium, 0.0),
-        };
+        let (v1, x1, z1, w1) = self.slider_step(h);
         // Old-time friction inputs (regularised law is explicit).
         let regularized_inputs: Option<Vec<(f64, f64)>> = match self.friction {
             TipFriction::Regularized { .. } => Some(
@@ -145,52 +152,31 @@ impl Stepper for MassivePosts<'_> {
             let stator1 = sys.particle_velocity(&self.phases, g);
             let (mode, tip, friction_work, dissipated) = match self.friction {
                 TipFriction::Coulomb => {
-                    let free = self.tip_velocity[g] - h * sys.rho * q / m;
-                    let needed = m * (stator1 - free);
-                    let threshold = if matches!(self.mode[g], Mode::Slip(_)) {
-                        sys.mu_k
-                    } else {
-                        sys.mu_s
+                    let tip = Tip {
+                        mode: self.mode[g],
+                        velocity: self.tip_velocity[g],
+                        deflection: q,
                     };
-                    let (mode, impulse) = if normal1 <= 0.0 {
-                        (Mode::Separated, 0.0)
-                    } else if needed.abs() <= threshold * normal1 * h {
-                        (Mode::Stick, needed)
-                    } else {
-                        let sign = needed.signum();
-                        (Mode::Slip(sign), sign * sys.mu_k * normal1 * h)
-                    };
-                    let tip = free + impulse / m;
-                    (mode, tip, impulse * stator1, impulse * (stator1 - tip))
+                    coulomb_tip(sys, tip, h, m, normal1, stator1)
                 }
                 TipFriction::Regularized { speed } => {
                     let (normal_old, stator_old) = regularized_inputs
                         .as_ref()
                         .map_or((0.0, 0.0), |inputs| inputs[g]);
-                    let slip = stator_old - self.tip_velocity[g];
-                    let friction = sys.mu_k * normal_old * (slip / speed).tanh();
-                    let tip = self.tip_velocity[g] + h * (friction - sys.rho * q) / m;
-                    let mode = if normal_old <= 0.0 {
-                        Mode::Separated
-                    } else if slip.abs() <= speed {
-                        Mode::Stick
-                    } else {
-                        Mode::Slip(slip.signum())
-                    };
-                    (mode, tip, friction * stator_old * h, friction * slip * h)
+                    let tip = self.tip_velocity[g];
+                    regularized_tip(sys, tip, q, h, m, speed, normal_old, stator_old)
                 }
             };
-            step_sums.stator_work += weight * friction_work;
+            add_post(
+                &mut step_sums,
+                weight,
+                h,
+                mode,
+                normal1,
+                friction_work,
+                dissipated,
+            );
             self.group_work[g] += weight * friction_work;
-            step_sums.power_flow += weight * friction_work.abs();
-            step_sums.dissipation += weight * dissipated;
-            step_sums.normal_time += weight * normal1 * h;
-            if mode != Mode::Separated {
-                step_sums.contact_time += weight * h;
-            }
-            if mode == Mode::Stick {
-                step_sums.stick_time += weight * h;
-            }
             self.tip_velocity[g] = tip;
             self.deflection[g] = q + h * (tip - v1);
             self.mode[g] = mode;
@@ -252,4 +238,93 @@ impl Stepper for MassivePosts<'_> {
         self.sys.to_mut().set_profile(profile);
         true
     }
+}
+
+/// One post's share of a step's sums: friction work (and its magnitude), dissipation, the
+/// normal force's impulse, contact and stick time, each weighted by the group's `weight`.
+fn add_post(
+    sums: &mut Sums,
+    weight: f64,
+    h: f64,
+    mode: Mode,
+    normal: f64,
+    friction_work: f64,
+    dissipated: f64,
+) {
+    sums.stator_work += weight * friction_work;
+    sums.power_flow += weight * friction_work.abs();
+    sums.dissipation += weight * dissipated;
+    sums.normal_time += weight * normal * h;
+    if mode != Mode::Separated {
+        sums.contact_time += weight * h;
+    }
+    if mode == Mode::Stick {
+        sums.stick_time += weight * h;
+    }
+}
+
+/// A post tip at the start of a step: its contact mode, velocity and deflection q.
+#[derive(Debug, Clone, Copy)]
+struct Tip {
+    mode: Mode,
+    velocity: f64,
+    deflection: f64,
+}
+
+/// The Coulomb tip's step of `h` (mass `m`): the impulse that makes the tip move with the
+/// stator at the new time (`stator1`) if the friction cone (static from stick, kinetic from
+/// slip) under `normal1` allows it, else the kinetic impulse; separated without load. Returns
+/// (mode, tip velocity, friction work, dissipated work).
+fn coulomb_tip(
+    sys: &System,
+    tip: Tip,
+    h: f64,
+    m: f64,
+    normal1: f64,
+    stator1: f64,
+) -> (Mode, f64, f64, f64) {
+    let free = tip.velocity - h * sys.rho * tip.deflection / m;
+    let needed = m * (stator1 - free);
+    let threshold = if matches!(tip.mode, Mode::Slip(_)) {
+        sys.mu_k
+    } else {
+        sys.mu_s
+    };
+    let (mode, impulse) = if normal1 <= 0.0 {
+        (Mode::Separated, 0.0)
+    } else if needed.abs() <= threshold * normal1 * h {
+        (Mode::Stick, needed)
+    } else {
+        let sign = needed.signum();
+        (Mode::Slip(sign), sign * sys.mu_k * normal1 * h)
+    };
+    let tip = free + impulse / m;
+    (mode, tip, impulse * stator1, impulse * (stator1 - tip))
+}
+
+/// The regularised tip's explicit step of `h`: friction μ_k N tanh(slip/`speed`) from the
+/// old-time normal force and stator velocity; stick while |slip| ≤ `speed`. Returns (mode, tip
+/// velocity, friction work, dissipated work).
+#[allow(clippy::too_many_arguments)]
+fn regularized_tip(
+    sys: &System,
+    tip_velocity: f64,
+    q: f64,
+    h: f64,
+    m: f64,
+    speed: f64,
+    normal_old: f64,
+    stator_old: f64,
+) -> (Mode, f64, f64, f64) {
+    let slip = stator_old - tip_velocity;
+    let friction = sys.mu_k * normal_old * (slip / speed).tanh();
+    let tip = tip_velocity + h * (friction - sys.rho * q) / m;
+    let mode = if normal_old <= 0.0 {
+        Mode::Separated
+    } else if slip.abs() <= speed {
+        Mode::Stick
+    } else {
+        Mode::Slip(slip.signum())
+    };
+    (mode, tip, friction * stator_old * h, friction * slip * h)
 }

@@ -76,6 +76,133 @@ impl<'a> ReturnMapping<'a> {
         }
     }
 
+    /// Each group's stator displacement Δu over the step to the phase `alpha1`.
+    fn increments(&mut self, alpha1: f64) {
+        let sys = &*self.sys;
+        let n = sys.groups.len();
+        let h = self.h;
+        if sys.wave.burst_phase_end.is_none() {
+            // Continuous wave: Δu = â·drive·(cos θ1 − cos θ0)/s, s the phase rate over the step.
+            let scale = sys.wave.tangential_ratio * h / (alpha1 - self.alpha);
+            let (p0, p1) = (&self.phases0, &self.phases1);
+            for (g, du) in self.increment.iter_mut().enumerate() {
+                *du = scale * 0.5 * (p0.drive[g] + p1.drive[g]) * (p1.cos[g] - p0.cos[g]);
+            }
+        } else {
+            for g in 0..n {
+                self.increment[g] = self.particle_increment(g, self.alpha, alpha1);
+            }
+        }
+    }
+
+    /// The slider's new velocity by the active set of the groups' status (0 stuck, ±1
+    /// slipping, [`SEPARATED`]), from the trials, thresholds and normal forces of the step.
+    #[allow(clippy::needless_range_loop)]
+    fn active_set(&mut self, h: f64) -> Result<f64> {
+        let sys = &*self.sys;
+        let n = sys.groups.len();
+        let (rho, mu_k, mu_s) = (sys.rho, sys.mu_k, sys.mu_s);
+        let weights = &sys.groups.weight;
+        // Active set on the slider velocity: status 0 stuck, ±1 slipping, 2 separated.
+        let v0 = self.st.v;
+        let status_of = |base: f64, threshold: f64, normal: f64, v: f64| {
+            status_of(base - v * h, threshold, normal)
+        };
+        for g in 0..n {
+            self.status[g] = status_of(self.trial[g], self.threshold[g], self.normal[g], v0);
+        }
+        // With μ_s > μ_k a group that lost sticking in this step does not regain it (keeps
+        // the iteration finite on the non-monotone static→kinetic drop).
+        let monotone = mu_s == mu_k;
+        let mut v1 = v0;
+        let mut converged = false;
+        for _ in 0..MAX_ACTIVE_SET_ITERATIONS {
+            let (mut lhs, mut rhs) = (sys.mass / h, sys.mass * v0 / h + sys.load);
+            for g in 0..n {
+                let w = weights[g];
+                match self.status[g] {
+                    0 => {
+                        lhs += w * rho * h;
+                        rhs += w * rho * self.trial[g];
+                    }
+                    SEPARATED => {}
+                    sign => rhs += w * f64::from(sign) * mu_k * self.normal[g],
+                }
+            }
+            v1 = rhs / lhs;
+            let mut changed = false;
+            for g in 0..n {
+                let old = self.status[g];
+                let new = status_of(self.trial[g], self.threshold[g], self.normal[g], v1);
+                let may_return = monotone || matches!(self.mode[g], Mode::Slip(_));
+                if new != old && (new != 0 || may_return) {
+                    self.status[g] = new;
+                    changed = true;
+                }
+            }
+            if !changed {
+                converged = true;
+                break;
+            }
+        }
+        if !converged {
+            return Err(StickSlipError::NotConverged {
+                model: "return-mapping transient",
+                what: "stick/slip active set of the slider velocity",
+                iterations: MAX_ACTIVE_SET_ITERATIONS,
+                residual: v1,
+            });
+        }
+        Ok(v1)
+    }
+
+    /// The posts' modes and deflections at the slider velocity `v1`, and the step's sums.
+    #[allow(clippy::needless_range_loop)]
+    fn update_posts(&mut self, h: f64, v1: f64) -> Sums {
+        let sys = &*self.sys;
+        let n = sys.groups.len();
+        let (rho, mu_k) = (sys.rho, sys.mu_k);
+        let weights = &sys.groups.weight;
+        // Update the posts and the sums.
+        let mut step_sums = Sums {
+            time: h,
+            ..Default::default()
+        };
+        for g in 0..n {
+            let w = weights[g];
+            let trial = self.trial[g] - v1 * h;
+            let normal = self.normal[g];
+            let (mode, e) = match self.status[g] {
+                SEPARATED => (Mode::Separated, 0.0),
+                0 => (Mode::Stick, trial),
+                sign => {
+                    let sign = f64::from(sign);
+                    (Mode::Slip(sign), sign * mu_k * normal / rho)
+                }
+            };
+            let force = rho * e;
+            let stator = force * self.increment[g];
+            step_sums.force_time += w * force * h;
+            step_sums.normal_time += w * normal * h;
+            step_sums.stator_work += w * stator;
+            self.group_work[g] += w * stator;
+            step_sums.power_flow += w * stator.abs();
+            step_sums.output_work += w * force * v1 * h;
+            step_sums.dissipation += w * force * (trial - e);
+            match mode {
+                Mode::Separated => {}
+                Mode::Stick => {
+                    step_sums.contact_time += w * h;
+                    step_sums.stick_time += w * h;
+                }
+                Mode::Slip(_) => step_sums.contact_time += w * h,
+            }
+            self.mode[g] = mode;
+            self.deflection[g] = e;
+        }
+        step_sums
+    }
+
     /// Stator particle displacement increment under group g over the step (exact along the
     /// phase path, clipped to the burst window).
     fn particle_increment(&self, g: usize, alpha0: f64, alpha1: f64) -> f64 {
@@ -153,18 +280,8 @@ impl Stepper for ReturnMapping<'_> {
         let x_predicted = self.st.x + h * self.st.v;
         self.phases1.fill(&sys.groups, &sys.wave, t1, x_predicted);
         let alpha1 = t1 - sys.wave.doppler * x_predicted;
-        if sys.wave.burst_phase_end.is_none() {
-            // Continuous wave: Δu = â·drive·(cos θ1 − cos θ0)/s, s the phase rate over the step.
-            let scale = sys.wave.tangential_ratio * h / (alpha1 - self.alpha);
-            let (p0, p1) = (&self.phases0, &self.phases1);
-            for (g, du) in self.increment.iter_mut().enumerate() {
-                *du = scale * 0.5 * (p0.drive[g] + p1.drive[g]) * (p1.cos[g] - p0.cos[g]);
-            }
-        } else {
-            for g in 0..n {
-                self.increment[g] = self.particle_increment(g, self.alpha, alpha1);
-            }
-        }
+        self.increments(alpha1);
+        let sys = &*self.sys;
         let (z1, w1) = match sys.vertical_damping {
             Some(damping) => {
                 let w1 = self.vertical(damping)?;
@@ -173,7 +290,6 @@ impl Stepper for ReturnMapping<'_> {
             None => (sys.z_equilibrium, 0.0),
         };
         let (rho, mu_k, mu_s) = (sys.rho, sys.mu_k, sys.mu_s);
-        let weights = &sys.groups.weight;
         // Per group: normal force, base = ê + Δu (trial = base − v h), stick threshold.
         for g in 0..n {
             let normal = sys.normal(&self.phases1, g, z1);
@@ -186,102 +302,8 @@ impl Stepper for ReturnMapping<'_> {
             };
             self.threshold[g] = threshold * normal / rho;
         }
-        // Active set on the slider velocity: status 0 stuck, ±1 slipping, 2 separated.
-        let v0 = self.st.v;
-        let status_of = |base: f64, threshold: f64, normal: f64, v: f64| -> i8 {
-            let trial = base - v * h;
-            if normal <= 0.0 {
-                SEPARATED
-            } else if trial.abs() <= threshold {
-                0
-            } else if trial > 0.0 {
-                1
-            } else {
-                -1
-            }
-        };
-        for g in 0..n {
-            self.status[g] = status_of(self.trial[g], self.threshold[g], self.normal[g], v0);
-        }
-        // With μ_s > μ_k a group that lost sticking in this step does not regain it (keeps
-        // the iteration finite on the non-monotone static→kinetic drop).
-        let monotone = mu_s == mu_k;
-        let mut v1 = v0;
-        let mut converged = false;
-        for _ in 0..MAX_ACTIVE_SET_ITERATIONS {
-            let (mut lhs, mut rhs) = (sys.mass / h, sys.mass * v0 / h + sys.load);
-            for g in 0..n {
-                let w = weights[g];
-                match self.status[g] {
-                    0 => {
-                        lhs += w * rho * h;
-                        rhs += w * rho * self.trial[g];
-                    }
-                    SEPARATED => {}
-                    sign => rhs += w * f64::from(sign) * mu_k * self.normal[g],
-                }
-            }
-            v1 = rhs / lhs;
-            let mut changed = false;
-            for g in 0..n {
-                let old = self.status[g];
-                let new = status_of(self.trial[g], self.threshold[g], self.normal[g], v1);
-                let may_return = monotone || matches!(self.mode[g], Mode::Slip(_));
-                if new != old && (new != 0 || may_return) {
-                    self.status[g] = new;
-                    changed = true;
-                }
-            }
-            if !changed {
-                converged = true;
-                break;
-            }
-        }
-        if !converged {
-            return Err(StickSlipError::NotConverged {
-                model: "return-mapping transient",
-                what: "stick/slip active set of the slider velocity",
-                iterations: MAX_ACTIVE_SET_ITERATIONS,
-                residual: v1,
-            });
-        }
-        // Update the posts and the sums.
-        let mut step_sums = Sums {
-            time: h,
-            ..Default::default()
-        };
-        for g in 0..n {
-            let w = weights[g];
-            let trial = self.trial[g] - v1 * h;
-            let normal = self.normal[g];
-            let (mode, e) = match self.status[g] {
-                SEPARATED => (Mode::Separated, 0.0),
-                0 => (Mode::Stick, trial),
-                sign => {
-                    let sign = f64::from(sign);
-                    (Mode::Slip(sign), sign * mu_k * normal / rho)
-                }
-            };
-            let force = rho * e;
-            let stator = force * self.increment[g];
-            step_sums.force_time += w * force * h;
-            step_sums.normal_time += w * normal * h;
-            step_sums.stator_work += w * stator;
-            self.group_work[g] += w * stator;
-            step_sums.power_flow += w * stator.abs();
-            step_sums.output_work += w * force * v1 * h;
-            step_sums.dissipation += w * force * (trial - e);
-            match mode {
-                Mode::Separated => {}
-                Mode::Stick => {
-                    step_sums.contact_time += w * h;
-                    step_sums.stick_time += w * h;
-                }
-                Mode::Slip(_) => step_sums.contact_time += w * h,
-            }
-            self.mode[g] = mode;
-            self.deflection[g] = e;
-        }
+        let v1 = self.active_set(h)?;
+        let step_sums = self.update_posts(h, v1);
         *sums += step_sums;
         self.st = SliderState {
             t: t1,
@@ -326,5 +348,19 @@ impl Stepper for ReturnMapping<'_> {
     fn retune(&mut self, profile: &[f64]) -> bool {
         self.sys.to_mut().set_profile(profile);
         true
+    }
+}
+
+/// A group's status for the trial deflection `trial`: [`SEPARATED`] without load, 0 (stuck)
+/// within the threshold, else the sign of the slip.
+fn status_of(trial: f64, threshold: f64, normal: f64) -> i8 {
+    if normal <= 0.0 {
+        SEPARATED
+    } else if trial.abs() <= threshold {
+        0
+    } else if trial > 0.0 {
+        1
+    } else {
+        -1
     }
 }

@@ -144,10 +144,7 @@ impl TransientModel {
     ) -> Result<Integrated> {
         let scene = &self.scene;
         let options = &scene.options.transient;
-        let a_n = scene.wave.normal_amplitude_m;
-        let omega = scene.wave.angular_frequency_rad_per_s();
-        let force_unit = scene.slider.effective_post_count() * scene.contact.k_n_n_per_m * a_n;
-        let post_force = scene.contact.k_n_n_per_m * a_n;
+        let units = HistoryUnits::of(scene);
         let t_start = stepper.state().t;
         let periods = options.periods.ceil() as usize;
         let window = (options.average_periods.round() as usize).clamp(1, periods);
@@ -165,7 +162,7 @@ impl TransientModel {
         let mut next_slider_sample = t_start;
         let mut records = Vec::with_capacity(periods);
         let mut peak_speed = f64::NEG_INFINITY;
-        let t_unit = 1.0 / omega;
+        let t_unit = units.t_unit;
         let mut window_work: Option<Vec<f64>> = None;
         let mut j = 0;
         while j < span.end {
@@ -195,13 +192,8 @@ impl TransientModel {
                 peak_speed = peak_speed.max(-st.v);
                 if record && st.t >= next_slider_sample {
                     next_slider_sample = st.t + slider_spacing;
-                    let (force, normal) = stepper.totals();
                     if let Some(h) = slider_history.as_mut() {
-                        h.time_s.push((st.t - t_start) * t_unit);
-                        h.speed_m_per_s.push(-st.v * a_n * omega);
-                        h.thrust_n.push(-force * force_unit);
-                        h.normal_force_n.push(normal * force_unit);
-                        h.tip_height_m.push(st.z * a_n);
+                        units.push_slider_sample(h, stepper, t_start);
                     }
                 }
                 if record && st.t >= next_sample {
@@ -209,19 +201,7 @@ impl TransientModel {
                     if j >= history_from
                         && let Some(h) = post_history.as_mut()
                     {
-                        let sys = stepper.system();
-                        let (normal, force, mode) = stepper.group(0);
-                        h.time_s.push((st.t - t_start) * t_unit);
-                        h.normal_force_n.push(normal * post_force);
-                        h.tangential_force_n.push(-force * post_force);
-                        h.friction_bound_n.push(sys.mu_k * normal * post_force);
-                        let alpha = st.t - sys.wave.doppler * st.x - sys.groups.phase[0];
-                        let drive = sys.groups.amplitude[0] * sys.wave.amplitude_at(st.x);
-                        let on = if sys.wave.is_on(alpha) { 1.0 } else { 0.0 };
-                        h.stator_velocity_m_per_s.push(
-                            sys.wave.tangential_ratio * on * drive * alpha.sin() * a_n * omega,
-                        );
-                        h.state.push(crate::history::ContactState::from(mode));
+                        units.push_post_sample(h, stepper, t_start);
                     }
                 }
             }
@@ -279,50 +259,25 @@ impl TransientModel {
         let tangential_ratio = stepper.system().wave.tangential_ratio;
         // Averages over the window.
         let tail = &records[span.window_start..];
-        let mut sums = Sums::default();
-        let (mut dx, mut stored, mut z_time) = (0.0, 0.0, 0.0);
-        for r in tail {
-            sums += r.sums;
-            dx += r.dx;
-            stored += r.stored_change;
-            z_time += r.z_time;
-        }
+        let Window {
+            sums,
+            dx,
+            z_time,
+            residual,
+            v: (v_min, v_max),
+            z: (z_min, z_max),
+        } = Window::of(tail);
         let time = sums.time;
         let power_unit = force_unit * a_n * omega;
         let mean_speed = -dx / time;
         let steady = is_steady(tail, tangential_ratio);
         let stator = sums.stator_work / time * power_unit;
         let output = sums.output_work / time * power_unit;
-        let residual = (sums.stator_work - sums.output_work - sums.dissipation - stored)
-            / sums
-                .power_flow
-                .max(sums.stator_work.abs())
-                .max(sums.dissipation.abs())
-                .max(1e-300);
-        let (v_min, v_max) = tail
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
-                (a.min(r.v_min), b.max(r.v_max))
-            });
-        let (z_min, z_max) = tail
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
-                (a.min(r.z_min), b.max(r.z_max))
-            });
         if let Some(h) = post_history.as_mut() {
             h.speed_m_per_s = mean_speed * a_n * omega;
         }
         let total_dx: f64 = records.iter().map(|r| r.dx).sum();
-        let group_power = match (window_work, stepper.group_stator_work()) {
-            (Some(before), Some(after)) => Some(
-                before
-                    .iter()
-                    .zip(after)
-                    .map(|(b, a)| (a - b) / time * power_unit)
-                    .collect(),
-            ),
-            _ => None,
-        };
+        let group_power = group_power(window_work, stepper.group_stator_work(), time, power_unit);
         let dissipation = sums.dissipation / time * power_unit;
         let run = TransientRun {
             load_n,
@@ -332,17 +287,7 @@ impl TransientModel {
             output_power_w: output,
             stator_power_w: stator,
             friction_dissipation_w: dissipation,
-            // Output over the power the contacts take from the stator, counted as output +
-            // dissipation: equal to output/stator in a steady state, and never above 1 when a
-            // finite window still sees the slider's stored energy change.
-            efficiency: {
-                let delivered = output + dissipation;
-                if delivered > 0.0 && output > 0.0 {
-                    output / delivered
-                } else {
-                    0.0
-                }
-            },
+            efficiency: efficiency(output, dissipation),
             stick_fraction: if sums.contact_time > 0.0 {
                 sums.stick_time / sums.contact_time
             } else {
@@ -366,5 +311,143 @@ impl TransientModel {
             post_history,
         };
         (run, group_power)
+    }
+}
+
+/// Each group's mean stator power (W) over the window: the change of its stator work from
+/// the window's start (`before`) to the end (`after`), over the window's `time`.
+fn group_power(
+    before: Option<Vec<f64>>,
+    after: Option<&[f64]>,
+    time: f64,
+    power_unit: f64,
+) -> Option<Vec<f64>> {
+    match (before, after) {
+        (Some(before), Some(after)) => Some(
+            before
+                .iter()
+                .zip(after)
+                .map(|(b, a)| (a - b) / time * power_unit)
+                .collect(),
+        ),
+        _ => None,
+    }
+}
+
+/// Output over the power the contacts take from the stator, counted as output + dissipation:
+/// equal to output/stator in a steady state, and never above 1 when a finite window still sees
+/// the slider's stored energy change.
+fn efficiency(output: f64, dissipation: f64) -> f64 {
+    let delivered = output + dissipation;
+    if delivered > 0.0 && output > 0.0 {
+        output / delivered
+    } else {
+        0.0
+    }
+}
+
+/// The averaging window's sums (solver units): the periods' sums, the slider's displacement
+/// and tip-height integral, the energy balance's relative residual, and the ranges of the
+/// slider's speed and tip height.
+struct Window {
+    sums: Sums,
+    dx: f64,
+    z_time: f64,
+    residual: f64,
+    v: (f64, f64),
+    z: (f64, f64),
+}
+
+impl Window {
+    fn of(tail: &[PeriodRecord]) -> Self {
+        let mut sums = Sums::default();
+        let (mut dx, mut stored, mut z_time) = (0.0, 0.0, 0.0);
+        for r in tail {
+            sums += r.sums;
+            dx += r.dx;
+            stored += r.stored_change;
+            z_time += r.z_time;
+        }
+        let residual = (sums.stator_work - sums.output_work - sums.dissipation - stored)
+            / sums
+                .power_flow
+                .max(sums.stator_work.abs())
+                .max(sums.dissipation.abs())
+                .max(1e-300);
+        let v = tail
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
+                (a.min(r.v_min), b.max(r.v_max))
+            });
+        let z = tail
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
+                (a.min(r.z_min), b.max(r.z_max))
+            });
+        Self {
+            sums,
+            dx,
+            z_time,
+            residual,
+            v,
+            z,
+        }
+    }
+}
+
+/// The units of the histories: the solver's time, length and force scales.
+struct HistoryUnits {
+    /// Normal wave amplitude A_n (m).
+    a_n: f64,
+    /// ω (rad/s).
+    omega: f64,
+    /// Force unit of the slider's totals, N_eff k_n A_n (N).
+    force_unit: f64,
+    /// Force unit of one post, k_n A_n (N).
+    post_force: f64,
+    /// Time unit 1/ω (s).
+    t_unit: f64,
+}
+
+impl HistoryUnits {
+    fn of(scene: &crate::scene::DynamicScene) -> Self {
+        let a_n = scene.wave.normal_amplitude_m;
+        let omega = scene.wave.angular_frequency_rad_per_s();
+        Self {
+            a_n,
+            omega,
+            force_unit: scene.slider.effective_post_count() * scene.contact.k_n_n_per_m * a_n,
+            post_force: scene.contact.k_n_n_per_m * a_n,
+            t_unit: 1.0 / omega,
+        }
+    }
+
+    /// One sample of the slider's history at the stepper's state.
+    fn push_slider_sample(&self, h: &mut SliderHistory, stepper: &dyn Stepper, t_start: f64) {
+        let st = stepper.state();
+        let (force, normal) = stepper.totals();
+        h.time_s.push((st.t - t_start) * self.t_unit);
+        h.speed_m_per_s.push(-st.v * self.a_n * self.omega);
+        h.thrust_n.push(-force * self.force_unit);
+        h.normal_force_n.push(normal * self.force_unit);
+        h.tip_height_m.push(st.z * self.a_n);
+    }
+
+    /// One sample of the first group's post history at the stepper's state.
+    fn push_post_sample(&self, h: &mut PostHistory, stepper: &dyn Stepper, t_start: f64) {
+        let st = stepper.state();
+        let sys = stepper.system();
+        let (normal, force, mode) = stepper.group(0);
+        let post_force = self.post_force;
+        h.time_s.push((st.t - t_start) * self.t_unit);
+        h.normal_force_n.push(normal * post_force);
+        h.tangential_force_n.push(-force * post_force);
+        h.friction_bound_n.push(sys.mu_k * normal * post_force);
+        let alpha = st.t - sys.wave.doppler * st.x - sys.groups.phase[0];
+        let drive = sys.groups.amplitude[0] * sys.wave.amplitude_at(st.x);
+        let on = if sys.wave.is_on(alpha) { 1.0 } else { 0.0 };
+        h.stator_velocity_m_per_s
+            .push(sys.wave.tangential_ratio * on * drive * alpha.sin() * self.a_n * self.omega);
+        h.state.push(crate::history::ContactState::from(mode));
     }
 }
