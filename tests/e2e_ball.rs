@@ -74,8 +74,14 @@ fn a_ball_scene_reports_the_libraries_stall_thrust_and_no_load_speed_at_two_ampl
     let out = dir.path().join("out");
     let out_s = out.to_str().unwrap();
     for (amplitude_m, sets) in [
-        (motor::paper::NORMAL_AMPLITUDE_M, &[][..]),
-        (10e-9, &["wave.normal_amplitude=10nm"][..]),
+        (
+            motor::paper::NORMAL_AMPLITUDE_M,
+            &["wave.attenuation=off"][..],
+        ),
+        (
+            10e-9,
+            &["wave.normal_amplitude=10nm", "wave.attenuation=off"][..],
+        ),
     ] {
         let expected = library(amplitude_m);
         assert!(
@@ -102,7 +108,7 @@ fn a_ball_scene_reports_the_libraries_stall_thrust_and_no_load_speed_at_two_ampl
         assert!(number(&json, "stall_thrust_n") < number(&json, "friction_limit_n"));
         assert!(number(&json, "no_load_speed_m_per_s") < number(&json, "crest_speed_m_per_s"));
         assert!(number(&json, "max_energy_residual") < 1e-7);
-        assert_eq!(json["wave_attenuation"], "off", "a ball keeps the wave");
+        assert_eq!(json["wave_attenuation"], "off", "as set");
         let folder = out.join("ball/dynamic");
         for file in ["dynamic.json", "curve.csv", "speed_thrust.svg"] {
             assert!(folder.join(file).is_file(), "{file} written");
@@ -116,8 +122,16 @@ fn a_ball_scene_reports_the_libraries_stall_thrust_and_no_load_speed_at_two_ampl
         "halving the amplitude changes the stall thrust"
     );
     // `sawdrive run` writes the same figures into summary.json.
-    let run: serde_json::Value =
-        serde_json::from_str(&sawdrive_ok(&["run", scene, "--out", out_s, "--json"])).unwrap();
+    let run: serde_json::Value = serde_json::from_str(&sawdrive_ok(&[
+        "run",
+        scene,
+        "--out",
+        out_s,
+        "--json",
+        "--set",
+        "wave.attenuation=off",
+    ]))
+    .unwrap();
     let summary: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("ball/summary.json")).unwrap()).unwrap();
     let expected = library(motor::paper::NORMAL_AMPLITUDE_M);
@@ -138,6 +152,72 @@ fn a_ball_scene_reports_the_libraries_stall_thrust_and_no_load_speed_at_two_ampl
         assert_eq!(json["scene"]["ball"]["diameter_m"], DIAMETER_M);
         assert_eq!(json["scene"]["ball"]["material"]["name"], "steel");
     }
+}
+
+/// The energy-conserving wave at the contact: `auto` turns it on for the test ball (it draws
+/// about 10 % of the power across its contact), every curve point closes the wave's books and
+/// sits at the fixed point α = √(1 − ½P_d/P_in), and the result is the library's with that wave
+/// share.
+#[test]
+fn a_ball_on_the_energy_conserving_wave_closes_its_books_at_the_fixed_point_amplitude() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = ball_scene_file(dir.path());
+    let out = dir.path().join("out");
+    let args = [
+        "dynamic",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+    ];
+    let json: serde_json::Value = serde_json::from_str(&sawdrive_ok(&args)).unwrap();
+    assert_eq!(
+        json["wave_attenuation"], "on",
+        "{}",
+        json["wave_attenuation_reason"]
+    );
+    assert!(
+        json["wave_attenuation_reason"]
+            .as_str()
+            .unwrap()
+            .starts_with("auto"),
+        "the reason says auto decided"
+    );
+    let power_in_w = number(&json, "wave_power_in_w");
+    for p in json["curve"].as_array().unwrap() {
+        let (stator, p_in, p_out) = (
+            number(p, "stator_power_w"),
+            number(p, "wave_power_in_w"),
+            number(p, "wave_power_out_w"),
+        );
+        assert!(
+            (p_in - p_out - stator).abs() <= 1e-12 * p_in,
+            "books of {p}"
+        );
+        let alpha = number(p, "amplitude_scale");
+        let fixed = (1.0 - 0.5 * stator / power_in_w).sqrt();
+        assert!(
+            alpha < 1.0 && (alpha - fixed).abs() < 1e-9,
+            "α {alpha} vs {fixed}"
+        );
+    }
+    let mut motor = motor::Motor::paper();
+    motor.load.preload_n = PRELOAD_N;
+    let mut library_scene = BallScene::for_motor(&motor, BallSlider::steel(DIAMETER_M)).unwrap();
+    library_scene.numerics.curve_points = CURVE_POINTS;
+    library_scene.wave_share = Some(ball_slider::WaveShare::new(power_in_w).unwrap());
+    let expected = ball_slider::solve(&library_scene).unwrap();
+    assert_close(
+        "stall thrust",
+        number(&json, "stall_thrust_n"),
+        expected.stall_thrust_n,
+        1e-12,
+    );
+    let constant = library(motor::paper::NORMAL_AMPLITUDE_M);
+    assert!(
+        expected.stall_thrust_n < constant.stall_thrust_n,
+        "the ball that draws power sees less wave and pushes less"
+    );
 }
 
 /// A failed command: non-zero exit, one line on stderr naming `key`, nothing under `out`.
@@ -172,7 +252,6 @@ fn bad_ball_inputs_are_refused_in_one_line_naming_the_key_and_writing_nothing() 
             "model.lumped.integrator",
         ),
         ("friction.kinetic=0.2", "friction.kinetic"),
-        ("wave.attenuation=on", "wave.attenuation"),
         ("wave.decay_length=20mm", "wave.decay_length"),
         ("load.preload=-1N", "load.preload"),
     ];

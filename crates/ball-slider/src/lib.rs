@@ -11,7 +11,7 @@ pub mod study;
 
 pub use dynamics::{
     BallModel, BallResult, CurvePoint, FreeCheck, MAX_RESONANCE_STEP, SpeedPoint, StaticSummary,
-    solve,
+    WaveShare, solve,
 };
 pub use error::{BallError, Result};
 pub use hertz::HertzContact;

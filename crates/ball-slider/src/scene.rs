@@ -14,6 +14,7 @@ use contact_springs::Material;
 use motor::{Motor, Wave};
 use serde::{Deserialize, Serialize};
 
+use crate::dynamics::WaveShare;
 use crate::error::{BallError, Result, material, non_negative, positive};
 
 /// Young's modulus of the default ball steel (Pa): hardened bearing steel (AISI 52100 /
@@ -121,6 +122,10 @@ pub struct BallScene {
     /// Numerical settings.
     #[serde(default)]
     pub numerics: Numerics,
+    /// The energy-conserving wave at the contact: the wave power crossing it (`None`: the
+    /// constant amplitude A₀; [`crate::dynamics::attenuation`]).
+    #[serde(default)]
+    pub wave_share: Option<WaveShare>,
 }
 
 /// Ball diameter of the default scene (m): a 2 mm precision ball (crate README: why).
@@ -141,6 +146,7 @@ impl BallScene {
             preload_n,
             external_load_n: 0.0,
             numerics: Numerics::default(),
+            wave_share: None,
         }
     }
 
@@ -167,12 +173,13 @@ impl BallScene {
             preload_n: motor.load.preload_n,
             external_load_n: motor.load.external_load_n,
             numerics: Numerics::default(),
+            wave_share: None,
         };
         scene.validate()?;
         Ok(scene)
     }
 
-    /// The same scene at another wave amplitude, A_t/A_n kept.
+    /// The same scene at another wave amplitude, A_t/A_n kept (the wave share too).
     pub fn with_normal_amplitude(mut self, amplitude_m: f64) -> Self {
         let ratio = self.wave.tangential_amplitude_m / self.wave.normal_amplitude_m;
         self.wave.normal_amplitude_m = amplitude_m;
@@ -212,6 +219,16 @@ impl BallScene {
                 field: "wave.burst_periods",
                 reason: "the ball model computes the periodic steady state of a continuous wave",
             });
+        }
+        if let Some(share) = &self.wave_share {
+            positive("wave_share.power_in_w", share.power_in_w)?;
+            if !(share.tolerance > 0.0 && share.tolerance < 1e-2) {
+                return Err(BallError::InvalidParameter {
+                    field: "wave_share.tolerance",
+                    value: share.tolerance,
+                    requirement: "must lie in (0, 1e-2)",
+                });
+            }
         }
         Ok(())
     }

@@ -254,3 +254,27 @@ fn validation_study_runs_at_smoke_size() {
         "20 mN drives, 1 N holds"
     );
 }
+
+/// The energy-conserving wave's weak-draw limit: a wave share far above the ball's draw gives
+/// the constant-amplitude result to 1e-6.
+#[test]
+fn a_wave_share_far_above_the_draw_recovers_the_constant_wave_to_1e_6() {
+    let constant = solve(&scene()).unwrap();
+    let mut wide = scene();
+    wide.wave_share = Some(ball_slider::WaveShare::new(1e6).unwrap());
+    let attenuated = solve(&wide).unwrap();
+    let rel = |a: f64, b: f64| (a / b - 1.0).abs();
+    assert!(rel(attenuated.stall_thrust_n, constant.stall_thrust_n) < 1e-6);
+    assert!(
+        rel(
+            attenuated.no_load_speed_m_per_s,
+            constant.no_load_speed_m_per_s
+        ) < 1e-6
+    );
+    assert!(
+        attenuated
+            .curve
+            .iter()
+            .all(|p| p.amplitude_scale < 1.0 && p.amplitude_scale > 1.0 - 1e-6)
+    );
+}

@@ -45,6 +45,8 @@ pub struct SpeedPoint {
     pub gross_slip_fraction: f64,
     /// Periods integrated to reach the periodic state.
     pub periods: usize,
+    /// A/A₀ the ball sees (1 at the constant amplitude; below 1 on the energy-conserving wave).
+    pub amplitude_scale: f64,
 }
 
 /// The free ball integrated from a curve point's state under that point's thrust as load.
@@ -93,6 +95,8 @@ pub struct CurvePoint {
     pub contact_fraction: f64,
     /// Fraction of the period in gross slip.
     pub gross_slip_fraction: f64,
+    /// A/A₀ the ball sees.
+    pub amplitude_scale: f64,
     /// The free ball's confirmation (absent when `numerics.free_periods` is 0).
     pub free: Option<FreeCheck>,
 }
@@ -162,6 +166,8 @@ pub struct BallResult {
 pub struct BallModel {
     scene: BallScene,
     kernel: Kernel,
+    /// The last settled A/A₀, the next fixed point's warm start (energy-conserving wave).
+    last_alpha: std::cell::Cell<Option<f64>>,
 }
 
 fn relative_residual(stator: f64, friction: f64, mech: f64, stored: f64) -> f64 {
@@ -183,6 +189,7 @@ impl BallModel {
         Ok(Self {
             scene: scene.clone(),
             kernel: Kernel::new(scene)?,
+            last_alpha: std::cell::Cell::new(None),
         })
     }
 
@@ -226,8 +233,36 @@ impl BallModel {
         imposed(&self.kernel, speed / self.kernel.speed_unit_m_per_s())
     }
 
-    /// The contact's periodic state at imposed drive speed V ≥ 0 (m/s).
+    /// The contact's periodic state at imposed drive speed V ≥ 0 (m/s): at A₀, or with the
+    /// scene's wave share at the amplitude of the energy-conserving wave's fixed point
+    /// ([`crate::dynamics::attenuation`]).
     pub fn at_speed(&self, speed_m_per_s: f64) -> Result<SpeedPoint> {
+        let Some(share) = self.scene.wave_share else {
+            return self.at_speed_constant(speed_m_per_s);
+        };
+        let (alpha, point) = share.settle(self.last_alpha.get(), |alpha| {
+            let point = self.at_amplitude(alpha)?.at_speed_constant(speed_m_per_s)?;
+            Ok((point.stator_power_w, point))
+        })?;
+        self.last_alpha.set(Some(alpha));
+        Ok(SpeedPoint {
+            amplitude_scale: alpha,
+            ..point
+        })
+    }
+
+    /// The constant-amplitude model of this scene at αA₀ (itself at α = 1 without a share).
+    fn at_amplitude(&self, alpha: f64) -> Result<BallModel> {
+        let mut scene = self
+            .scene
+            .clone()
+            .with_normal_amplitude(alpha * self.scene.wave.normal_amplitude_m);
+        scene.wave_share = None;
+        BallModel::new(&scene)
+    }
+
+    /// The periodic state at V at the scene's own amplitude.
+    fn at_speed_constant(&self, speed_m_per_s: f64) -> Result<SpeedPoint> {
         let p = self.periodic(speed_m_per_s)?;
         Ok(self.speed_point(speed_m_per_s, &p.books, p.stored_change, p.periods))
     }
@@ -252,6 +287,7 @@ impl BallModel {
             contact_fraction: b.contact_time / b.time,
             gross_slip_fraction: b.gross_slip_time / b.time,
             periods,
+            amplitude_scale: 1.0,
         }
     }
 
@@ -310,10 +346,14 @@ impl BallModel {
     pub fn curve_point(&self, speed_m_per_s: f64) -> Result<CurvePoint> {
         let p = self.at_speed(speed_m_per_s)?;
         let periods = self.scene.numerics.free_periods;
-        let free = if periods > 0 {
-            Some(self.free_check(speed_m_per_s, p.thrust_n, periods)?)
-        } else {
-            None
+        let free = match (periods, self.scene.wave_share) {
+            (0, _) => None,
+            (_, None) => Some(self.free_check(speed_m_per_s, p.thrust_n, periods)?),
+            (_, Some(_)) => Some(self.at_amplitude(p.amplitude_scale)?.free_check(
+                speed_m_per_s,
+                p.thrust_n,
+                periods,
+            )?),
         };
         Ok(CurvePoint {
             speed_m_per_s: free.map_or(p.speed_m_per_s, |f| f.speed_m_per_s),
@@ -325,6 +365,7 @@ impl BallModel {
             energy_residual: p.energy_residual,
             contact_fraction: p.contact_fraction,
             gross_slip_fraction: p.gross_slip_fraction,
+            amplitude_scale: p.amplitude_scale,
             free,
         })
     }

@@ -52,10 +52,12 @@
 //! (quasi-static elasticity: the contact's own elastic waves are far faster than its size
 //! over the period), and no rolling.
 
+pub mod attenuation;
 mod curve;
 mod kernel;
 mod run;
 
+pub use attenuation::WaveShare;
 pub use curve::{BallModel, BallResult, CurvePoint, FreeCheck, SpeedPoint, StaticSummary, solve};
 
 /// Largest ω_c h (the contact resonance times the step) the step may take. Default 0.5.

@@ -30,6 +30,8 @@ use design::evaluator::{
 };
 use slider_contact::{Imperfections, ImperfectionsExt, SliderModel, SliderParams};
 
+use super::dynamic_stage::attenuation::{AmplitudeProfile, attenuate_lumped, is_transient};
+use super::local_amplitude::{attenuation_off, post_columns_m, settle_eta, stall_profile_at};
 use crate::pipeline::{PipelineError, dynamic_scene, scene_springs};
 use crate::scene::{Dynamics, Scene};
 use crate::units::{Dimension, format_quantity, parse_quantity};
@@ -135,14 +137,14 @@ impl StaticModel {
         Ok((model, false))
     }
 
-    /// η, the contact fraction and the time spent building an operator (`None`: the shared one
-    /// was used), for `scene` (already carrying the sample's preload, diameter and μ) with the
-    /// sample's shape.
-    fn eta(
+    /// The sample's whole-slider model (`scene` already carrying the sample's preload, diameter
+    /// and μ; the sample's shape added) and the time spent building an operator (`None`: the
+    /// shared one was used); `Ok(None)` when the scene gives η.
+    fn sample_model(
         &self,
         scene: &Scene,
         s: &MotorSample,
-    ) -> Result<(f64, Option<f64>, Option<f64>), PipelineError> {
+    ) -> Result<Option<(SliderModel, Option<f64>)>, PipelineError> {
         if let Some(eta) = scene.contact.effective_ratio {
             if s.has_shape() {
                 return Err(PipelineError::Unsupported {
@@ -154,7 +156,7 @@ impl StaticModel {
                     ),
                 });
             }
-            return Ok((eta, None, None));
+            return Ok(None);
         }
         let imperfections = Imperfections {
             height_scatter_m: s.height_scatter_m,
@@ -167,23 +169,34 @@ impl StaticModel {
         let params = fidelity_params(slider_params(scene, imperfections), self.fidelity);
         let setup = Instant::now();
         let (model, built) = self.model_for(params)?;
-        let operator_s = built.then(|| setup.elapsed().as_secs_f64());
-        let report = model.analyse(model.params.preload_n).map_err(unsupported)?;
-        let eta = report
-            .effective_contact_ratio
-            .ok_or_else(|| PipelineError::Unsupported {
-                stage: "static (whole slider)",
-                message: format!(
-                    "η not identifiable ({})",
-                    report
-                        .eta_fit
-                        .reason
-                        .as_deref()
-                        .unwrap_or("no reason given")
-                ),
-            })?;
-        Ok((eta, Some(report.contact_fraction), operator_s))
+        Ok(Some((model, built.then(|| setup.elapsed().as_secs_f64()))))
     }
+}
+
+/// η (`None`: not identifiable) and the contact fraction of a whole-slider model on its wave.
+fn fit_eta(model: &SliderModel) -> Result<(Option<f64>, f64), PipelineError> {
+    let report = model.analyse(model.params.preload_n).map_err(unsupported)?;
+    Ok((report.effective_contact_ratio, report.contact_fraction))
+}
+
+/// η and the contact fraction on the constant wave, or the error naming why η is not
+/// identifiable.
+fn constant_wave_eta(model: &SliderModel) -> Result<(f64, f64), PipelineError> {
+    let report = model.analyse(model.params.preload_n).map_err(unsupported)?;
+    let eta = report
+        .effective_contact_ratio
+        .ok_or_else(|| PipelineError::Unsupported {
+            stage: "static (whole slider)",
+            message: format!(
+                "η not identifiable ({})",
+                report
+                    .eta_fit
+                    .reason
+                    .as_deref()
+                    .unwrap_or("no reason given")
+            ),
+        })?;
+    Ok((eta, report.contact_fraction))
 }
 
 fn unsupported(e: slider_contact::SliderError) -> PipelineError {
@@ -257,7 +270,10 @@ pub fn evaluate(
 }
 
 /// Evaluates `scene` perturbed by `sample` with the prepared static model of `scene`
-/// (bitwise the same as [`evaluate`]).
+/// (bitwise the same as [`evaluate`]). With the energy-conserving wave on and η from the
+/// whole-slider model, η is the one at the local amplitude of the stall profile, settled with
+/// the curve as in the dynamic stage (`pipeline::local_amplitude`, docs/physics.md §5.5); the
+/// contact fraction stays the constant wave's.
 pub fn evaluate_with(
     model: &StaticModel,
     scene: &Scene,
@@ -265,13 +281,49 @@ pub fn evaluate_with(
 ) -> Result<MotorOutputs, PipelineError> {
     let start = Instant::now();
     let scene = perturbed_scene(scene, sample);
-    let (eta, contact_fraction, operator_s) = model.eta(&scene, sample)?;
+    let slider = model.sample_model(&scene, sample)?;
+    let (eta, contact_fraction, operator_s) = match &slider {
+        Some((m, operator_s)) => {
+            let (eta, fraction) = constant_wave_eta(m)?;
+            (eta, Some(fraction), *operator_s)
+        }
+        None => (
+            scene.contact.effective_ratio.unwrap_or_default(),
+            None,
+            None,
+        ),
+    };
     let static_s = start.elapsed().as_secs_f64();
     let springs: PostSprings = scene_springs(&scene)?;
     let dynamic = dynamic_scene(&scene, &springs, eta)?;
     let mut result = stick_slip::solve(&dynamic)?;
     // `wave.attenuation`, as in the dynamic stage: the energy-conserving wave when it is on.
-    super::dynamic_stage::attenuation::attenuate_lumped(&scene, &dynamic, &mut result)?;
+    let attenuation = attenuate_lumped(&scene, &dynamic, &mut result)?;
+    let eta = match (slider, attenuation.stall_profile) {
+        (Some((mut slider, _)), Some(profile)) => {
+            let columns = post_columns_m(&slider.params.geometry());
+            let transient = is_transient(result.model);
+            let eta_at = |scale: &[f64]| {
+                slider.params.amplitude_scale_x = scale.to_vec();
+                Ok(fit_eta(&slider)?.0)
+            };
+            let stall_profile = |eta: f64, warm: &AmplitudeProfile| {
+                stall_profile_at(&scene, &springs, eta, transient, warm)
+            };
+            let settled = settle_eta(&columns, eta, profile, eta_at, stall_profile)?;
+            let eta = settled.effective_contact_ratio;
+            if settled.passes > 1 {
+                let dynamic = dynamic_scene(&scene, &springs, eta)?;
+                result = stick_slip::solve(&dynamic)?;
+                let a = attenuate_lumped(&scene, &dynamic, &mut result)?;
+                if a.stall_profile.is_none() {
+                    return Err(attenuation_off(eta, &a.wave.reason));
+                }
+            }
+            eta
+        }
+        _ => eta,
+    };
     let max_output_power_w = result
         .curve
         .iter()

@@ -10,8 +10,7 @@
 //! `model.curve_points` → numerics. What a ball does not use — the plate's size, tilt and bow, `[posts]`,
 //! `[contact]`, `[static]`, the preload mechanism and the lumped and coupled models' settings —
 //! is refused, naming the key, when it differs from the default scene's value, as are a wave the
-//! ball model does not represent (a decay length, a burst) and `wave.attenuation = "on"` (the
-//! ball model keeps the wave's amplitude: one contact point, no energy-conserving wave).
+//! ball model does not represent (a decay length, a burst).
 
 use ball_slider::{BallSlider, bearing_steel};
 use contact_springs::Material;
@@ -142,17 +141,12 @@ pub fn ball(
     let unsupported = [
         ("wave.decay_length", w.decay_length.is_some()),
         ("wave.burst_periods", w.burst_periods.is_some()),
-        (
-            "wave.attenuation",
-            w.attenuation == Some(stick_slip::AttenuationSetting::On),
-        ),
     ];
     if let Some((key, _)) = unsupported.iter().find(|(_, given)| *given) {
         return Err(invalid(
             key,
             "is not modelled for slider.shape = \"ball\": the ball model takes the steady, \
-             continuous wave of constant amplitude at its one contact (no decay, burst or \
-             energy-conserving wave); remove it",
+             continuous wave at its one contact (no decay or burst); remove it",
         ));
     }
     Ok(Some(BallSlider {

@@ -49,6 +49,8 @@ pub struct AttenuatedSample {
     pub iterations: usize,
     /// max |T(α) − α| at the reported profile.
     pub last_change: f64,
+    /// Whether the profile settled only to the options' `loose_tolerance`, not `tolerance`.
+    pub settled_loosely: bool,
     /// |P_in − P_out − stator power| / P_in.
     pub balance_residual: f64,
 }
@@ -265,18 +267,30 @@ impl AttenuatedPeriodicModel {
     }
 
     /// The self-consistent steady point at `speed_m_per_s` (m/s, drive direction), the fixed
-    /// point started from `warm` (a neighbouring point's profile) or α = 1. Errors: a post solve,
-    /// or no convergence within `max_iterations` (`NotConverged`).
+    /// point started from `warm` (a neighbouring point's profile) or α = 1. Where it does not
+    /// settle to `tolerance` in `max_iterations`, it goes on from its last profile to
+    /// `loose_tolerance` and the sample says so (`settled_loosely`). Errors: a post solve, or
+    /// no convergence to `loose_tolerance` either (`NotConverged`).
     pub fn at_speed(&self, speed_m_per_s: f64, warm: Option<&[f64]>) -> Result<AttenuatedSample> {
         crate::error::require_finite("speed_m_per_s", speed_m_per_s)?;
         let start = match warm {
             Some(w) if w.len() == self.x_m.len() => w.to_vec(),
             _ => vec![1.0; self.x_m.len()],
         };
-        let solution: ProfileSolution<(SpeedSample, f64)> =
-            solve_amplitude_profile(&self.options, start, |alpha| {
-                self.evaluate(speed_m_per_s, alpha)
-            })?;
+        let profile = |options: &AttenuationOptions, start: Vec<f64>| {
+            solve_amplitude_profile(options, start, |alpha| self.evaluate(speed_m_per_s, alpha))
+        };
+        let mut solution: ProfileSolution<(SpeedSample, f64)> = profile(&self.options, start)?;
+        let settled_loosely = !solution.converged;
+        if settled_loosely {
+            let loose = AttenuationOptions {
+                tolerance: self.options.loose_tolerance,
+                ..self.options
+            };
+            let iterations = solution.iterations;
+            solution = profile(&loose, solution.alpha)?;
+            solution.iterations += iterations;
+        }
         if !solution.converged {
             return Err(StickSlipError::NotConverged {
                 model: "periodic-average with the energy-conserving wave",
@@ -299,6 +313,7 @@ impl AttenuatedPeriodicModel {
             tip_height_m: z * self.base.length_m,
             iterations: solution.iterations,
             last_change: solution.last_change,
+            settled_loosely,
         })
     }
 
@@ -394,6 +409,21 @@ impl AttenuatedPeriodicModel {
         } else {
             Some(self.speed_for_thrust(load, &points[0])?)
         };
+        if points
+            .iter()
+            .chain(operating.iter())
+            .any(|p| p.settled_loosely)
+        {
+            warnings.push(Warning::new(
+                "wave.attenuation",
+                format!(
+                    "the amplitude profile settled only to max|Δα| < {} (not {:e}) at some \
+                     speeds: the draws switch between stick/slip states from one iterate to \
+                     the next",
+                    self.options.loose_tolerance, self.options.tolerance
+                ),
+            ));
+        }
         let samples: Vec<SpeedSample> = points.iter().map(|p| p.sample).collect();
         let result = self.assemble(&samples, operating.as_ref(), warnings, started);
         Ok(AttenuatedResult {

@@ -42,11 +42,11 @@ use super::{
 use crate::error::{Result, StickSlipError};
 use crate::result::DynamicResult;
 use crate::scene::TransientStart;
-use run_control::RunControl;
 use crate::transient::CurveRun;
 use crate::transient::run::{PeriodHook, PeriodRecord, Span, is_steady, mean_speed};
 use crate::transient::system::Stepper;
 use crate::transient::{TransientModel, TransientRun};
+use run_control::RunControl;
 
 /// Periods per profile update inside a run. Default 4.
 const IN_RUN_BLOCK_PERIODS: usize = 4;

@@ -207,40 +207,47 @@ impl AmplitudeProfile {
     }
 }
 
-/// The period average on the energy-conserving wave. Where the fixed point does not settle to
-/// its tolerance (stick/slip with μ_s > μ_k can make the draws switch between two states from
-/// one iterate to the next, leaving a residual near 1e-3 of A₀), it is solved again to the
-/// looser tolerance [`FALLBACK_AMPLITUDE_TOLERANCE`] and the result carries a warning naming
-/// the tolerance reached: the books still close exactly (they are those of the last profile),
-/// and an amplitude known to 0.5 % moves the thrust by about as much.
+/// The period average on the energy-conserving wave (its fixed point settles loosely, with a
+/// warning, where stick/slip switching keeps it from `tolerance`: `AttenuationOptions::loose_tolerance`).
 fn solve_periodic(
     dynamic: &DynamicScene,
     options: &stick_slip::AttenuationOptions,
 ) -> Result<stick_slip::AttenuatedResult, PipelineError> {
-    match stick_slip::AttenuatedPeriodicModel::new(dynamic, options)?.solve() {
-        Err(stick_slip::StickSlipError::NotConverged { .. }) => {
-            let loose = stick_slip::AttenuationOptions {
-                tolerance: FALLBACK_AMPLITUDE_TOLERANCE,
-                ..*options
-            };
-            let mut solved = stick_slip::AttenuatedPeriodicModel::new(dynamic, &loose)?.solve()?;
-            solved.result.warnings.push(stick_slip::Warning {
-                parameter: "wave.attenuation".into(),
-                message: format!(
-                    "the amplitude profile settled only to max|Δα| < {FALLBACK_AMPLITUDE_TOLERANCE} \
-                     (not {:e}): the draws switch between stick/slip states from one iterate to \
-                     the next",
-                    options.tolerance
-                ),
-            });
-            Ok(solved)
-        }
-        other => Ok(other?),
-    }
+    Ok(stick_slip::AttenuatedPeriodicModel::new(dynamic, options)?.solve()?)
 }
 
-/// The looser fixed-point tolerance of the period average's second attempt (of A₀).
-pub const FALLBACK_AMPLITUDE_TOLERANCE: f64 = 5e-3;
+/// The stall profile alone of the lumped model on `dynamic` with the energy-conserving wave,
+/// for the passes of a fixed point that needs only it (`pipeline::local_amplitude`): the
+/// period average's stall point warm-started from `warm` (a previous pass's profile), or the
+/// transient's whole curve (it has no stall point of its own). `Err` with the reason when `auto`
+/// turns the wave off at this scene.
+pub fn lumped_stall_profile(
+    scene: &Scene,
+    dynamic: &DynamicScene,
+    transient: bool,
+    warm: Option<&AmplitudeProfile>,
+) -> Result<Result<AmplitudeProfile, String>, PipelineError> {
+    let stall_draw_w = lumped_stall_draw_w(dynamic)?;
+    let wave = decide(scene, stall_draw_w.unwrap_or(0.0))?;
+    if !wave.on() {
+        return Ok(Err(wave.reason));
+    }
+    let options = stick_slip::AttenuationOptions::new(wave.power_in_w);
+    if transient {
+        let solved = TransientModel::new(dynamic)?.solve_attenuated(&options)?;
+        let stall = solved
+            .points
+            .first()
+            .ok_or_else(|| PipelineError::Unsupported {
+                stage: "dynamic (energy-conserving wave)",
+                message: "the transient's attenuated curve has no points".into(),
+            })?;
+        return Ok(Ok(AmplitudeProfile::of(&stall.x_m, &stall.amplitude_scale)));
+    }
+    let model = stick_slip::AttenuatedPeriodicModel::new(dynamic, &options)?;
+    let stall = model.at_speed(0.0, warm.map(|w| w.amplitude_scale.as_slice()))?;
+    Ok(Ok(AmplitudeProfile::of(&stall.x_m, &stall.amplitude_scale)))
+}
 
 /// The books of a constant-wave lumped curve: the period average's stator power at each speed;
 /// the transient's from its output and efficiency, at stall from the period average (the

@@ -8,22 +8,26 @@
 //! speed–thrust chart.
 //!
 //! Energy balance: per curve point the crate's books close (power from the wave = friction +
-//! mechanical output + change of stored energy; `max_energy_residual`). The wave's side: the
-//! ball model keeps the wave's amplitude (one contact point; no energy-conserving wave for it),
-//! so `wave.attenuation` is `off`, and the reason states the largest power the ball draws against
-//! the power the wave carries across the contact's width 2a (its share of the beam); above 1 %
-//! of it (the `auto` threshold of the post array) a warning names `wave.attenuation`, since the
-//! constant amplitude is then doubtful. With a drive voltage the mechanical output is held
-//! against the power the transducer launches ([`DriveFigures`]). Range of validity: the
-//! crate's (a point contact, k·a ≪ 1; a continuous wave of constant amplitude; one μ).
+//! mechanical output + change of stored energy; `max_energy_residual`). The wave's side
+//! (`wave.attenuation`): the power the wave carries across the contact's width 2a is the ball's
+//! P_in; with the energy-conserving wave on, every curve point is solved at the amplitude the
+//! ball sees after drawing its power (`ball_slider::dynamics::attenuation`: midpoint rule,
+//! P_out = P_in − stator power, so the books close exactly); `auto` turns it on when the
+//! constant-amplitude ball draws more than 1 % of P_in at stall, as for the post array. The
+//! 2a strip is the narrowest share of the beam (diffraction refills it behind a contact this
+//! small), so the drop is an upper bound; the reason also gives the draw against the whole
+//! beam, the lower bound. With the constant wave and a draw above 1 % a warning names
+//! `wave.attenuation`. With a drive voltage the mechanical output is held against the power the
+//! transducer launches ([`DriveFigures`]). Range of validity: the crate's (a point contact,
+//! k·a ≪ 1; a continuous wave; one μ).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use ball_slider::{BallError, BallResult, BallScene};
+use ball_slider::{BallError, BallModel, BallResult, BallScene, WaveShare};
 use charts::{Chart, Series, Style};
 use serde::Serialize;
-use stick_slip::Warning;
+use stick_slip::{AttenuationSetting, Warning};
 
 use super::attenuation::{WaveAttenuation, WaveBooks};
 use super::coupled::DriveFigures;
@@ -32,7 +36,7 @@ use crate::pipeline::PipelineError;
 use crate::scene::Scene;
 
 /// Fraction of the wave power across the contact's width above which the ball's draw makes the
-/// constant amplitude doubtful (a warning): the 1 % of `wave.attenuation = "auto"`.
+/// constant amplitude doubtful (a warning when `wave.attenuation = "off"`): the 1 % of `auto`.
 pub const BALL_DRAW_WARNING_FRACTION: f64 = 0.01;
 
 /// What the ball's dynamic stage produced.
@@ -42,7 +46,7 @@ pub struct BallStage {
     pub scene: BallScene,
     /// Its result: curve, stall thrust, no-load speed, static contact, books.
     pub result: BallResult,
-    /// The wave's side: always `off`, with the ball's draw against its share of the beam.
+    /// The wave's side: the energy-conserving wave at the contact `on` or `off`, and why.
     pub wave: WaveAttenuation,
     /// The transducer's figures with a drive voltage.
     pub drive: Option<DriveFigures>,
@@ -201,50 +205,89 @@ fn wave_power_across_contact_w(scene: &Scene, contact_radius_m: f64) -> f64 {
         * (2.0 * contact_radius_m).min(wave.aperture_m)
 }
 
-/// The wave's side of a ball run and, when the ball draws more than
-/// [`BALL_DRAW_WARNING_FRACTION`] of its share, the warning.
-fn wave_side(scene: &Scene, result: &BallResult) -> (WaveAttenuation, Option<Warning>) {
-    let a = result.static_contact.hertz.contact_radius_m;
+/// The wave's side of a ball run: the decision on the energy-conserving wave at the contact
+/// and, when on, the ball scene's wave share. `auto` weighs the constant-amplitude ball's draw
+/// at stall against the power across its contact, as the post array's `auto` does against the
+/// power under the array; the reason also states the draw against the whole beam (the lower
+/// bound of the effect, module docs).
+fn wave_side(
+    scene: &Scene,
+    ball_scene: &BallScene,
+) -> Result<(WaveAttenuation, Option<WaveShare>), PipelineError> {
+    let model = BallModel::new(ball_scene).map_err(ball_error)?;
+    let a = model
+        .static_summary()
+        .map_err(ball_error)?
+        .hertz
+        .contact_radius_m;
     let power_in_w = wave_power_across_contact_w(scene, a);
+    let stall_draw_w = model
+        .at_speed(model.stall_speed_m_per_s())
+        .map_err(ball_error)?
+        .stator_power_w;
+    let (on, _) = scene.wave_attenuation.resolve(stall_draw_w, power_in_w);
+    let beam_w = wave_power_across_contact_w(scene, f64::INFINITY);
+    let setting = match scene.wave_attenuation {
+        AttenuationSetting::Auto => format!(
+            "auto ({} > {} of the power across the contact: {})",
+            if on { "draw" } else { "no draw" },
+            stick_slip::attenuation::AUTO_DRAW_FRACTION,
+            if on { "on" } else { "off" }
+        ),
+        AttenuationSetting::On => "wave.attenuation = on".into(),
+        AttenuationSetting::Off => "wave.attenuation = off".into(),
+    };
+    let reason = format!(
+        "{setting}: the constant-amplitude ball draws {stall_draw_w:.4e} W at stall, {:.3e} of \
+         the {power_in_w:.4e} W the wave carries across the contact's width 2a = {:.4e} m \
+         ({:.3e} of the whole beam's {beam_w:.4e} W)",
+        stall_draw_w / power_in_w,
+        2.0 * a,
+        stall_draw_w / beam_w
+    );
+    let wave = WaveAttenuation {
+        state: if on { "on" } else { "off" },
+        reason,
+        power_in_w,
+    };
+    let share = on
+        .then(|| WaveShare::new(power_in_w))
+        .transpose()
+        .map_err(ball_error)?;
+    Ok((wave, share))
+}
+
+/// With the constant wave (`wave.attenuation = "off"`), the warning when the ball draws more
+/// than [`BALL_DRAW_WARNING_FRACTION`] of the power across its contact along the curve.
+fn constant_wave_warning(wave: &WaveAttenuation, result: &BallResult) -> Option<Warning> {
     let draw_w = result
         .curve
         .iter()
         .map(|p| p.stator_power_w)
         .fold(0.0, f64::max);
-    let fraction = draw_w / power_in_w;
-    let reason = format!(
-        "off: the ball model keeps the wave's amplitude (one contact point; no energy-conserving \
-         wave for a ball); the ball draws {draw_w:.4e} W at most along the curve, {fraction:.3e} \
-         of the {power_in_w:.4e} W the wave carries across the contact's width 2a = {:.4e} m",
-        2.0 * a
-    );
-    let warning = (fraction > BALL_DRAW_WARNING_FRACTION).then(|| {
+    let fraction = draw_w / wave.power_in_w;
+    (!wave.on() && fraction > BALL_DRAW_WARNING_FRACTION).then(|| {
         Warning::new(
             "wave.attenuation",
             format!(
-                "the ball draws {:.1} % of the wave power across its contact (more than {} %): \
-                 the constant amplitude the ball model assumes is doubtful",
+                "the ball draws {:.1} % of the wave power across its contact (more than {} %) \
+                 with the constant amplitude: set wave.attenuation = \"auto\" or \"on\"",
                 100.0 * fraction,
                 100.0 * BALL_DRAW_WARNING_FRACTION
             ),
         )
-    });
-    let wave = WaveAttenuation {
-        state: "off",
-        reason,
-        power_in_w,
-    };
-    (wave, warning)
+    })
 }
 
 /// Run the ball model of a ball `scene`.
 pub fn run_ball_stage(scene: &Scene) -> Result<BallStage, PipelineError> {
     let started = Instant::now();
-    let ball_scene = ball_scene(scene)?;
+    let mut ball_scene = ball_scene(scene)?;
+    let (wave, share) = wave_side(scene, &ball_scene)?;
+    ball_scene.wave_share = share;
     let result = ball_slider::solve(&ball_scene).map_err(ball_error)?;
-    let (wave, wave_warning) = wave_side(scene, &result);
     let mut warnings = scene.warnings.clone();
-    warnings.extend(wave_warning);
+    warnings.extend(constant_wave_warning(&wave, &result));
     if !result.drives {
         warnings.push(Warning::new(
             "load.preload",
