@@ -204,6 +204,90 @@ struct TwoSolves {
     multigrid: MultigridSetupTimes,
 }
 
+/// The reduced systems of one spring ([`AssembledPunch::reduce`]).
+struct Reduction {
+    reduced: ReducedSystem,
+    k_red: ReducedMatrix,
+    /// Right-hand sides A then B, column-major.
+    rhs: Vec<f64>,
+    /// Dirichlet map of B (the point force's far field), absent if clamped only.
+    map_b: Option<DofMap>,
+    columns: usize,
+    delta_m: f64,
+    reference_force_n: f64,
+    reduction_s: f64,
+}
+
+/// What the punch forces need of the far fields.
+struct FarFields<'a> {
+    map_b: Option<&'a DofMap>,
+    delta_m: f64,
+    reference_force_n: f64,
+}
+
+/// Solves the columns of `rhs` in place with the iterative solver; `started` is when the choice
+/// of method began (its time less the setup's, `numeric_s`, and the solve's counts as symbolic).
+fn solve_iterative(
+    solver: &IterativeSolver,
+    mut rhs: Vec<f64>,
+    columns: usize,
+    (started, numeric_s): (Instant, f64),
+) -> Result<TwoSolves, FemError> {
+    let solve = Instant::now();
+    let reports = solver.solve_columns_in_place(&mut rhs, columns, &mut solver.workspace())?;
+    let solve_s = solve.elapsed().as_secs_f64();
+    Ok(TwoSolves {
+        rhs,
+        factor_nnz: solver.report().coarse_factor_nnz,
+        iterations: [
+            reports[0].iterations,
+            reports.get(1).map_or(0, |r| r.iterations),
+        ],
+        symbolic_s: started.elapsed().as_secs_f64() - solve_s - numeric_s,
+        numeric_s,
+        solve_s,
+        multigrid: solver.report().setup,
+    })
+}
+
+/// Solves the columns of `rhs` in place by sparse Cholesky (the analysis the cost model made,
+/// if any); `started` is when the choice of method began.
+fn solve_direct(
+    k_red: &SymmetricMatrix,
+    reduced: &ReducedSystem,
+    analysed: Option<SymbolicCholesky>,
+    mut rhs: Vec<f64>,
+    columns: usize,
+    options: &PunchSolveOptions,
+    started: Instant,
+) -> Result<TwoSolves, FemError> {
+    let symbolic = match analysed {
+        Some(s) => s,
+        None => SymbolicCholesky::analyze(k_red, options.ordering)?,
+    };
+    let symbolic_s = started.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let factor_options = FactorOptions {
+        threads: options.threads,
+        ..FactorOptions::default()
+    };
+    let numeric = symbolic
+        .factor_with(k_red, factor_options)
+        .map_err(|e| locate_factor_error(e, reduced.dof_map()))?;
+    let numeric_s = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    numeric.solve_columns_in_place(&mut rhs, columns)?;
+    Ok(TwoSolves {
+        rhs,
+        factor_nnz: symbolic.factor_nnz(),
+        iterations: [0, 0],
+        symbolic_s,
+        numeric_s,
+        solve_s: t.elapsed().as_secs_f64(),
+        multigrid: MultigridSetupTimes::default(),
+    })
+}
+
 /// The assembled stiffness of one punch mesh for one material, reused by all springs.
 #[derive(Debug)]
 pub struct AssembledPunch<'m> {
@@ -318,6 +402,19 @@ impl<'m> AssembledPunch<'m> {
         }
     }
 
+    /// The FEM error of `spring` on this mesh, naming both.
+    fn fem_error(&self, spring: Spring, source: FemError) -> ValidationError {
+        ValidationError::Fem {
+            context: format!(
+                "{} on mesh {} ({})",
+                spring.label(),
+                self.mesh.source,
+                self.material.name
+            ),
+            source,
+        }
+    }
+
     /// Solves `spring` and returns its stiffness with both far-field conditions (the clamped
     /// one only with [`PunchSolveOptions::clamped_only`]).
     pub fn solve(
@@ -325,19 +422,124 @@ impl<'m> AssembledPunch<'m> {
         spring: Spring,
         options: &PunchSolveOptions,
     ) -> Result<PunchStiffness, ValidationError> {
+        let fem = |source: FemError| self.fem_error(spring, source);
+        let Reduction {
+            reduced,
+            k_red,
+            rhs,
+            map_b,
+            columns,
+            delta_m,
+            reference_force_n,
+            reduction_s,
+        } = self.reduce(spring, options)?;
+        let t = Instant::now();
+        let (choice, analysed) = self.choose(&k_red, columns, options).map_err(fem)?;
+        let factor_options = FactorOptions {
+            threads: options.threads,
+            ..FactorOptions::default()
+        };
+        let solved = match choice.method {
+            SolverMethod::Iterative => {
+                let setup = Instant::now();
+                let solver = self
+                    .iterative_solver(&reduced, k_red, options, factor_options)
+                    .map_err(fem)?;
+                let numeric_s = setup.elapsed().as_secs_f64();
+                solve_iterative(&solver, rhs, columns, (t, numeric_s)).map_err(fem)?
+            }
+            _ => {
+                let ReducedMatrix::Upper(k_red) = k_red else {
+                    unreachable!("the full-row copy is made for the iterative path only")
+                };
+                solve_direct(&k_red, &reduced, analysed, rhs, columns, options, t).map_err(fem)?
+            }
+        };
+        let far_fields = FarFields {
+            map_b: map_b.as_ref(),
+            delta_m,
+            reference_force_n,
+        };
+        let (forces, post_solve_s) = self
+            .punch_forces(&reduced, &solved.rhs, &far_fields)
+            .map_err(fem)?;
+        let (stiffness_n_per_m, clamped_stiffness_n_per_m) = forces;
+        let both = !options.clamped_only;
+        if (both && !stiffness_n_per_m.is_finite()) || !clamped_stiffness_n_per_m.is_finite() {
+            return Err(fem(FemError::NonFiniteSolution { unknown: 0 }));
+        }
+        let timings = self.timings(reduction_s, &solved, post_solve_s);
         let mesh = self.mesh;
-        let context = || {
-            format!(
-                "{} on mesh {} ({})",
-                spring.label(),
-                mesh.source,
-                self.material.name
-            )
-        };
-        let fem = |source: FemError| ValidationError::Fem {
-            context: context(),
-            source,
-        };
+        Ok(PunchStiffness {
+            spring,
+            material: self.material.name.clone(),
+            radius_m: mesh.radius_m,
+            truncation_radius_m: mesh.truncation_radius_m,
+            symmetry: mesh.symmetry,
+            order: mesh.order,
+            stiffness_n_per_m,
+            clamped_stiffness_n_per_m,
+            nodes: mesh.node_count(),
+            elements: mesh.element_count(),
+            unknowns: reduced.dim(),
+            factor_nnz: solved.factor_nnz,
+            timings,
+            method: choice.method.name().to_string(),
+            method_reason: choice.reason,
+            iterations: solved.iterations,
+        })
+    }
+
+    /// The stage timings of one solve: assembly (shared by the springs), reduction, the solve's
+    /// stages, the punch forces' time counted with the solve.
+    fn timings(&self, reduction_s: f64, solved: &TwoSolves, post_solve_s: f64) -> StageTimings {
+        StageTimings {
+            pattern_s: self.pattern_s,
+            assembly_s: self.assembly_s,
+            reduction_s,
+            symbolic_s: solved.symbolic_s,
+            numeric_s: solved.numeric_s,
+            solve_s: solved.solve_s + post_solve_s,
+            multigrid_fine_csr_s: solved.multigrid.fine_csr_s,
+            multigrid_transfer_s: solved.multigrid.transfer_s,
+            multigrid_coarse_operator_s: solved.multigrid.coarse_operator_s,
+            multigrid_coarse_solver_s: solved.multigrid.coarse_solver_s,
+            multigrid_smoother_s: solved.multigrid.smoother_s,
+        }
+    }
+
+    /// The solver path: `auto`'s choice (with the symbolic analysis its cost model made) on the
+    /// upper-triangle copy, the iterative path when only the full-row copy was made.
+    fn choose(
+        &self,
+        k_red: &ReducedMatrix,
+        columns: usize,
+        options: &PunchSolveOptions,
+    ) -> Result<(SolverChoice, Option<SymbolicCholesky>), FemError> {
+        match k_red {
+            ReducedMatrix::Upper(k_red) => choose_method(
+                options.method,
+                k_red,
+                columns,
+                self.model.connectivity(),
+                options.ordering,
+            ),
+            ReducedMatrix::FullRows(_) => {
+                Ok((SolverChoice::requested(SolverMethod::Iterative), None))
+            }
+        }
+    }
+
+    /// The reduced systems of `spring`: A (clamped far field, punch displaced by δ) and, unless
+    /// clamped only, B (the point force's far field, punch fixed) as right-hand sides of one
+    /// matrix.
+    fn reduce(
+        &self,
+        spring: Spring,
+        options: &PunchSolveOptions,
+    ) -> Result<Reduction, ValidationError> {
+        let fem = |source: FemError| self.fem_error(spring, source);
+        let mesh = self.mesh;
         let delta_m = PUNCH_DISPLACEMENT_OVER_RADIUS * mesh.radius_m;
         let (g, nu) = (self.material.shear_modulus_pa, self.material.poisson_ratio);
         // Reference force F_ref = G a δ... scaled so that u_B is O(δ a / R) on the far field.
@@ -369,8 +571,7 @@ impl<'m> AssembledPunch<'m> {
         let load_a = reduced
             .reduce_load(&self.stiffness, &vec![0.0; 3 * n])
             .map_err(fem)?;
-        let m = reduced.dim();
-        let mut rhs = Vec::with_capacity(columns * m);
+        let mut rhs = Vec::with_capacity(columns * reduced.dim());
         rhs.extend_from_slice(&load_a);
         let map_b = if options.clamped_only {
             None
@@ -384,147 +585,67 @@ impl<'m> AssembledPunch<'m> {
             rhs.extend(restricted.into_iter().map(|v| -v));
             Some(map_b)
         };
-        let reduction_s = t.elapsed().as_secs_f64();
+        Ok(Reduction {
+            reduced,
+            k_red,
+            rhs,
+            map_b,
+            columns,
+            delta_m,
+            reference_force_n,
+            reduction_s: t.elapsed().as_secs_f64(),
+        })
+    }
 
-        let t = Instant::now();
-        let (choice, analysed) = match &k_red {
-            ReducedMatrix::Upper(k_red) => choose_method(
-                options.method,
-                k_red,
-                columns,
-                self.model.connectivity(),
-                options.ordering,
-            )
-            .map_err(fem)?,
-            ReducedMatrix::FullRows(_) => (SolverChoice::requested(SolverMethod::Iterative), None),
-        };
-        let factor_options = FactorOptions {
-            threads: options.threads,
-            ..FactorOptions::default()
-        };
-        let solved = match choice.method {
-            SolverMethod::Iterative => {
-                let setup = Instant::now();
-                let (model, dof_map) = (&self.model, reduced.dof_map());
-                let solver = match k_red {
-                    ReducedMatrix::Upper(k_red) => IterativeSolver::new(
-                        model,
-                        dof_map,
-                        &k_red,
-                        &options.iterative,
-                        factor_options,
-                    ),
-                    ReducedMatrix::FullRows(a) => IterativeSolver::from_csr(
-                        model,
-                        dof_map,
-                        a,
-                        &options.iterative,
-                        factor_options,
-                    ),
-                }
-                .map_err(fem)?;
-                let numeric_s = setup.elapsed().as_secs_f64();
-                let solve = Instant::now();
-                let reports = solver
-                    .solve_columns_in_place(&mut rhs, columns, &mut solver.workspace())
-                    .map_err(fem)?;
-                TwoSolves {
-                    rhs,
-                    factor_nnz: solver.report().coarse_factor_nnz,
-                    iterations: [
-                        reports[0].iterations,
-                        reports.get(1).map_or(0, |r| r.iterations),
-                    ],
-                    symbolic_s: t.elapsed().as_secs_f64()
-                        - solve.elapsed().as_secs_f64()
-                        - numeric_s,
-                    numeric_s,
-                    solve_s: solve.elapsed().as_secs_f64(),
-                    multigrid: solver.report().setup,
-                }
+    /// The multigrid-preconditioned CG solver of the reduced matrix, from whichever copy of it
+    /// was made.
+    fn iterative_solver(
+        &self,
+        reduced: &ReducedSystem,
+        k_red: ReducedMatrix,
+        options: &PunchSolveOptions,
+        factor_options: FactorOptions,
+    ) -> Result<IterativeSolver, FemError> {
+        let (model, dof_map) = (&self.model, reduced.dof_map());
+        match k_red {
+            ReducedMatrix::Upper(k_red) => {
+                IterativeSolver::new(model, dof_map, &k_red, &options.iterative, factor_options)
             }
-            _ => {
-                let ReducedMatrix::Upper(k_red) = k_red else {
-                    unreachable!("the full-row copy is made for the iterative path only")
-                };
-                let symbolic = match analysed {
-                    Some(s) => s,
-                    None => SymbolicCholesky::analyze(&k_red, options.ordering).map_err(fem)?,
-                };
-                let symbolic_s = t.elapsed().as_secs_f64();
-                let t = Instant::now();
-                let numeric = symbolic
-                    .factor_with(&k_red, factor_options)
-                    .map_err(|e| fem(locate_factor_error(e, reduced.dof_map())))?;
-                let numeric_s = t.elapsed().as_secs_f64();
-                let t = Instant::now();
-                numeric
-                    .solve_columns_in_place(&mut rhs, columns)
-                    .map_err(fem)?;
-                TwoSolves {
-                    rhs,
-                    factor_nnz: symbolic.factor_nnz(),
-                    iterations: [0, 0],
-                    symbolic_s,
-                    numeric_s,
-                    solve_s: t.elapsed().as_secs_f64(),
-                    multigrid: MultigridSetupTimes::default(),
-                }
+            ReducedMatrix::FullRows(a) => {
+                IterativeSolver::from_csr(model, dof_map, a, &options.iterative, factor_options)
             }
-        };
+        }
+    }
+
+    /// Punch stiffness with the point force's far field and with the clamped one (N/m), and the
+    /// time taken (s). Variational punch forces (module docs): P = wᵀ K u with w = u_A / δ.
+    fn punch_forces(
+        &self,
+        reduced: &ReducedSystem,
+        rhs: &[f64],
+        far: &FarFields,
+    ) -> Result<((f64, f64), f64), FemError> {
         let t = Instant::now();
-        let rhs = &solved.rhs;
-        let u_a = reduced.dof_map().expand(&rhs[..m]).map_err(fem)?;
-        let u_b = match &map_b {
-            Some(map_b) => Some(map_b.expand(&rhs[m..]).map_err(fem)?),
+        let (n, m) = (self.mesh.node_count(), reduced.dim());
+        let u_a = reduced.dof_map().expand(&rhs[..m])?;
+        let u_b = match far.map_b {
+            Some(map_b) => Some(map_b.expand(&rhs[m..])?),
             None => None,
         };
-        // Variational punch forces (module docs): P = wᵀ K u with w = u_A / δ.
         let mut k_ua = vec![0.0; 3 * n];
         self.stiffness.mul_vec(&u_a, &mut k_ua);
         let dot = |u: &[f64]| u.iter().zip(&k_ua).map(|(a, b)| a * b).sum::<f64>();
-        let multiplicity = mesh.symmetry.multiplicity();
-        let force_a = dot(&u_a) / delta_m * multiplicity;
-        let force_b = u_b.map(|u_b| dot(&u_b) / delta_m * multiplicity);
-        let solve_s = solved.solve_s + t.elapsed().as_secs_f64();
+        let multiplicity = self.mesh.symmetry.multiplicity();
+        let force_a = dot(&u_a) / far.delta_m * multiplicity;
+        let force_b = u_b.map(|u_b| dot(&u_b) / far.delta_m * multiplicity);
         // Direction of the punch displacement along the force direction: +1 for all four springs.
         let stiffness_n_per_m = force_b.map_or(f64::NAN, |f_b| {
-            force_a / (1.0 - f_b / reference_force_n) / delta_m
+            force_a / (1.0 - f_b / far.reference_force_n) / far.delta_m
         });
-        let clamped_stiffness_n_per_m = force_a / delta_m;
-        let both = !options.clamped_only;
-        if (both && !stiffness_n_per_m.is_finite()) || !clamped_stiffness_n_per_m.is_finite() {
-            return Err(fem(FemError::NonFiniteSolution { unknown: 0 }));
-        }
-        Ok(PunchStiffness {
-            spring,
-            material: self.material.name.clone(),
-            radius_m: mesh.radius_m,
-            truncation_radius_m: mesh.truncation_radius_m,
-            symmetry: mesh.symmetry,
-            order: mesh.order,
-            stiffness_n_per_m,
-            clamped_stiffness_n_per_m,
-            nodes: mesh.node_count(),
-            elements: mesh.element_count(),
-            unknowns: m,
-            factor_nnz: solved.factor_nnz,
-            timings: StageTimings {
-                pattern_s: self.pattern_s,
-                assembly_s: self.assembly_s,
-                reduction_s,
-                symbolic_s: solved.symbolic_s,
-                numeric_s: solved.numeric_s,
-                solve_s,
-                multigrid_fine_csr_s: solved.multigrid.fine_csr_s,
-                multigrid_transfer_s: solved.multigrid.transfer_s,
-                multigrid_coarse_operator_s: solved.multigrid.coarse_operator_s,
-                multigrid_coarse_solver_s: solved.multigrid.coarse_solver_s,
-                multigrid_smoother_s: solved.multigrid.smoother_s,
-            },
-            method: choice.method.name().to_string(),
-            method_reason: choice.reason,
-            iterations: solved.iterations,
-        })
+        let clamped_stiffness_n_per_m = force_a / far.delta_m;
+        Ok((
+            (stiffness_n_per_m, clamped_stiffness_n_per_m),
+            t.elapsed().as_secs_f64(),
+        ))
     }
 }

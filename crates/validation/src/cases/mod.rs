@@ -387,7 +387,7 @@ pub fn update_summary(previous: Option<&str>, outcomes: &[CaseOutcome], commit: 
          (`validate all` rewrites every section); do not edit by hand. Each section names the \
          level it was run at, and each row the level and commit; the sources of the references \
          are listed under each table. Rules: `relative` passes when \
-         |value / reference − 1| ≤ tolerance; `at_most` / `at_least` compare the value with \
+         `|value / reference − 1| ≤ tolerance`; `at_most` / `at_least` compare the value with \
          the reference as a bound.",
         "",
     );
