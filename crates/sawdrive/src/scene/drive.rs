@@ -203,7 +203,7 @@ fn route<'a>(wave: &WaveFile, idt: Option<&'a IdtFile>) -> Result<Route<'a>, Sce
             "missing: give wave.normal_amplitude, or wave.drive_voltage with [stator.idt]",
         )),
         (Some(a), None, None) => {
-            super::resolved::positive("wave.normal_amplitude", a.0).map(Route::Amplitude)
+            super::positive::positive("wave.normal_amplitude", a.0).map(Route::Amplitude)
         }
         (Some(_), None, Some(_)) => Err(invalid(
             "stator.idt",
@@ -237,7 +237,7 @@ pub fn normal_amplitude(
         Route::Amplitude(a) => return Ok((a, None)),
         Route::Drive(volts, idt) => (volts, idt),
     };
-    let volts = super::resolved::positive("wave.drive_voltage", volts)?;
+    let volts = super::positive::positive("wave.drive_voltage", volts)?;
     let (model, transducer, metallisation) = transducer(idt)?;
     if let Some(beam) = wave.aperture
         && beam.0 != transducer.aperture_m
@@ -255,7 +255,7 @@ pub fn normal_amplitude(
     let response = model
         .drive(&substrate, volts, frequency_hz)
         .map_err(|e| invalid("stator.idt", e.to_string()))?;
-    let amplitude = super::resolved::positive("wave.drive_voltage", response.amplitude_uz_m)?;
+    let amplitude = super::positive::positive("wave.drive_voltage", response.amplitude_uz_m)?;
     let a = &response.admittance;
     warnings.extend(
         a.caveats

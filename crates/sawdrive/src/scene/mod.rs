@@ -11,6 +11,7 @@ mod file;
 pub mod limits;
 mod merge;
 mod moved;
+mod positive;
 mod quantity;
 mod resolved;
 mod shape;

@@ -15,6 +15,7 @@ use super::file::{
     ContactFile, CustomMaterial, FrictionFile, LoadFile, LumpedFile, MaterialSpec, ModelFile,
     PostsFile, SceneFile, StaticFile, WaveFile,
 };
+use super::positive::positive;
 use super::quantity::{AutoOr, EffectiveRatio};
 use super::shape;
 use super::{SceneError, limits};
@@ -259,19 +260,6 @@ fn invalid(field: &str, message: impl Into<String>) -> SceneError {
     SceneError::Invalid {
         field: field.to_owned(),
         message: message.into(),
-    }
-}
-
-/// A value that must be finite, > 0 and normal (a subnormal value loses precision and turns
-/// its reciprocals, like the wave period, into infinity).
-pub(super) fn positive(field: &str, value: f64) -> Result<f64, SceneError> {
-    if value.is_finite() && value > 0.0 && value.is_normal() {
-        Ok(value)
-    } else {
-        Err(invalid(
-            field,
-            format!("must be finite and > 0, got {value:e}"),
-        ))
     }
 }
 

@@ -120,11 +120,11 @@ pub fn ball(
                 "missing: slider.shape = \"ball\" needs the ball's diameter, e.g. \"2 mm\"",
             ));
         }
-        Some(d) => super::resolved::positive("slider.ball_diameter", d.0)?,
+        Some(d) => super::positive::positive("slider.ball_diameter", d.0)?,
     };
     let moving_mass_kg = match s.mass {
         AutoOr::Auto => None,
-        AutoOr::Value(m) => Some(super::resolved::positive("slider.mass", m.0)?),
+        AutoOr::Value(m) => Some(super::positive::positive("slider.mass", m.0)?),
     };
     let f = &file.friction;
     if f.mu_static != f.mu_kinetic {

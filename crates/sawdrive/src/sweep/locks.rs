@@ -29,7 +29,7 @@ use std::fs::{File, TryLockError};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use super::SweepRunError;
+use super::error::SweepRunError;
 use crate::pipeline::RunControl;
 use crate::pipeline::{fill_static_cache, geometry_key, static_params};
 use crate::scene::Scene;

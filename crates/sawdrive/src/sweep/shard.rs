@@ -20,13 +20,10 @@ use std::str::FromStr;
 
 use serde::Serialize;
 
+use super::error::SweepRunError;
 use super::run::{Prepared, prepare};
-use super::{PointRow, SweepFile, SweepOutcome, SweepRunError};
+use super::{PointRow, SweepFile, SweepOutcome};
 use crate::pipeline::RunControl;
-
-/// Most missing points the merge error names one by one (the rest are counted), to keep it one
-/// readable line. Unit: points.
-pub const MAX_LISTED_POINTS: usize = 20;
 
 /// Shard `index` of `count` (1-based): the points `index`, `index + count`, … of a sweep.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -192,19 +189,6 @@ fn merge_prepared(prepared: &Prepared) -> Result<SweepOutcome, SweepRunError> {
     })
 }
 
-/// `#2 [preload=0.4 N], #5 [...]`, at most [`MAX_LISTED_POINTS`] named, the rest counted.
-pub(super) fn point_list(points: &[(usize, String)]) -> String {
-    let mut parts: Vec<String> = points
-        .iter()
-        .take(MAX_LISTED_POINTS)
-        .map(|(n, overrides)| format!("#{n} [{overrides}]"))
-        .collect();
-    if points.len() > MAX_LISTED_POINTS {
-        parts.push(format!("and {} more", points.len() - MAX_LISTED_POINTS));
-    }
-    parts.join(", ")
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -246,13 +230,5 @@ mod tests {
         let error = Shard { index: 1, count: 5 }.check("s", 2).unwrap_err();
         assert!(error.to_string().contains("use N ≤ 2"), "{error}");
         assert!(Shard { index: 2, count: 2 }.check("s", 2).is_ok());
-    }
-
-    #[test]
-    fn long_missing_lists_are_cut_and_counted() {
-        let points: Vec<(usize, String)> = (1..=25).map(|n| (n, format!("p={n}"))).collect();
-        let text = point_list(&points);
-        assert!(text.starts_with("#1 [p=1], #2 [p=2]"), "{text}");
-        assert!(text.ends_with("#20 [p=20], and 5 more"), "{text}");
     }
 }
