@@ -113,7 +113,7 @@ impl SteppedPost {
     /// Advance one step from phase θ; returns the new state and adds the step's integrals.
     fn step(&self, theta: f64, state: PostState, ints: &mut PeriodIntegrals) -> PostState {
         let p = &self.p;
-        let (h, s, a_t, rho) = (self.h, self.s, p.tangential_ratio, p.stiffness_ratio);
+        let (h, s) = (self.h, self.s);
         let theta1 = theta + s * h;
         let normal = p.normal(theta1);
         let in_contact = normal > 0.0;
@@ -124,81 +124,11 @@ impl SteppedPost {
         };
         let next = match self.scheme {
             StepScheme::ReturnMapping { .. } => {
-                // Exact stator displacement increment along the step, then clamp.
-                let particle = a_t * (theta1.cos() - theta.cos()) / s;
-                let trial = state.deflection + particle - self.v * h;
-                let (mode, deflection) = if !in_contact {
-                    (Mode::Separated, 0.0)
-                } else if trial.abs() <= threshold * normal / rho {
-                    (Mode::Stick, trial)
-                } else {
-                    let sign = trial.signum();
-                    (Mode::Slip(sign), sign * p.mu_kinetic * normal / rho)
-                };
-                let force = rho * deflection;
-                ints.stator_work += force * particle;
-                ints.power_flow += (force * particle).abs();
-                ints.output_work += force * self.v * h;
-                ints.dissipation += force * (trial - deflection);
-                ints.force_time += force * h;
-                PostState {
-                    mode,
-                    deflection,
-                    tip_velocity: 0.0,
-                }
+                self.return_mapping(theta, theta1, state, normal, threshold, ints)
             }
-            StepScheme::PostMass { .. } => {
-                let mass = p.mass.unwrap_or(f64::NAN);
-                let free = state.tip_velocity - h * rho * state.deflection / mass;
-                let stator = -a_t * theta1.sin();
-                let needed = mass * (stator - free);
-                let (mode, impulse) = if !in_contact {
-                    (Mode::Separated, 0.0)
-                } else if needed.abs() <= threshold * normal * h {
-                    (Mode::Stick, needed)
-                } else {
-                    let sign = needed.signum();
-                    (Mode::Slip(sign), sign * p.mu_kinetic * normal * h)
-                };
-                let tip_velocity = free + impulse / mass;
-                let deflection = state.deflection + h * (tip_velocity - self.v);
-                ints.stator_work += impulse * stator;
-                ints.power_flow += (impulse * stator).abs();
-                ints.dissipation += impulse * (stator - tip_velocity);
-                ints.force_time += rho * deflection * h;
-                ints.output_work += rho * deflection * self.v * h;
-                PostState {
-                    mode,
-                    deflection,
-                    tip_velocity,
-                }
-            }
+            StepScheme::PostMass { .. } => self.post_mass(theta1, state, normal, threshold, ints),
             StepScheme::Regularized { regularization, .. } => {
-                let mass = p.mass.unwrap_or(f64::NAN);
-                let normal0 = p.normal(theta);
-                let stator = -a_t * theta.sin();
-                let slip = stator - state.tip_velocity;
-                let friction = p.mu_kinetic * normal0 * (slip / regularization).tanh();
-                let tip_velocity =
-                    state.tip_velocity + h * (friction - rho * state.deflection) / mass;
-                let deflection = state.deflection + h * (tip_velocity - self.v);
-                ints.stator_work += friction * stator * h;
-                ints.power_flow += (friction * stator * h).abs();
-                ints.dissipation += friction * slip * h;
-                ints.force_time += rho * deflection * h;
-                ints.output_work += rho * deflection * self.v * h;
-                let mode = if normal0 <= 0.0 {
-                    Mode::Separated
-                } else if slip.abs() <= regularization {
-                    Mode::Stick
-                } else {
-                    Mode::Slip(slip.signum())
-                };
-                PostState {
-                    mode,
-                    deflection,
-                    tip_velocity,
-                }
+                self.regularized(theta, state, regularization, ints)
             }
         };
         ints.time += h;
@@ -210,6 +140,120 @@ impl SteppedPost {
             }
         }
         next
+    }
+
+    /// The return-mapping step to θ1: the exact stator displacement along the step, then the
+    /// trial deflection clamped to the friction cone (`threshold` × `normal`).
+    fn return_mapping(
+        &self,
+        theta: f64,
+        theta1: f64,
+        state: PostState,
+        normal: f64,
+        threshold: f64,
+        ints: &mut PeriodIntegrals,
+    ) -> PostState {
+        let p = &self.p;
+        let (h, s, a_t, rho) = (self.h, self.s, p.tangential_ratio, p.stiffness_ratio);
+        let in_contact = normal > 0.0;
+        // Exact stator displacement increment along the step, then clamp.
+        let particle = a_t * (theta1.cos() - theta.cos()) / s;
+        let trial = state.deflection + particle - self.v * h;
+        let (mode, deflection) = if !in_contact {
+            (Mode::Separated, 0.0)
+        } else if trial.abs() <= threshold * normal / rho {
+            (Mode::Stick, trial)
+        } else {
+            let sign = trial.signum();
+            (Mode::Slip(sign), sign * p.mu_kinetic * normal / rho)
+        };
+        let force = rho * deflection;
+        ints.stator_work += force * particle;
+        ints.power_flow += (force * particle).abs();
+        ints.output_work += force * self.v * h;
+        ints.dissipation += force * (trial - deflection);
+        ints.force_time += force * h;
+        PostState {
+            mode,
+            deflection,
+            tip_velocity: 0.0,
+        }
+    }
+
+    /// The post-mass step to θ1: the impulse that makes the tip move with the stator if the
+    /// cone allows it, else the kinetic impulse.
+    fn post_mass(
+        &self,
+        theta1: f64,
+        state: PostState,
+        normal: f64,
+        threshold: f64,
+        ints: &mut PeriodIntegrals,
+    ) -> PostState {
+        let p = &self.p;
+        let (h, a_t, rho) = (self.h, p.tangential_ratio, p.stiffness_ratio);
+        let in_contact = normal > 0.0;
+        let mass = p.mass.unwrap_or(f64::NAN);
+        let free = state.tip_velocity - h * rho * state.deflection / mass;
+        let stator = -a_t * theta1.sin();
+        let needed = mass * (stator - free);
+        let (mode, impulse) = if !in_contact {
+            (Mode::Separated, 0.0)
+        } else if needed.abs() <= threshold * normal * h {
+            (Mode::Stick, needed)
+        } else {
+            let sign = needed.signum();
+            (Mode::Slip(sign), sign * p.mu_kinetic * normal * h)
+        };
+        let tip_velocity = free + impulse / mass;
+        let deflection = state.deflection + h * (tip_velocity - self.v);
+        ints.stator_work += impulse * stator;
+        ints.power_flow += (impulse * stator).abs();
+        ints.dissipation += impulse * (stator - tip_velocity);
+        ints.force_time += rho * deflection * h;
+        ints.output_work += rho * deflection * self.v * h;
+        PostState {
+            mode,
+            deflection,
+            tip_velocity,
+        }
+    }
+
+    /// The regularised explicit step from θ: friction μ_k N tanh(slip/`regularization`) from the
+    /// old-time normal force and stator velocity.
+    fn regularized(
+        &self,
+        theta: f64,
+        state: PostState,
+        regularization: f64,
+        ints: &mut PeriodIntegrals,
+    ) -> PostState {
+        let p = &self.p;
+        let (h, a_t, rho) = (self.h, p.tangential_ratio, p.stiffness_ratio);
+        let mass = p.mass.unwrap_or(f64::NAN);
+        let normal0 = p.normal(theta);
+        let stator = -a_t * theta.sin();
+        let slip = stator - state.tip_velocity;
+        let friction = p.mu_kinetic * normal0 * (slip / regularization).tanh();
+        let tip_velocity = state.tip_velocity + h * (friction - rho * state.deflection) / mass;
+        let deflection = state.deflection + h * (tip_velocity - self.v);
+        ints.stator_work += friction * stator * h;
+        ints.power_flow += (friction * stator * h).abs();
+        ints.dissipation += friction * slip * h;
+        ints.force_time += rho * deflection * h;
+        ints.output_work += rho * deflection * self.v * h;
+        let mode = if normal0 <= 0.0 {
+            Mode::Separated
+        } else if slip.abs() <= regularization {
+            Mode::Stick
+        } else {
+            Mode::Slip(slip.signum())
+        };
+        PostState {
+            mode,
+            deflection,
+            tip_velocity,
+        }
     }
 
     /// Stored energy of the post: spring ½ρê², plus ½m̂(tip velocity)² with mass.
