@@ -148,7 +148,7 @@ fn run_case(
             std::fs::rename(out.join("figures/report.json"), results.join("report.json"))?;
             Ok(outcome(cases::stick_slip::checks(&report, level)))
         }
-        "design" => Ok(outcome(cases::design::run(level)?)),
+        "design" => Ok(outcome(cases::design::run(level, out)?)),
         "static-contact" => Ok(outcome(cases::static_contact::run(level, out)?)),
         "whole-slider" => Ok(outcome(cases::whole_slider::run(level, out)?)),
         "coupled-dynamics" => Ok(outcome(cases::coupled_dynamics::run(
