@@ -64,10 +64,7 @@ impl WaveShare {
     ) -> Result<(f64, T)> {
         let (d1, v1) = at(1.0)?;
         let g1 = 1.0 - self.target(d1);
-        if g1.abs() < self.tolerance {
-            return Ok((1.0, v1));
-        }
-        if g1 < 0.0 {
+        if g1 < 0.0 && g1.abs() >= self.tolerance {
             return Err(BallError::NoSteadyState {
                 what: format!(
                     "the ball returns {:.4e} W to the wave at the full amplitude: the \
@@ -76,65 +73,74 @@ impl WaveShare {
                 ),
             });
         }
-        // The lower end: g < 0 (α → 0 draws nothing, so g → −1); from T(1), halving.
-        let mut hi = (1.0, g1);
-        let mut x = if self.target(d1) > 0.0 {
-            self.target(d1)
-        } else {
-            0.5
+        let mut search = Search {
+            lo: (0.0, -1.0),
+            hi: (1.0, g1),
+            best: (g1.abs(), 1.0, v1),
         };
-        let mut best = (g1.abs(), 1.0, v1);
-        let mut lo = loop {
+        if search.best.0 < self.tolerance || self.bracket(&mut at, self.target(d1), &mut search)? {
+            return Ok((search.best.1, search.best.2));
+        }
+        self.refine(&mut at, warm, search)
+    }
+
+    /// The lower end of the bracket, g < 0 (α → 0 draws nothing, so g → −1): from T(1),
+    /// halving (0.5 where T(1) = 0). `true` when a point settled on the way.
+    fn bracket<T>(
+        &self,
+        at: &mut impl FnMut(f64) -> Result<(f64, T)>,
+        start: f64,
+        search: &mut Search<T>,
+    ) -> Result<bool> {
+        let mut x = if start > 0.0 { start } else { 0.5 };
+        loop {
             let (d, v) = at(x)?;
             let g = x - self.target(d);
-            if g.abs() < best.0 {
-                best = (g.abs(), x, v);
-            }
-            if best.0 < self.tolerance {
-                return Ok((best.1, best.2));
+            if search.record(x, g, v, self.tolerance) {
+                return Ok(true);
             }
             if g < 0.0 {
-                break (x, g);
+                return Ok(false);
             }
             if x < 1e-3 {
                 return Err(self.not_bracketed(x, g));
             }
-            hi = (x, g);
             x *= 0.5;
-        };
-        x = warm
-            .filter(|&w| w > lo.0 && w < hi.0)
-            .unwrap_or(lo.0 - lo.1 * (hi.0 - lo.0) / (hi.1 - lo.1));
+        }
+    }
+
+    /// Secant steps inside the bracket (bisection where a step leaves it or the bracket is
+    /// down to a few tolerances), from `warm` when it lies inside.
+    fn refine<T>(
+        &self,
+        at: &mut impl FnMut(f64) -> Result<(f64, T)>,
+        warm: Option<f64>,
+        mut search: Search<T>,
+    ) -> Result<(f64, T)> {
+        let mut x = warm
+            .filter(|&w| w > search.lo.0 && w < search.hi.0)
+            .unwrap_or_else(|| search.secant());
         for _ in 0..MAX_EVALUATIONS {
             let (d, v) = at(x)?;
             let g = x - self.target(d);
-            if g.abs() < best.0 {
-                best = (g.abs(), x, v);
+            if search.record(x, g, v, self.tolerance) || search.width() < self.tolerance {
+                return Ok((search.best.1, search.best.2));
             }
-            if best.0 < self.tolerance {
-                return Ok((best.1, best.2));
-            }
-            if g < 0.0 {
-                lo = (x, g);
-            } else {
-                hi = (x, g);
-            }
-            let secant = lo.0 - lo.1 * (hi.0 - lo.0) / (hi.1 - lo.1);
-            let mid = 0.5 * (lo.0 + hi.0);
-            x = if secant > lo.0 && secant < hi.0 && (hi.0 - lo.0) > 4.0 * self.tolerance {
+            let secant = search.secant();
+            x = if secant > search.lo.0
+                && secant < search.hi.0
+                && search.width() > 4.0 * self.tolerance
+            {
                 secant
             } else {
-                mid
+                0.5 * (search.lo.0 + search.hi.0)
             };
-            if hi.0 - lo.0 < self.tolerance {
-                return Ok((best.1, best.2));
-            }
         }
         Err(BallError::NoSteadyState {
             what: format!(
                 "the amplitude at the ball did not settle to {:e} in {MAX_EVALUATIONS} \
                  evaluations (best |α − T(α)| = {:.3e})",
-                self.tolerance, best.0
+                self.tolerance, search.best.0
             ),
         })
     }
@@ -146,6 +152,38 @@ impl WaveShare {
                  α = {alpha:.3e} (the draw does not fall with the amplitude)"
             ),
         }
+    }
+}
+
+/// The bracket [lo, hi] of g(α) = α − T(α) (g(lo) < 0 ≤ g(hi)) and the best point so far
+/// (|g|, α, the caller's value there).
+struct Search<T> {
+    lo: (f64, f64),
+    hi: (f64, f64),
+    best: (f64, f64, T),
+}
+
+impl<T> Search<T> {
+    /// Records g(x) = g with the caller's value; `true` once |g| < `tolerance` somewhere.
+    fn record(&mut self, x: f64, g: f64, value: T, tolerance: f64) -> bool {
+        if g.abs() < self.best.0 {
+            self.best = (g.abs(), x, value);
+        }
+        if g < 0.0 {
+            self.lo = (x, g);
+        } else {
+            self.hi = (x, g);
+        }
+        self.best.0 < tolerance
+    }
+
+    fn secant(&self) -> f64 {
+        let (lo, hi) = (self.lo, self.hi);
+        lo.0 - lo.1 * (hi.0 - lo.0) / (hi.1 - lo.1)
+    }
+
+    fn width(&self) -> f64 {
+        self.hi.0 - self.lo.0
     }
 }
 

@@ -1,14 +1,14 @@
 //! `sawdrive run`: scene → springs → static (η) → dynamic → `OUT/<scene>/`, written atomically.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use contact_springs::PostSprings;
 use serde::Serialize;
 
 use super::{
-    DynamicStage, PipelineError, RunControl, effective_ratio, run_dynamic_stage, scene_springs,
-    write_dynamic_stage_files, write_static_files,
+    DynamicStage, PipelineError, RunControl, StaticOutcome, effective_ratio, run_dynamic_stage,
+    scene_springs, write_dynamic_stage_files, write_static_files,
 };
 use crate::output::{ResultKind, StagedDir};
 use crate::scene::Scene;
@@ -191,43 +191,20 @@ pub fn run_pipeline(
         control,
     )?;
     let (effective_ratio, source, static_outcome) = (eta.value, eta.source, eta.statics);
-    let static_figures = static_outcome.as_ref().map(|outcome| {
-        let r = &outcome.report;
-        StaticFigures {
-            cached: outcome.cached,
-            content_hash: outcome.content_hash.clone(),
-            load_sharing: Some(r.load_sharing),
-            contact_fraction: Some(r.contact_fraction),
-            complementarity_residual: Some(r.complementarity_residual),
-            iterations: Some(r.iterations as u64),
-        }
-    });
+    let static_figures = static_outcome.as_ref().map(static_figures);
     timings.static_s = t.elapsed().as_secs_f64();
 
     control.stage("stick/slip dynamics");
     let t = Instant::now();
-    // The static fields (VTU snapshot: a displacement solve, stress recovery and ≈ 20 MB of text
-    // on the default scene) depend on the static stage only: they are written on a thread of
-    // their own while the dynamic stage runs, whose curve keeps about one of two cores busy
-    // (`dynamic_s` is the wall time of both; `output_s` the rest of the files).
-    let (stage, static_files) = std::thread::scope(|scope| {
-        let static_writer = (options.write_files && static_outcome.is_some()).then(|| {
-            scope.spawn(|| {
-                let outcome = static_outcome.as_ref().expect("static outcome present");
-                write_static_files(outcome, staged.path())
-            })
-        });
-        let stage = run_dynamic_stage(
-            scene,
-            &springs,
-            effective_ratio,
-            static_outcome.as_ref(),
-            options.cache_dir.as_deref(),
-            control,
-        );
-        let written = static_writer.map(|h| h.join().expect("static file writer panicked"));
-        (stage, written)
-    });
+    let (stage, static_files) = dynamic_beside_static_files(
+        scene,
+        options,
+        control,
+        &springs,
+        effective_ratio,
+        static_outcome.as_ref(),
+        staged.path(),
+    );
     let stage = stage?;
     PipelineError::check(control, "output")?;
     timings.dynamic_s = t.elapsed().as_secs_f64();
@@ -253,7 +230,87 @@ pub fn run_pipeline(
         .filter_map(|f| f.file_name().and_then(|n| n.to_str()).map(str::to_owned))
         .collect();
     names.push("summary.json".into());
-    let summary = RunSummary {
+    let summary = run_summary(
+        scene,
+        springs,
+        (effective_ratio, source),
+        static_figures,
+        &stage,
+        timings,
+        names,
+    );
+    summary.check_finite()?;
+    staged.write("summary.json", serde_json::to_vec_pretty(&summary)?)?;
+    let folder = staged.commit()?;
+    Ok((summary, folder))
+}
+
+/// The static stage's figures of `summary.json`.
+fn static_figures(outcome: &StaticOutcome) -> StaticFigures {
+    let r = &outcome.report;
+    StaticFigures {
+        cached: outcome.cached,
+        content_hash: outcome.content_hash.clone(),
+        load_sharing: Some(r.load_sharing),
+        contact_fraction: Some(r.contact_fraction),
+        complementarity_residual: Some(r.complementarity_residual),
+        iterations: Some(r.iterations as u64),
+    }
+}
+
+/// The dynamic stage's outcome and, when written, the static files' outcome.
+type StageAndStaticFiles = (
+    Result<DynamicStage, PipelineError>,
+    Option<Result<Vec<PathBuf>, PipelineError>>,
+);
+
+/// The dynamic stage, with the static fields written beside it. The static fields (VTU
+/// snapshot: a displacement solve, stress recovery and ≈ 20 MB of text on the default scene)
+/// depend on the static stage only: they are written on a thread of their own while the
+/// dynamic stage runs, whose curve keeps about one of two cores busy (`dynamic_s` is the wall
+/// time of both; `output_s` the rest of the files).
+fn dynamic_beside_static_files(
+    scene: &Scene,
+    options: &RunOptions,
+    control: &RunControl,
+    springs: &PostSprings,
+    effective_ratio: f64,
+    static_outcome: Option<&StaticOutcome>,
+    staged: &Path,
+) -> StageAndStaticFiles {
+    std::thread::scope(|scope| {
+        let static_writer = (options.write_files && static_outcome.is_some()).then(|| {
+            scope.spawn(|| {
+                let outcome = static_outcome.expect("static outcome present");
+                write_static_files(outcome, staged)
+            })
+        });
+        let stage = run_dynamic_stage(
+            scene,
+            springs,
+            effective_ratio,
+            static_outcome,
+            options.cache_dir.as_deref(),
+            control,
+        );
+        let written = static_writer.map(|h| h.join().expect("static file writer panicked"));
+        (stage, written)
+    })
+}
+
+/// `summary.json` of a post-array run: the static stage's η (`eta`: value and source; the
+/// local amplitude's when the dynamic stage settled one) and figures, the dynamic stage's
+/// results, the timings and the files written.
+fn run_summary(
+    scene: &Scene,
+    springs: PostSprings,
+    (effective_ratio, source): (f64, &str),
+    static_figures: Option<StaticFigures>,
+    stage: &DynamicStage,
+    timings: StageTimings,
+    names: Vec<String>,
+) -> RunSummary {
+    RunSummary {
         scene: scene.clone(),
         springs: Some(springs),
         effective_contact_ratio: stage
@@ -280,11 +337,7 @@ pub fn run_pipeline(
         timings,
         files: names,
         drive: stage.drive,
-    };
-    summary.check_finite()?;
-    staged.write("summary.json", serde_json::to_vec_pretty(&summary)?)?;
-    let folder = staged.commit()?;
-    Ok((summary, folder))
+    }
 }
 
 /// `sawdrive run` of a ball scene: the ball's dynamic stage and `OUT/<name>/` with its files
