@@ -308,40 +308,19 @@ pub fn solve(
     let mut iteration = 0;
     while iteration < MAX_ACTIVE_SET_ITERATIONS {
         iteration += 1;
-        // Fixed unknowns at their bounds, Newton step on the free ones.
-        for i in 0..n {
-            if lo[i] == hi[i] {
-                active.sets[i] = Bound::Lower;
-            }
-            x[i] = match active.sets[i] {
-                Bound::Lower => lo[i],
-                Bound::Upper => hi[i],
-                Bound::Free => 0.0,
-            };
-        }
-        let free: Vec<usize> = (0..n).filter(|&i| active.sets[i] == Bound::Free).collect();
-        let mut updated = false;
-        // The bound unknowns' part of A x (x is zero on the free ones here): their pull on the
-        // free ones; the free columns are added after the Newton step.
-        ax.fill(0.0);
-        add_product(data, x.as_slice(), 0..n, ax.as_mut_slice());
-        if !free.is_empty() {
-            if !active
-                .factor
-                .set_free(data, n, &free, &mut mark, &mut scratch)
-            {
-                return Err((iteration, f64::INFINITY));
-            }
-            updated = active.factor.updates > 0;
-            let factor = &active.factor;
-            scratch.clear();
-            scratch.extend(factor.order.iter().map(|&p| b[p] - ax[p]));
-            factor.solve(&mut scratch);
-            for (&p, &xp) in factor.order.iter().zip(&scratch) {
-                x[p] = xp;
-            }
-            add_product(data, x.as_slice(), free.iter().copied(), ax.as_mut_slice());
-        }
+        let Some(updated) = newton_step(
+            data,
+            b,
+            lo,
+            hi,
+            active,
+            &mut x,
+            &mut ax,
+            &mut mark,
+            &mut scratch,
+        ) else {
+            return Err((iteration, f64::INFINITY));
+        };
         let lambda = b - &ax;
         let residual = natural_residual(&x, &lambda, lo, hi) / scale;
         if residual <= tolerance {
@@ -357,24 +336,85 @@ pub fn solve(
         if best.as_ref().is_none_or(|(r, _)| residual < *r) {
             best = Some((residual, x.clone()));
         }
-        let mut repeated = true;
-        for i in 0..n {
-            let trial = x[i] + lambda[i];
-            let set = if lo[i] == hi[i] || trial < lo[i] {
-                Bound::Lower
-            } else if trial > hi[i] {
-                Bound::Upper
-            } else {
-                Bound::Free
-            };
-            repeated &= set == active.sets[i];
-            active.sets[i] = set;
-        }
+        let repeated = update_sets(&x, &lambda, lo, hi, active);
         // The sets repeat but the step missed the tolerance: an updated factor's round-off; the
         // next Newton step uses a fresh one.
         active.factor.stale |= repeated && updated;
     }
     gauss_seidel(a, b, lo, hi, active, scale, tolerance, best.map(|(_, x)| x))
+}
+
+/// Fixed unknowns at their bounds, Newton step on the free ones (A_FF x_F = b_F − A_FB x_B by
+/// the updated factor), with `ax` = A x. `Some(whether the factor was updated rather than
+/// made)`, `None` if the free block could not be factored.
+#[allow(clippy::too_many_arguments)]
+fn newton_step(
+    data: &[f64],
+    b: &DVector<f64>,
+    lo: &[f64],
+    hi: &[f64],
+    active: &mut ActiveSet,
+    x: &mut DVector<f64>,
+    ax: &mut DVector<f64>,
+    mark: &mut [bool],
+    scratch: &mut Vec<f64>,
+) -> Option<bool> {
+    let n = b.len();
+    for i in 0..n {
+        if lo[i] == hi[i] {
+            active.sets[i] = Bound::Lower;
+        }
+        x[i] = match active.sets[i] {
+            Bound::Lower => lo[i],
+            Bound::Upper => hi[i],
+            Bound::Free => 0.0,
+        };
+    }
+    let free: Vec<usize> = (0..n).filter(|&i| active.sets[i] == Bound::Free).collect();
+    let mut updated = false;
+    // The bound unknowns' part of A x (x is zero on the free ones here): their pull on the
+    // free ones; the free columns are added after the Newton step.
+    ax.fill(0.0);
+    add_product(data, x.as_slice(), 0..n, ax.as_mut_slice());
+    if !free.is_empty() {
+        if !active.factor.set_free(data, n, &free, mark, scratch) {
+            return None;
+        }
+        updated = active.factor.updates > 0;
+        let factor = &active.factor;
+        scratch.clear();
+        scratch.extend(factor.order.iter().map(|&p| b[p] - ax[p]));
+        factor.solve(scratch);
+        for (&p, &xp) in factor.order.iter().zip(scratch.iter()) {
+            x[p] = xp;
+        }
+        add_product(data, x.as_slice(), free.iter().copied(), ax.as_mut_slice());
+    }
+    Some(updated)
+}
+
+/// The next sets by the trial x + λ clamped to the bounds; whether they repeat the current ones.
+fn update_sets(
+    x: &DVector<f64>,
+    lambda: &DVector<f64>,
+    lo: &[f64],
+    hi: &[f64],
+    active: &mut ActiveSet,
+) -> bool {
+    let mut repeated = true;
+    for i in 0..x.len() {
+        let trial = x[i] + lambda[i];
+        let set = if lo[i] == hi[i] || trial < lo[i] {
+            Bound::Lower
+        } else if trial > hi[i] {
+            Bound::Upper
+        } else {
+            Bound::Free
+        };
+        repeated &= set == active.sets[i];
+        active.sets[i] = set;
+    }
+    repeated
 }
 
 /// A symmetric positive definite matrix given by its product: y = A x.

@@ -390,50 +390,7 @@ impl CoupledModel {
             DVector::from_fn(n, |i, _| alpha[i] * (theta - kx[i]).sin())
         };
         let (normals, approach, factors) = match scene.preload_balance {
-            PreloadBalance::Instant => {
-                let solver = ActiveSetSolver::new(ActiveSetOptions {
-                    tolerance: scene.tolerance.max(1e-12),
-                    ..ActiveSetOptions::default()
-                });
-                let mut normals = Vec::with_capacity(m);
-                let mut approach = Vec::with_capacity(m);
-                let mut factors = Vec::with_capacity(if start.is_some() { m } else { 0 });
-                for j in 0..m {
-                    let h = heights(j);
-                    if let Some(s) = start {
-                        let active = s.normals[j].iter().map(|f| *f > 0.0).collect::<Vec<_>>();
-                        let reused = s.normal_factors.get(j).and_then(|f| f.as_ref());
-                        let factor = reused
-                            .filter(|f| f.fits(&active))
-                            .cloned()
-                            .or_else(|| NormalFactor::new(&cn, &active).map(Arc::new));
-                        let solved = factor
-                            .as_ref()
-                            .and_then(|f| f.solve(&cn, &h, preload, scene.tolerance.max(1e-12)));
-                        if let Some((force, z)) = solved {
-                            normals.push(force);
-                            approach.push(z);
-                            factors.push(factor);
-                            continue;
-                        }
-                    }
-                    let warm: Option<Vec<bool>> =
-                        start.map(|s| s.normals[j].iter().map(|f| *f > 0.0).collect());
-                    let problem = ContactProblem {
-                        compliance_m_per_n: cn.clone(),
-                        obstacle_height_m: h.as_slice().to_vec(),
-                        preload_n: preload,
-                        length_scale_m: Some(1.0),
-                    };
-                    let solution = solver.solve_from(&problem, warm.as_deref())?;
-                    normals.push(DVector::from_vec(solution.force_n));
-                    approach.push(solution.reference_height_m);
-                    if start.is_some() {
-                        factors.push(None);
-                    }
-                }
-                (normals, approach, factors)
-            }
+            PreloadBalance::Instant => instant_normals(scene, &cn, &heights, preload, start)?,
             PreloadBalance::PeriodMean => {
                 let fine = |j: usize| -> DVector<f64> {
                     let theta = scene.start_phase_rad
@@ -626,6 +583,63 @@ impl CoupledModel {
     pub fn crest_speed_m_per_s(&self) -> f64 {
         self.scene.wave.crest_speed_m_per_s()
     }
+}
+
+/// The normal forces, approach and reusable factors of [`PreloadBalance::Instant`] at every
+/// grid phase j (obstacle `heights(j)`): static-contact's active-set solver, or with `start`
+/// (a model of a nearby scene) its contact set's factor first ([`NormalFactor`]), the
+/// active-set solver from that set where the factor's solution is not the contact problem's.
+#[allow(clippy::type_complexity)]
+fn instant_normals(
+    scene: &CoupledScene,
+    cn: &DMatrix<f64>,
+    heights: &dyn Fn(usize) -> DVector<f64>,
+    preload: f64,
+    start: Option<&CoupledModel>,
+) -> Result<(Vec<DVector<f64>>, Vec<f64>, Vec<Option<Arc<NormalFactor>>>)> {
+    let m = scene.steps_per_period;
+    let solver = ActiveSetSolver::new(ActiveSetOptions {
+        tolerance: scene.tolerance.max(1e-12),
+        ..ActiveSetOptions::default()
+    });
+    let mut normals = Vec::with_capacity(m);
+    let mut approach = Vec::with_capacity(m);
+    let mut factors = Vec::with_capacity(if start.is_some() { m } else { 0 });
+    for j in 0..m {
+        let h = heights(j);
+        if let Some(s) = start {
+            let active = s.normals[j].iter().map(|f| *f > 0.0).collect::<Vec<_>>();
+            let reused = s.normal_factors.get(j).and_then(|f| f.as_ref());
+            let factor = reused
+                .filter(|f| f.fits(&active))
+                .cloned()
+                .or_else(|| NormalFactor::new(cn, &active).map(Arc::new));
+            let solved = factor
+                .as_ref()
+                .and_then(|f| f.solve(cn, &h, preload, scene.tolerance.max(1e-12)));
+            if let Some((force, z)) = solved {
+                normals.push(force);
+                approach.push(z);
+                factors.push(factor);
+                continue;
+            }
+        }
+        let warm: Option<Vec<bool>> =
+            start.map(|s| s.normals[j].iter().map(|f| *f > 0.0).collect());
+        let problem = ContactProblem {
+            compliance_m_per_n: cn.clone(),
+            obstacle_height_m: h.as_slice().to_vec(),
+            preload_n: preload,
+            length_scale_m: Some(1.0),
+        };
+        let solution = solver.solve_from(&problem, warm.as_deref())?;
+        normals.push(DVector::from_vec(solution.force_n));
+        approach.push(solution.reference_height_m);
+        if start.is_some() {
+            factors.push(None);
+        }
+    }
+    Ok((normals, approach, factors))
 }
 
 /// Normal forces at a fixed approach z: N ≥ 0, z − w + Ĉ_n N ≥ 0, complementary.
@@ -835,6 +849,17 @@ pub(crate) enum ProfileStep {
     Next(Box<CoupledModel>),
 }
 
+/// What one step imposes: the normal forces at its end, the tips' tangential motion Δu, the
+/// slider's scaled velocity v̂ and the step h, and the slip increment that counts as slip.
+#[derive(Clone, Copy)]
+struct StepMotion<'a> {
+    normal: &'a DVector<f64>,
+    du: &'a DVector<f64>,
+    v: f64,
+    h: f64,
+    slip_tolerance: f64,
+}
+
 /// Solver statistics of a run.
 #[derive(Debug, Clone, Copy, Default)]
 struct SolverStats {
@@ -854,8 +879,7 @@ impl CoupledModel {
         -self.sigma
     }
 
-    /// One step from grid phase j to j+1 (with `per_post_stator_work`: each post's T̄_i·Δu_i
-    /// added to it).
+    /// One step from grid phase j to j+1 (with `per_post`: each post's sums added to it).
     #[allow(clippy::too_many_arguments)]
     fn step(
         &self,
@@ -874,6 +898,40 @@ impl CoupledModel {
         let (cos0, cos1) = (&self.wave_cos[j], &self.wave_cos[j + 1]);
         let du = DVector::from_fn(n, |i, _| self.sigma * self.a_t * (cos1[i] - cos0[i]) / s);
         let b = &state.compliance_force + &du - DVector::from_element(n, v * h);
+        let slip_tolerance = 1e-9 * (du.amax() + v.abs() * h).max(1e-300);
+        let solution = self.solve_step(j, v, normal, &b, slip_tolerance, state, stats)?;
+        let step = StepMotion {
+            normal,
+            du: &du,
+            v,
+            h,
+            slip_tolerance,
+        };
+        self.book_step(&step, &solution, state, ints, per_post);
+        self.update_modes(&step, &solution.lambda, state, ints);
+        let force = solution.x;
+        if matches!(self.ct, Tangential::Operator { .. }) {
+            state.change = &force - &state.force;
+        }
+        state.force = force;
+        state.compliance_force = solution.ax;
+        Ok(())
+    }
+
+    /// The step's box QP with the bounds μ_i N_i: μ_k for a post that slipped in the previous
+    /// step, else μ_s; a post that slips with μ_s drops to μ_k and the step is solved again.
+    #[allow(clippy::too_many_arguments)]
+    fn solve_step(
+        &self,
+        j: usize,
+        v: f64,
+        normal: &DVector<f64>,
+        b: &DVector<f64>,
+        slip_tolerance: f64,
+        state: &mut TipState,
+        stats: &mut SolverStats,
+    ) -> Result<boxqp::BoxSolution> {
+        let n = self.kx.len();
         let mut mu: Vec<f64> = state
             .mode
             .iter()
@@ -882,19 +940,18 @@ impl CoupledModel {
                 _ => self.scene.mu_static,
             })
             .collect();
-        let slip_tolerance = 1e-9 * (du.amax() + v.abs() * h).max(1e-300);
         let tolerance = self.scene.tolerance;
-        let solution = loop {
+        loop {
             let hi: Vec<f64> = (0..n).map(|i| mu[i] * normal[i].max(0.0)).collect();
             let lo: Vec<f64> = hi.iter().map(|x| -x).collect();
             let scale = hi.iter().fold(b.amax(), |a, &x| a.max(x));
             let solved = match &self.ct {
                 Tangential::Dense(ct) => {
-                    boxqp::solve(ct, &b, &lo, &hi, &mut state.active, scale, tolerance)
+                    boxqp::solve(ct, b, &lo, &hi, &mut state.active, scale, tolerance)
                 }
                 op => boxqp::solve_operator(
                     op,
-                    &b,
+                    b,
                     &lo,
                     &hi,
                     &mut state.active,
@@ -927,25 +984,44 @@ impl CoupledModel {
                 }
             }
             if !dropped {
-                break solution;
+                return Ok(solution);
             }
-        };
-        let force = solution.x;
-        let slip = solution.lambda;
-        let dforce = &force - &state.force;
-        let compliance_force = solution.ax;
+        }
+    }
+
+    /// The step's work terms (midpoint force: the discrete gradient of the stored energy) into
+    /// `ints`, and each post's into `per_post`.
+    fn book_step(
+        &self,
+        step: &StepMotion<'_>,
+        solution: &boxqp::BoxSolution,
+        state: &TipState,
+        ints: &mut Integrals,
+        per_post: Option<&mut PostSums>,
+    ) {
+        let StepMotion {
+            normal,
+            du,
+            v,
+            h,
+            slip_tolerance,
+        } = *step;
+        let force = &solution.x;
+        let slip = &solution.lambda;
+        let dforce = force - &state.force;
+        let compliance_force = &solution.ax;
         let stored_old = 0.5 * state.force.dot(&state.compliance_force);
-        let stored_new = 0.5 * force.dot(&compliance_force);
+        let stored_new = 0.5 * force.dot(compliance_force);
         // Discrete gradient of the stored energy ½TᵀĈ_tT (Gonzalez 1996): the midpoint force.
-        let mid = 0.5 * (&force + &state.force);
+        let mid = 0.5 * (force + &state.force);
         ints.time += h;
         ints.force_time += force.sum() * h;
-        ints.stator_work += mid.dot(&du);
+        ints.stator_work += mid.dot(du);
         if let Some(sums) = per_post {
-            sums.stator_work += mid.component_mul(&du);
-            sums.friction_work += mid.component_mul(&slip);
+            sums.stator_work += mid.component_mul(du);
+            sums.friction_work += mid.component_mul(slip);
             sums.normal_impulse += normal * h;
-            for i in 0..n {
+            for i in 0..normal.len() {
                 if normal[i] > 0.0 {
                     sums.contact_time[i] += h;
                     if slip[i].abs() > slip_tolerance {
@@ -954,18 +1030,30 @@ impl CoupledModel {
                 }
             }
         }
-        ints.power_flow += mid.component_mul(&du).abs().sum();
+        ints.power_flow += mid.component_mul(du).abs().sum();
         ints.output_work += mid.sum() * v * h;
-        ints.friction += mid.dot(&slip);
-        ints.right_stator_work += force.dot(&du);
+        ints.friction += mid.dot(slip);
+        ints.right_stator_work += force.dot(du);
         ints.right_output_work += force.sum() * v * h;
-        ints.right_friction += force.dot(&slip);
-        ints.numerical += 0.5 * dforce.dot(&(&compliance_force - &state.compliance_force));
+        ints.right_friction += force.dot(slip);
+        ints.numerical += 0.5 * dforce.dot(&(compliance_force - &state.compliance_force));
         ints.stored_change += stored_new - stored_old;
-        for i in 0..n {
+    }
+
+    /// Each post's contact mode after the step (separated, stuck or slipping by its slip
+    /// increment), with the contact and stick times.
+    fn update_modes(
+        &self,
+        step: &StepMotion<'_>,
+        slip: &DVector<f64>,
+        state: &mut TipState,
+        ints: &mut Integrals,
+    ) {
+        let (normal, h) = (step.normal, step.h);
+        for i in 0..normal.len() {
             state.mode[i] = if normal[i] <= 0.0 {
                 PostMode::Separated
-            } else if slip[i].abs() > slip_tolerance {
+            } else if slip[i].abs() > step.slip_tolerance {
                 PostMode::Slip
             } else {
                 PostMode::Stick
@@ -977,12 +1065,6 @@ impl CoupledModel {
                 }
             }
         }
-        if matches!(self.ct, Tangential::Operator { .. }) {
-            state.change = dforce;
-        }
-        state.force = force;
-        state.compliance_force = compliance_force;
-        Ok(())
     }
 
     /// Steady state at an imposed speed along the drive direction (m/s); 0 is the v → 0⁺ limit
@@ -1496,8 +1578,8 @@ impl CoupledModel {
 }
 
 /// Relative distance of the second evaluation of [`CoupledModel::no_load_search_near`] from
-/// the guess, towards the root. Default 0.02.
-pub const NO_LOAD_PROBE: f64 = 0.02;
+/// the guess, towards the root. Default 0.005.
+pub const NO_LOAD_PROBE: f64 = 0.005;
 /// Evaluations of [`secant_root`] at most. Default 40.
 const SECANT_EVALUATIONS: usize = 40;
 
@@ -1533,7 +1615,12 @@ fn secant_root(
     } else {
         hi = Some(prev);
     }
-    let mut x = x0 * if f0 > 0.0 { 1.0 + NO_LOAD_PROBE } else { 1.0 - NO_LOAD_PROBE };
+    let mut x = x0
+        * if f0 > 0.0 {
+            1.0 + NO_LOAD_PROBE
+        } else {
+            1.0 - NO_LOAD_PROBE
+        };
     for _ in 0..SECANT_EVALUATIONS {
         if let Some(h) = hi
             && !(x > lo.0 && x < h.0)
@@ -1651,7 +1738,10 @@ mod tests {
                 (found - root).abs() < 1e-9,
                 "no-load speed {found} from the guess {guess}, root {root}"
             );
-            assert!(evaluations <= 8, "{evaluations} evaluations from the guess {guess}");
+            assert!(
+                evaluations <= 8,
+                "{evaluations} evaluations from the guess {guess}"
+            );
         }
     }
 

@@ -152,6 +152,15 @@ impl CoupledScene {
                 requirement: "must be finite".into(),
             });
         }
+        self.validate_wave()?;
+        self.validate_friction()?;
+        self.validate_counts()?;
+        self.validate_profile()
+    }
+
+    /// The wave: positive frequency, amplitude and velocity, a tangential amplitude ≥ 0, and
+    /// continuous and undamped.
+    fn validate_wave(&self) -> Result<()> {
         positive("wave.frequency_hz", self.wave.frequency_hz)?;
         positive("wave.normal_amplitude_m", self.wave.normal_amplitude_m)?;
         positive(
@@ -175,6 +184,11 @@ impl CoupledScene {
                     .into(),
             });
         }
+        Ok(())
+    }
+
+    /// Preload, friction coefficients (μ_s ≥ μ_k > 0) and the strip's share.
+    fn validate_friction(&self) -> Result<()> {
         positive("preload_n", self.preload_n)?;
         positive("mu_kinetic", self.mu_kinetic)?;
         if !(self.mu_static >= self.mu_kinetic && self.mu_static.is_finite()) {
@@ -191,6 +205,11 @@ impl CoupledScene {
                 requirement: "must lie in (0, 1]".into(),
             });
         }
+        Ok(())
+    }
+
+    /// Steps per period, curve points and the step tolerance.
+    fn validate_counts(&self) -> Result<()> {
         if self.steps_per_period < MIN_STEPS_PER_PERIOD {
             return Err(CoupledError::InvalidParameter {
                 parameter: "steps_per_period",
@@ -214,6 +233,12 @@ impl CoupledScene {
                 requirement: "must lie in (0, 1e-3)".into(),
             });
         }
+        Ok(())
+    }
+
+    /// The amplitude profile (one finite A_i/A₀ ≥ 0 per post, or none) and the start phase.
+    fn validate_profile(&self) -> Result<()> {
+        let n = self.post_x_m.len();
         if !self.amplitude_scale.is_empty() {
             if self.amplitude_scale.len() != n {
                 return Err(CoupledError::DimensionMismatch {

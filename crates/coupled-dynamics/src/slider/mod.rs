@@ -62,8 +62,8 @@ pub use maps::{MAP_FIELDS, SliderMaps};
 
 use crate::error::{CoupledError, Result};
 use crate::model::{ComplianceProduct, CoupledModel, PostHistories};
-use crate::model::CoupledPoint;
-use crate::result::{CoupledResult, assemble, curve_points_with_states, solve};
+use crate::model::{CoupledPoint, PeriodState};
+use crate::result::{CoupledResult, assemble, solve};
 use crate::scene::{CoupledScene, DEFAULT_STEPS_PER_PERIOD, PreloadBalance, WaveDirection};
 
 /// Default natural-residual tolerance of the whole slider's step solves (relative to the
@@ -246,6 +246,23 @@ pub fn middle_row_strip(
     }
     strip.validate()?;
     Ok(strip)
+}
+
+/// The steady points at `speeds` in that order, each started from the previous one's periodic
+/// state (the first from `start`), with the last one's state.
+fn chain<'a>(
+    model: &CoupledModel,
+    speeds: impl Iterator<Item = &'a f64>,
+    start: Option<PeriodState>,
+) -> Result<(Vec<CoupledPoint>, Option<PeriodState>)> {
+    let mut warm = start;
+    let mut points = Vec::new();
+    for &speed in speeds {
+        let (point, state) = model.at_speed_from(speed, warm.as_ref())?;
+        warm = Some(state);
+        points.push(point);
+    }
+    Ok((points, warm))
 }
 
 /// The normal contact of all posts at one instant: post forces for given obstacle heights.
@@ -435,10 +452,11 @@ impl SliderDynamics {
 
     /// [`Self::solve`] with the no-load speed searched from the prediction `no_load_guess_m_per_s`
     /// (the lumped model's, or the middle row's strip) by [`CoupledModel::no_load_search_near`]
-    /// to [`SLIDER_SPEED_TOLERANCE`]; every speed after the stall starts from a neighbouring
-    /// speed's periodic state: the no-load search from the stall's, the curve's chain from the
-    /// search's last, the maps at stall from the stall's and at half the no-load speed from the
-    /// curve point nearest it.
+    /// to [`SLIDER_SPEED_TOLERANCE`]. Every speed after the stall starts from a neighbouring
+    /// speed's periodic state, and the work runs as two parallel branches twice: the no-load
+    /// search (from the stall's state) beside the stall's maps; then the curve's upper half
+    /// downwards from the search's last state beside its lower half upwards from the stall's
+    /// state, which ends with the maps at half the no-load speed.
     pub fn solve_from_guess(
         &self,
         lumped: Option<&DynamicScene>,
@@ -450,34 +468,35 @@ impl SliderDynamics {
         let started = Instant::now();
         let model = &self.model;
         let (stall_point, stall_state) = model.at_speed_from(0.0, None)?;
-        let (no_load, top) = model.no_load_search_near(
-            stall_point.thrust_n,
-            guess,
-            SLIDER_SPEED_TOLERANCE,
-            Some(&stall_state),
-        )?;
+        let (search, stall_maps) = rayon::join(
+            || model.no_load_search_near(stall_point.thrust_n, guess, SLIDER_SPEED_TOLERANCE, None),
+            || model.post_means_from(0.0, Some(&stall_state)),
+        );
+        let (no_load, top) = search?;
         let points = model.scene().curve_points;
-        let solved = curve_points_with_states(model, no_load, points, top.as_ref())?;
-        let half = 0.5 * no_load;
-        let nearest = solved
-            .iter()
-            .min_by(|a, b| {
-                let d = |p: &CoupledPoint| (p.speed_m_per_s - half).abs();
-                d(&a.0).total_cmp(&d(&b.0))
-            })
-            .map(|(_, state)| state.clone());
-        let mut curve = vec![stall_point];
-        curve.extend(solved.into_iter().map(|(p, _)| p));
+        let speeds: Vec<f64> = (1..points)
+            .map(|k| no_load * k as f64 / (points - 1) as f64)
+            .collect();
+        let (lower, upper) = speeds.split_at((points - 1) / 2);
         let history_posts = self.middle_row_posts();
-        let (stall, at_half) = rayon::join(
-            || self.model.post_means_from(0.0, Some(&stall_state)),
-            || {
-                self.model
-                    .post_means_and_histories_from(half, nearest.as_ref(), &history_posts)
+        let (upper, lower) = rayon::join(
+            || chain(model, upper.iter().rev(), top),
+            || -> Result<_> {
+                let (points, last) = chain(model, lower.iter(), Some(stall_state.clone()))?;
+                let half = model.post_means_and_histories_from(
+                    0.5 * no_load,
+                    last.as_ref(),
+                    &history_posts,
+                )?;
+                Ok((points, half))
             },
         );
-        let (stall_point, stall_means, _) = stall?;
-        let (point, means, histories, _) = at_half?;
+        let (mut upper, _) = upper?;
+        let (lower, (point, means, histories, _)) = lower?;
+        upper.reverse();
+        let mut curve = vec![stall_point];
+        curve.extend(lower.into_iter().chain(upper));
+        let (stall_point, stall_means, _) = stall_maps?;
         let maps = vec![
             SliderMaps::new(&self.scene.geometry, stall_point, stall_means),
             SliderMaps::new(&self.scene.geometry, point, means),

@@ -60,43 +60,8 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
             "lumped model's estimated error {estimate:.2e} (relative, against the coupled model)"
         );
     }
-    if let Some(coupled) = &stage.coupled {
-        // The coupled warnings lead with the scene's, printed above with the lumped model's.
-        for w in coupled.warnings.iter().skip(scene.warnings.len()) {
-            eprintln!("warning: {w}");
-        }
-        let lattice = stage.coupled_slider.as_ref().map_or(String::new(), |s| {
-            format!(" (whole slider, {} × {})", s.posts_x, s.posts_y)
-        });
-        println!(
-            "coupled: {} posts{lattice}, {} steps per period, η_dyn {}",
-            coupled.posts,
-            coupled.steps_per_period,
-            coupled.eta_dyn.map_or("n/a".into(), |e| format!("{e:.4}"))
-        );
-        if let Some(half) = stage.coupled_slider.as_ref().and_then(|s| s.maps.get(1)) {
-            let (i, j) = half.hottest_post();
-            println!(
-                "hottest post at {:.4} m/s   column {i}, row {j}: {:.3e} W of friction (mean {:.3e} W)",
-                half.means.speed_m_per_s,
-                half.means.friction_power_w[i * half.posts_y + j],
-                half.total_friction_power_w() / coupled.posts as f64
-            );
-        }
-        println!(
-            "stall thrust               {:.4} N   (lumped at the static η: {:.4} N)",
-            coupled.stall_thrust_n, result.stall_thrust_n
-        );
-        println!(
-            "no-load speed              {:.4} m/s (lumped at the static η: {:.4} m/s)",
-            coupled.no_load_speed_m_per_s, result.no_load_speed_m_per_s
-        );
-        println!("max efficiency             {:.4}", coupled.efficiency);
-        println!(
-            "energy balance residual    {:.2e} (relative to the power flow)",
-            coupled.energy_balance_residual
-        );
-        println!("wall time                  {:.3} s", coupled.wall_time_s);
+    if stage.coupled.is_some() {
+        print_coupled(&stage, scene.warnings.len());
         println!("results in {}", folder.display());
         return Ok(());
     }
@@ -128,6 +93,50 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
     println!("wall time                  {:.3} s", result.wall_time_s);
     println!("results in {}", folder.display());
     Ok(())
+}
+
+/// The coupled run's figures (its warnings after the scene's `scene_warnings`, printed with
+/// the lumped model's), with the lumped model's at the static η beside them.
+fn print_coupled(stage: &sawdrive::pipeline::DynamicStage, scene_warnings: usize) {
+    let Some(coupled) = &stage.coupled else {
+        return;
+    };
+    // The coupled warnings lead with the scene's, printed above with the lumped model's.
+    for w in coupled.warnings.iter().skip(scene_warnings) {
+        eprintln!("warning: {w}");
+    }
+    let lattice = stage.coupled_slider.as_ref().map_or(String::new(), |s| {
+        format!(" (whole slider, {} × {})", s.posts_x, s.posts_y)
+    });
+    println!(
+        "coupled: {} posts{lattice}, {} steps per period, η_dyn {}",
+        coupled.posts,
+        coupled.steps_per_period,
+        coupled.eta_dyn.map_or("n/a".into(), |e| format!("{e:.4}"))
+    );
+    if let Some(half) = stage.coupled_slider.as_ref().and_then(|s| s.maps.get(1)) {
+        let (i, j) = half.hottest_post();
+        println!(
+            "hottest post at {:.4} m/s   column {i}, row {j}: {:.3e} W of friction (mean {:.3e} W)",
+            half.means.speed_m_per_s,
+            half.means.friction_power_w[i * half.posts_y + j],
+            half.total_friction_power_w() / coupled.posts as f64
+        );
+    }
+    println!(
+        "stall thrust               {:.4} N   (lumped at the static η: {:.4} N)",
+        coupled.stall_thrust_n, stage.lumped.result.stall_thrust_n
+    );
+    println!(
+        "no-load speed              {:.4} m/s (lumped at the static η: {:.4} m/s)",
+        coupled.no_load_speed_m_per_s, stage.lumped.result.no_load_speed_m_per_s
+    );
+    println!("max efficiency             {:.4}", coupled.efficiency);
+    println!(
+        "energy balance residual    {:.2e} (relative to the power flow)",
+        coupled.energy_balance_residual
+    );
+    println!("wall time                  {:.3} s", coupled.wall_time_s);
 }
 
 /// The ball model of a ball scene: `dynamic.json`, `curve.csv`, the speed–thrust chart.
