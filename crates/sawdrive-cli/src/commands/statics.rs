@@ -4,7 +4,7 @@ use std::io::Write;
 
 use sawdrive::output::{ResultKind, StagedDir};
 use sawdrive::pipeline::{
-    RunControl, StaticDetails, run_static, scene_springs, write_static_files,
+    RunControl, StaticDetails, StaticOutcome, run_static, scene_springs, write_static_files,
 };
 use sawdrive::scene::load_scene;
 
@@ -33,21 +33,32 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
     write_static_files(&outcome, staged.path())?;
     let folder = staged.commit()?;
     let mut out = std::io::stdout().lock();
-    let r = &outcome.report;
     if args.json {
-        writeln!(out, "{}", serde_json::to_string_pretty(r)?)?;
+        writeln!(out, "{}", serde_json::to_string_pretty(&outcome.report)?)?;
         return Ok(());
     }
+    print_summary(&mut out, &scene.name, &outcome)?;
+    writeln!(out, "results in {}", folder.display())?;
+    Ok(())
+}
+
+/// The table `sawdrive static` prints: the model and why, η and the contact figures, the cost.
+fn print_summary(
+    out: &mut impl Write,
+    scene_name: &str,
+    outcome: &StaticOutcome,
+) -> std::io::Result<()> {
+    let r = &outcome.report;
     match &r.details {
         StaticDetails::Strip(strip) => writeln!(
             out,
             "static contact of {}, strip model ({} posts in the strip of {})",
-            scene.name, strip.posts_in_strip, strip.posts_total
+            scene_name, strip.posts_in_strip, strip.posts_total
         )?,
         StaticDetails::Slider(stage) => writeln!(
             out,
             "static contact of {}, whole-slider model ({} × {} posts, {} back)",
-            scene.name,
+            scene_name,
             stage.report.posts_x,
             stage.report.posts_y,
             stage.report.mechanism.name()
@@ -103,6 +114,5 @@ pub fn run(args: &StageArgs) -> anyhow::Result<()> {
             outcome.cell_fem_s
         )?;
     }
-    writeln!(out, "results in {}", folder.display())?;
     Ok(())
 }

@@ -3,7 +3,7 @@
 //! current, electrical input and acoustic powers, the amplitude it launches).
 
 use anyhow::Context;
-use sawdrive::scene::{Drive, load_scene};
+use sawdrive::scene::{Drive, Scene, load_scene};
 use sawdrive::units::{Dimension, format_quantity};
 use serde::Serialize;
 use stick_slip::Warning;
@@ -60,6 +60,21 @@ struct WaveReport<'a> {
 }
 
 pub fn run(args: &WaveArgs) -> anyhow::Result<()> {
+    let scene = scene_of(args)?;
+    let report = wave_report(&scene);
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+        return Ok(());
+    }
+    for w in &report.warnings {
+        eprintln!("warning: {}: {}", w.parameter, w.message);
+    }
+    print_table(&report);
+    Ok(())
+}
+
+/// The scene of the command line, `--cut` applied as `stator.cut`.
+fn scene_of(args: &WaveArgs) -> anyhow::Result<Scene> {
     let mut overrides = args.input.overrides.clone();
     if let Some(cut) = &args.cut {
         // Quoted as a TOML string, so that the name reaches stator.cut as written.
@@ -70,11 +85,16 @@ pub fn run(args: &WaveArgs) -> anyhow::Result<()> {
             .as_ref()
             .map_or_else(String::new, |cut| format!("--cut {cut}"))
     })?;
+    Ok(scene)
+}
+
+/// The wave of `scene`: the crystal's Rayleigh wave, the power it carries, what the scene uses.
+fn wave_report(scene: &Scene) -> WaveReport<'_> {
     let motor = &scene.motor;
     let (wave, crystal) = (&motor.wave, &scene.crystal_wave);
     let per_width = crystal.power_per_width_w_per_m(wave.normal_amplitude_m, wave.frequency_hz);
     let array_width_m = motor.posts.array_y_m;
-    let report = WaveReport {
+    WaveReport {
         scene: scene.name.clone(),
         cut: motor.stator_cut.name.clone(),
         constant_set: motor.stator_cut.crystal.clone(),
@@ -98,14 +118,11 @@ pub fn run(args: &WaveArgs) -> anyhow::Result<()> {
         warnings: scene.warnings.clone(),
         drive: scene.drive.as_ref(),
         transducer: scene.drive.as_ref().map(|d| &d.response),
-    };
-    if args.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
-        return Ok(());
     }
-    for w in &report.warnings {
-        eprintln!("warning: {}: {}", w.parameter, w.message);
-    }
+}
+
+/// The table `sawdrive wave` prints.
+fn print_table(report: &WaveReport) {
     let e = report.euler_deg;
     println!(
         "Rayleigh wave of {} ({}, Euler {}°, {}°, {}°)\n",
@@ -147,8 +164,8 @@ pub fn run(args: &WaveArgs) -> anyhow::Result<()> {
             format!(
                 "{:.4} W ({} of {} array width in the beam)",
                 report.power_under_array_w,
-                length(array_width_m.min(report.aperture_m)),
-                length(array_width_m)
+                length(report.array_width_m.min(report.aperture_m)),
+                length(report.array_width_m)
             ),
         ),
         (
@@ -182,7 +199,6 @@ pub fn run(args: &WaveArgs) -> anyhow::Result<()> {
     if let Some(drive) = report.drive {
         print_drive(drive);
     }
-    Ok(())
 }
 
 /// The transducer's rows of the table.
