@@ -20,9 +20,10 @@ pub use dynamic_stage::ball::{
 };
 pub use dynamic_stage::coupled::{
     DriveFigures, DynamicJson, DynamicStage, LumpedFigures, SliderCoupledFigures,
-    run_dynamic_stage, write_dynamic_stage_files,
+    write_dynamic_stage_files,
 };
 pub use dynamic_stage::lumped::{DynamicRun, dynamic_scene, run_dynamic, write_history_charts};
+pub use dynamic_stage::run_dynamic_stage;
 pub use error::PipelineError;
 pub use local_amplitude::LocalAmplitudeEta;
 pub use run::{RunOptions, RunSummary, StageTimings, check_dynamic_figures, run_pipeline};

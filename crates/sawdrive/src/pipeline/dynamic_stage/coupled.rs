@@ -16,25 +16,22 @@ use std::path::{Path, PathBuf};
 
 use charts::{Chart, Series, Style};
 
-use contact_springs::PostSprings;
 use coupled_dynamics::{
-    CoupledModel, CoupledResult, CoupledScene, DEFAULT_AUTO_TOLERANCE, DynamicsChoice,
-    LumpedEvidence, PostHistories, PostMode, PreloadBalance, choose_model, lumped_error_estimate,
+    CoupledModel, CoupledResult, CoupledScene, PostHistories, PostMode, PreloadBalance,
 };
 use nalgebra::DMatrix;
 use serde::Serialize;
 use stick_slip::{CurvePoint, DynamicResult, ModelKind, VerticalModel};
 
 use super::attenuation::{self, WaveAttenuation, WaveBooks};
-use super::lumped::{DynamicRun, run_dynamic, write_history_charts};
+use super::lumped::{DynamicRun, write_history_charts};
 use super::whole_slider;
 pub use super::whole_slider::SliderCoupledFigures;
 use crate::output::io;
 use crate::pipeline::local_amplitude::LocalAmplitudeEta;
 use crate::pipeline::{PipelineError, RunControl};
-use crate::pipeline::{StaticDetails, StaticOutcome, strip_tips};
-use crate::scene::StaticModel;
-use crate::scene::{DEFAULT_COUPLED_STEPS_PER_PERIOD, Dynamics, Scene};
+use crate::pipeline::{StaticOutcome, strip_tips};
+use crate::scene::{DEFAULT_COUPLED_STEPS_PER_PERIOD, Scene};
 
 /// What the dynamic stage produced.
 #[derive(Debug, Clone)]
@@ -413,92 +410,18 @@ fn histories_charts(title: &str, h: &PostHistories) -> [Chart; 2] {
     ]
 }
 
-/// Run the dynamic stage of `scene` at η = `effective_ratio`: the lumped model, and the coupled
-/// one when `model.dynamics` asks for it or `auto` finds the lumped model's estimated error above
-/// `model.lumped_tolerance`. `statics` is the static stage's outcome (`None`: η was given);
-/// `cache_dir` holds the strip's tip compliances between runs. `control` is asked before each
-/// point of the lumped curve and before the coupled model (which itself is not interrupted).
-pub fn run_dynamic_stage(
-    scene: &Scene,
-    springs: &PostSprings,
-    effective_ratio: f64,
-    statics: Option<&StaticOutcome>,
-    cache_dir: Option<&Path>,
-    control: &RunControl,
-) -> Result<DynamicStage, PipelineError> {
-    let lumped = run_dynamic(scene, springs, effective_ratio, control)?;
-    let evidence = statics.and_then(|s| {
-        evidence(
-            s,
-            lumped.result.no_load_speed_m_per_s,
-            scene.motor.wave.crest_speed_m_per_s(),
-        )
-    });
-    let estimate = evidence.as_ref().map(lumped_error_estimate);
-    let (run_coupled, reason) = decide(scene, statics, evidence.as_ref(), &lumped)?;
-    let mut lumped = lumped;
-    let mut local_amplitude = None;
-    let outcome = match (run_coupled, statics) {
-        (true, Some(statics)) => {
-            PipelineError::check(control, "dynamic (coupled model)")?;
-            match &statics.report.details {
-                StaticDetails::Slider(stage) => slider_coupled(scene, stage, &lumped)?,
-                StaticDetails::Strip(_) => {
-                    strip_coupled(scene, statics, &lumped, cache_dir, control)?
-                }
-            }
-        }
-        _ => {
-            let mut attenuated =
-                attenuation::attenuate_lumped(scene, &lumped.scene, &mut lumped.result)?;
-            if let Some(statics) = statics {
-                local_amplitude = crate::pipeline::local_amplitude::settle(
-                    scene,
-                    springs,
-                    statics,
-                    cache_dir,
-                    control,
-                    &mut lumped,
-                    &mut attenuated,
-                )?;
-            }
-            CoupledOutcome::lumped(attenuated.wave, attenuated.books)
-        }
-    };
-    let mut stage = DynamicStage {
-        lumped,
-        coupled: outcome.result,
-        coupled_histories: outcome.histories,
-        coupled_step_error_estimate: outcome.step_error,
-        dynamics_reason: reason,
-        lumped_error_estimate: estimate,
-        wave: outcome.wave,
-        wave_books: outcome.books,
-        local_amplitude,
-        drive: None,
-        coupled_slider: outcome.slider,
-    };
-    let max_output_w = stage
-        .curve()
-        .iter()
-        .map(|p| p.output_power_w)
-        .fold(0.0, f64::max);
-    stage.drive = DriveFigures::of(scene, max_output_w)?;
-    Ok(stage)
-}
-
 /// What the coupled branch of the dynamic stage hands on (empty after a lumped run).
-struct CoupledOutcome {
-    result: Option<CoupledResult>,
-    histories: Option<PostHistories>,
-    step_error: Option<f64>,
-    wave: WaveAttenuation,
-    books: Vec<WaveBooks>,
-    slider: Option<SliderCoupledFigures>,
+pub(super) struct CoupledOutcome {
+    pub(super) result: Option<CoupledResult>,
+    pub(super) histories: Option<PostHistories>,
+    pub(super) step_error: Option<f64>,
+    pub(super) wave: WaveAttenuation,
+    pub(super) books: Vec<WaveBooks>,
+    pub(super) slider: Option<SliderCoupledFigures>,
 }
 
 impl CoupledOutcome {
-    fn lumped(wave: WaveAttenuation, books: Vec<WaveBooks>) -> Self {
+    pub(super) fn lumped(wave: WaveAttenuation, books: Vec<WaveBooks>) -> Self {
         Self {
             result: None,
             histories: None,
@@ -539,7 +462,7 @@ fn coupled_books(
 }
 
 /// The coupled model of the static strip's row (with the energy-conserving wave when it is on).
-fn strip_coupled(
+pub(super) fn strip_coupled(
     scene: &Scene,
     statics: &StaticOutcome,
     lumped: &DynamicRun,
@@ -566,7 +489,7 @@ fn strip_coupled(
 }
 
 /// The coupled model of every post of the whole slider (constant-amplitude wave).
-fn slider_coupled(
+pub(super) fn slider_coupled(
     scene: &Scene,
     stage: &crate::pipeline::SliderStage,
     lumped: &DynamicRun,
@@ -642,101 +565,6 @@ fn attenuate_coupled(run: &mut CoupledRun, power_in_w: f64) -> Result<(), Pipeli
         .map(|p| Some(p.wave_power_out_w))
         .collect();
     Ok(())
-}
-
-/// The criterion's evidence from the static stage of either model: its η fit's misfit (the
-/// strip's main preload, or the whole slider's fit), with the lumped no-load speed.
-fn evidence(
-    statics: &StaticOutcome,
-    lumped_no_load_speed_m_per_s: f64,
-    crest_speed_m_per_s: f64,
-) -> Option<LumpedEvidence> {
-    match &statics.report.details {
-        StaticDetails::Strip(report) => {
-            LumpedEvidence::from_report(report, lumped_no_load_speed_m_per_s, crest_speed_m_per_s)
-        }
-        StaticDetails::Slider(slider) => {
-            let fit = &slider.report.eta_fit;
-            fit.eta.map(|_| LumpedEvidence {
-                eta_fit_misfit: fit.relative_rms_residual,
-                lumped_no_load_speed_m_per_s,
-                crest_speed_m_per_s,
-            })
-        }
-    }
-}
-
-/// Whether the coupled model runs, and why.
-fn decide(
-    scene: &Scene,
-    statics: Option<&StaticOutcome>,
-    evidence: Option<&LumpedEvidence>,
-    lumped: &DynamicRun,
-) -> Result<(bool, String), PipelineError> {
-    match (scene.model.dynamics, statics, evidence) {
-        (Dynamics::Lumped(_), _, _) => Ok((false, "model.dynamics names a lumped model".into())),
-        (Dynamics::Coupled, None, _) => Err(PipelineError::Unsupported {
-            stage: "dynamic",
-            message: "model.dynamics = \"coupled\" needs the static stage's strip compliance, \
-                      but contact.effective_ratio is given: set it to \"fem\""
-                .into(),
-        }),
-        (Dynamics::Coupled, Some(s), _) if s.report.model == StaticModel::Slider => {
-            whole_slider::check_scene(scene)?;
-            Ok((
-                true,
-                "model.dynamics = \"coupled\" asks for it: every post of the whole slider \
-                 (static.model = \"slider\") on its own static state"
-                    .into(),
-            ))
-        }
-        (Dynamics::Coupled, Some(_), _) => {
-            Ok((true, "model.dynamics = \"coupled\" asks for it".into()))
-        }
-        (Dynamics::Auto, None, _) => Ok((
-            false,
-            "lumped: η is given (contact.effective_ratio), so no static fit estimates the \
-             lumped model's error and the coupled model has no strip compliance"
-                .into(),
-        )),
-        (Dynamics::Auto, Some(_), None) => Ok((
-            false,
-            "lumped: the static stage fitted no η, so the lumped model's error cannot be \
-             estimated"
-                .into(),
-        )),
-        (Dynamics::Auto, Some(s), Some(evidence)) => {
-            let tolerance = scene
-                .model
-                .lumped_tolerance
-                .unwrap_or(DEFAULT_AUTO_TOLERANCE);
-            let decision = choose_model(evidence, tolerance)?;
-            let coupled = decision.model == DynamicsChoice::Coupled;
-            if s.report.model != StaticModel::Slider {
-                return Ok((coupled, decision.reason));
-            }
-            let reason = format!(
-                "whole slider (every post, static.model = \"slider\"): {}; the estimate uses \
-                 the whole slider's η fit misfit with the strips' envelope factor",
-                decision.reason
-            );
-            let stall_draw_w = attenuation::lumped_stall_draw_w(&lumped.scene)?;
-            if coupled && attenuation::decide(scene, stall_draw_w.unwrap_or(0.0))?.on() {
-                return Ok((
-                    false,
-                    format!(
-                        "{reason}; but the energy-conserving wave is on (wave.attenuation) and \
-                         the whole slider's coupled model keeps the constant-amplitude wave, so \
-                         the lumped model runs (on the local amplitude)"
-                    ),
-                ));
-            }
-            if coupled {
-                whole_slider::check_scene(scene)?;
-            }
-            Ok((coupled, reason))
-        }
-    }
 }
 
 /// Fraction of the coupled no-load speed at which the post histories are taken.
