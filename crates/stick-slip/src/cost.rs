@@ -19,15 +19,7 @@ use crate::result::CurvePoint;
 use crate::scene::{DynamicScene, ModelKind, SolveOptions};
 use crate::slider::PostLayout;
 
-/// Largest memory a run may hold in its per-period records, histories, curve and layout
-/// (bytes). Default 1 GiB: the default transient (1000 periods) needs ≈ 0.2 MB.
-pub const MAX_RUN_MEMORY_BYTES: f64 = 1024.0 * 1024.0 * 1024.0;
-/// Largest estimated work of a run in post-steps (one phase group advanced by one time step).
-/// Default 2·10¹⁰: a few minutes at ≈ 10⁸ post-steps/s (the default return-mapping transient
-/// of the 10 × 10-post scene, `sawdrive dynamic tests/scenes/small-strip.toml --set
-/// effective_ratio=0.36`, is estimated at ≤ 7.7·10⁷ post-steps and takes ≈ 1 s); the
-/// automatic `regularized` step on that scene is estimated at 2·10¹¹ and refused.
-pub const MAX_POST_STEPS: f64 = 2e10;
+pub use crate::limits::{MAX_POST_STEPS, MAX_RUN_MEMORY_BYTES};
 /// Wave periods a fixed-step period average integrates per speed, at most (its periodic steady
 /// state search, `post::stepping`). Default 64.
 const PERIOD_AVERAGE_PERIODS_PER_SPEED: f64 = 64.0;

@@ -214,3 +214,17 @@ pub(crate) fn require_finite(parameter: &'static str, value: f64) -> Result<()> 
         })
     }
 }
+
+/// `Err(Cancelled)` naming the step `before` if the caller asked to stop. A run asks before
+/// each long step (each point of the speed–thrust curve, each transient run); once the stop
+/// request answers yes it ends with
+/// [`StickSlipError::Cancelled`](crate::StickSlipError::Cancelled) and returns nothing.
+pub(crate) fn stop_check(
+    control: &run_control::RunControl,
+    before: impl FnOnce() -> String,
+) -> Result<()> {
+    match control.should_stop() {
+        true => Err(crate::StickSlipError::Cancelled { before: before() }),
+        false => Ok(()),
+    }
+}

@@ -103,12 +103,12 @@ impl Integrator {
     }
 
     /// The concrete scheme `auto` stands for in `model` (others map to themselves).
-    pub fn resolve(&self, model: crate::scene::ModelKind, period_s: f64) -> Self {
+    pub fn resolve(&self, model: crate::model_kind::ModelKind, period_s: f64) -> Self {
         match (self, model) {
-            (Self::Auto, crate::scene::ModelKind::PeriodicAverage) => {
+            (Self::Auto, crate::model_kind::ModelKind::PeriodicAverage) => {
                 Self::EventDriven { max_step_s: None }
             }
-            (Self::Auto, crate::scene::ModelKind::Transient) => Self::ReturnMapping {
+            (Self::Auto, crate::model_kind::ModelKind::Transient) => Self::ReturnMapping {
                 dt_s: period_s / TRANSIENT_DEFAULT_STEPS_PER_PERIOD,
             },
             (other, _) => *other,

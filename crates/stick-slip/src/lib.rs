@@ -6,8 +6,10 @@ mod cost;
 mod error;
 mod history;
 mod integrator;
+mod limits;
 mod math;
 mod mean_normal;
+mod model_kind;
 mod periodic;
 #[cfg(feature = "charts")]
 pub mod plots;

@@ -9,6 +9,7 @@ use std::time::Instant;
 
 use serde::Serialize;
 
+use crate::error::stop_check;
 use crate::error::{Result, StickSlipError, Warning};
 use crate::history::{ContactState, PostHistory};
 use crate::integrator::Integrator;
@@ -19,7 +20,6 @@ use crate::post::stepping::{StepScheme, SteppedPost};
 use crate::post::{Mode, PostParams, PostState, SteadyPost};
 use crate::result::{CurvePoint, DynamicResult, OperatingPoint};
 use crate::scene::{DynamicScene, ModelChoice, ModelKind};
-use crate::solve::stop_check;
 use run_control::RunControl;
 
 /// Relative tolerance (of the crest speed) of the no-load speed and load-speed roots.

@@ -52,15 +52,7 @@ impl ModelChoice {
     ];
 }
 
-/// The model that actually ran.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum ModelKind {
-    /// Period-average of one post at imposed speed.
-    PeriodicAverage,
-    /// Transient of all phase groups.
-    Transient,
-}
+pub use crate::model_kind::ModelKind;
 
 /// Where the transient starts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -154,8 +146,8 @@ impl Default for SolveOptions {
             wave_limits: WaveLimits::default(),
             transient: TransientOptions::default(),
             history: HistoryOptions::default(),
-            max_memory_bytes: crate::cost::MAX_RUN_MEMORY_BYTES,
-            max_post_steps: crate::cost::MAX_POST_STEPS,
+            max_memory_bytes: crate::limits::MAX_RUN_MEMORY_BYTES,
+            max_post_steps: crate::limits::MAX_POST_STEPS,
         }
     }
 }

@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use motor::{Motor, PostArray};
 
-use crate::cost::MAX_RUN_MEMORY_BYTES;
+use crate::limits::MAX_RUN_MEMORY_BYTES;
 use crate::error::{
     Result, StickSlipError, Warning, require_finite, require_non_negative, require_positive,
 };

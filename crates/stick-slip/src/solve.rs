@@ -2,7 +2,7 @@
 
 use run_control::RunControl;
 
-use crate::error::Result;
+use crate::error::{Result, stop_check};
 use crate::history::{PostHistory, SliderHistory};
 use crate::periodic::PeriodicAverageModel;
 use crate::result::DynamicResult;
@@ -27,17 +27,6 @@ pub struct RunHistories {
     pub post: PostHistory,
     /// The slider (transient only).
     pub slider: Option<SliderHistory>,
-}
-
-/// `Err(Cancelled)` naming the step `before` if the caller asked to stop. A run asks before
-/// each long step (each point of the speed–thrust curve, each transient run); once the stop
-/// request answers yes it ends with
-/// [`StickSlipError::Cancelled`](crate::StickSlipError::Cancelled) and returns nothing.
-pub(crate) fn stop_check(control: &RunControl, before: impl FnOnce() -> String) -> Result<()> {
-    match control.should_stop() {
-        true => Err(crate::StickSlipError::Cancelled { before: before() }),
-        false => Ok(()),
-    }
 }
 
 /// [`solve`] plus the histories the charts need (`plots::write_post_history_chart`,

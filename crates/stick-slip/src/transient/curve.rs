@@ -14,11 +14,11 @@
 
 use std::time::Instant;
 
+use crate::error::stop_check;
 use crate::error::{Result, StickSlipError, Warning};
 use crate::integrator::Integrator;
 use crate::result::{CurvePoint, DynamicResult, OperatingPoint, TransientSummary};
 use crate::scene::{ModelKind, TransientStart};
-use crate::solve::stop_check;
 use run_control::RunControl;
 
 use super::run::STEADY_TOLERANCE;
