@@ -32,10 +32,10 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::error::{Result, SliderError, invalid};
+use crate::error::{Result, invalid};
 use crate::lattice::ComplianceOperator;
 use crate::precondition::ContactPreconditioner;
-use crate::solver::{CgOptions, CgSolution};
+use crate::solver::{CgOptions, CgSolution, not_converged, step_forces};
 
 /// Iterations of the multiplicative balance correction (each drops the posts whose factor is
 /// negative). Default 20.
@@ -266,18 +266,6 @@ fn restart_forces(f: &mut [f64], arms: &[(f64, f64)]) {
     rebalance(f, arms);
 }
 
-/// The iteration limit reached: the last residual, the tolerance and the contact set's size.
-pub(crate) fn not_converged(options: &CgOptions, history: &[f64], f: &[f64]) -> SliderError {
-    SliderError::NotConverged {
-        iterations: options.max_iterations,
-        residual: history.last().copied().unwrap_or(f64::NAN),
-        tolerance: options.tolerance,
-        active: f.iter().filter(|&&x| x > 0.0).count(),
-        posts: f.len(),
-        context: String::new(),
-    }
-}
-
 /// The conjugate search direction of one iteration on the contact set.
 struct Direction<'a> {
     op: &'a dyn ComplianceOperator,
@@ -416,24 +404,6 @@ fn descent(g: &[f64], t: &[f64], r: &[f64], s: f64, contact: &[bool]) -> (f64, f
         rt += s * r[i] * t[i];
     }
     (gt, rt)
-}
-
-/// The step f ← max(f − τ t, 0) on the contact set; a penetrating post outside it re-enters
-/// (Polonsky & Keer step 7). Returns whether the contact set changed.
-pub(crate) fn step_forces(f: &mut [f64], t: &[f64], g: &[f64], contact: &[bool], tau: f64) -> bool {
-    let mut set_changed = false;
-    for i in 0..f.len() {
-        if contact[i] {
-            let fi = f[i] - tau * t[i];
-            set_changed |= fi <= 0.0;
-            f[i] = fi.max(0.0);
-        }
-        if f[i] == 0.0 && g[i] < 0.0 {
-            f[i] = -tau.max(f64::MIN_POSITIVE) * g[i];
-            set_changed = true;
-        }
-    }
-    set_changed
 }
 
 /// The converged solution in SI: forces (scaled by `f0`), gaps, rigid-body position and

@@ -22,10 +22,13 @@
 //! or into the contact set, u = Cf is carried as (u − τ·Ct)·(N/Σf) (the rescaling is linear)
 //! instead of recomputed: one operator application per iteration instead of two (recomputed every
 //! [`MAX_UPDATED_U`] iterations, after a change of the set and before convergence is declared).
+//!
+//! The step with re-entry ([`step_forces`]) and the iteration-limit error ([`not_converged`]) live
+//! here and are shared with [`crate::balanced`], which builds on this module (never the reverse).
 
 use serde::Serialize;
 
-use crate::error::{Result, invalid};
+use crate::error::{Result, SliderError, invalid};
 use crate::lattice::ComplianceOperator;
 
 /// Default tolerance on the scaled complementarity residual max_i |min(f_i N/P, g_i/L)|.
@@ -287,7 +290,7 @@ impl ConstrainedCg {
                 &mut r,
             );
             let tau = if rt > 0.0 { gt / rt } else { 0.0 };
-            let set_changed = crate::balanced::step_forces(&mut f, &t, &g, &contact, tau);
+            let set_changed = step_forces(&mut f, &t, &g, &contact, tau);
             let sum: f64 = f.iter().sum();
             if sum <= 0.0 {
                 f.iter_mut().for_each(|x| *x = 1.0);
@@ -299,8 +302,38 @@ impl ConstrainedCg {
                 updated_for = rescaled_u(updated_for, set_changed, (tau, s, scale), &r, &mut u);
             }
         }
-        Err(crate::balanced::not_converged(&self.options, &history, &f))
+        Err(not_converged(&self.options, &history, &f))
     }
+}
+
+/// The iteration limit reached: the last residual, the tolerance and the contact set's size.
+pub(crate) fn not_converged(options: &CgOptions, history: &[f64], f: &[f64]) -> SliderError {
+    SliderError::NotConverged {
+        iterations: options.max_iterations,
+        residual: history.last().copied().unwrap_or(f64::NAN),
+        tolerance: options.tolerance,
+        active: f.iter().filter(|&&x| x > 0.0).count(),
+        posts: f.len(),
+        context: String::new(),
+    }
+}
+
+/// The step f ← max(f − τ t, 0) on the contact set; a penetrating post outside it re-enters
+/// (Polonsky & Keer step 7). Returns whether the contact set changed.
+pub(crate) fn step_forces(f: &mut [f64], t: &[f64], g: &[f64], contact: &[bool], tau: f64) -> bool {
+    let mut set_changed = false;
+    for i in 0..f.len() {
+        if contact[i] {
+            let fi = f[i] - tau * t[i];
+            set_changed |= fi <= 0.0;
+            f[i] = fi.max(0.0);
+        }
+        if f[i] == 0.0 && g[i] < 0.0 {
+            f[i] = -tau.max(f64::MIN_POSITIVE) * g[i];
+            set_changed = true;
+        }
+    }
+    set_changed
 }
 
 /// u ← (u − τ C t) · scale (r = s·C t) while the contact set is unchanged, for at most
