@@ -9,6 +9,7 @@ pub mod punch;
 pub mod punch_mesh;
 pub mod report;
 pub mod richardson;
+pub mod serde_nan;
 pub mod spring;
 pub mod stability;
 pub mod stick_slip;

@@ -10,20 +10,7 @@ use crate::error::ValidationError;
 use crate::spring::Spring;
 use crate::study::SpringsValidation;
 
-/// Deserialises a number that serde_json wrote as `null` because it was NaN (not computed).
-pub fn f64_or_nan<'de, D: serde::Deserializer<'de>>(deserializer: D) -> Result<f64, D::Error> {
-    use serde::Deserialize;
-    Ok(Option::<f64>::deserialize(deserializer)?.unwrap_or(f64::NAN))
-}
-
-/// Deserialises a pair of numbers, either of which may have been written as `null` (NaN).
-pub fn pair_or_nan<'de, D: serde::Deserializer<'de>>(
-    deserializer: D,
-) -> Result<[f64; 2], D::Error> {
-    use serde::Deserialize;
-    let [a, b] = <[Option<f64>; 2]>::deserialize(deserializer)?;
-    Ok([a.unwrap_or(f64::NAN), b.unwrap_or(f64::NAN)])
-}
+pub use crate::serde_nan::{f64_or_nan, pair_or_nan};
 
 /// Reads a `results.json` written by [`write_json`] (e.g. to redraw the charts).
 pub fn read_results(path: &Path) -> Result<SpringsValidation, ValidationError> {

@@ -32,7 +32,7 @@ pub struct Extrapolation {
     /// Estimated absolute error of `value`: |k∞(finest pair) − k∞(previous pair)|.
     pub error_estimate: f64,
     /// Observed order from the three finest levels (NaN if the differences change sign).
-    #[serde(deserialize_with = "crate::report::f64_or_nan")]
+    #[serde(deserialize_with = "crate::serde_nan::f64_or_nan")]
     pub observed_order: f64,
     /// Whether the observed order is inside [`ASYMPTOTIC_ORDER_RANGE`].
     pub asymptotic: bool,

@@ -18,10 +18,10 @@ pub struct LockingPoint {
     /// Poisson ratio.
     pub poisson_ratio: f64,
     /// Tet4 stiffness / analytic k_sn = 4Ga/(1 − ν).
-    #[serde(deserialize_with = "crate::report::f64_or_nan")]
+    #[serde(deserialize_with = "crate::serde_nan::f64_or_nan")]
     pub tet4_over_analytic: f64,
     /// Tet10 stiffness / analytic k_sn.
-    #[serde(deserialize_with = "crate::report::f64_or_nan")]
+    #[serde(deserialize_with = "crate::serde_nan::f64_or_nan")]
     pub tet10_over_analytic: f64,
 }
 
@@ -136,12 +136,12 @@ pub struct DistortionPoint {
     /// Interior corner nodes moved by up to this fraction of their shortest edge.
     pub amplitude: f64,
     /// Smallest element shape quality (1 = regular), or NaN if the mesh was refused.
-    #[serde(deserialize_with = "crate::report::f64_or_nan")]
+    #[serde(deserialize_with = "crate::serde_nan::f64_or_nan")]
     pub min_quality: f64,
     /// Elements below elastic-fem's "poor" quality threshold.
     pub poor_elements: usize,
     /// FEM stiffness / analytic for the spring, or NaN if the mesh was refused.
-    #[serde(deserialize_with = "crate::report::f64_or_nan")]
+    #[serde(deserialize_with = "crate::serde_nan::f64_or_nan")]
     pub stiffness_over_analytic: f64,
     /// elastic-fem's error if the mesh was refused (inverted or degenerate element), else empty.
     pub refusal: String,

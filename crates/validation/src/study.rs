@@ -231,21 +231,21 @@ pub struct SpringCase {
     /// Extrapolated FEM stiffness (N/m).
     pub fem_n_per_m: f64,
     /// Estimated relative error of `fem_n_per_m` (discretisation + truncation).
-    #[serde(deserialize_with = "crate::report::f64_or_nan")]
+    #[serde(deserialize_with = "crate::serde_nan::f64_or_nan")]
     pub fem_error_estimate: f64,
     /// Formula value (N/m).
     pub analytic_n_per_m: f64,
     /// fem / analytic − 1.
-    #[serde(deserialize_with = "crate::report::f64_or_nan")]
+    #[serde(deserialize_with = "crate::serde_nan::f64_or_nan")]
     pub relative_difference: f64,
     /// Relative discretisation error estimate (Richardson).
-    #[serde(deserialize_with = "crate::report::f64_or_nan")]
+    #[serde(deserialize_with = "crate::serde_nan::f64_or_nan")]
     pub discretisation_error_estimate: f64,
     /// Relative truncation error estimate (R/a study), NaN if not run.
-    #[serde(deserialize_with = "crate::report::f64_or_nan")]
+    #[serde(deserialize_with = "crate::serde_nan::f64_or_nan")]
     pub truncation_error_estimate: f64,
     /// Observed convergence order in h_e (theory: 1).
-    #[serde(deserialize_with = "crate::report::f64_or_nan")]
+    #[serde(deserialize_with = "crate::serde_nan::f64_or_nan")]
     pub observed_order: f64,
     /// Whether the observed order is in the asymptotic range.
     pub asymptotic: bool,
@@ -261,7 +261,7 @@ pub struct SpringCase {
     /// wrong-boundary-condition check.
     pub partner_spring: Spring,
     /// fem / partner formula − 1.
-    #[serde(deserialize_with = "crate::report::f64_or_nan")]
+    #[serde(deserialize_with = "crate::serde_nan::f64_or_nan")]
     pub partner_relative_difference: f64,
     /// |partner_relative_difference| > fem_error_estimate + AGREEMENT_TOLERANCE: the FEM value
     /// rejects the wrong condition.
@@ -302,7 +302,7 @@ pub struct WorkPrecisionPoint {
     /// Stage times of that run.
     pub timings: crate::punch::StageTimings,
     /// |FEM / exact − 1|.
-    #[serde(deserialize_with = "crate::report::f64_or_nan")]
+    #[serde(deserialize_with = "crate::serde_nan::f64_or_nan")]
     pub relative_error: f64,
 }
 
@@ -348,7 +348,7 @@ pub struct SpringsValidation {
     pub wall_s: f64,
     /// 1-minute load average of the machine at the start and end of the study (Linux
     /// /proc/loadavg; NaN elsewhere): context for the wall times on a shared machine.
-    #[serde(deserialize_with = "crate::report::pair_or_nan")]
+    #[serde(deserialize_with = "crate::serde_nan::pair_or_nan")]
     pub load_average: [f64; 2],
     /// Logical CPUs available.
     pub cpus: usize,

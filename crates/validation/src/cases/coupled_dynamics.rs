@@ -67,10 +67,7 @@ const CASE: &str = "coupled-dynamics";
 
 /// Smallest observed order of the step error between successive step counts. 1.2.
 pub const MIN_ORDER: f64 = 1.2;
-/// Largest step error at T/128 against the reference (measured 1.3e-4). 1e-3.
-pub const T128_ERROR: f64 = 1e-3;
-/// Largest energy balance residual of a coupled curve point (measured ≤ 2.9e-14). 1e-10.
-pub const ENERGY_BALANCE: f64 = 1e-10;
+pub use super::coupled_strips::{ENERGY_BALANCE, T128_ERROR};
 /// Largest wave balance residual / P_in of the energy-conserving wave. 1e-6.
 pub const ATTENUATION_BALANCE: f64 = 1e-6;
 /// Largest relative difference of the weak-load limit from the constant amplitude. 1e-6.
@@ -250,13 +247,6 @@ fn io(path: &Path, source: std::io::Error) -> ValidationError {
     }
 }
 
-pub(super) fn write(path: &Path, text: &str) -> Result<(), ValidationError> {
-    if let Some(dir) = path.parent() {
-        std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
-    }
-    std::fs::write(path, text).map_err(|e| io(path, e))
-}
-
 /// Runs the case at `level`, writing into `out`; `runner` runs one whole-row scene through the
 /// pipeline.
 pub fn run(
@@ -269,7 +259,7 @@ pub fn run(
     checks.extend(whole_rows(&s, out, runner)?);
     if !s.short_strips.is_empty() {
         let (strip_checks, csv) = super::coupled_strips::run(&s.short_strips)?;
-        write(&out.join("results/short_strips.csv"), &csv)?;
+        super::write_text(&out.join("results/short_strips.csv"), &csv)?;
         checks.extend(strip_checks);
     }
     if s.strip_work_precision {
@@ -299,7 +289,7 @@ fn work_precision(s: &Setup, out: &Path) -> Result<Vec<Check>, ValidationError> 
         balance = balance.max(r.2);
         points.push((steps, e, r.3));
     }
-    write(&out.join("results/row_work_precision.csv"), &csv)?;
+    super::write_text(&out.join("results/row_work_precision.csv"), &csv)?;
     let mut chart = Chart::new(
         format!(
             "Work-precision, coupled row, {slider} (reference T/{})",
@@ -541,7 +531,7 @@ fn whole_rows(
             "validation/coupled-dynamics/README.md, energy",
         ));
     }
-    write(&out.join("results/whole_rows.csv"), &csv)?;
+    super::write_text(&out.join("results/whole_rows.csv"), &csv)?;
     Ok(checks)
 }
 

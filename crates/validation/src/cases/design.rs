@@ -233,7 +233,7 @@ fn convergence(draws: &[f64], (mean, sd): (f64, f64), out: &Path) -> Result<(), 
             bands.entry(what).or_default().push((n as f64, band));
         }
     }
-    super::coupled_dynamics::write(&out.join("results/uq_convergence.csv"), &csv)?;
+    super::write_text(&out.join("results/uq_convergence.csv"), &csv)?;
     let mut chart = Chart::new(
         "UQ convergence, N(2, 0.5²): relative error of each statistic and its 4-standard-error band",
         "samples N",

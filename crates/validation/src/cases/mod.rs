@@ -535,3 +535,18 @@ fn case_section(o: &CaseOutcome, commit: &str) -> String {
     s += "\n";
     s
 }
+
+/// Writes `text` to `path`, creating its folder (a case's CSV results).
+pub(crate) fn write_text(
+    path: &std::path::Path,
+    text: &str,
+) -> Result<(), crate::error::ValidationError> {
+    let io = |p: &std::path::Path, source: std::io::Error| crate::error::ValidationError::Io {
+        path: p.to_path_buf(),
+        source,
+    };
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
+    }
+    std::fs::write(path, text).map_err(|e| io(path, e))
+}
