@@ -22,8 +22,8 @@
 
 use rayon::prelude::*;
 
+use crate::chebyshev::Chebyshev;
 use crate::error::{FemError, FemResult};
-use crate::iterative::Chebyshev;
 use crate::sparse::csr::ROW_BLOCK;
 use crate::sparse::{
     CsrMatrix, FactorOptions, NumericCholesky, Ordering, RowSparse, SymbolicCholesky,

@@ -1,11 +1,11 @@
 #![doc = include_str!("../README.md")]
-
 #![warn(missing_docs)]
 // Index loops mirror the tensor formulas (C_ijkl, K_ab,ij); iterator chains would obscure them.
 #![allow(clippy::needless_range_loop)]
 
 pub mod amg;
 pub mod assembly;
+pub mod chebyshev;
 pub mod condense;
 pub mod constraints;
 pub mod element;
