@@ -6,7 +6,6 @@ use serde::Serialize;
 
 use crate::error::{MeshError, Result};
 use crate::geometry::{self, Point};
-use crate::quality::{self, QualityReport};
 
 /// Tetrahedra, all of one order. Node indices are 0-based into [`TetMesh::nodes`].
 ///
@@ -312,27 +311,5 @@ impl TetMesh {
                 [hi[0].max(p[0]), hi[1].max(p[1]), hi[2].max(p[2])],
             ]
         }))
-    }
-
-    /// Element quality: radius ratio statistics, poor, inverted and degenerate tets.
-    pub fn quality(&self) -> QualityReport {
-        quality::assess(self)
-    }
-
-    /// [`MeshError::BadElements`] if a tet is inverted or degenerate (a mesh made from another,
-    /// e.g. by [`crate::elevate`] or [`crate::mirror`], is checked as a file is on reading).
-    pub(crate) fn check_elements(&self) -> Result<()> {
-        let quality = self.quality();
-        if quality.has_bad_elements() {
-            return Err(MeshError::BadElements {
-                file: self.source.clone(),
-                inverted_count: quality.inverted_count,
-                degenerate_count: quality.degenerate_count,
-                shown: quality::MAX_LISTED_TAGS,
-                inverted_tags: quality.inverted_tags,
-                degenerate_tags: quality.degenerate_tags,
-            });
-        }
-        Ok(())
     }
 }

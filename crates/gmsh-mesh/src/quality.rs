@@ -1,7 +1,12 @@
 //! Element quality: radius ratio, inverted and degenerate tetrahedra, reported by element tag.
+//!
+//! Builds on [`crate::mesh`] (it reads a [`TetMesh`]), and holds the mesh's quality methods
+//! ([`TetMesh::quality`] and the bad-element check) so that the mesh module does not depend
+//! on it.
 
 use serde::Serialize;
 
+use crate::error::{MeshError, Result};
 use crate::geometry::{self, Point};
 use crate::mesh::{TetMesh, Tets};
 
@@ -79,6 +84,30 @@ impl std::fmt::Display for QualityReport {
         write!(f, ", degenerate {}", self.degenerate_count)?;
         if !self.degenerate_tags.is_empty() {
             write!(f, " (tags {:?})", self.degenerate_tags)?;
+        }
+        Ok(())
+    }
+}
+
+impl TetMesh {
+    /// Element quality: radius ratio statistics, poor, inverted and degenerate tets.
+    pub fn quality(&self) -> QualityReport {
+        assess(self)
+    }
+
+    /// [`MeshError::BadElements`] if a tet is inverted or degenerate (a mesh made from another,
+    /// e.g. by [`crate::elevate`] or [`crate::mirror`], is checked as a file is on reading).
+    pub(crate) fn check_elements(&self) -> Result<()> {
+        let quality = self.quality();
+        if quality.has_bad_elements() {
+            return Err(MeshError::BadElements {
+                file: self.source.clone(),
+                inverted_count: quality.inverted_count,
+                degenerate_count: quality.degenerate_count,
+                shown: MAX_LISTED_TAGS,
+                inverted_tags: quality.inverted_tags,
+                degenerate_tags: quality.degenerate_tags,
+            });
         }
         Ok(())
     }
