@@ -6,12 +6,14 @@
 //! K. Shibayama, "Propagation and amplification of Rayleigh waves and piezoelectric leaky surface
 //! waves in LiNbO3", *J. Appl. Phys.* 43, 856 (1972) for 128° Y-X. Range of validity: any finite
 //! Euler angles; the named cuts are the three of the table below.
+//!
+//! The cut is the input of [`crate::wave`], which also holds [`Cut::solve`], so this module
+//! does not depend on the solver.
 
 use crate::error::WaveError;
 use crate::material::Material;
 use crate::materials;
 use crate::rotation::EulerAngles;
-use crate::wave::RayleighWave;
 
 /// A crystal cut: the material in its crystal axes and the wave frame's Euler angles.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -86,11 +88,6 @@ impl Cut {
             "{} ({}, Euler {}°, {}°, {}°)",
             self.name, self.material.name, e.phi_deg, e.theta_deg, e.psi_deg
         )
-    }
-
-    /// Solves the cut's Rayleigh wave (free and metallized surface).
-    pub fn solve(&self) -> Result<RayleighWave, WaveError> {
-        RayleighWave::solve(self)
     }
 }
 

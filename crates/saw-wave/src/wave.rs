@@ -39,6 +39,13 @@ pub struct RayleighWave {
     pub metallized: SurfaceMode,
 }
 
+impl Cut {
+    /// Solves the cut's Rayleigh wave (free and metallized surface).
+    pub fn solve(&self) -> Result<RayleighWave, WaveError> {
+        RayleighWave::solve(self)
+    }
+}
+
 impl RayleighWave {
     /// Solves both boundary conditions of the cut.
     pub fn solve(cut: &Cut) -> Result<Self, WaveError> {
