@@ -149,7 +149,8 @@ pub(crate) fn get<T: Serialize + DeserializeOwned>(
             Ok(found) if found == recorded => {}
             Ok(_) => {
                 return Lookup::Damaged(format!(
-                    "the files in {} differ from those recorded with it",
+                    "the {} in {} differ from those recorded with it",
+                    sidecar_field.replace('_', " "),
                     dir.display()
                 ));
             }
