@@ -12,69 +12,23 @@
 use std::path::Path;
 use std::time::Instant;
 
-use elastic_fem::sparse::{Ordering, SymbolicCholesky, SymmetricMatrix, fill_reducing_order};
+use elastic_fem::sparse::SymmetricMatrix;
 use elastic_fem::{
     Connectivity, Constraints, Dirichlet, DofMap, DofTarget, FemError, Model, ReducedSystem,
     RigidComponent, RigidFace, StiffnessPattern, assemble_stiffness,
 };
-use gmsh_mesh::{TetMesh, Tets};
+use gmsh_mesh::Tets;
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
 use crate::body_solver::{BodySolver, FemSolver, condense_body, plan_body};
+pub use crate::body_spec::{BodySpec, Disk, TipLateral};
 use crate::error::{ContactError, Result};
-use crate::order_cache::{self, order_file};
 
 /// Relative tolerance (of the disk radius) for picking the nodes of a contact disk. Default 1e-3.
 pub const DISK_NODE_TOLERANCE: f64 = 1e-3;
 /// Right-hand sides solved together when building the compliance. Default 16.
 pub const SOLVE_BATCH_COLUMNS: usize = 16;
-
-/// A contact disk: centre (m) and radius (m).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Disk {
-    /// Centre (m).
-    pub centre_m: [f64; 3],
-    /// Radius (m).
-    pub radius_m: f64,
-}
-
-/// In-plane condition of the disk nodes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum TipLateral {
-    /// x and y free: frictionless contact.
-    Free,
-    /// x and y fixed: the disk is bonded to a rigid punch (the k_pn condition).
-    Bonded,
-}
-
-/// Everything needed to condense one body of a mesh onto its disks.
-#[derive(Debug, Clone)]
-pub struct BodySpec<'a> {
-    /// Name used in messages ("slider", "stator").
-    pub name: &'static str,
-    /// The mesh.
-    pub mesh: &'a TetMesh,
-    /// Physical volume of this body.
-    pub volume_group: String,
-    /// Material.
-    pub material: elastic_fem::Material,
-    /// Physical surface holding the contact disks.
-    pub contact_group: String,
-    /// The disks, in the order of the posts.
-    pub disks: Vec<Disk>,
-    /// In-plane condition of the disk nodes.
-    pub lateral: TipLateral,
-    /// Surfaces clamped (u = 0).
-    pub clamped_groups: Vec<String>,
-    /// Surfaces with one component fixed to 0 (symmetry planes, rollers): (group, component).
-    pub roller_groups: Vec<(String, usize)>,
-    /// Fraction of each disk inside the mesh (1; ½ or ¼ for symmetry-cut punch models).
-    pub disk_fraction: f64,
-    /// +1 if the contact force on this body points along +z (slider), −1 if along −z (stator).
-    pub force_sign: f64,
-}
 
 /// Size and timings of one condensed body.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -385,39 +339,6 @@ fn assemble_and_plan(
         .reduce_matrix_into(&stiffness?, &mut k_red)
         .map_err(|e| fem_error(spec, e))?;
     Ok((reduced, k_red, plan))
-}
-
-/// Symbolic analysis of the body's reduced stiffness with the disk ties eliminated last; the
-/// fill-reducing ordering is read from, or stored in, the folder `order_cache` when given.
-/// Returns whether the ordering came from the cache.
-pub(crate) fn analyse(
-    spec: &BodySpec<'_>,
-    k_red: &SymmetricMatrix,
-    masters: &[usize],
-    order_cache: Option<&Path>,
-) -> Result<(SymbolicCholesky, bool)> {
-    let fem = |e| fem_error(spec, e);
-    let Some(dir) = order_cache else {
-        let symbolic = SymbolicCholesky::analyze_with_last(k_red, Ordering::Metis, masters);
-        return Ok((symbolic.map_err(fem)?, false));
-    };
-    let file = order_file(
-        dir,
-        &spec.mesh.source,
-        spec.name,
-        k_red.pattern_fingerprint(),
-    );
-    if let Some((base, used)) = order_cache::load(&file, k_red.dim()) {
-        let symbolic = SymbolicCholesky::analyze_with_last_ordered(k_red, &base, used, masters);
-        return Ok((symbolic.map_err(fem)?, true));
-    }
-    let (base, used) = fill_reducing_order(k_red, Ordering::Metis).map_err(fem)?;
-    order_cache::store(&file, &base, used).map_err(|e| ContactError::CacheWrite {
-        path: file.clone(),
-        detail: e.to_string(),
-    })?;
-    let symbolic = SymbolicCholesky::analyze_with_last_ordered(k_red, &base, used, masters);
-    Ok((symbolic.map_err(fem)?, false))
 }
 
 impl BodyCompliance {

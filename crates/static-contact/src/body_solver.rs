@@ -21,7 +21,10 @@ use std::path::Path;
 use std::time::Instant;
 
 use elastic_fem::condense::{Pattern, condense_by_pcg};
-use elastic_fem::sparse::{FactorOptions, NumericCholesky, SymbolicCholesky, SymmetricMatrix};
+use elastic_fem::sparse::{
+    FactorOptions, NumericCholesky, Ordering, SymbolicCholesky, SymmetricMatrix,
+    fill_reducing_order,
+};
 use elastic_fem::static_solver::{DIRECT_FACTOR_MEMORY_BYTES, locate_factor_error};
 use elastic_fem::{
     CostQuery, FemError, FemResult, IterativeOptions, IterativeSolver, Model, ReducedSystem,
@@ -30,8 +33,9 @@ use elastic_fem::{
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
-use crate::body::{BodySpec, analyse};
+use crate::body_spec::BodySpec;
 use crate::error::{ContactError, Result};
+use crate::order_cache::{self, order_file};
 
 /// `static.fem_solver`: how a body's stiffness is solved.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -221,6 +225,39 @@ pub(crate) fn plan_body(
         ordering_cached,
         analysis_s: start.elapsed().as_secs_f64(),
     })
+}
+
+/// Symbolic analysis of the body's reduced stiffness with the disk ties eliminated last; the
+/// fill-reducing ordering is read from, or stored in, the folder `order_cache` when given.
+/// Returns whether the ordering came from the cache.
+fn analyse(
+    spec: &BodySpec<'_>,
+    k_red: &SymmetricMatrix,
+    masters: &[usize],
+    order_cache: Option<&Path>,
+) -> Result<(SymbolicCholesky, bool)> {
+    let fem = |e| fem_error(spec, e);
+    let Some(dir) = order_cache else {
+        let symbolic = SymbolicCholesky::analyze_with_last(k_red, Ordering::Metis, masters);
+        return Ok((symbolic.map_err(fem)?, false));
+    };
+    let file = order_file(
+        dir,
+        &spec.mesh.source,
+        spec.name,
+        k_red.pattern_fingerprint(),
+    );
+    if let Some((base, used)) = order_cache::load(&file, k_red.dim()) {
+        let symbolic = SymbolicCholesky::analyze_with_last_ordered(k_red, &base, used, masters);
+        return Ok((symbolic.map_err(fem)?, true));
+    }
+    let (base, used) = fill_reducing_order(k_red, Ordering::Metis).map_err(fem)?;
+    order_cache::store(&file, &base, used).map_err(|e| ContactError::CacheWrite {
+        path: file.clone(),
+        detail: e.to_string(),
+    })?;
+    let symbolic = SymbolicCholesky::analyze_with_last_ordered(k_red, &base, used, masters);
+    Ok((symbolic.map_err(fem)?, false))
 }
 
 /// Factors (or sets up PCG for) `k_red`, the body's reduced stiffness, as `plan` says, and

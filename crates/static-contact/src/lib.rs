@@ -3,6 +3,7 @@
 pub mod analysis;
 pub mod body;
 pub mod body_solver;
+mod body_spec;
 mod error;
 pub mod eta;
 pub mod eta_full_contact;

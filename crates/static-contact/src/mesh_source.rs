@@ -23,6 +23,8 @@ use sha2::{Digest, Sha256};
 
 use crate::error::{ContactError, Result};
 use crate::params::{MeshChoice, StaticParams};
+/// Re-exported from [`crate::params`], where the results' content hash needs them.
+pub use crate::params::{elevated_in_rust, geometry_source, mirrored_in_rust, rust_mesh_steps};
 use crate::scene::StatorModel;
 
 /// Relative tolerance when comparing mesh parameters with a committed mesh's. Default 1e-9.
@@ -61,18 +63,6 @@ pub fn workspace_root() -> PathBuf {
     )
 }
 
-/// Whether the run's automatic strip mesh is gmsh's Tet4 mesh raised to Tet10 in Rust
-/// ([`gmsh_mesh::elevate`]): every Tet10 strip.
-pub fn elevated_in_rust(params: &StaticParams) -> bool {
-    params.element_order == 2
-}
-
-/// Whether the run's automatic strip mesh is gmsh's half x ≤ L/2 reflected in Rust
-/// ([`gmsh_mesh::mirror`]): every strip with an even number of posts along x.
-pub fn mirrored_in_rust(params: &StaticParams) -> bool {
-    params.strip_posts_along_x().is_multiple_of(2)
-}
-
 /// The mirror plane of a half strip (`slider-strip.geo` with `mirror_x = 1`): its cut faces, and
 /// the end faces x = 0 whose images are the ends x = L (tags as in the whole strip's script),
 /// of the slider and, with a meshed stator block, of the stator.
@@ -95,23 +85,6 @@ pub fn strip_mirror_plane(params: &StaticParams) -> gmsh_mesh::mirror::MirrorPla
             })
             .collect(),
     }
-}
-
-/// What Rust does to the automatic strip mesh file on reading (reflection, elevation) and the
-/// versions of those steps, one line each: hashed into the mesh cache's file names and into the
-/// results' content hash, so that a changed step never reuses a mesh or result made before.
-pub fn rust_mesh_steps(params: &StaticParams) -> String {
-    let mut steps = String::new();
-    if mirrored_in_rust(params) {
-        steps += &format!("mirror x {}\n", gmsh_mesh::mirror::MIRROR_VERSION);
-    }
-    if elevated_in_rust(params) {
-        steps += &format!(
-            "tet10 elevation {}\n",
-            gmsh_mesh::elevate::ELEVATION_VERSION
-        );
-    }
-    steps
 }
 
 /// The gmsh `-setnumber` parameters of the strip mesh file the run needs (`order` = 1 when the
@@ -218,17 +191,6 @@ fn committed_match(params: &StaticParams) -> Option<(&'static str, &'static [u8]
         });
         fits.then_some((*file, *bytes))
     })
-}
-
-/// The bytes of `meshes/GEOMETRY.geo` as embedded in the binary
-/// ([`gmsh_mesh::geo_scripts::source`]; empty for an unknown name, meshing then fails with its
-/// own error). Cached meshes and results are keyed by them, so editing the geometry script
-/// invalidates both.
-pub fn geometry_source(geometry: &str) -> Vec<u8> {
-    gmsh_mesh::geo_scripts::source(geometry)
-        .unwrap_or_default()
-        .as_bytes()
-        .to_vec()
 }
 
 /// The cache directory for automatic meshes: the run's `mesh_cache_dir`, else the mesh folder

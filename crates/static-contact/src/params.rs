@@ -1,4 +1,7 @@
 //! Resolved motor parameters (SI) of a static contact run, their validation and content hash.
+//! The content hash keys an automatic mesh by the geometry script and the steps Rust applies to
+//! the mesh on reading ([`rust_mesh_steps`]), so those facts of the parameters live here and
+//! [`crate::mesh_source`] re-exports them (it builds on this module, never the reverse).
 
 use std::path::PathBuf;
 
@@ -418,8 +421,8 @@ impl StaticParams {
             )?;
             hasher.update(&bytes);
         } else {
-            hasher.update(crate::mesh_source::geometry_source("slider-strip"));
-            hasher.update(crate::mesh_source::rust_mesh_steps(self));
+            hasher.update(geometry_source("slider-strip"));
+            hasher.update(rust_mesh_steps(self));
         }
         Ok(hasher
             .finalize()
@@ -427,6 +430,46 @@ impl StaticParams {
             .map(|b| format!("{b:02x}"))
             .collect())
     }
+}
+
+/// Whether the run's automatic strip mesh is gmsh's Tet4 mesh raised to Tet10 in Rust
+/// ([`gmsh_mesh::elevate`]): every Tet10 strip.
+pub fn elevated_in_rust(params: &StaticParams) -> bool {
+    params.element_order == 2
+}
+
+/// Whether the run's automatic strip mesh is gmsh's half x ≤ L/2 reflected in Rust
+/// ([`gmsh_mesh::mirror`]): every strip with an even number of posts along x.
+pub fn mirrored_in_rust(params: &StaticParams) -> bool {
+    params.strip_posts_along_x().is_multiple_of(2)
+}
+
+/// What Rust does to the automatic strip mesh file on reading (reflection, elevation) and the
+/// versions of those steps, one line each: hashed into the mesh cache's file names and into the
+/// results' content hash, so that a changed step never reuses a mesh or result made before.
+pub fn rust_mesh_steps(params: &StaticParams) -> String {
+    let mut steps = String::new();
+    if mirrored_in_rust(params) {
+        steps += &format!("mirror x {}\n", gmsh_mesh::mirror::MIRROR_VERSION);
+    }
+    if elevated_in_rust(params) {
+        steps += &format!(
+            "tet10 elevation {}\n",
+            gmsh_mesh::elevate::ELEVATION_VERSION
+        );
+    }
+    steps
+}
+
+/// The bytes of `meshes/GEOMETRY.geo` as embedded in the binary
+/// ([`gmsh_mesh::geo_scripts::source`]; empty for an unknown name, meshing then fails with its
+/// own error). Cached meshes and results are keyed by them, so editing the geometry script
+/// invalidates both.
+pub fn geometry_source(geometry: &str) -> Vec<u8> {
+    gmsh_mesh::geo_scripts::source(geometry)
+        .unwrap_or_default()
+        .as_bytes()
+        .to_vec()
 }
 
 #[cfg(test)]
