@@ -23,7 +23,7 @@
 //! instead of recomputed: one operator application per iteration instead of two (recomputed every
 //! [`MAX_UPDATED_U`] iterations, after a change of the set and before convergence is declared).
 //!
-//! The step with re-entry ([`step_forces`]) and the iteration-limit error ([`not_converged`]) live
+//! The step with re-entry (`step_forces`) and the iteration-limit error (`not_converged`) live
 //! here and are shared with [`crate::balanced`], which builds on this module (never the reverse).
 
 use serde::Serialize;
