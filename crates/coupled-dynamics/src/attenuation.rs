@@ -18,11 +18,11 @@
 //! Self-consistency: p_j depends on every post's amplitude (through the preload distribution
 //! and the wave each post sees), so the profile α_i = A_i/A₀ is the fixed point of
 //! α = g(α) = √(max(P_i, 0)/P_in). It is solved in the same stepping as the tips' periodic
-//! state ([`CoupledModel::steady_profiled`]): after each period the posts' powers over that
+//! state (`CoupledModel::steady_profiled`): after each period the posts' powers over that
 //! period give g(α); once the tips' largest force change over the period is below
 //! [`FORCING`] × max|g(α) − α| (an inexact step: powers as accurate as the profile needs), the
 //! profile takes a step — the marching update (each post's draw scaled with its own
-//! amplitude, [`marching_profile`], a near-Newton step where the posts' coupling through the
+//! amplitude, `marching_profile`, a near-Newton step where the posts' coupling through the
 //! preload is weak) under Anderson acceleration (depth 5, no damping) — and the normal
 //! problem is re-solved on the new profile from the old one's contact sets and factors. The
 //! point is the first period that is periodic by the coupled model's rule at a profile with

@@ -143,7 +143,7 @@ pub struct DesignFile {
     pub name: Option<String>,
     /// Scene file, relative to the design file.
     pub scene: Option<PathBuf>,
-    /// Scene overrides: a table of scene keys (checked by [`scene_overrides`]).
+    /// Scene overrides: a table of scene keys (checked by `scene_overrides`).
     pub set: Option<toml::Value>,
     /// Output optimised (default `max_output_power_w`).
     pub objective: Option<String>,

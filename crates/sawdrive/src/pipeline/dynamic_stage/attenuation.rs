@@ -165,7 +165,7 @@ pub fn attenuate_lumped(
     })
 }
 
-/// What [`attenuate_lumped`] decided and solved: the decision, the wave's books of every curve
+/// What `attenuate_lumped` decided and solved: the decision, the wave's books of every curve
 /// point, and with attenuation on the amplitude profile at stall.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LumpedAttenuation {

@@ -24,7 +24,7 @@ const HISTORY_PERIODS: f64 = 3.0;
 const HISTORY_SAMPLES_PER_PERIOD: usize = 256;
 
 /// The dynamic model's input for `scene` with the post springs `springs` (from
-/// [`scene_springs`](super::scene_springs), computed once per run) and effective contact ratio
+/// [`scene_springs`](crate::pipeline::scene_springs), computed once per run) and effective contact ratio
 /// `effective_ratio`: the motor's wave, post contact and slider, with the scene's model settings.
 pub fn dynamic_scene(
     scene: &Scene,
@@ -228,7 +228,7 @@ fn name_scene_keys(error: StickSlipError) -> PipelineError {
 /// (at the operating point, or at half the no-load speed when the load stalls the slider) and,
 /// for the transient, the slider's history. `title` heads the charts. The result files
 /// (`dynamic.json`, `curve.csv`, `speed_thrust`) are the dynamic stage's
-/// ([`super::write_dynamic_stage_files`]).
+/// ([`crate::pipeline::write_dynamic_stage_files`]).
 pub fn write_history_charts(
     title: &str,
     run: &DynamicRun,

@@ -26,7 +26,7 @@ pub use strip::StaticOutcome;
 use crate::pipeline::{PipelineError, RunControl};
 use crate::scene::Scene;
 
-/// The static stage ([`strip::run_static`]: the strip or the whole slider, as `static.model`
+/// The static stage (`strip::run_static`: the strip or the whole slider, as `static.model`
 /// chooses), asking `control` before each contact solve. A ball slider has none: refused naming
 /// `slider.shape`.
 pub fn run_static(
