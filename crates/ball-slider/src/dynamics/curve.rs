@@ -241,7 +241,12 @@ impl BallModel {
             return self.at_speed_constant(speed_m_per_s);
         };
         let (alpha, point) = share.settle(self.last_alpha.get(), |alpha| {
-            let point = self.at_amplitude(alpha)?.at_speed_constant(speed_m_per_s)?;
+            // At α = 1 (every fixed point's first evaluation) the scene's own kernel serves.
+            let point = if alpha == 1.0 {
+                self.at_speed_constant(speed_m_per_s)?
+            } else {
+                self.at_amplitude(alpha)?.at_speed_constant(speed_m_per_s)?
+            };
             Ok((point.stator_power_w, point))
         })?;
         self.last_alpha.set(Some(alpha));
@@ -251,7 +256,7 @@ impl BallModel {
         })
     }
 
-    /// The constant-amplitude model of this scene at αA₀ (itself at α = 1 without a share).
+    /// The constant-amplitude model of this scene at αA₀.
     fn at_amplitude(&self, alpha: f64) -> Result<BallModel> {
         let mut scene = self
             .scene
