@@ -106,39 +106,7 @@ pub fn attenuate_lumped(
     let wave = decide(scene, stall_draw_w.unwrap_or(0.0))?;
     if wave.on() {
         let options = stick_slip::AttenuationOptions::new(wave.power_in_w);
-        let (solved, books, stall_profile) = if transient {
-            let solved = TransientModel::new(dynamic)?.solve_attenuated(&options)?;
-            let stall_profile = solved
-                .points
-                .first()
-                .map(|p| AmplitudeProfile::of(&p.x_m, &p.amplitude_scale));
-            let books = solved
-                .points
-                .iter()
-                .map(|p| WaveBooks {
-                    stator_power_w: p.wave_power_in_w - p.wave_power_out_w,
-                    wave_power_in_w: p.wave_power_in_w,
-                    wave_power_out_w: p.wave_power_out_w,
-                })
-                .collect();
-            (solved.result, books, stall_profile)
-        } else {
-            let solved = solve_periodic(dynamic, &options)?;
-            let stall_profile = solved
-                .points
-                .first()
-                .map(|p| AmplitudeProfile::of(&p.x_m, &p.amplitude_scale));
-            let books = solved
-                .points
-                .iter()
-                .map(|p| WaveBooks {
-                    stator_power_w: p.sample.stator_power_w,
-                    wave_power_in_w: p.wave_power_in_w,
-                    wave_power_out_w: p.wave_power_out_w,
-                })
-                .collect();
-            (solved.result, books, stall_profile)
-        };
+        let (solved, books, stall_profile) = solve_lumped_attenuated(dynamic, transient, &options)?;
         let mut attenuated = solved;
         let mut warnings = result.warnings.clone();
         for w in attenuated.warnings.drain(..) {
@@ -163,6 +131,59 @@ pub fn attenuate_lumped(
         wave,
         stall_profile: None,
     })
+}
+
+/// The lumped model of `dynamic` (transient or period average) on the energy-conserving wave:
+/// its result, the wave's books of every curve point and the amplitude profile at stall. The
+/// transient's stator power is P_in − P_out of its books, the period average's the posts' draw
+/// (equal to round-off: the books close by construction).
+fn solve_lumped_attenuated(
+    dynamic: &DynamicScene,
+    transient: bool,
+    options: &stick_slip::AttenuationOptions,
+) -> Result<(DynamicResult, Vec<WaveBooks>, Option<AmplitudeProfile>), PipelineError> {
+    if transient {
+        let solved = TransientModel::new(dynamic)?.solve_attenuated(options)?;
+        let (books, stall) = books_and_stall(
+            &solved.points,
+            |p| (&p.x_m, &p.amplitude_scale),
+            |p| (p.wave_power_in_w - p.wave_power_out_w, p.wave_power_in_w, p.wave_power_out_w),
+        );
+        Ok((solved.result, books, stall))
+    } else {
+        let solved = solve_periodic(dynamic, options)?;
+        let (books, stall) = books_and_stall(
+            &solved.points,
+            |p| (&p.x_m, &p.amplitude_scale),
+            |p| (p.sample.stator_power_w, p.wave_power_in_w, p.wave_power_out_w),
+        );
+        Ok((solved.result, books, stall))
+    }
+}
+
+/// The books of every point (stator, wave in, wave out; W) and the first point's (stall's)
+/// amplitude profile (x, A/A₀) of an attenuated lumped solve.
+fn books_and_stall<P>(
+    points: &[P],
+    profile: impl Fn(&P) -> (&Vec<f64>, &Vec<f64>),
+    powers: impl Fn(&P) -> (f64, f64, f64),
+) -> (Vec<WaveBooks>, Option<AmplitudeProfile>) {
+    let books = points
+        .iter()
+        .map(|p| {
+            let (stator_power_w, wave_power_in_w, wave_power_out_w) = powers(p);
+            WaveBooks {
+                stator_power_w,
+                wave_power_in_w,
+                wave_power_out_w,
+            }
+        })
+        .collect();
+    let stall = points.first().map(|p| {
+        let (x, a) = profile(p);
+        AmplitudeProfile::of(x, a)
+    });
+    (books, stall)
 }
 
 /// What `attenuate_lumped` decided and solved: the decision, the wave's books of every curve
