@@ -1,6 +1,7 @@
 //! Cost of the whole slider's coupled model (target: the default slider's coupled curve ≤ 60 s
 //! on 2 cores). Pieces, each on the paper's 100 × 100-post slider unless named: one product
-//! with the tangential lattice operator (the unit of the step solves), the normal grid (64 phases
+//! with the tangential lattice operator (the unit of the step solves) and with its y-mirror-folded
+//! form (the ideal slider's), the normal grid (64 phases
 //! of the static contact solve), a curve point of a 30 × 30 slider, and the default slider's
 //! stall point (≈ 20 s per sample: run it alone with a filter).
 //!
@@ -52,6 +53,14 @@ fn bench(c: &mut Criterion) {
     let mut u = vec![0.0; ct.len()];
     group.bench_function("tangential product, 100 × 100 posts", |b| {
         b.iter(|| ct.apply(&f, &mut u))
+    });
+    let folded = slider_contact::TangentialKernel::new(&spec, NearField::Johnson)
+        .unwrap()
+        .mirror_operator(&spec.geometry)
+        .unwrap();
+    let (f_half, mut u_half) = (f[..folded.len()].to_vec(), vec![0.0; folded.len()]);
+    group.bench_function("mirror-folded tangential product, 100 × 50 posts", |b| {
+        b.iter(|| folded.apply(&f_half, &mut u_half))
     });
     let default_scene = scene(&default);
     group.bench_function("normal grid, 64 phases, 100 × 100 posts", |b| {

@@ -11,7 +11,9 @@
 //! stall point and one point at half the crest speed (the timing of one curve point), no curve.
 //! The curve's no-load search starts from the middle-row strip's no-load speed
 //! (`SliderDynamics::solve_from_guess`); `--cold`: from the crest speed, the maps from rest
-//! (`SliderDynamics::solve`, the earlier sequence).
+//! (`SliderDynamics::solve`, the earlier sequence). Under `--scatter-nm` there is no middle-row
+//! strip (it stands for an ideal slider): the comparison is skipped, said so, and the search
+//! starts from the crest speed. An ideal slider runs on its y-mirror's half (said so).
 //! `--out DIR` writes DIR/results/whole_slider_<side>.json and DIR/figures/*.svg (maps of the
 //! time-mean normal force, slip fraction and friction power per post at half the no-load speed,
 //! and the friction power at stall).
@@ -108,17 +110,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let crest = slider.model().crest_speed_m_per_s();
     if args.point_only {
         for speed in [0.0, 0.5 * crest] {
-            let t = Instant::now();
+            let (t, cpu) = (Instant::now(), cpu_s());
             let (p, _) = slider.model().at_speed_from(speed, None)?;
             let s = t.elapsed().as_secs_f64();
+            let cpu = cpu_s() - cpu;
             let steps = p.periods * args.steps;
             println!(
-                "v = {speed:.4} m/s: thrust {:.5} N (per post {:.4e}), {} periods, {:.2} s, {:.2} ms per step, {:.1} solver iterations per step, balance {:.1e}, solver residual {:.1e}",
+                "v = {speed:.4} m/s: thrust {:.5} N (per post {:.4e}), {} periods, {:.2} s wall ({:.2} s CPU), {:.2} ms per step ({:.2} ms CPU), {:.1} solver iterations per step, balance {:.1e}, solver residual {:.1e}",
                 p.thrust_n,
                 p.thrust_n / n as f64,
                 p.periods,
                 s,
+                cpu,
                 1e3 * s / steps as f64,
+                1e3 * cpu / steps as f64,
                 p.solver_iterations as f64 / steps as f64,
                 p.energy_balance_residual,
                 p.max_solver_residual
@@ -126,20 +131,36 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         return Ok(());
     }
+    if let Some(m) = slider.mirror() {
+        println!(
+            "y-mirror symmetric: the model runs on the {} posts of {} rows",
+            m.len(),
+            m.half_posts_y()
+        );
+    }
     let t = Instant::now();
-    let strip = strip_reference(&static_model, &scene)?;
-    println!(
-        "strip of the middle row (same kernels, the {} rows loaded alike): stall thrust {:.4} N, no-load speed {:.4} m/s ({:.1} s)",
-        args.side,
-        strip.stall_thrust_n,
-        strip.no_load_speed_m_per_s,
-        t.elapsed().as_secs_f64()
-    );
-    let t = Instant::now();
-    let result = if args.cold {
-        slider.solve(None)?
+    let strip = if args.scatter_m > 0.0 {
+        println!(
+            "height scatter: no middle-row strip to compare with (it stands for an ideal slider); the no-load search starts from the crest speed"
+        );
+        None
     } else {
-        slider.solve_from_guess(None, Some(strip.no_load_speed_m_per_s))?
+        let strip = strip_reference(&static_model, &scene)?;
+        println!(
+            "strip of the middle row (same kernels, the {} rows loaded alike): stall thrust {:.4} N, no-load speed {:.4} m/s ({:.1} s)",
+            args.side,
+            strip.stall_thrust_n,
+            strip.no_load_speed_m_per_s,
+            t.elapsed().as_secs_f64()
+        );
+        Some(strip)
+    };
+    let t = Instant::now();
+    let result = match &strip {
+        Some(strip) if !args.cold => {
+            slider.solve_from_guess(None, Some(strip.no_load_speed_m_per_s))?
+        }
+        _ => slider.solve(None)?,
     };
     let solve_s = t.elapsed().as_secs_f64();
     let c = &result.coupled;
@@ -171,9 +192,31 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     if let Some(out) = &args.out {
-        write_outputs(out, &args, &result, &strip, build_s, model_s, solve_s)?;
+        write_outputs(
+            out,
+            &args,
+            &result,
+            strip.as_ref(),
+            build_s,
+            model_s,
+            solve_s,
+        )?;
     }
     Ok(())
+}
+
+/// CPU seconds of this process so far (user + system, Linux's /proc/self/stat at 100 ticks per
+/// second; NaN elsewhere): the figure to compare on a machine shared with other work.
+fn cpu_s() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    let fields: Vec<&str> = stat
+        .rsplit_once(')')
+        .map_or(Vec::new(), |(_, rest)| rest.split_whitespace().collect());
+    let tick = |k: usize| fields.get(k).and_then(|v| v.parse::<f64>().ok());
+    match (tick(11), tick(12)) {
+        (Some(user), Some(system)) => (user + system) / 100.0,
+        _ => f64::NAN,
+    }
 }
 
 /// The strip of the middle row on the slider's own compliances (`slider::middle_row_strip`).
@@ -206,7 +249,7 @@ fn write_outputs(
     out: &Path,
     args: &Args,
     result: &coupled_dynamics::SliderDynamicsResult,
-    strip: &coupled_dynamics::CoupledResult,
+    strip: Option<&coupled_dynamics::CoupledResult>,
     build_s: f64,
     model_s: f64,
     solve_s: f64,

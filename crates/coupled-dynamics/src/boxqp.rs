@@ -27,9 +27,15 @@
 //! Newton step's free block A_FF x_F = b_F − A_FB x_B solved by conjugate gradients on the free
 //! unknowns (Hestenes & Stiefel 1952; A_FF is SPD as a principal block of an SPD A), started from
 //! the caller's previous solution, to a tenth of the natural-residual tolerance (tightened
-//! ×[`CG_TIGHTENING`] when the sets repeat but the residual misses). The natural residual is
+//! ×[`CG_TIGHTENING`] when the sets repeat but the residual misses). Inexact Newton (Dembo,
+//! Eisenstat & Steihaug, SIAM J. Numer. Anal. 19 (1982) 400): while the sets still change, a
+//! step's CG stops at [`INEXACT_CG_REDUCTION`] of its first residual, since its solution only
+//! serves to predict the next sets; the step whose sets repeat goes to the tolerance. Only the
+//! path changes, not the answer: the same KKT conditions to the same natural residual. The natural residual is
 //! evaluated on a freshly applied A x, so the reported accuracy is that of the exact KKT
-//! conditions. No factor: the cost is (Newton steps) × (CG iterations) products with A.
+//! conditions. No factor: the cost is (Newton steps) × (CG iterations) products with A. A x
+//! between Newton steps is the CG's running one (updated with each A p: no product of its own,
+//! round-off ≈ 1e-15 of the force scale); a solution is accepted only on a fresh product.
 
 use nalgebra::{DMatrix, DVector};
 
@@ -50,6 +56,15 @@ pub const CG_ITERATIONS_PER_SQRT_N: usize = 40;
 /// Factor by which the CG tolerance is tightened when the active sets repeat but the natural
 /// residual misses the tolerance (the inner solve was not accurate enough). Default 1e-2.
 pub const CG_TIGHTENING: f64 = 1e-2;
+/// Inexact Newton steps of the matrix-free solve: while the active sets are still changing,
+/// each step's CG stops once its residual has fallen by this factor (a step whose sets are
+/// about to change needs no more); once a step's sets repeat, CG goes to the tolerance.
+/// Measured on the paper's slider: 1e-3 → 21.6 CG iterations per time step at stall, 1e-2 → 18.7,
+/// 1e-1 → 16.7 (all to the tolerance: 37.2). Default 1e-1.
+pub const INEXACT_CG_REDUCTION: f64 = 1e-1;
+/// Newton steps of the matrix-free solve after which every CG goes to the tolerance (no
+/// inexact steps), bounding what the inexact steps can cost. Default 8.
+pub const MAX_INEXACT_STEPS: usize = 8;
 
 /// Where each unknown sits.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -417,6 +432,28 @@ fn update_sets(
     repeated
 }
 
+/// Why a matrix-free solve stopped short of its tolerance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Unsolved {
+    /// Active-set plus CG iterations done.
+    pub iterations: usize,
+    /// The residual reached (relative).
+    pub residual: f64,
+    /// The unknown with the largest residual (for friction: the post that did not settle), if
+    /// known.
+    pub worst: Option<usize>,
+}
+
+/// The index of the largest |v_i| (0 for an empty v).
+fn argmax_abs(v: impl Iterator<Item = f64>) -> usize {
+    v.enumerate()
+        .fold(
+            (0, -1.0),
+            |(k, m), (i, x)| if x.abs() > m { (i, x.abs()) } else { (k, m) },
+        )
+        .0
+}
+
 /// A symmetric positive definite matrix given by its product: y = A x.
 pub trait SymmetricProduct: Sync {
     /// Size n.
@@ -427,7 +464,8 @@ pub trait SymmetricProduct: Sync {
 
 /// [`solve`] with A given only by its product (module doc, matrix-free variant): `active.sets`
 /// is the warm start of the sets (its factor is not used), `start` the first guess of the free
-/// unknowns (e.g. the previous step's solution).
+/// unknowns (e.g. the previous step's solution). [`Unsolved`] (with the unknown that did not
+/// settle) if the tolerance is not reached.
 pub fn solve_operator(
     a: &dyn SymmetricProduct,
     b: &DVector<f64>,
@@ -437,33 +475,40 @@ pub fn solve_operator(
     start: &DVector<f64>,
     scale: f64,
     tolerance: f64,
-) -> std::result::Result<BoxSolution, (usize, f64)> {
+) -> std::result::Result<BoxSolution, Unsolved> {
     let n = b.len();
     let scale = scale.max(1e-300);
     let mut x = start.clone();
+    let mut worst = 0;
     let mut ax = DVector::zeros(n);
     let mut cg_tolerance = 0.1 * tolerance * scale;
     let mut iterations = 0;
     let mut residual = f64::INFINITY;
     let mut previous_sets: Option<Vec<Bound>> = None;
-    for _ in 0..MAX_ACTIVE_SET_ITERATIONS {
+    let mut exact = false;
+    for step in 0..MAX_ACTIVE_SET_ITERATIONS {
         iterations += 1;
-        for i in 0..n {
-            if lo[i] == hi[i] {
-                active.sets[i] = Bound::Lower;
-            }
-            match active.sets[i] {
-                Bound::Lower => x[i] = lo[i],
-                Bound::Upper => x[i] = hi[i],
-                Bound::Free => {}
-            }
-        }
+        hold_bound(active, lo, hi, &mut x);
         let free: Vec<bool> = active.sets.iter().map(|s| *s == Bound::Free).collect();
-        iterations += conjugate_gradient(a, b, &free, &mut x, &mut ax, cg_tolerance)
-            .map_err(|r| (iterations, r / scale))?;
-        a.product(x.as_slice(), ax.as_mut_slice());
-        let lambda = b - &ax;
+        let reduction = if exact || step >= MAX_INEXACT_STEPS {
+            0.0
+        } else {
+            INEXACT_CG_REDUCTION
+        };
+        iterations += conjugate_gradient(a, b, &free, &mut x, &mut ax, cg_tolerance, reduction)
+            .map_err(|(r, worst)| Unsolved {
+                iterations,
+                residual: r / scale,
+                worst: Some(worst),
+            })?;
+        let mut lambda = b - &ax;
         residual = natural_residual(&x, &lambda, lo, hi) / scale;
+        if residual <= tolerance {
+            // Accepted on a freshly applied A x, not on the CG's running one.
+            a.product(x.as_slice(), ax.as_mut_slice());
+            lambda = b - &ax;
+            residual = natural_residual(&x, &lambda, lo, hi) / scale;
+        }
         if residual <= tolerance {
             return Ok(BoxSolution {
                 x,
@@ -474,26 +519,44 @@ pub fn solve_operator(
                 fallback: false,
             });
         }
-        for i in 0..n {
-            let trial = x[i] + lambda[i];
-            active.sets[i] = if lo[i] == hi[i] || trial < lo[i] {
-                Bound::Lower
-            } else if trial > hi[i] {
-                Bound::Upper
-            } else {
-                Bound::Free
-            };
-        }
+        worst = argmax_abs((0..n).map(|i| x[i] - (x[i] + lambda[i]).clamp(lo[i], hi[i])));
+        update_sets(&x, &lambda, lo, hi, active);
         if previous_sets.as_ref() == Some(&active.sets) {
-            cg_tolerance *= CG_TIGHTENING;
+            if exact {
+                cg_tolerance *= CG_TIGHTENING;
+            }
+            exact = true;
         }
         previous_sets = Some(active.sets.clone());
     }
-    Err((iterations, residual))
+    Err(Unsolved {
+        iterations,
+        residual,
+        worst: Some(worst),
+    })
 }
 
-/// CG on the free unknowns of A x = b (the bound ones held): x updated in place, `ax` scratch.
-/// Returns the iterations, or the residual reached if the iteration limit is hit.
+/// Unknowns with lo = hi go to the lower set; the bound unknowns of `x` to their bounds (the
+/// free ones keep their values: the next CG's start).
+fn hold_bound(active: &mut ActiveSet, lo: &[f64], hi: &[f64], x: &mut DVector<f64>) {
+    for i in 0..x.len() {
+        if lo[i] == hi[i] {
+            active.sets[i] = Bound::Lower;
+        }
+        match active.sets[i] {
+            Bound::Lower => x[i] = lo[i],
+            Bound::Upper => x[i] = hi[i],
+            Bound::Free => {}
+        }
+    }
+}
+
+/// CG on the free unknowns of A x = b (the bound ones held): x updated in place, `ax` = A x
+/// (a product at the start, then updated with every step's A p, so the caller needs no
+/// product of its own).
+/// Stops at the residual max(`tolerance`, `reduction` × the first residual). Returns the
+/// iterations, or the residual reached and the unknown that carries it if the iteration limit
+/// is hit or the block is not positive definite.
 fn conjugate_gradient(
     a: &dyn SymmetricProduct,
     b: &DVector<f64>,
@@ -501,7 +564,8 @@ fn conjugate_gradient(
     x: &mut DVector<f64>,
     ax: &mut DVector<f64>,
     tolerance: f64,
-) -> std::result::Result<usize, f64> {
+    reduction: f64,
+) -> std::result::Result<usize, (f64, usize)> {
     let n = b.len();
     let masked = |v: &mut DVector<f64>| {
         for i in 0..n {
@@ -513,6 +577,7 @@ fn conjugate_gradient(
     a.product(x.as_slice(), ax.as_mut_slice());
     let mut r = b - &*ax;
     masked(&mut r);
+    let tolerance = tolerance.max(reduction * r.amax());
     let limit = CG_ITERATIONS_PER_SQRT_N * ((n as f64).sqrt() as usize + 50);
     let mut p = r.clone();
     let mut rr = r.dot(&r);
@@ -522,13 +587,15 @@ fn conjugate_gradient(
             return Ok(k);
         }
         a.product(p.as_slice(), ap.as_mut_slice());
-        masked(&mut ap);
+        // p is zero on the bound unknowns: pᵀA p needs no mask.
         let pap = p.dot(&ap);
         if pap.is_nan() || pap <= 0.0 {
-            return Err(r.amax());
+            return Err((r.amax(), argmax_abs(r.iter().copied())));
         }
         let alpha = rr / pap;
         x.axpy(alpha, &p, 1.0);
+        ax.axpy(alpha, &ap, 1.0);
+        masked(&mut ap);
         r.axpy(-alpha, &ap, 1.0);
         let rr_new = r.dot(&r);
         p = &r + &p * (rr_new / rr);
@@ -537,7 +604,7 @@ fn conjugate_gradient(
     if r.amax() <= tolerance {
         Ok(limit)
     } else {
-        Err(r.amax())
+        Err((r.amax(), argmax_abs(r.iter().copied())))
     }
 }
 

@@ -285,6 +285,9 @@ pub struct CoupledModel {
     /// The normal problem's factor at each grid phase where a model of a nearby profile
     /// reused or made one ([`NormalFactor`]); empty for a cold model.
     normal_factors: Vec<Option<Arc<NormalFactor>>>,
+    /// Posts per lattice column when the posts are a lattice's (i·rows + j): how an error
+    /// names a post.
+    lattice_rows: Option<usize>,
 }
 
 /// The Cholesky factor of Ĉ_AA on one phase's contact set A, kept with the model so that a
@@ -539,6 +542,20 @@ impl CoupledModel {
             omega: scene.wave.angular_frequency_rad_per_s(),
             normal_wall_s: started.elapsed().as_secs_f64(),
             normal_factors: Vec::new(),
+            lattice_rows: None,
+        }
+    }
+
+    /// Names the posts of errors as lattice posts (i, j), post i·`rows` + j.
+    pub(crate) fn set_lattice_rows(&mut self, rows: usize) {
+        self.lattice_rows = Some(rows.max(1));
+    }
+
+    /// Post `k` as an error names it.
+    fn post_name(&self, k: usize) -> String {
+        match self.lattice_rows {
+            Some(rows) => format!("post ({}, {}) of the lattice", k / rows, k % rows),
+            None => format!("post {k}"),
         }
     }
 
@@ -947,7 +964,13 @@ impl CoupledModel {
             let scale = hi.iter().fold(b.amax(), |a, &x| a.max(x));
             let solved = match &self.ct {
                 Tangential::Dense(ct) => {
-                    boxqp::solve(ct, b, &lo, &hi, &mut state.active, scale, tolerance)
+                    boxqp::solve(ct, b, &lo, &hi, &mut state.active, scale, tolerance).map_err(
+                        |(iterations, residual)| boxqp::Unsolved {
+                            iterations,
+                            residual,
+                            worst: None,
+                        },
+                    )
                 }
                 op => boxqp::solve_operator(
                     op,
@@ -960,14 +983,16 @@ impl CoupledModel {
                     tolerance,
                 ),
             };
-            let solution = solved.map_err(|(iterations, residual)| CoupledError::NotConverged {
+            let solution = solved.map_err(|u| CoupledError::NotConverged {
                 what: "frictional contact step",
-                iterations,
-                residual,
+                iterations: u.iterations,
+                residual: u.residual,
                 tolerance,
                 context: format!(
-                    "at speed {:.6e} m/s, grid step {j}",
-                    -v * self.length_m * self.omega
+                    "at speed {:.6e} m/s, grid step {j}{}",
+                    -v * self.length_m * self.omega,
+                    u.worst
+                        .map_or_else(String::new, |k| format!(", {}", self.post_name(k)))
                 ),
             })?;
             stats.max_residual = stats.max_residual.max(solution.residual);

@@ -476,3 +476,156 @@ fn the_per_post_amplitude_scales_the_local_wave() {
         drawn(&constant, 4..8)
     );
 }
+
+/// The y-mirror of an ideal slider: detected (and not under scatter), and the folded model on
+/// half the posts gives the model on every post — stall thrust, no-load speed, every curve
+/// point, the maps of every post and the middle row's histories — to 1e-10.
+#[test]
+fn the_mirror_folded_slider_is_the_slider_on_every_post() {
+    let side = (10, 8);
+    let params = SliderParams {
+        posts_x: side.0,
+        posts_y: side.1,
+        post_pitch_m: PITCH_M,
+        slider_length_m: side.0 as f64 * PITCH_M + 1e-3,
+        slider_width_m: side.1 as f64 * PITCH_M + 1e-3,
+        preload_n: (side.0 * side.1) as f64 * PRELOAD_PER_POST_N,
+        solver: tight(),
+        ..SliderParams::default()
+    };
+    let static_model = SliderModel::build(&params).unwrap();
+    let mut scene = SliderScene::for_static(&static_model, Wave::paper_default(), 0.35, 0.3);
+    scene.curve_points = 4;
+    scene.tolerance = 1e-13;
+    let folded =
+        SliderDynamics::for_slider_with(&scene, &static_model, NearField::Johnson, true).unwrap();
+    let full =
+        SliderDynamics::for_slider_with(&scene, &static_model, NearField::Johnson, false).unwrap();
+    assert_eq!(
+        folded.mirror().map(|m| m.len()),
+        Some(40),
+        "the ideal slider's mirror is detected and halves the posts"
+    );
+    assert!(full.mirror().is_none(), "the mirror can be switched off");
+    let (a, b) = (folded.solve(None).unwrap(), full.solve(None).unwrap());
+    compare(&a.coupled, &b.coupled, 1e-10, "mirror-folded vs every post");
+    assert_eq!(a.coupled.posts, 80, "every post is counted");
+    for (ma, mb) in a.maps.iter().zip(&b.maps) {
+        for (field, x, y) in [
+            (
+                "friction power",
+                &ma.means.friction_power_w,
+                &mb.means.friction_power_w,
+            ),
+            (
+                "stator power",
+                &ma.means.stator_power_w,
+                &mb.means.stator_power_w,
+            ),
+            (
+                "mean normal force",
+                &ma.means.mean_normal_force_n,
+                &mb.means.mean_normal_force_n,
+            ),
+            (
+                "slip fraction",
+                &ma.means.slip_fraction,
+                &mb.means.slip_fraction,
+            ),
+        ] {
+            let scale = y.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
+            let worst = x
+                .iter()
+                .zip(y)
+                .map(|(p, q)| (p - q).abs())
+                .fold(0.0, f64::max);
+            assert!(
+                worst <= 1e-10 * scale,
+                "{field} at {} m/s: folded vs full differ by {worst:e} of {scale:e}",
+                ma.means.speed_m_per_s
+            );
+        }
+    }
+    assert_eq!(a.history_posts, b.history_posts, "the middle row's posts");
+    let scale = b
+        .histories
+        .tangential_force_n
+        .iter()
+        .flatten()
+        .fold(0.0, |m: f64, v| m.max(v.abs()));
+    for (x, y) in a
+        .histories
+        .tangential_force_n
+        .iter()
+        .zip(&b.histories.tangential_force_n)
+    {
+        for (p, q) in x.iter().zip(y) {
+            assert!(
+                (p - q).abs() <= 1e-10 * scale,
+                "history tangential force {p} vs {q}"
+            );
+        }
+    }
+
+    let mut scattered = params.clone();
+    scattered.imperfections.height_scatter_m = 2e-9;
+    let static_model = SliderModel::build(&scattered).unwrap();
+    let mut scene = SliderScene::for_static(&static_model, Wave::paper_default(), 0.35, 0.3);
+    scene.curve_points = 3;
+    let slider = SliderDynamics::for_slider(&scene, &static_model, NearField::Johnson).unwrap();
+    assert!(
+        slider.mirror().is_none(),
+        "height scatter breaks the mirror"
+    );
+}
+
+/// A lattice whose coupled model would not fit in memory is refused before anything is
+/// allocated (its post offsets are not even read), naming its size and the limit.
+#[test]
+fn a_lattice_too_large_for_memory_is_refused_by_its_size_and_the_limit() {
+    let g = spec(3000, 3000).geometry;
+    let scene = slider_scene(g, Vec::new());
+    let normal = RigidBackContact {
+        operator: DMatrix::<f64>::identity(1, 1),
+        options: tight(),
+        length_scale_m: 20e-9,
+    };
+    let err = SliderDynamics::new(&scene, &normal, Arc::new(DMatrix::<f64>::identity(1, 1)))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("3000 × 3000 posts") && err.contains("GB") && err.contains("limit of 4.0 GB"),
+        "{err}"
+    );
+    assert!(scene.model_bytes() > coupled_dynamics::slider::MAX_SLIDER_MODEL_BYTES);
+    let paper = slider_scene(spec(100, 100).geometry, Vec::new());
+    assert!(
+        paper.model_bytes() < 1e8,
+        "the paper's slider needs {} bytes",
+        paper.model_bytes()
+    );
+}
+
+/// A step whose box QP cannot be solved (here a tangential compliance that is not positive
+/// definite) is reported with its speed, its grid step and the lattice post that did not
+/// settle.
+#[test]
+fn a_step_that_does_not_converge_names_its_step_and_its_post() {
+    let s = spec(4, 3);
+    let normal = RigidBackContact {
+        operator: LatticeKernel::new(&s).unwrap().to_dense(),
+        options: tight(),
+        length_scale_m: 20e-9,
+    };
+    let not_spd = DMatrix::<f64>::identity(12, 12) * -1e-9;
+    let scene = slider_scene(s.geometry, vec![0.0; 12]);
+    let slider = SliderDynamics::new(&scene, &normal, Arc::new(not_spd)).unwrap();
+    let err = slider.model().at_speed(0.0).unwrap_err().to_string();
+    assert!(
+        err.contains("frictional contact step")
+            && err.contains("grid step 0")
+            && err.contains("post (")
+            && err.contains("of the lattice"),
+        "{err}"
+    );
+}

@@ -12,6 +12,7 @@ pub mod precondition;
 pub mod slider;
 pub mod solver;
 pub mod tangential;
+pub mod tangential_mirror;
 
 pub use balanced::BalancedCg;
 pub use calibration::{

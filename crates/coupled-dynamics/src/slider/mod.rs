@@ -24,6 +24,15 @@
 //! The strip is the one-row limit: a 1 × n slider on the same compliances gives the strip's
 //! results, and an ideal lattice periodic in y gives them exactly (tests `slider_dynamics`).
 //!
+//! **Symmetry and size.** A slider with the y-mirror symmetry (ideal, or symmetric height map,
+//! tilt and bow: detected by [`Mirror::of`], broken by height scatter) runs on the half of its
+//! posts with the folded tangential operator (`slider_contact::tangential_mirror`), strip
+//! share ½: the same results (a test holds it to 1e-10) at half the unknowns and half the FFT
+//! work; its per-post results are expanded back to every post. A lattice whose model would
+//! hold more than [`MAX_SLIDER_MODEL_BYTES`] is refused before anything is allocated
+//! ([`SliderScene::model_bytes`]); a step that does not converge is named with its speed, grid
+//! step and lattice post.
+//!
 //! Outputs beyond the strip's: 2D maps per post ([`SliderMaps`]: time-mean normal force, slip
 //! fraction, contact fraction, friction power — where the slider wears first — and stator
 //! power) at stall and at half the no-load speed.
@@ -45,6 +54,7 @@
 //! edges for the body's local part).
 
 mod maps;
+pub mod mirror;
 
 use std::f64::consts::PI;
 use std::sync::Arc;
@@ -53,16 +63,17 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::Serialize;
 use slider_contact::{
-    CgOptions, ComplianceOperator, ConstrainedCg, LatticeGeometry, LatticeOperator, NearField,
-    SliderModel,
+    CgOptions, ComplianceOperator, ConstrainedCg, LatticeGeometry, NearField, SliderModel,
+    TangentialKernel,
 };
 use stick_slip::{DynamicScene, Wave};
 
 pub use maps::{MAP_FIELDS, SliderMaps};
+pub use mirror::Mirror;
 
 use crate::error::{CoupledError, Result};
 use crate::model::{ComplianceProduct, CoupledModel, PostHistories};
-use crate::model::{CoupledPoint, PeriodState};
+use crate::model::{CoupledPoint, PeriodState, PostMeans};
 use crate::result::{CoupledResult, assemble, solve};
 use crate::scene::{CoupledScene, DEFAULT_STEPS_PER_PERIOD, PreloadBalance, WaveDirection};
 
@@ -79,6 +90,11 @@ pub const DEFAULT_SLIDER_CURVE_POINTS: usize = 8;
 /// rule (≈ 1e-8 of the friction scale), so the root is known to ≈ 1e-8 of the crest speed;
 /// tighter costs evaluations that only move it within that. Default 1e-7.
 pub const SLIDER_SPEED_TOLERANCE: f64 = 1e-7;
+
+/// Memory a whole slider's coupled model may hold (bytes; [`SliderScene::model_bytes`]): a
+/// larger lattice is refused before anything is allocated, naming its size and this limit.
+/// The paper's 10⁴ posts at 64 steps need ≈ 22 MB. Default 4 GB (≈ 2·10⁶ posts at 64 steps).
+pub const MAX_SLIDER_MODEL_BYTES: f64 = 4e9;
 
 /// The whole slider's dynamic scene (SI).
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -175,7 +191,36 @@ impl SliderScene {
             .collect()
     }
 
+    /// Memory the coupled model of this scene holds (bytes, estimated before anything is
+    /// allocated): per post the normal forces and the wave's motion at every grid phase, the
+    /// normal grid's solves, the step solvers' vectors of two parallel branches and the maps'
+    /// sums (8 bytes each, ≈ 3M + 64 numbers for M steps per period), plus the tangential
+    /// operator's padded grid and its work arrays (≈ 48 bytes per padded point).
+    pub fn model_bytes(&self) -> f64 {
+        let g = &self.geometry;
+        let posts = g.posts_x as f64 * g.posts_y as f64;
+        let padded = |n: usize| 2.0 * n.max(1) as f64;
+        8.0 * posts * (3.0 * self.steps_per_period as f64 + 64.0)
+            + 48.0 * padded(g.posts_x) * padded(g.posts_y)
+    }
+
     fn validate(&self) -> Result<()> {
+        let bytes = self.model_bytes();
+        if bytes > MAX_SLIDER_MODEL_BYTES {
+            let g = &self.geometry;
+            return Err(CoupledError::InvalidParameter {
+                parameter: "posts_x × posts_y",
+                value: g.posts_x as f64 * g.posts_y as f64,
+                requirement: format!(
+                    "the coupled model of {} × {} posts at {} steps per period would need ≈ {:.1} GB, above the limit of {:.1} GB (MAX_SLIDER_MODEL_BYTES)",
+                    g.posts_x,
+                    g.posts_y,
+                    self.steps_per_period,
+                    bytes / 1e9,
+                    MAX_SLIDER_MODEL_BYTES / 1e9
+                ),
+            });
+        }
         self.geometry.validate()?;
         if self.post_offset_m.len() != self.geometry.len() {
             return Err(CoupledError::DimensionMismatch {
@@ -327,6 +372,47 @@ pub struct SliderDynamics {
     model: CoupledModel,
     dundurs_beta: Option<f64>,
     normal_grid_wall_s: f64,
+    mirror: Option<Mirror>,
+}
+
+/// The normal contact of every post on the phase grid (full lattice order).
+struct NormalGrid {
+    normals_n: Vec<Vec<f64>>,
+    approach_m: Vec<f64>,
+    k_ref_n_per_m: f64,
+    wall_s: f64,
+}
+
+impl NormalGrid {
+    /// Validates the scene and solves the normal contact at every grid phase with `normal`
+    /// (in parallel over the phases).
+    fn solve(scene: &SliderScene, normal: &dyn NormalContact) -> Result<Self> {
+        scene.validate()?;
+        let n = scene.geometry.len();
+        if normal.posts() != n {
+            return Err(CoupledError::DimensionMismatch {
+                what: "normal contact operator",
+                expected: n,
+                found: normal.posts(),
+            });
+        }
+        let started = Instant::now();
+        let m = scene.steps_per_period;
+        let grid = (0..m)
+            .into_par_iter()
+            .map(|j| {
+                let theta = scene.start_phase_rad + 2.0 * PI * j as f64 / m as f64;
+                normal.solve_contact(&scene.obstacle_heights_m(theta), scene.preload_n)
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let (normals_n, approach_m): (Vec<Vec<f64>>, Vec<f64>) = grid.into_iter().unzip();
+        Ok(Self {
+            normals_n,
+            approach_m,
+            k_ref_n_per_m: 1.0 / normal.self_compliance_m_per_n(),
+            wall_s: started.elapsed().as_secs_f64(),
+        })
+    }
 }
 
 /// The whole slider's coupled run: the strip's result for the whole slider plus its maps.
@@ -361,38 +447,43 @@ impl SliderDynamics {
         normal: &dyn NormalContact,
         tangential: Arc<dyn ComplianceProduct>,
     ) -> Result<Self> {
-        scene.validate()?;
-        let n = scene.geometry.len();
-        if normal.posts() != n {
-            return Err(CoupledError::DimensionMismatch {
-                what: "normal contact operator",
-                expected: n,
-                found: normal.posts(),
-            });
+        let grid = NormalGrid::solve(scene, normal)?;
+        Self::on_grid(scene, grid, tangential, None)
+    }
+
+    /// The model on a solved normal grid: on every post, or with `mirror` on the folded
+    /// lattice (`tangential` then the folded C_m, the normal forces and the scene's per-post
+    /// data restricted to its rows, strip share ½).
+    fn on_grid(
+        scene: &SliderScene,
+        grid: NormalGrid,
+        tangential: Arc<dyn ComplianceProduct>,
+        mirror: Option<Mirror>,
+    ) -> Result<Self> {
+        let mut settings = scene.coupled_settings();
+        let mut normals = grid.normals_n;
+        if let Some(fold) = mirror {
+            settings.post_x_m = fold.restrict(&settings.post_x_m);
+            if !settings.amplitude_scale.is_empty() {
+                settings.amplitude_scale = fold.restrict(&settings.amplitude_scale);
+            }
+            settings.strip_share = 0.5;
+            normals = normals.iter().map(|f| fold.restrict(f)).collect();
         }
-        let started = Instant::now();
-        let m = scene.steps_per_period;
-        let grid = (0..m)
-            .into_par_iter()
-            .map(|j| {
-                let theta = scene.start_phase_rad + 2.0 * PI * j as f64 / m as f64;
-                normal.solve_contact(&scene.obstacle_heights_m(theta), scene.preload_n)
-            })
-            .collect::<Result<Vec<_>>>()?;
-        let (normals, approach): (Vec<Vec<f64>>, Vec<f64>) = grid.into_iter().unzip();
-        let normal_grid_wall_s = started.elapsed().as_secs_f64();
-        let model = CoupledModel::from_normal_grid(
-            &scene.coupled_settings(),
-            1.0 / normal.self_compliance_m_per_n(),
+        let mut model = CoupledModel::from_normal_grid(
+            &settings,
+            grid.k_ref_n_per_m,
             normals,
-            approach,
+            grid.approach_m,
             tangential,
         )?;
+        model.set_lattice_rows(mirror.map_or(scene.geometry.posts_y, |m| m.half_posts_y()));
         Ok(Self {
             scene: scene.clone(),
             model,
             dundurs_beta: None,
-            normal_grid_wall_s,
+            normal_grid_wall_s: grid.wall_s,
+            mirror,
         })
     }
 
@@ -400,16 +491,40 @@ impl SliderDynamics {
     /// mechanism) and the tangential lattice operator of the same lattice and bodies with the
     /// slider side's tangential near field `tangential_near_field` (Johnson's 1/k_pt, or
     /// calibrated on the strip FEM: `slider_contact::calibrate_tangential_near_field`).
+    /// On the folded lattice when the slider has the y-mirror symmetry ([`Mirror::of`]:
+    /// ideal or symmetric sliders, not under height scatter), else on every post.
     pub fn for_slider(
         scene: &SliderScene,
         static_model: &SliderModel,
         tangential_near_field: NearField,
     ) -> Result<Self> {
+        Self::for_slider_with(scene, static_model, tangential_near_field, true)
+    }
+
+    /// [`Self::for_slider`], the y-mirror used only if `use_mirror` (and the slider has it).
+    pub fn for_slider_with(
+        scene: &SliderScene,
+        static_model: &SliderModel,
+        tangential_near_field: NearField,
+        use_mirror: bool,
+    ) -> Result<Self> {
+        scene.validate()?;
         let spec = static_model.params.operator_spec();
-        let tangential = LatticeOperator::tangential(&spec, tangential_near_field)?;
-        let mut out = Self::new(scene, static_model, Arc::new(tangential))?;
+        let kernel = TangentialKernel::new(&spec, tangential_near_field)?;
+        let grid = NormalGrid::solve(scene, static_model)?;
+        let mirror = Mirror::of(scene, &grid.normals_n).filter(|_| use_mirror);
+        let tangential: Arc<dyn ComplianceProduct> = match mirror {
+            Some(_) => Arc::new(kernel.mirror_operator(&spec.geometry)?),
+            None => Arc::new(kernel.operator()),
+        };
+        let mut out = Self::on_grid(scene, grid, tangential, mirror)?;
         out.dundurs_beta = Some(slider_contact::dundurs_beta(&spec));
         Ok(out)
+    }
+
+    /// The y-mirror the model runs on, if any.
+    pub fn mirror(&self) -> Option<Mirror> {
+        self.mirror
     }
 
     /// The scene.
@@ -417,7 +532,8 @@ impl SliderDynamics {
         &self.scene
     }
 
-    /// The coupled model (steady points, curve, histories: the strip model's API).
+    /// The coupled model (steady points, curve, histories: the strip model's API). With a
+    /// [`Self::mirror`] its posts are the folded lattice's ([`Mirror::restrict`] order).
     pub fn model(&self) -> &CoupledModel {
         &self.model
     }
@@ -430,7 +546,24 @@ impl SliderDynamics {
     /// The maps at an imposed speed (m/s) along the drive direction, from rest.
     pub fn maps_at(&self, speed_m_per_s: f64) -> Result<SliderMaps> {
         let (point, means, _) = self.model.post_means_from(speed_m_per_s, None)?;
-        Ok(SliderMaps::new(&self.scene.geometry, point, means))
+        Ok(self.maps(point, means))
+    }
+
+    /// The maps of the model's per-post means (expanded to the full lattice under a mirror).
+    fn maps(&self, point: CoupledPoint, means: PostMeans) -> SliderMaps {
+        let means = match self.mirror {
+            Some(fold) => fold.expand_means(means),
+            None => means,
+        };
+        SliderMaps::new(&self.scene.geometry, point, means)
+    }
+
+    /// The model's indices of the full lattice's posts `posts`.
+    fn model_posts(&self, posts: &[usize]) -> Vec<usize> {
+        match self.mirror {
+            Some(fold) => posts.iter().map(|&p| fold.folded_index(p)).collect(),
+            None => posts.to_vec(),
+        }
     }
 
     /// Lattice indices of the middle row's posts (j = n_y/2), x ascending.
@@ -486,7 +619,7 @@ impl SliderDynamics {
                 let half = model.post_means_and_histories_from(
                     0.5 * no_load,
                     last.as_ref(),
-                    &history_posts,
+                    &self.model_posts(&history_posts),
                 )?;
                 Ok((points, half))
             },
@@ -497,10 +630,7 @@ impl SliderDynamics {
         let mut curve = vec![stall_point];
         curve.extend(lower.into_iter().chain(upper));
         let (stall_point, stall_means, _) = stall_maps?;
-        let maps = vec![
-            SliderMaps::new(&self.scene.geometry, stall_point, stall_means),
-            SliderMaps::new(&self.scene.geometry, point, means),
-        ];
+        let maps = vec![self.maps(stall_point, stall_means), self.maps(point, means)];
         let coupled = assemble(model, lumped, no_load, curve, started)?;
         Ok(self.finish(coupled, maps, history_posts, histories, started))
     }
@@ -514,12 +644,15 @@ impl SliderDynamics {
         let (stall, at_half) = rayon::join(
             || self.maps_at(0.0),
             || {
-                self.model
-                    .post_means_and_histories_from(half, None, &history_posts)
+                self.model.post_means_and_histories_from(
+                    half,
+                    None,
+                    &self.model_posts(&history_posts),
+                )
             },
         );
         let (point, means, histories, _) = at_half?;
-        let maps = vec![stall?, SliderMaps::new(&self.scene.geometry, point, means)];
+        let maps = vec![stall?, self.maps(point, means)];
         Ok(self.finish(coupled, maps, history_posts, histories, started))
     }
 
@@ -542,6 +675,20 @@ impl SliderDynamics {
             ));
         }
         coupled.wall_time_s = started.elapsed().as_secs_f64() + self.normal_grid_wall_s;
+        coupled.posts = self.scene.geometry.len();
+        if self.mirror.is_some() {
+            // The folded model counts a post and its image once.
+            let bound = self.model.never_separating_posts();
+            let (folded, full) = (
+                format!("{bound} posts never separate"),
+                format!("{} posts never separate", 2 * bound),
+            );
+            for w in &mut coupled.warnings {
+                if w.starts_with(&folded) {
+                    *w = w.replacen(&folded, &full, 1);
+                }
+            }
+        }
         SliderDynamicsResult {
             coupled,
             posts_x: self.scene.geometry.posts_x,
