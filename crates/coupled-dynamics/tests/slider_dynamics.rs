@@ -54,6 +54,16 @@ fn slider_scene(geometry: LatticeGeometry, offsets: Vec<f64>) -> SliderScene {
     }
 }
 
+/// The rigid-back normal contact of `s`'s lattice on its dense normal operator, at the tight
+/// CG tolerance and the paper wave's 20 nm length scale.
+fn rigid_back(s: &OperatorSpec) -> RigidBackContact<DMatrix<f64>> {
+    RigidBackContact {
+        operator: LatticeKernel::new(s).unwrap().to_dense(),
+        options: tight(),
+        length_scale_m: 20e-9,
+    }
+}
+
 fn tight() -> CgOptions {
     CgOptions {
         tolerance: 1e-13,
@@ -425,11 +435,7 @@ fn the_default_slider_agrees_with_its_middle_row_strip_within_the_edge_effect() 
 #[test]
 fn the_per_post_amplitude_scales_the_local_wave() {
     let s = spec(8, 3);
-    let normal = RigidBackContact {
-        operator: LatticeKernel::new(&s).unwrap().to_dense(),
-        options: tight(),
-        length_scale_m: 20e-9,
-    };
+    let normal = rigid_back(&s);
     let ct = Arc::new(
         TangentialKernel::new(&s, NearField::Johnson)
             .unwrap()
@@ -612,11 +618,7 @@ fn a_lattice_too_large_for_memory_is_refused_by_its_size_and_the_limit() {
 #[test]
 fn a_step_that_does_not_converge_names_its_step_and_its_post() {
     let s = spec(4, 3);
-    let normal = RigidBackContact {
-        operator: LatticeKernel::new(&s).unwrap().to_dense(),
-        options: tight(),
-        length_scale_m: 20e-9,
-    };
+    let normal = rigid_back(&s);
     let not_spd = DMatrix::<f64>::identity(12, 12) * -1e-9;
     let scene = slider_scene(s.geometry, vec![0.0; 12]);
     let slider = SliderDynamics::new(&scene, &normal, Arc::new(not_spd)).unwrap();

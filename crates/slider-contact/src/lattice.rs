@@ -519,9 +519,11 @@ impl ComplianceOperator for LatticeOperator {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
+    /// A small lattice at the paper's pitch and post radius (Si on LiNbO₃, 0.1 mm back,
+    /// Johnson near field): the operators' tests compare their products on it.
     pub(crate) fn small_spec(nx: usize, ny: usize) -> OperatorSpec {
         OperatorSpec {
             geometry: LatticeGeometry {

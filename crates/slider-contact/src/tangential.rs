@@ -219,24 +219,8 @@ impl LatticeOperator {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::lattice::{ComplianceOperator, LatticeGeometry};
-
-    fn spec(nx: usize, ny: usize) -> OperatorSpec {
-        OperatorSpec {
-            geometry: LatticeGeometry {
-                posts_x: nx,
-                posts_y: ny,
-                pitch_m: 40e-6,
-                post_radius_m: 10e-6,
-                slider_length_m: nx as f64 * 40e-6,
-                slider_width_m: ny as f64 * 40e-6,
-            },
-            slider_material: Material::silicon(),
-            stator_material: Material::lithium_niobate(),
-            slider_thickness_m: 0.1e-3,
-            near_field: NearField::Johnson,
-        }
-    }
+    use crate::lattice::ComplianceOperator;
+    use crate::lattice::tests::small_spec as spec;
 
     #[test]
     fn the_tangential_fft_convolution_equals_the_dense_pairwise_sum() {

@@ -245,25 +245,8 @@ impl ComplianceOperator for MirrorOperator {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::lattice::{NearField, OperatorSpec};
-    use contact_springs::Material;
-
-    fn spec(nx: usize, ny: usize) -> OperatorSpec {
-        OperatorSpec {
-            geometry: LatticeGeometry {
-                posts_x: nx,
-                posts_y: ny,
-                pitch_m: 40e-6,
-                post_radius_m: 10e-6,
-                slider_length_m: nx as f64 * 40e-6,
-                slider_width_m: ny as f64 * 40e-6,
-            },
-            slider_material: Material::silicon(),
-            stator_material: Material::lithium_niobate(),
-            slider_thickness_m: 0.1e-3,
-            near_field: NearField::Johnson,
-        }
-    }
+    use crate::lattice::NearField;
+    use crate::lattice::tests::small_spec as spec;
 
     #[test]
     fn the_folded_product_is_the_full_product_of_the_mirror_extended_loads() {
