@@ -34,6 +34,25 @@ fn percent(x: f64) -> String {
 
 impl fmt::Display for SpringsValidation {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        self.fmt_cases(f)?;
+        self.fmt_partners(f)?;
+        self.fmt_truncation(f)?;
+        self.fmt_work_precision(f)?;
+        if let Some(st) = &self.stability {
+            fmt_stability(st, f)?;
+        }
+        writeln!(f)?;
+        write!(
+            f,
+            "study wall time {:.0} s on {} logical CPUs (load average {:.1} at start, {:.1} at end)",
+            self.wall_s, self.cpus, self.load_average[0], self.load_average[1]
+        )
+    }
+}
+
+impl SpringsValidation {
+    /// The title, one row per case and the acceptance line.
+    fn fmt_cases(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(
             f,
             "Rigid punch on a half-space: FEM (Tet{}, {} levels, R = {} a, point-force far field) vs Johnson springs",
@@ -88,6 +107,11 @@ impl fmt::Display for SpringsValidation {
                 "NOT all pass (see validation/springs/README.md)"
             }
         )?;
+        Ok(())
+    }
+
+    /// Each case's FEM value against the partner formula (the wrong boundary condition).
+    fn fmt_partners(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(f)?;
         writeln!(
             f,
@@ -109,6 +133,11 @@ impl fmt::Display for SpringsValidation {
                 }
             )?;
         }
+        Ok(())
+    }
+
+    /// FEM/formula − 1 against the truncation radius, clamped and with the far field.
+    fn fmt_truncation(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if !self.truncation.is_empty() {
             writeln!(f)?;
             writeln!(
@@ -141,6 +170,11 @@ impl fmt::Display for SpringsValidation {
                 writeln!(f)?;
             }
         }
+        Ok(())
+    }
+
+    /// Error against cost of the work-precision case.
+    fn fmt_work_precision(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if !self.work_precision.is_empty() {
             writeln!(f)?;
             writeln!(
@@ -168,65 +202,63 @@ impl fmt::Display for SpringsValidation {
                 )?;
             }
         }
-        if let Some(st) = &self.stability {
-            writeln!(f)?;
-            writeln!(
-                f,
-                "Near-incompressible (k_sn / formula; Tet4 {} vs Tet10 {} unknowns):",
-                st.locking_unknowns[0], st.locking_unknowns[1]
-            )?;
-            for p in &st.locking {
-                writeln!(
-                    f,
-                    "  nu = {:<6} Tet4 {:.4}  Tet10 {:.4}",
-                    p.poisson_ratio, p.tet4_over_analytic, p.tet10_over_analytic
-                )?;
-            }
-            writeln!(f, "Floating punch (no far field, only u_z on the punch):")?;
-            writeln!(
-                f,
-                "  with rigid-mode check:    {}",
-                st.singular_system.with_rigid_mode_check
-            )?;
-            writeln!(
-                f,
-                "  without rigid-mode check: {}",
-                st.singular_system.without_rigid_mode_check
-            )?;
-            writeln!(
-                f,
-                "    direct path:            {}",
-                st.singular_system.direct_without_check
-            )?;
-            writeln!(
-                f,
-                "    iterative path:         {}",
-                st.singular_system.iterative_without_check
-            )?;
-            writeln!(
-                f,
-                "Distorted interior nodes ({}), k_sn / formula:",
-                st.distortion_mesh
-            )?;
-            for p in &st.distortion {
-                if p.refusal.is_empty() {
-                    writeln!(
-                        f,
-                        "  amplitude {:<5} min quality {:.3}, {} poor elements: {:.4}",
-                        p.amplitude, p.min_quality, p.poor_elements, p.stiffness_over_analytic
-                    )?;
-                } else {
-                    writeln!(f, "  amplitude {:<5} refused: {}", p.amplitude, p.refusal)?;
-                }
-            }
-        }
-        writeln!(f)?;
-        write!(
-            f,
-            "study wall time {:.0} s on {} logical CPUs (load average {:.1} at start, {:.1} at end)",
-            self.wall_s, self.cpus, self.load_average[0], self.load_average[1]
-        )
+        Ok(())
     }
+}
+
+/// Near-incompressibility, the floating punch and distorted meshes.
+fn fmt_stability(st: &crate::study::StabilityResults, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+    writeln!(f)?;
+    writeln!(
+        f,
+        "Near-incompressible (k_sn / formula; Tet4 {} vs Tet10 {} unknowns):",
+        st.locking_unknowns[0], st.locking_unknowns[1]
+    )?;
+    for p in &st.locking {
+        writeln!(
+            f,
+            "  nu = {:<6} Tet4 {:.4}  Tet10 {:.4}",
+            p.poisson_ratio, p.tet4_over_analytic, p.tet10_over_analytic
+        )?;
+    }
+    writeln!(f, "Floating punch (no far field, only u_z on the punch):")?;
+    writeln!(
+        f,
+        "  with rigid-mode check:    {}",
+        st.singular_system.with_rigid_mode_check
+    )?;
+    writeln!(
+        f,
+        "  without rigid-mode check: {}",
+        st.singular_system.without_rigid_mode_check
+    )?;
+    writeln!(
+        f,
+        "    direct path:            {}",
+        st.singular_system.direct_without_check
+    )?;
+    writeln!(
+        f,
+        "    iterative path:         {}",
+        st.singular_system.iterative_without_check
+    )?;
+    writeln!(
+        f,
+        "Distorted interior nodes ({}), k_sn / formula:",
+        st.distortion_mesh
+    )?;
+    for p in &st.distortion {
+        if p.refusal.is_empty() {
+            writeln!(
+                f,
+                "  amplitude {:<5} min quality {:.3}, {} poor elements: {:.4}",
+                p.amplitude, p.min_quality, p.poor_elements, p.stiffness_over_analytic
+            )?;
+        } else {
+            writeln!(f, "  amplitude {:<5} refused: {}", p.amplitude, p.refusal)?;
+        }
+    }
+    Ok(())
 }
 
 /// Reference slope line through (x0, y0) with y ∝ x^slope over [x0, x1].
@@ -256,7 +288,18 @@ pub fn write_charts(
     })?;
     let mut files = Vec::new();
 
-    // Work-precision: error vs unknowns and vs wall time.
+    files.extend(work_precision_charts(validation, dir)?);
+    files.extend(convergence_chart(validation, dir)?);
+    files.extend(truncation_chart(validation, dir)?);
+    Ok(files)
+}
+
+/// Work-precision: error against unknowns and against wall time, with the theory slopes.
+fn work_precision_charts(
+    validation: &SpringsValidation,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, ValidationError> {
+    let mut files = Vec::new();
     if !validation.work_precision.is_empty() {
         for (stem, x_label, x_of) in [
             (
@@ -314,36 +357,36 @@ pub fn write_charts(
                     .push(slope_line(&label, first.0, last.0, first.1 * 1.3, slope));
             }
             if stem == "work_precision_unknowns" {
-                chart.series.push(Series::new(
-                    "0.3 % target",
-                    vec![
-                        (
-                            validation
-                                .work_precision
-                                .iter()
-                                .map(|p| p.unknowns as f64)
-                                .fold(f64::INFINITY, f64::min),
-                            0.003,
-                        ),
-                        (
-                            validation
-                                .work_precision
-                                .iter()
-                                .map(|p| p.unknowns as f64)
-                                .fold(0.0, f64::max),
-                            0.003,
-                        ),
-                    ],
-                    Style::Dashed,
-                ));
+                chart
+                    .series
+                    .push(accuracy_target(&validation.work_precision));
             }
             let path = dir.join(stem);
             files.extend(write_chart(&chart, &path).map_err(chart_err(&path))?);
         }
     }
+    Ok(files)
+}
 
-    // Convergence of each spring (first radius, each material): FEM/formula − 1 vs h_e/a, with
-    // the extrapolated value at h_e = 0.
+/// The 0.3 % accuracy target across the work-precision points' range of unknowns.
+fn accuracy_target(points: &[crate::study::WorkPrecisionPoint]) -> Series {
+    let unknowns = points.iter().map(|p| p.unknowns as f64);
+    let low = unknowns.clone().fold(f64::INFINITY, f64::min);
+    let high = unknowns.fold(0.0, f64::max);
+    Series::new(
+        "0.3 % target",
+        vec![(low, 0.003), (high, 0.003)],
+        Style::Dashed,
+    )
+}
+
+/// Convergence of each spring (first radius, each material): FEM/formula − 1 against h_e/a,
+/// with the extrapolated value at h_e = 0.
+fn convergence_chart(
+    validation: &SpringsValidation,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, ValidationError> {
+    let mut files = Vec::new();
     if let Some(radius) = validation.cases.first().map(|c| c.radius_m) {
         let mut chart = Chart::new(
             format!("convergence, a = {} um (Tet10)", radius * 1e6),
@@ -382,8 +425,15 @@ pub fn write_charts(
         let path = dir.join("convergence");
         files.extend(write_chart(&chart, &path).map_err(chart_err(&path))?);
     }
+    Ok(files)
+}
 
-    // Truncation: FEM/formula − 1 vs a/R, clamped and point-force.
+/// Truncation: FEM/formula − 1 against a/R, clamped and with the point-force far field.
+fn truncation_chart(
+    validation: &SpringsValidation,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, ValidationError> {
+    let mut files = Vec::new();
     if !validation.truncation.is_empty() {
         let mut chart = Chart::new("truncation at level 0", "a / R", "FEM / formula - 1 (%)");
         let mut keys: Vec<(Spring, String)> = validation

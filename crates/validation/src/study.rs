@@ -483,176 +483,11 @@ pub fn validate_springs(options: &SpringsOptions) -> Result<SpringsValidation, V
     };
     let load_at_start = load_average();
     let family = options.family;
-
-    // 1. Convergence ladders.
-    let mut levels: Vec<LevelResult> = Vec::new();
-    for &radius_m in &options.radii_m {
-        for level in 0..options.levels {
-            for (symmetry, springs) in runner.spring_groups().into_values() {
-                let (mesh, name) = runner.read_mesh(
-                    &family,
-                    level,
-                    radius_m,
-                    symmetry,
-                    family.truncation_ratio,
-                )?;
-                for result in runner.solve_on(&mesh, &options.materials, &springs)? {
-                    levels.push(LevelResult {
-                        level,
-                        h_edge_over_a: family.h_edge(level),
-                        growth: family.growth(level),
-                        mesh: name.clone(),
-                        result,
-                    });
-                }
-            }
-        }
-    }
-
-    // 2. Truncation study (level 0, first radius).
-    let mut truncation = Vec::new();
-    for &ratio in &options.truncation_ratios {
-        for (symmetry, springs) in runner.spring_groups().into_values() {
-            let (mesh, _) = runner.read_mesh(&family, 0, options.radii_m[0], symmetry, ratio)?;
-            for r in runner.solve_on(&mesh, &options.materials, &springs)? {
-                let material = options
-                    .materials
-                    .iter()
-                    .find(|m| m.name == r.material)
-                    .cloned()
-                    .unwrap_or_else(Material::silicon);
-                let analytic = r.spring.analytic_n_per_m(&material, r.radius_m)?;
-                truncation.push(TruncationPoint {
-                    spring: r.spring,
-                    material: r.material.clone(),
-                    truncation_ratio: ratio,
-                    point_force_over_analytic: r.stiffness_n_per_m / analytic,
-                    clamped_over_analytic: r.clamped_stiffness_n_per_m / analytic,
-                    unknowns: r.unknowns,
-                });
-            }
-        }
-    }
-
-    // 3. Cases.
-    let mut cases = Vec::new();
-    for &radius_m in &options.radii_m {
-        for material in &options.materials {
-            for &spring in &options.springs {
-                cases.push(make_case(
-                    options,
-                    &levels,
-                    &truncation,
-                    spring,
-                    material,
-                    radius_m,
-                )?);
-            }
-        }
-    }
-
-    // 4. Work-precision.
-    let mut work_precision = Vec::new();
-    if let Some(wp) = &options.work_precision {
-        let material = options
-            .materials
-            .iter()
-            .find(|m| m.name == wp.material)
-            .cloned()
-            .unwrap_or_else(Material::lithium_niobate);
-        let exact = wp.spring.analytic_n_per_m(&material, wp.radius_m)?;
-        let symmetry = runner.symmetry_of(wp.spring);
-        for (fam, count) in [(family, wp.tet10_levels), (wp.tet4_family, wp.tet4_levels)] {
-            for level in 0..count {
-                let (mesh, _) =
-                    runner.read_mesh(&fam, level, wp.radius_m, symmetry, fam.truncation_ratio)?;
-                let mut best: Option<PunchStiffness> = None;
-                for _ in 0..WORK_PRECISION_REPETITIONS {
-                    let r = runner
-                        .solve_on(&mesh, std::slice::from_ref(&material), &[wp.spring])?
-                        .remove(0);
-                    if best
-                        .as_ref()
-                        .is_none_or(|b| r.timings.total_s() < b.timings.total_s())
-                    {
-                        best = Some(r);
-                    }
-                }
-                let Some(result) = best else { continue };
-                work_precision.push(WorkPrecisionPoint {
-                    order: fam.order,
-                    level,
-                    h_edge_over_a: fam.h_edge(level),
-                    unknowns: result.unknowns,
-                    wall_s: result.timings.total_s(),
-                    timings: result.timings,
-                    relative_error: (result.stiffness_n_per_m / exact - 1.0).abs(),
-                });
-            }
-        }
-    }
-
-    // 5. Stability.
-    let stability = match &options.stability {
-        None => None,
-        Some(st) => {
-            let material = options
-                .materials
-                .iter()
-                .find(|m| m.name == "linbo3")
-                .cloned()
-                .unwrap_or_else(|| options.materials[0].clone());
-            let radius_m = options.radii_m[0];
-            let tet4_family = options
-                .work_precision
-                .as_ref()
-                .map_or_else(MeshFamily::tet4, |w| w.tet4_family);
-            let (tet4, _) = runner.read_mesh(
-                &tet4_family,
-                st.tet4_level,
-                radius_m,
-                MeshSymmetry::Quarter,
-                tet4_family.truncation_ratio,
-            )?;
-            let (tet10, tet10_name) = runner.read_mesh(
-                &family,
-                st.tet10_level,
-                radius_m,
-                MeshSymmetry::Quarter,
-                family.truncation_ratio,
-            )?;
-            runner.log("locking study");
-            let locking =
-                locking_study(&tet4, &tet10, &material, &st.poisson_ratios, &options.solve)?;
-            let unknowns = |m: &PunchMesh| -> Result<usize, ValidationError> {
-                Ok(AssembledPunch::new(m, &material)?
-                    .solve(Spring::FrictionlessNormal, &options.solve)?
-                    .unknowns)
-            };
-            let locking_unknowns = [unknowns(&tet4)?, unknowns(&tet10)?];
-            runner.log("singular system");
-            let full = tet4
-                .mirrored(crate::punch_mesh::MirrorPlane::X0)?
-                .mirrored(crate::punch_mesh::MirrorPlane::Y0)?;
-            let singular = singular_system(&full, &material)?;
-            runner.log("distorted meshes");
-            let distortion = distortion_study(
-                &tet10,
-                &material,
-                Spring::FrictionlessNormal,
-                &st.distortion_amplitudes,
-                &options.solve,
-            )?;
-            Some(StabilityResults {
-                locking_unknowns,
-                locking,
-                singular_system: singular,
-                distortion,
-                distortion_mesh: tet10_name,
-            })
-        }
-    };
-
+    let levels = runner.ladders()?;
+    let truncation = runner.truncation_study()?;
+    let cases = cases(options, &levels, &truncation)?;
+    let work_precision = runner.work_precision()?;
+    let stability = runner.stability()?;
     Ok(SpringsValidation {
         cases,
         levels,
@@ -668,6 +503,210 @@ pub fn validate_springs(options: &SpringsOptions) -> Result<SpringsValidation, V
         load_average: [load_at_start, load_average()],
         cpus: std::thread::available_parallelism().map_or(1, |n| n.get()),
     })
+}
+
+impl Runner<'_> {
+    /// 1. Convergence ladders: every radius, level and spring group on its mesh.
+    fn ladders(&self) -> Result<Vec<LevelResult>, ValidationError> {
+        let mut levels: Vec<LevelResult> = Vec::new();
+        for &radius_m in &self.options.radii_m {
+            for level in 0..self.options.levels {
+                for (symmetry, springs) in self.spring_groups().into_values() {
+                    let (mesh, name) = self.read_mesh(
+                        &self.options.family,
+                        level,
+                        radius_m,
+                        symmetry,
+                        self.options.family.truncation_ratio,
+                    )?;
+                    for result in self.solve_on(&mesh, &self.options.materials, &springs)? {
+                        levels.push(LevelResult {
+                            level,
+                            h_edge_over_a: self.options.family.h_edge(level),
+                            growth: self.options.family.growth(level),
+                            mesh: name.clone(),
+                            result,
+                        });
+                    }
+                }
+            }
+        }
+        Ok(levels)
+    }
+
+    /// 2. Truncation study (level 0, first radius): point-force and clamped far fields.
+    fn truncation_study(&self) -> Result<Vec<TruncationPoint>, ValidationError> {
+        let mut truncation = Vec::new();
+        for &ratio in &self.options.truncation_ratios {
+            for (symmetry, springs) in self.spring_groups().into_values() {
+                let (mesh, _) = self.read_mesh(
+                    &self.options.family,
+                    0,
+                    self.options.radii_m[0],
+                    symmetry,
+                    ratio,
+                )?;
+                for r in self.solve_on(&mesh, &self.options.materials, &springs)? {
+                    let material = self
+                        .options
+                        .materials
+                        .iter()
+                        .find(|m| m.name == r.material)
+                        .cloned()
+                        .unwrap_or_else(Material::silicon);
+                    let analytic = r.spring.analytic_n_per_m(&material, r.radius_m)?;
+                    truncation.push(TruncationPoint {
+                        spring: r.spring,
+                        material: r.material.clone(),
+                        truncation_ratio: ratio,
+                        point_force_over_analytic: r.stiffness_n_per_m / analytic,
+                        clamped_over_analytic: r.clamped_stiffness_n_per_m / analytic,
+                        unknowns: r.unknowns,
+                    });
+                }
+            }
+        }
+        Ok(truncation)
+    }
+
+    /// 4. Work-precision: error against cost on the Tet10 and Tet4 ladders (best of the
+    /// repetitions).
+    fn work_precision(&self) -> Result<Vec<WorkPrecisionPoint>, ValidationError> {
+        let mut work_precision = Vec::new();
+        if let Some(wp) = &self.options.work_precision {
+            let material = self
+                .options
+                .materials
+                .iter()
+                .find(|m| m.name == wp.material)
+                .cloned()
+                .unwrap_or_else(Material::lithium_niobate);
+            let exact = wp.spring.analytic_n_per_m(&material, wp.radius_m)?;
+            let symmetry = self.symmetry_of(wp.spring);
+            for (fam, count) in [
+                (self.options.family, wp.tet10_levels),
+                (wp.tet4_family, wp.tet4_levels),
+            ] {
+                for level in 0..count {
+                    let (mesh, _) =
+                        self.read_mesh(&fam, level, wp.radius_m, symmetry, fam.truncation_ratio)?;
+                    let mut best: Option<PunchStiffness> = None;
+                    for _ in 0..WORK_PRECISION_REPETITIONS {
+                        let r = self
+                            .solve_on(&mesh, std::slice::from_ref(&material), &[wp.spring])?
+                            .remove(0);
+                        if best
+                            .as_ref()
+                            .is_none_or(|b| r.timings.total_s() < b.timings.total_s())
+                        {
+                            best = Some(r);
+                        }
+                    }
+                    let Some(result) = best else { continue };
+                    work_precision.push(WorkPrecisionPoint {
+                        order: fam.order,
+                        level,
+                        h_edge_over_a: fam.h_edge(level),
+                        unknowns: result.unknowns,
+                        wall_s: result.timings.total_s(),
+                        timings: result.timings,
+                        relative_error: (result.stiffness_n_per_m / exact - 1.0).abs(),
+                    });
+                }
+            }
+        }
+        Ok(work_precision)
+    }
+
+    /// 5. Stability: locking, the singular (floating) system and distorted meshes.
+    fn stability(&self) -> Result<Option<StabilityResults>, ValidationError> {
+        let stability = match &self.options.stability {
+            None => None,
+            Some(st) => {
+                let material = self
+                    .options
+                    .materials
+                    .iter()
+                    .find(|m| m.name == "linbo3")
+                    .cloned()
+                    .unwrap_or_else(|| self.options.materials[0].clone());
+                let radius_m = self.options.radii_m[0];
+                let tet4_family = self
+                    .options
+                    .work_precision
+                    .as_ref()
+                    .map_or_else(MeshFamily::tet4, |w| w.tet4_family);
+                let (tet4, _) = self.read_mesh(
+                    &tet4_family,
+                    st.tet4_level,
+                    radius_m,
+                    MeshSymmetry::Quarter,
+                    tet4_family.truncation_ratio,
+                )?;
+                let (tet10, tet10_name) = self.read_mesh(
+                    &self.options.family,
+                    st.tet10_level,
+                    radius_m,
+                    MeshSymmetry::Quarter,
+                    self.options.family.truncation_ratio,
+                )?;
+                self.log("locking study");
+                let locking = locking_study(
+                    &tet4,
+                    &tet10,
+                    &material,
+                    &st.poisson_ratios,
+                    &self.options.solve,
+                )?;
+                let unknowns = |m: &PunchMesh| -> Result<usize, ValidationError> {
+                    Ok(AssembledPunch::new(m, &material)?
+                        .solve(Spring::FrictionlessNormal, &self.options.solve)?
+                        .unknowns)
+                };
+                let locking_unknowns = [unknowns(&tet4)?, unknowns(&tet10)?];
+                self.log("singular system");
+                let full = tet4
+                    .mirrored(crate::punch_mesh::MirrorPlane::X0)?
+                    .mirrored(crate::punch_mesh::MirrorPlane::Y0)?;
+                let singular = singular_system(&full, &material)?;
+                self.log("distorted meshes");
+                let distortion = distortion_study(
+                    &tet10,
+                    &material,
+                    Spring::FrictionlessNormal,
+                    &st.distortion_amplitudes,
+                    &self.options.solve,
+                )?;
+                Some(StabilityResults {
+                    locking_unknowns,
+                    locking,
+                    singular_system: singular,
+                    distortion,
+                    distortion_mesh: tet10_name,
+                })
+            }
+        };
+        Ok(stability)
+    }
+}
+
+/// 3. Cases: every radius, material and spring against its formula.
+fn cases(
+    options: &SpringsOptions,
+    levels: &[LevelResult],
+    truncation: &[TruncationPoint],
+) -> Result<Vec<SpringCase>, ValidationError> {
+    let mut cases = Vec::new();
+    for &radius_m in &options.radii_m {
+        for material in &options.materials {
+            for &spring in &options.springs {
+                cases.push(make_case(
+                    options, levels, truncation, spring, material, radius_m,
+                )?);
+            }
+        }
+    }
+    Ok(cases)
 }
 
 /// Two truncation ratios closer than this (relative) are the same. Dimensionless; default 1e-9.
