@@ -17,22 +17,33 @@
 //!
 //! Self-consistency: p_j depends on every post's amplitude (through the preload distribution
 //! and the wave each post sees), so the profile α_i = A_i/A₀ is the fixed point of
-//! α = g(α) = √(max(P_i, 0)/P_in). It is solved in the same stepping as the tips' periodic
-//! state (`CoupledModel::steady_profiled`): after each period the posts' powers over that
-//! period give g(α); once the tips' largest force change over the period is below
-//! [`FORCING`] × max|g(α) − α| (an inexact step: powers as accurate as the profile needs), the
-//! profile takes a step — the marching update (each post's draw scaled with its own
-//! amplitude, `marching_profile`, a near-Newton step where the posts' coupling through the
-//! preload is weak) under Anderson acceleration (depth 5, no damping) — and the normal
-//! problem is re-solved on the new profile from the old one's contact sets and factors. The
-//! point is the first period that is periodic by the coupled model's rule at a profile with
-//! max|g(α) − α| < `tolerance` (default 1e-6: the thrust then moves by about 1e-6 relative,
-//! three orders below the time step's error of 0.4 % on the default row). Stall starts from
-//! α = 1 (the constant-amplitude wave), the other points from the linear prediction of their
-//! converged neighbours. On the default row (100 posts, 128 steps per period, 40 N) the
-//! curve steps 549 periods against the constant-amplitude curve's 219, with 4–8 profile
-//! updates per point. A post that would draw more than what remains is the case the clamp
-//! handles: P(x) ≥ 0, and a post at zero amplitude draws nothing.
+//! α = g(α) = √(max(P_i, 0)/P_in). It is solved together with the tips' periodic state, in
+//! one stepping (`CoupledModel::steady_profiled`): a period maps z = (T, α), the tips' forces
+//! at the period start (of the friction scale) and the profile, to (the forces after one
+//! period on the model of α, the marching update of α from that period's powers — each post's
+//! draw scaled with its own amplitude, `marching_profile`, a near-Newton step where the posts'
+//! coupling through the preload is weak, with the fixed point of g), and Anderson acceleration
+//! of this joint map (depth 5, no damping, Walker & Ni 2011) gives the next period's start and
+//! profile: the profile moves every period, and the secant differences carry how the tips'
+//! relaxation and the profile act on each other, instead of the profile waiting for the tips to
+//! relax before each update. The normal problem is re-solved on each new profile from the old
+//! one's contact sets and factors. Once max|g(α) − α| < `tolerance` the profile stays and the
+//! acceleration runs on the tips alone (it resumes on both if the residual grows past the
+//! tolerance). The point is the first period that is periodic by the coupled model's rule
+//! (two periods stepped, the same modes, forces within 1e-11 of the friction scale) at a
+//! profile with max|g(α) − α| < `tolerance` (default 1e-6: the thrust then moves by about
+//! 1e-6 relative, three orders below the time step's error of 0.4 % on the default row).
+//! Stall starts from α = 1 (the constant-amplitude wave), the other points from the linear
+//! prediction of their converged neighbours, the no-load search (regula falsi, or secant steps
+//! from a guess such as the constant wave's no-load speed) from its previous evaluation.
+//! On the default strip (the default run's coupled model: 100 posts, 64 steps per period,
+//! 40 N, 50 points) the curve with its no-load search and the history point steps 620 periods
+//! (7–22 per point; 1119 when each profile update waited for the tips to relax) against the
+//! constant-amplitude curve's 418 (2–12 per point); each point starts from its neighbour's
+//! secant differences as well as its state. A period costs about 1.7× the constant wave's (the
+//! normal problem re-solved on each new profile, the per-post powers booked).
+//! A post that would draw more than what remains is the case the clamp handles: P(x) ≥ 0, and
+//! a post at zero amplitude draws nothing.
 //!
 //! Assumptions: steady state; no reflection at the slider's edges; beam diffraction neglected
 //! (the beam's power stays in the aperture); the wave's velocity and phase under the slider
@@ -43,22 +54,18 @@
 //! shorter than the transit time under the slider (L/c ≈ 1 µs).
 
 use crate::error::{CoupledError, Result};
-use crate::model::{CoupledModel, CoupledPoint, PeriodState, ProfileStep};
+use crate::model::{
+    CoupledModel, CoupledPoint, PeriodState, PostHistories, ProfileMap, SPEED_TOLERANCE,
+};
 use crate::scene::CoupledScene;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
 /// Default tolerance of the fixed point: max |Δα| (of A₀). Default 1e-6 (module docs).
 pub const DEFAULT_AMPLITUDE_TOLERANCE: f64 = 1e-6;
-/// Default under-relaxation factor of the fixed point (1: none). Default 1 (the marching
-/// update needs no damping: 0.7 costs 13 % more periods on the default row).
+/// Default mixing β of the Anderson acceleration of the joint map of tips and profile (1: no
+/// damping). Default 1 (the marching update needs no damping).
 pub const DEFAULT_RELAXATION: f64 = 1.0;
-/// The profile is updated once the tips' largest force change over a period (of the friction
-/// scale) is below this fraction of the profile's residual max|g(α) − α|: the powers of a
-/// period whose tips are still relaxing are then accurate enough for the next profile (an
-/// inexact fixed-point step; the tips relax on towards the periodicity rule as the profile
-/// settles). Default 0.1.
-pub const FORCING: f64 = 1.0;
 /// Default iteration limit. Default 200.
 pub const DEFAULT_MAX_ITERATIONS: usize = 200;
 
@@ -69,10 +76,15 @@ pub struct AttenuationOptions {
     pub power_in_w: f64,
     /// Fixed-point tolerance on max |Δα| (α = A/A₀).
     pub tolerance: f64,
-    /// Under-relaxation factor in (0, 1].
+    /// Mixing β of the joint Anderson acceleration, in (0, 1] (1: none).
     pub relaxation: f64,
     /// Iteration limit.
     pub max_iterations: usize,
+    /// A guess of the no-load speed (m/s), e.g. the constant-amplitude wave's: the no-load
+    /// search then runs secant steps from it ([`CoupledModel::no_load_search_near`]'s method)
+    /// instead of the regula falsi from the crest speed, to the same tolerance. `None`: regula
+    /// falsi.
+    pub no_load_guess_m_per_s: Option<f64>,
 }
 
 impl AttenuationOptions {
@@ -83,6 +95,7 @@ impl AttenuationOptions {
             tolerance: DEFAULT_AMPLITUDE_TOLERANCE,
             relaxation: DEFAULT_RELAXATION,
             max_iterations: DEFAULT_MAX_ITERATIONS,
+            no_load_guess_m_per_s: None,
         }
     }
 }
@@ -128,9 +141,9 @@ struct WarmStart {
     alpha: Vec<f64>,
     state: PeriodState,
     model: CoupledModel,
-    /// The acceleration's differences: the fixed point's Jacobian changes little between
+    /// The joint acceleration's differences: the joint map's Jacobian changes little between
     /// neighbouring speeds, so the next point starts with its secant information.
-    anderson: Anderson,
+    anderson: Option<Anderson>,
 }
 
 fn check_options(o: &AttenuationOptions) -> Result<()> {
@@ -193,7 +206,11 @@ fn marching_profile(order: &[usize], power_w: &[f64], alpha: &[f64], power_in_w:
     let mut target = vec![0.0; power_w.len()];
     for &i in order {
         let scalable = alpha[i] > 1e-12;
-        let slope = if scalable { power_w[i] / (alpha[i] * alpha[i]) } else { 0.0 };
+        let slope = if scalable {
+            power_w[i] / (alpha[i] * alpha[i])
+        } else {
+            0.0
+        };
         let denominator = power_in_w + 0.5 * slope;
         if scalable && denominator > 0.5 * power_in_w {
             let a2 = remaining.max(0.0) / denominator;
@@ -209,13 +226,13 @@ fn marching_profile(order: &[usize], power_w: &[f64], alpha: &[f64], power_in_w:
 }
 
 /// Anderson acceleration (type II, Walker & Ni, SIAM J. Numer. Anal. 49 (2011) 1715, with
-/// mixing β) of the fixed point α = g(α): with the last `DEPTH` differences of iterates ΔA and
-/// of residuals ΔR (r = g(α) − α), γ = argmin ‖r − ΔR γ‖ and α⁺ = α + β r − (ΔA + β ΔR) γ.
-/// Depth 0 (no history yet, or a least-squares failure) is plain relaxation α⁺ = α + β r. The
-/// profile is kept ≥ 0 (an amplitude); it may exceed 1 where posts beyond the no-load speed
-/// give power back to the wave. The history restarts when the residual grows (a safeguard, not a line search).
+/// mixing β) of a fixed point z = G(z): with the last `DEPTH` differences of iterates ΔZ and
+/// of residuals ΔR (r = G(z) − z), γ = argmin ‖r − ΔR γ‖ and z⁺ = z + β r − (ΔZ + β ΔR) γ.
+/// Depth 0 (no history yet, or a least-squares failure) is plain relaxation z⁺ = z + β r. The
+/// history restarts when the residual grows (a safeguard, not a line search). The caller keeps
+/// its unknowns in their ranges (an amplitude ≥ 0).
 #[derive(Clone)]
-struct Anderson {
+pub(crate) struct Anderson {
     beta: f64,
     last: Option<(Vec<f64>, Vec<f64>)>,
     d_alpha: Vec<Vec<f64>>,
@@ -225,7 +242,7 @@ struct Anderson {
 impl Anderson {
     const DEPTH: usize = 5;
 
-    fn new(beta: f64) -> Self {
+    pub(crate) fn new(beta: f64) -> Self {
         Self {
             beta,
             last: None,
@@ -234,19 +251,20 @@ impl Anderson {
         }
     }
 
-    /// The differences of a converged neighbour without its last iterate (whose residual
-    /// belongs to another speed).
-    fn carried(&self) -> Self {
+    /// The differences without the last iterate: the start of a neighbouring problem whose
+    /// Jacobian is close (the next speed), whose first residual is not comparable.
+    pub(crate) fn carried(&self) -> Self {
         Self {
             last: None,
             ..self.clone()
         }
     }
 
-    fn next(&mut self, alpha: &[f64], residual: &[f64]) -> Vec<f64> {
+    /// The next iterate from `alpha` (z) and its `residual` G(z) − z.
+    pub(crate) fn next(&mut self, alpha: &[f64], residual: &[f64]) -> Vec<f64> {
         let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
         if let Some((a0, r0)) = self.last.take() {
-            if norm(residual) > norm(&r0) {
+            if a0.len() != alpha.len() || norm(residual) > norm(&r0) {
                 self.d_alpha.clear();
                 self.d_residual.clear();
             } else {
@@ -273,7 +291,7 @@ impl Anderson {
                 }
             }
         }
-        next.iter().map(|x| x.max(0.0)).collect()
+        next
     }
 
     /// γ of the least-squares problem (SVD, rank-revealing: near-dependent differences are
@@ -315,11 +333,64 @@ fn predicted(
     start
 }
 
+/// The profile's side of the joint stepping ([`ProfileMap`]): the target profile's residual
+/// (module docs), the marching update as the profile's part of the joint map, and the model of
+/// each new profile from the last one, counting the profile updates against the limit.
+struct Profile<'a> {
+    scene: &'a CoupledScene,
+    options: &'a AttenuationOptions,
+    speed_m_per_s: f64,
+    /// Posts in the order the wave reaches them.
+    order: Vec<usize>,
+    updates: usize,
+    last_change: f64,
+}
+
+impl ProfileMap for Profile<'_> {
+    fn target(&mut self, alpha: &[f64], power_w: &[f64]) -> Result<(f64, Vec<f64>)> {
+        let target = target_profile(&self.order, power_w, self.options.power_in_w);
+        self.last_change = target
+            .iter()
+            .zip(alpha)
+            .fold(0.0, |m, (t, a)| f64::max(m, (t - a).abs()));
+        let marched = marching_profile(&self.order, power_w, alpha, self.options.power_in_w);
+        Ok((self.last_change, marched))
+    }
+
+    fn tolerance(&self) -> f64 {
+        self.options.tolerance
+    }
+
+    fn relaxation(&self) -> f64 {
+        self.options.relaxation
+    }
+
+    fn model(&mut self, alpha: &[f64], from: &CoupledModel) -> Result<CoupledModel> {
+        if self.updates >= self.options.max_iterations {
+            return Err(CoupledError::NotConverged {
+                what: "energy-conserving wave amplitude (fixed point)",
+                iterations: self.options.max_iterations,
+                residual: self.last_change,
+                tolerance: self.options.tolerance,
+                context: format!("at speed {:.6e} m/s", self.speed_m_per_s),
+            });
+        }
+        self.updates += 1;
+        CoupledModel::new_from(&with_profile(self.scene, alpha), Some(from))
+    }
+}
+
+/// The scene with the amplitude profile `alpha`.
+fn with_profile(scene: &CoupledScene, alpha: &[f64]) -> CoupledScene {
+    let mut local = scene.clone();
+    local.amplitude_scale = alpha.to_vec();
+    local
+}
+
 /// The fixed point of the amplitude profile at one speed, from `warm` (a neighbouring
-/// converged point) or from the constant-amplitude wave. The profile is updated between the
-/// periods of one stepping ([`CoupledModel::steady_profiled`]): each period's per-post stator
-/// power gives the target profile, Anderson's step the next one, until the profile is settled
-/// to the tolerance in a period that is itself periodic.
+/// converged point) or from the constant-amplitude wave: the tips and the profile stepped
+/// together ([`CoupledModel::steady_profiled`]) until a period is periodic at a profile settled
+/// to the tolerance.
 fn iterate_profile(
     scene: &CoupledScene,
     speed_m_per_s: f64,
@@ -332,54 +403,33 @@ fn iterate_profile(
     let mut order: Vec<usize> = (0..n).collect();
     order.sort_by(|&a, &b| (sigma * scene.post_x_m[a]).total_cmp(&(sigma * scene.post_x_m[b])));
     let warm_fits = warm.filter(|w| w.alpha.len() == n);
-    let with_profile = |alpha: &[f64]| {
-        let mut local = scene.clone();
-        local.amplitude_scale = alpha.to_vec();
-        local
-    };
-    let mut alpha = warm_fits.map_or_else(|| vec![1.0; n], |w| w.alpha.clone());
-    let mut anderson = warm_fits.map_or_else(
-        || Anderson::new(o.relaxation),
-        |w| w.anderson.carried(),
-    );
-    let mut last_change = f64::INFINITY;
-    let mut updates = 0;
-    let model = CoupledModel::new_from(&with_profile(&alpha), warm_fits.map(|w| &w.model))?;
-    let mut reprofile = |model: &CoupledModel, power_w: &[f64], tips_change: f64| {
-        let target = target_profile(&order, power_w, o.power_in_w);
-        last_change = target.iter().zip(&alpha).fold(0.0, |m, (t, a)| f64::max(m, (t - a).abs()));
-        if last_change < o.tolerance {
-            return Ok(ProfileStep::Settled);
-        }
-        if tips_change > FORCING * last_change {
-            return Ok(ProfileStep::Wait);
-        }
-        if updates >= o.max_iterations {
-            return Err(CoupledError::NotConverged {
-                what: "energy-conserving wave amplitude (fixed point)",
-                iterations: o.max_iterations,
-                residual: last_change,
-                tolerance: o.tolerance,
-                context: format!("at speed {speed_m_per_s:.6e} m/s"),
-            });
-        }
-        let marched = marching_profile(&order, power_w, &alpha, o.power_in_w);
-        let residual: Vec<f64> = marched.iter().zip(&alpha).map(|(t, a)| t - a).collect();
-        alpha = anderson.next(&alpha, &residual);
-        updates += 1;
-        let next = CoupledModel::new_from(&with_profile(&alpha), Some(model))?;
-        Ok(ProfileStep::Next(Box::new(next)))
+    let alpha = warm_fits.map_or_else(|| vec![1.0; n], |w| w.alpha.clone());
+    let model = CoupledModel::new_from(&with_profile(scene, &alpha), warm_fits.map(|w| &w.model))?;
+    let mut profile = Profile {
+        scene,
+        options: o,
+        speed_m_per_s,
+        order,
+        updates: 0,
+        last_change: f64::INFINITY,
     };
     let periods = o.max_iterations + crate::model::MAX_PERIODS;
     let steady = model.steady_profiled(
         speed_m_per_s,
         warm_fits.map(|w| &w.state),
         periods,
-        &mut reprofile,
+        &mut profile,
+        warm_fits.and_then(|w| w.anderson.clone()),
     )?;
     let drawn: f64 = steady.post_power_w.iter().sum();
     let out = o.power_in_w - drawn;
     let point = steady.point;
+    let alpha = steady.model.scene().amplitude_scale.clone();
+    let alpha = if alpha.is_empty() {
+        vec![1.0; n]
+    } else {
+        alpha
+    };
     let converged = AttenuatedPoint {
         balance_residual: (o.power_in_w - out - point.stator_power_w).abs() / o.power_in_w,
         point,
@@ -387,14 +437,14 @@ fn iterate_profile(
         wave_power_out_w: out,
         amplitude_scale: alpha.clone(),
         post_power_w: steady.post_power_w,
-        iterations: updates + 1,
-        last_change,
+        iterations: profile.updates + 1,
+        last_change: profile.last_change,
     };
     let next = WarmStart {
         alpha,
         state: steady.end_state,
         model: steady.model,
-        anderson,
+        anderson: steady.joint,
     };
     Ok((converged, next))
 }
@@ -417,19 +467,55 @@ pub struct AttenuatedCurve {
 
 /// [`attenuated_at_speed`] at stall, the no-load speed and the scene's `curve_points` speeds
 /// (k v₀/(points − 1)), each point iterated to self-consistency. Each point starts from a
-/// converged neighbour (its profile, period state and normal contact sets): the regula falsi
-/// from its last evaluation; the curve in two chains, up from stall and down from the no-load
-/// point, run side by side (rayon::join). Each chain is sequential, so the bits do not depend
-/// on the thread count.
+/// converged neighbour (its profile, period state and normal contact sets): the no-load search
+/// (regula falsi, or secant steps from `no_load_guess_m_per_s`) from its last evaluation; the
+/// curve in two chains, up from stall and down from the no-load point, run side by side
+/// (rayon::join). Each chain is sequential, so the bits do not depend on the thread count.
 pub fn solve_attenuated(
     scene: &CoupledScene,
     options: &AttenuationOptions,
 ) -> Result<AttenuatedCurve> {
+    Ok(solve_chains(scene, options)?.0)
+}
+
+/// [`solve_attenuated`] and the steady period at `history_fraction` of its no-load speed (the
+/// self-consistent point there and every post's forces and modes over its steady period,
+/// [`CoupledModel::post_histories`]'s samples). The history point starts from the converged
+/// curve point nearest its speed (the two chains end on either side of half the no-load speed)
+/// and its histories are the next period from its periodic state: the same steady period as a
+/// start from rest gives, to the periodicity tolerance, where the steady cycle is unique.
+pub fn solve_attenuated_with_histories(
+    scene: &CoupledScene,
+    options: &AttenuationOptions,
+    history_fraction: f64,
+) -> Result<(AttenuatedCurve, AttenuatedPoint, PostHistories)> {
+    if !(history_fraction.is_finite() && (0.0..=1.0).contains(&history_fraction)) {
+        return Err(CoupledError::InvalidParameter {
+            parameter: "history_fraction",
+            value: history_fraction,
+            requirement: "must lie in [0, 1]".into(),
+        });
+    }
+    let (curve, ends) = solve_chains(scene, options)?;
+    let speed = history_fraction * curve.no_load_speed_m_per_s;
+    let nearest = ends
+        .iter()
+        .min_by(|a, b| (a.0 - speed).abs().total_cmp(&(b.0 - speed).abs()))
+        .map(|(_, w)| w);
+    let (point, warm) = iterate_profile(scene, speed, options, nearest)?;
+    let histories = warm.model.histories_from_periodic(speed, &warm.state)?;
+    Ok((curve, point, histories))
+}
+
+/// The attenuated curve and the last converged point of each chain (speed, warm start).
+fn solve_chains(
+    scene: &CoupledScene,
+    options: &AttenuationOptions,
+) -> Result<(AttenuatedCurve, Vec<(f64, WarmStart)>)> {
     check_options(options)?;
     let (stall, stall_warm) = iterate_profile(scene, 0.0, options, None)?;
     let stall_n = stall.point.thrust_n;
-    let model = CoupledModel::new(scene)?;
-    // The regula falsi's last evaluation lies nearest the no-load speed: the high chain's start.
+    // The no-load search's last evaluation lies nearest the no-load speed: the high chain's start.
     let mut last = Some(stall_warm.clone());
     let mut last_speed = 0.0;
     let mut thrust = |speed: f64| -> Result<f64> {
@@ -438,7 +524,13 @@ pub fn solve_attenuated(
         last_speed = speed;
         Ok(point.point.thrust_n)
     };
-    let no_load = model.regula_falsi(stall_n, &mut thrust)?;
+    let crest = scene.wave.crest_speed_m_per_s();
+    let no_load = match options.no_load_guess_m_per_s {
+        Some(guess) => {
+            crate::model::secant_root(stall_n, guess, crest, SPEED_TOLERANCE, &mut thrust)?
+        }
+        None => stall_warm.model.regula_falsi(stall_n, &mut thrust)?,
+    };
     let points = scene.curve_points;
     let speed = |k: usize| no_load * k as f64 / (points - 1) as f64;
     let middle = (points / 2).max(1);
@@ -449,28 +541,35 @@ pub fn solve_attenuated(
         let mut warm_speed = from_speed;
         for k in ks {
             let v = speed(k);
-            let start = warm.as_ref().map(|w| predicted(w, before.as_ref(), warm_speed, v));
+            let start = warm
+                .as_ref()
+                .map(|w| predicted(w, before.as_ref(), warm_speed, v));
             let (point, next) = iterate_profile(scene, v, options, start.as_ref())?;
             before = warm.map(|w| (warm_speed, w.alpha));
             warm = Some(next);
             warm_speed = v;
             out.push((k, point));
         }
-        Ok::<_, CoupledError>(out)
+        Ok::<_, CoupledError>((out, warm.map(|w| (warm_speed, w))))
     };
     let (low, high) = rayon::join(
         || chain((1..middle).collect(), Some(stall_warm), 0.0),
         || chain((middle..points).rev().collect(), last, last_speed),
     );
-    let mut rest: Vec<(usize, AttenuatedPoint)> = low?.into_iter().chain(high?).collect();
+    let ((low, low_end), (high, high_end)) = (low?, high?);
+    let mut rest: Vec<(usize, AttenuatedPoint)> = low.into_iter().chain(high).collect();
     rest.sort_by_key(|(k, _)| *k);
     let mut curve = vec![stall];
     curve.extend(rest.into_iter().map(|(_, p)| p));
-    Ok(AttenuatedCurve {
-        stall_thrust_n: stall_n.max(0.0),
-        no_load_speed_m_per_s: no_load,
-        max_iterations: curve.iter().map(|p| p.iterations).max().unwrap_or(0),
-        max_balance_residual: curve.iter().map(|p| p.balance_residual).fold(0.0, f64::max),
-        curve,
-    })
+    let ends = low_end.into_iter().chain(high_end).collect();
+    Ok((
+        AttenuatedCurve {
+            stall_thrust_n: stall_n.max(0.0),
+            no_load_speed_m_per_s: no_load,
+            max_iterations: curve.iter().map(|p| p.iterations).max().unwrap_or(0),
+            max_balance_residual: curve.iter().map(|p| p.balance_residual).fold(0.0, f64::max),
+            curve,
+        },
+        ends,
+    ))
 }

@@ -11,6 +11,7 @@ pub mod slider;
 
 pub use attenuation::{
     AttenuatedCurve, AttenuatedPoint, AttenuationOptions, attenuated_at_speed, solve_attenuated,
+    solve_attenuated_with_histories,
 };
 pub use criterion::{
     DEFAULT_AUTO_TOLERANCE, DynamicsChoice, LUMPED_ERROR_FACTOR, LumpedEvidence, ModelDecision,

@@ -33,12 +33,14 @@
 
 use std::f64::consts::PI;
 use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 use static_contact::{ActiveSetOptions, ActiveSetSolver, ContactProblem};
 
+use crate::attenuation::Anderson;
 use crate::boxqp::{self, ActiveSet};
 use crate::error::{CoupledError, Result};
 use crate::scene::{CoupledScene, PreloadBalance};
@@ -51,6 +53,20 @@ pub const MAX_PERIODS: usize = 64;
 pub const PERIODIC_TOLERANCE: f64 = 1e-11;
 /// Relative tolerance of the no-load speed root (of the crest speed). Default 1e-10.
 pub const SPEED_TOLERANCE: f64 = 1e-10;
+/// Periods stepped by every model of the process (a cost counter for benchmarks and probes).
+static PERIODS_STEPPED: AtomicUsize = AtomicUsize::new(0);
+
+/// Periods stepped so far by every coupled model of this process, on every thread: the cost
+/// measure of a solve independent of the machine's load (read it before and after).
+pub fn periods_stepped() -> usize {
+    PERIODS_STEPPED.load(Ordering::Relaxed)
+}
+
+/// Count one stepped period.
+fn count_period() {
+    PERIODS_STEPPED.fetch_add(1, Ordering::Relaxed);
+}
+
 /// Bisection steps of the period-mean approach. Default 200 (stops at round-off).
 const APPROACH_BISECTIONS: usize = 200;
 /// The period mean Σ⟨N⟩ of [`PreloadBalance::PeriodMean`] is taken on a grid this many times
@@ -285,9 +301,43 @@ pub struct CoupledModel {
     /// The normal problem's factor at each grid phase where a model of a nearby profile
     /// reused or made one ([`NormalFactor`]); empty for a cold model.
     normal_factors: Vec<Option<Arc<NormalFactor>>>,
+    /// The wave's unit shape on the phase grid, shared by the models of one scene's profiles.
+    unit_wave: Arc<UnitWave>,
     /// Posts per lattice column when the posts are a lattice's (i·rows + j): how an error
     /// names a post.
     lattice_rows: Option<usize>,
+}
+
+/// sin(θ_j − σkx_i) and cos(θ_j − σkx_i) on the phase grid θ_j = θ₀ + 2πj/M, j = 0..=M: the
+/// wave's unit shape, which a model of another amplitude profile of the same posts scales by
+/// α_i instead of evaluating it again (the same values, so the same bits).
+#[derive(Debug)]
+struct UnitWave {
+    start_phase_rad: f64,
+    kx: Vec<f64>,
+    sin: Vec<DVector<f64>>,
+    cos: Vec<DVector<f64>>,
+}
+
+impl UnitWave {
+    fn new(start_phase_rad: f64, kx: &[f64], m: usize) -> Self {
+        let theta = |j: usize| start_phase_rad + 2.0 * PI * j as f64 / m as f64;
+        let table = |f: fn(f64) -> f64| -> Vec<DVector<f64>> {
+            (0..=m)
+                .map(|j| DVector::from_fn(kx.len(), |i, _| f(theta(j) - kx[i])))
+                .collect()
+        };
+        Self {
+            start_phase_rad,
+            kx: kx.to_vec(),
+            sin: table(f64::sin),
+            cos: table(f64::cos),
+        }
+    }
+
+    fn fits(&self, start_phase_rad: f64, kx: &[f64], m: usize) -> bool {
+        self.start_phase_rad == start_phase_rad && self.kx == kx && self.sin.len() == m + 1
+    }
 }
 
 /// The Cholesky factor of Ĉ_AA on one phase's contact set A, kept with the model so that a
@@ -302,6 +352,8 @@ struct NormalFactor {
     active: Vec<bool>,
     indices: Vec<usize>,
     cholesky: nalgebra::Cholesky<f64, nalgebra::Dyn>,
+    /// b = Ĉ_AA⁻¹1, the same at every profile.
+    unit: DVector<f64>,
 }
 
 impl NormalFactor {
@@ -311,10 +363,13 @@ impl NormalFactor {
             return None;
         }
         let sub = cn.select_rows(&indices).select_columns(&indices);
+        let cholesky = sub.cholesky()?;
+        let unit = cholesky.solve(&DVector::from_element(indices.len(), 1.0));
         Some(Self {
             active: active.to_vec(),
-            cholesky: sub.cholesky()?,
+            cholesky,
             indices,
+            unit,
         })
     }
 
@@ -333,7 +388,7 @@ impl NormalFactor {
         let k = self.indices.len();
         let h_a = DVector::from_fn(k, |r, _| heights[self.indices[r]]);
         let a = self.cholesky.solve(&h_a);
-        let b = self.cholesky.solve(&DVector::from_element(k, 1.0));
+        let b = &self.unit;
         let z = (a.sum() - preload) / b.sum();
         let f_a = a - b * z;
         if f_a.iter().any(|f| !(*f >= 0.0)) {
@@ -343,10 +398,14 @@ impl NormalFactor {
         for (r, &i) in self.indices.iter().enumerate() {
             force[i] = f_a[r];
         }
-        let gaps = cn * &force - heights;
+        // Ĉ_n N from the columns of A alone (the others carry no force), in column order.
+        let mut pressed = DVector::zeros(heights.len());
+        for &j in &self.indices {
+            pressed.axpy(force[j], &cn.column(j), 1.0);
+        }
         let opens = (0..heights.len())
             .filter(|&i| !self.active[i])
-            .all(|i| gaps[i] + z >= -tolerance);
+            .all(|i| pressed[i] - heights[i] + z >= -tolerance);
         opens.then_some((force, z))
     }
 }
@@ -363,11 +422,21 @@ impl CoupledModel {
     /// the same normal forces to the active-set tolerance, in one or two equality solves per
     /// phase instead of a cold active-set search. `None`: the cold start of [`Self::new`].
     pub fn new_from(scene: &CoupledScene, start: Option<&CoupledModel>) -> Result<Self> {
-        scene.validate()?;
         let start = start.filter(|s| {
             s.normals.len() == scene.steps_per_period
                 && s.normals.iter().all(|f| f.len() == scene.post_x_m.len())
         });
+        // The compliances of a start with the same ones were checked when it was made.
+        let checked = start.is_some_and(|s| {
+            matches!(s.ct, Tangential::Dense(_))
+                && s.scene.normal_compliance_m_per_n == scene.normal_compliance_m_per_n
+                && s.scene.tangential_compliance_m_per_n == scene.tangential_compliance_m_per_n
+        });
+        if checked {
+            scene.validate_settings()?;
+        } else {
+            scene.validate()?;
+        }
         let started = Instant::now();
         let n = scene.post_x_m.len();
         let k_ref = n as f64 / scene.normal_compliance_m_per_n.diagonal().sum();
@@ -388,10 +457,12 @@ impl CoupledModel {
         } else {
             scene.amplitude_scale.clone()
         };
-        let heights = |j: usize| -> DVector<f64> {
-            let theta = scene.start_phase_rad + 2.0 * PI * j as f64 / m as f64;
-            DVector::from_fn(n, |i, _| alpha[i] * (theta - kx[i]).sin())
-        };
+        let unit = start
+            .map(|s| s.unit_wave.clone())
+            .filter(|u| u.fits(scene.start_phase_rad, &kx, m))
+            .unwrap_or_else(|| Arc::new(UnitWave::new(scene.start_phase_rad, &kx, m)));
+        let heights =
+            |j: usize| -> DVector<f64> { DVector::from_fn(n, |i, _| alpha[i] * unit.sin[j][i]) };
         let (normals, approach, factors) = match scene.preload_balance {
             PreloadBalance::Instant => instant_normals(scene, &cn, &heights, preload, start)?,
             PreloadBalance::PeriodMean => {
@@ -424,7 +495,7 @@ impl CoupledModel {
             }
         };
         let ct = Tangential::Dense(ct);
-        let mut model = Self::assemble(scene, k_ref, normals, approach, ct, started);
+        let mut model = Self::assemble(scene, k_ref, normals, approach, ct, started, Some(unit));
         model.normal_factors = factors;
         Ok(model)
     }
@@ -493,6 +564,7 @@ impl CoupledModel {
             approach,
             ct,
             started,
+            None,
         ))
     }
 
@@ -503,6 +575,7 @@ impl CoupledModel {
         approach: Vec<f64>,
         ct: Tangential,
         started: Instant,
+        unit: Option<Arc<UnitWave>>,
     ) -> Self {
         let n = scene.post_x_m.len();
         let length_m = scene.wave.normal_amplitude_m;
@@ -514,11 +587,12 @@ impl CoupledModel {
         } else {
             scene.amplitude_scale.clone()
         };
-        let wave_cos = (0..=normals.len())
-            .map(|j| {
-                let theta = scene.start_phase_rad + 2.0 * PI * j as f64 / normals.len() as f64;
-                DVector::from_fn(kx.len(), |i, _| alpha[i] * (theta - kx[i]).cos())
-            })
+        let unit = unit
+            .unwrap_or_else(|| Arc::new(UnitWave::new(scene.start_phase_rad, &kx, normals.len())));
+        let wave_cos = unit
+            .cos
+            .iter()
+            .map(|c| DVector::from_fn(kx.len(), |i, _| alpha[i] * c[i]))
             .collect();
         let extrapolate = (0..kx.len()).all(|i| normals.iter().any(|nj| nj[i] <= 0.0));
         let periodic_tolerance = match ct {
@@ -543,6 +617,7 @@ impl CoupledModel {
             normal_wall_s: started.elapsed().as_secs_f64(),
             normal_factors: Vec::new(),
             lattice_rows: None,
+            unit_wave: unit,
         }
     }
 
@@ -852,18 +927,25 @@ pub(crate) struct ProfiledSteady {
     pub(crate) point: CoupledPoint,
     pub(crate) post_power_w: Vec<f64>,
     pub(crate) end_state: PeriodState,
+    /// The joint acceleration's differences as the profile settled (`None` if it never
+    /// moved): the next speed's start ([`CoupledModel::steady_profiled`]'s `carried`).
+    pub(crate) joint: Option<Anderson>,
 }
 
-/// What [`CoupledModel::steady_profiled`] does after a period, as its caller decides from the
-/// period's per-post powers and the tips' last change.
-pub(crate) enum ProfileStep {
-    /// The profile is settled: the period counts once it is periodic.
-    Settled,
-    /// The profile is not settled, but the tips have not relaxed enough for their powers to
-    /// give the next profile: step on.
-    Wait,
-    /// Step on with the model of the next profile.
-    Next(Box<CoupledModel>),
+/// The amplitude profile's side of [`CoupledModel::steady_profiled`] (the energy-conserving
+/// wave, [`crate::attenuation`]): the fixed point's residual and update target from a period's
+/// per-post powers, and the model of a new profile.
+pub(crate) trait ProfileMap {
+    /// The fixed point's residual max|g(α) − α| of the period's per-post stator powers
+    /// `power_w` (W, whole slider) at the profile `alpha`, and the profile the update aims at
+    /// (a map with the same fixed point, e.g. the marching update).
+    fn target(&mut self, alpha: &[f64], power_w: &[f64]) -> Result<(f64, Vec<f64>)>;
+    /// The residual below which the profile counts as settled.
+    fn tolerance(&self) -> f64;
+    /// Anderson's mixing β of the joint map, in (0, 1].
+    fn relaxation(&self) -> f64;
+    /// The model of the profile `alpha`, made from `from` (a model of a nearby profile).
+    fn model(&mut self, alpha: &[f64], from: &CoupledModel) -> Result<CoupledModel>;
 }
 
 /// What one step imposes: the normal forces at its end, the tips' tangential motion Δu, the
@@ -1177,6 +1259,7 @@ impl CoupledModel {
                 self.record_sample(&mut histories, j, h, &state, posts);
             }
         }
+        count_period();
         let means = self.post_means(speed_m_per_s, &ints, &sums);
         Ok((point, means, histories, period_start))
     }
@@ -1232,6 +1315,7 @@ impl CoupledModel {
             self.step(j, v, s, h, &mut state, &mut ints, &mut stats, None)?;
             self.record_sample(&mut out, j, h, &state, posts);
         }
+        count_period();
         Ok((point, out))
     }
 
@@ -1304,6 +1388,7 @@ impl CoupledModel {
                 self.step(j, v, s, h, &mut state, &mut ints, &mut stats, None)?;
             }
             periods += 1;
+            count_period();
             marks.push(ints);
             let difference = &state.force - &previous.0;
             let change = difference.amax();
@@ -1329,88 +1414,86 @@ impl CoupledModel {
         Ok((point, state, v, s, h))
     }
 
-    /// The steady point at `speed_m_per_s` of a model whose amplitude profile is itself
-    /// unknown (the energy-conserving wave, [`crate::attenuation`]): one stepping in which the
-    /// profile is updated between periods. After every period `reprofile` sees the model,
-    /// each post's time-mean stator power over that period (W, whole slider, as
-    /// [`Self::post_stator_power_from`]) and the largest change of a tip force over the period
-    /// (of the friction scale), and decides ([`ProfileStep`]): the profile is settled, the tips
-    /// must relax further, or the next profile's model. The point is the first period that is periodic by the rule
-    /// of [`Self::at_speed`] (two periods on one model, the same modes, forces within the
-    /// tolerance) at a settled profile; its powers are that period's. Stepping the profile and
-    /// the tips together costs one period per profile update instead of a steady solve per
-    /// update (the tips relax within a period or two where the posts separate).
+    /// The steady point at `speed_m_per_s` of a model whose amplitude profile α is itself
+    /// unknown (the energy-conserving wave, [`crate::attenuation`]), the tips and the profile
+    /// solved together. One period maps z = (T, α), the tips' forces at a period start (of the
+    /// friction scale) and the profile, to (T after one period on the model of α, the profile
+    /// `map` aims at from that period's powers); Anderson acceleration of this joint map
+    /// ([`Anderson`]) gives the next period's start and profile. The profile thus moves every
+    /// period, its secant information carrying how the tips' relaxation and the profile act on
+    /// each other, instead of waiting for the tips to relax before each profile update. Once
+    /// the profile is settled (its residual below the map's tolerance) it stays, and the
+    /// acceleration runs on the tips alone until the period is periodic; it resumes on both if
+    /// the residual grows past the tolerance again. The point is the first period that is
+    /// periodic by the rule of [`Self::at_speed`] (two periods stepped, the same modes, forces
+    /// within the tolerance) at a settled profile; its powers are that period's. `carried`: the
+    /// joint differences a neighbouring speed's solve returned ([`ProfiledSteady::joint`]), the
+    /// acceleration's first secant information.
     pub(crate) fn steady_profiled(
         self,
         speed_m_per_s: f64,
         start: Option<&PeriodState>,
         max_periods: usize,
-        reprofile: &mut dyn FnMut(&CoupledModel, &[f64], f64) -> Result<ProfileStep>,
+        map: &mut dyn ProfileMap,
+        carried: Option<Anderson>,
     ) -> Result<ProfiledSteady> {
         let mut model = self;
-        let n = model.kx.len();
         let m = model.normals.len();
         let v = model.scaled_velocity(speed_m_per_s);
         let s = 1.0 - model.doppler * model.sigma * v;
         let h = 2.0 * PI / (m as f64 * s);
         let mut state = start.map_or_else(|| model.rest_state(), |p| p.0.clone());
         let mut stats = SolverStats::default();
-        let mut previous = (state.force.clone(), state.mode.clone());
-        let mut approach = Approach::default();
-        let mut on_model = 0;
+        // The tips' part of z in units of the first model's friction scale (fixed over the point).
+        let scale = model.friction_scale();
+        let mut joint = carried;
+        let mut anderson = joint
+            .clone()
+            .unwrap_or_else(|| Anderson::new(map.relaxation()));
+        let mut was_settled = false;
         for period in 1..=max_periods {
-            let mut ints = Integrals::default();
-            let mut sums = PostSums::new(n);
-            for j in 0..m {
-                model.step(
-                    j,
-                    v,
-                    s,
-                    h,
-                    &mut state,
-                    &mut ints,
-                    &mut stats,
-                    Some(&mut sums),
-                )?;
+            let (start_force, start_modes) = (state.force.clone(), state.mode.clone());
+            let (ints, power_w) = model.profiled_period(v, s, h, &mut state, &mut stats)?;
+            let alpha = model.profile();
+            let (residual, target) = map.target(&alpha, &power_w)?;
+            let settled = residual < map.tolerance();
+            let periodic = period >= 2
+                && (&state.force - &start_force).amax()
+                    <= model.periodic_tolerance * model.friction_scale()
+                && state.mode == start_modes;
+            if settled && periodic {
+                let point = model.point(speed_m_per_s, v, &ints, true, period, stats);
+                return Ok(ProfiledSteady {
+                    model,
+                    point,
+                    post_power_w: power_w,
+                    end_state: PeriodState(state),
+                    joint,
+                });
             }
-            on_model += 1;
-            let power = model.force_n * model.length_m * model.omega / ints.time;
-            let power_w: Vec<f64> = sums
-                .stator_work
-                .iter()
-                .map(|w| w * power / model.scene.strip_share)
+            if settled != was_settled {
+                if settled {
+                    joint = Some(anderson.carried());
+                }
+                anderson = Anderson::new(map.relaxation());
+                was_settled = settled;
+            }
+            let n = start_force.len();
+            let mut z: Vec<f64> = start_force.iter().map(|t| t / scale).collect();
+            let mut residual_z: Vec<f64> = (0..n)
+                .map(|i| (state.force[i] - start_force[i]) / scale)
                 .collect();
-            let difference = &state.force - &previous.0;
-            let same_modes = state.mode == previous.1;
-            let periodic = on_model >= 2
-                && difference.amax() <= model.periodic_tolerance * model.friction_scale()
-                && same_modes;
-            let relative_change = difference.amax() / model.friction_scale();
-            match reprofile(&model, &power_w, relative_change)? {
-                ProfileStep::Next(next) => {
-                    model = *next;
-                    on_model = 0;
-                    approach = Approach::default();
-                }
-                ProfileStep::Settled if periodic => {
-                    let point = model.point(speed_m_per_s, v, &ints, true, period, stats);
-                    return Ok(ProfiledSteady {
-                        model,
-                        point,
-                        post_power_w: power_w,
-                        end_state: PeriodState(state),
-                    });
-                }
-                ProfileStep::Settled | ProfileStep::Wait => {
-                    if model.extrapolate
-                        && let Some(jump) = approach.record(difference, same_modes)
-                    {
-                        state.force += jump;
-                        state.compliance_force = model.ct.times(&state.force);
-                    }
-                }
+            if !settled {
+                z.extend_from_slice(&alpha);
+                residual_z.extend(target.iter().zip(&alpha).map(|(t, a)| t - a));
             }
-            previous = (state.force.clone(), state.mode.clone());
+            let next = anderson.next(&z, &residual_z);
+            if !settled {
+                let profile: Vec<f64> = next[n..].iter().map(|a| a.max(0.0)).collect();
+                model = map.model(&profile, &model)?;
+            }
+            state.force = DVector::from_iterator(n, next[..n].iter().map(|t| t * scale));
+            state.compliance_force = model.ct.times(&state.force);
         }
         Err(CoupledError::NotConverged {
             what: "steady period with the energy-conserving wave",
@@ -1419,6 +1502,67 @@ impl CoupledModel {
             tolerance: model.periodic_tolerance,
             context: format!("at speed {speed_m_per_s:.6e} m/s"),
         })
+    }
+
+    /// One period of [`Self::steady_profiled`] from `state`: its sums and each post's time-mean
+    /// stator power (W, whole slider, as [`Self::post_stator_power_from`]).
+    fn profiled_period(
+        &self,
+        v: f64,
+        s: f64,
+        h: f64,
+        state: &mut TipState,
+        stats: &mut SolverStats,
+    ) -> Result<(Integrals, Vec<f64>)> {
+        let mut ints = Integrals::default();
+        let mut sums = PostSums::new(self.kx.len());
+        for j in 0..self.normals.len() {
+            self.step(j, v, s, h, state, &mut ints, stats, Some(&mut sums))?;
+        }
+        count_period();
+        let power = self.force_n * self.length_m * self.omega / ints.time;
+        let power_w = sums
+            .stator_work
+            .iter()
+            .map(|w| w * power / self.scene.strip_share)
+            .collect();
+        Ok((ints, power_w))
+    }
+
+    /// The model's amplitude profile A_i/A₀ (ones for the constant-amplitude wave).
+    fn profile(&self) -> Vec<f64> {
+        if self.scene.amplitude_scale.is_empty() {
+            vec![1.0; self.kx.len()]
+        } else {
+            self.scene.amplitude_scale.clone()
+        }
+    }
+
+    /// Every post's forces and modes over one period at `speed_m_per_s` from `start`, the
+    /// state at the start of a steady period of this model (e.g. [`ProfiledSteady::end_state`]):
+    /// the histories of that steady period, without stepping to periodicity again.
+    pub(crate) fn histories_from_periodic(
+        &self,
+        speed_m_per_s: f64,
+        start: &PeriodState,
+    ) -> Result<PostHistories> {
+        let m = self.normals.len();
+        let v = self.scaled_velocity(speed_m_per_s);
+        let s = 1.0 - self.doppler * self.sigma * v;
+        let h = 2.0 * PI / (m as f64 * s);
+        let posts: Vec<usize> = (0..self.kx.len()).collect();
+        let mut state = start.0.clone();
+        let (mut ints, mut stats) = (Integrals::default(), SolverStats::default());
+        let mut out = PostHistories {
+            speed_m_per_s,
+            ..PostHistories::default()
+        };
+        for j in 0..m {
+            self.step(j, v, s, h, &mut state, &mut ints, &mut stats, None)?;
+            self.record_sample(&mut out, j, h, &state, &posts);
+        }
+        count_period();
+        Ok(out)
     }
 
     /// Zero tangential forces, every post separated: the start of a cold stepping.
@@ -1612,7 +1756,7 @@ const SECANT_EVALUATIONS: usize = 40;
 /// secant steps, regula falsi inside the bracket when a secant step leaves it, until a step is
 /// below `tolerance` × `crest` (m/s). Errors: no sign change up to 11× the crest speed, or no
 /// convergence within [`SECANT_EVALUATIONS`].
-fn secant_root(
+pub(crate) fn secant_root(
     stall_n: f64,
     guess: f64,
     crest: f64,

@@ -2,7 +2,10 @@
 //! draw no more power than the wave brings, the wave's power balance closes, and a weak load
 //! recovers the constant-amplitude results.
 
-use coupled_dynamics::{AttenuationOptions, CoupledModel, CoupledScene, attenuated_at_speed};
+use coupled_dynamics::{
+    AttenuationOptions, CoupledModel, CoupledScene, attenuated_at_speed, solve_attenuated,
+    solve_attenuated_with_histories,
+};
 use stick_slip::Wave;
 
 const K_N: f64 = 1.8e6;
@@ -173,4 +176,107 @@ fn bad_attenuation_options_are_named() {
     bad.amplitude_scale = vec![1.0; 3];
     let e = CoupledModel::new(&bad).unwrap_err().to_string();
     assert!(e.contains("amplitude_scale"), "{e}");
+}
+
+/// The target profile g(α) of the posts' draws `power_w` (midpoint rule, posts in the order the
+/// wave reaches them: x ascending for the +x wave), as the module docs define it.
+fn target_profile(power_w: &[f64], power_in_w: f64) -> Vec<f64> {
+    let mut remaining = power_in_w;
+    power_w
+        .iter()
+        .map(|p| {
+            let at_post = remaining - 0.5 * p;
+            remaining -= p;
+            (at_post.max(0.0) / power_in_w).sqrt()
+        })
+        .collect()
+}
+
+#[test]
+fn the_joint_steppings_profile_is_the_fixed_point_of_an_independent_steady_solve() {
+    // The tips and the profile stepped together must land on the profile whose own periodic
+    // state (a constant-profile steady solve from rest) draws the powers that reproduce it.
+    let scene = row(0.5);
+    let stall = CoupledModel::new(&scene).unwrap().at_speed(0.0).unwrap();
+    let options = AttenuationOptions::new(0.6 * stall.stator_power_w);
+    for speed in [0.0, 0.05, 0.5] {
+        let p = attenuated_at_speed(&scene, speed, &options).unwrap();
+        let mut fixed = scene.clone();
+        fixed.amplitude_scale = p.amplitude_scale.clone();
+        let (point, power_w, _) = CoupledModel::new(&fixed)
+            .unwrap()
+            .post_stator_power_from(speed, None)
+            .unwrap();
+        let target = target_profile(&power_w, options.power_in_w);
+        let residual = target
+            .iter()
+            .zip(&p.amplitude_scale)
+            .fold(0.0, |m: f64, (t, a)| m.max((t - a).abs()));
+        assert!(
+            residual < 2.0 * options.tolerance,
+            "v = {speed}: max|g(α) − α| = {residual:e} at the joint stepping's profile"
+        );
+        assert!(
+            relative(point.thrust_n, p.point.thrust_n) <= 1e-9,
+            "v = {speed}: thrust {} from rest against {} jointly",
+            point.thrust_n,
+            p.point.thrust_n
+        );
+    }
+}
+
+#[test]
+fn the_history_point_from_a_curve_neighbour_has_the_histories_of_a_start_from_rest() {
+    let scene = {
+        let mut s = row(0.5);
+        s.curve_points = 9;
+        s
+    };
+    let stall = CoupledModel::new(&scene).unwrap().at_speed(0.0).unwrap();
+    let options = AttenuationOptions::new(0.6 * stall.stator_power_w);
+    let (curve, at_half, histories) =
+        solve_attenuated_with_histories(&scene, &options, 0.5).unwrap();
+    let speed = 0.5 * curve.no_load_speed_m_per_s;
+    assert_eq!(at_half.point.speed_m_per_s, speed);
+    let mut fixed = scene.clone();
+    fixed.amplitude_scale = at_half.amplitude_scale.clone();
+    let (_, from_rest) = CoupledModel::new(&fixed)
+        .unwrap()
+        .post_histories(speed)
+        .unwrap();
+    assert_eq!(histories.time_s, from_rest.time_s);
+    assert_eq!(histories.mode, from_rest.mode);
+    let scale = stall.thrust_n;
+    for (a, b) in histories
+        .tangential_force_n
+        .iter()
+        .flatten()
+        .zip(from_rest.tangential_force_n.iter().flatten())
+    {
+        assert!(
+            (a - b).abs() <= 1e-9 * scale,
+            "tangential force {a} against {b}"
+        );
+    }
+}
+
+#[test]
+fn the_no_load_search_from_a_guess_finds_the_regula_falsis_speed() {
+    let mut scene = row(0.5);
+    scene.curve_points = 3;
+    let stall = CoupledModel::new(&scene).unwrap().at_speed(0.0).unwrap();
+    let mut options = AttenuationOptions::new(0.6 * stall.stator_power_w);
+    // A tight profile tolerance: the no-load speed is then set by the searches alone (at 1e-6
+    // each point's thrust, and with it the root, moves by the tolerance's share).
+    options.tolerance = 1e-10;
+    let falsi = solve_attenuated(&scene, &options).unwrap();
+    options.no_load_guess_m_per_s = Some(1.03 * falsi.no_load_speed_m_per_s);
+    let secant = solve_attenuated(&scene, &options).unwrap();
+    assert!(
+        relative(secant.no_load_speed_m_per_s, falsi.no_load_speed_m_per_s) <= 1e-8,
+        "{} against {}",
+        secant.no_load_speed_m_per_s,
+        falsi.no_load_speed_m_per_s
+    );
+    assert!(relative(secant.stall_thrust_n, falsi.stall_thrust_n) <= 1e-12);
 }

@@ -527,20 +527,22 @@ struct CoupledRun {
 }
 
 /// Replace a constant-amplitude coupled run by the energy-conserving wave's
-/// (`coupled_dynamics::solve_attenuated`, P_in `power_in_w`): stall, no-load speed, curve,
-/// efficiency and stick fraction at the self-consistent profiles, the post histories at the
-/// profile of their own speed. η_dyn (the lumped model's fit to the coupled curve) and the
-/// time-step error estimate stay the constant wave's: they describe the contact's mechanics,
-/// which the amplitude profile does not change, and say so in a warning.
+/// (`coupled_dynamics::solve_attenuated_with_histories`, P_in `power_in_w`, the no-load search
+/// from the constant wave's no-load speed): stall, no-load speed, curve, efficiency and stick
+/// fraction at the self-consistent profiles, the post histories at the profile of their own
+/// speed (started from the converged curve point nearest it). η_dyn (the lumped model's fit to
+/// the coupled curve) and the time-step error estimate stay the constant wave's: they describe
+/// the contact's mechanics, which the amplitude profile does not change, and say so in a
+/// warning.
 fn attenuate_coupled(run: &mut CoupledRun, power_in_w: f64) -> Result<(), PipelineError> {
     let started = std::time::Instant::now();
-    let options = coupled_dynamics::AttenuationOptions::new(power_in_w);
-    let curve = coupled_dynamics::solve_attenuated(&run.scene, &options)?;
-    let speed = HISTORY_SPEED_FRACTION * curve.no_load_speed_m_per_s;
-    let at_histories = coupled_dynamics::attenuated_at_speed(&run.scene, speed, &options)?;
-    let mut local = run.scene.clone();
-    local.amplitude_scale = at_histories.amplitude_scale;
-    let (_, histories) = CoupledModel::new(&local)?.post_histories(speed)?;
+    let mut options = coupled_dynamics::AttenuationOptions::new(power_in_w);
+    options.no_load_guess_m_per_s = Some(run.result.no_load_speed_m_per_s);
+    let (curve, _, histories) = coupled_dynamics::solve_attenuated_with_histories(
+        &run.scene,
+        &options,
+        HISTORY_SPEED_FRACTION,
+    )?;
     let r = &mut run.result;
     r.stall_thrust_n = curve.stall_thrust_n;
     r.no_load_speed_m_per_s = curve.no_load_speed_m_per_s;
