@@ -4,13 +4,14 @@
 //! (half the no-load speed, with every post's histories), with the headline figures and every
 //! curve point's thrust and output power for comparing two builds.
 //!
-//! `cargo run --release -p coupled-dynamics --example attenuation_cost -- (COMPLIANCE.json | --row PRELOAD_N) [--out FILE]`
+//! `cargo run --release -p coupled-dynamics --example attenuation_cost -- (COMPLIANCE.json | --row PRELOAD_N) [--out FILE] [--tolerance T]`
 //!
 //! COMPLIANCE.json: the compliance cache entry of `sawdrive run` (`out/.cache/compliance-*.json`,
 //! the default strip, 64 steps per period: the default run's coupled model). `--row`: the analytic
 //! 100-post row of the default slider (Johnson post springs plus the half-space terms of all 100
 //! rows, 128 steps per period). Both with 50 curve points and P_in = 9.786 W (the paper wave under
-//! the 4 mm array). `--out` writes the figures (17 significant digits) for a later comparison.
+//! the 4 mm array). `--out` writes the figures (17 significant digits) for a later comparison;
+//! `--tolerance` sets the profile's tolerance (default 1e-6; e.g. 1e-10 for a reference).
 
 use std::fmt::Write as _;
 
@@ -147,6 +148,9 @@ fn main() {
         constant.curve.iter().map(|p| p.periods).collect::<Vec<_>>()
     );
     let mut options = AttenuationOptions::new(POWER_UNDER_ARRAY_W);
+    if let Some(k) = args.iter().position(|a| a == "--tolerance") {
+        options.tolerance = args[k + 1].parse().expect("--tolerance: a number");
+    }
     options.no_load_guess_m_per_s = Some(constant.no_load_speed_m_per_s);
     let ((curve, at_half, histories), periods, cpu) =
         cost(|| solve_attenuated_with_histories(&scene, &options, 0.5).unwrap());
