@@ -105,6 +105,24 @@ pub struct EvaluationCost {
     pub dynamic_s: f64,
     /// Whether this evaluation built its own lattice operator (another post diameter).
     pub operator_built: bool,
+    /// The coupled model's share of `dynamic_s` (all 0 when the lumped model ran).
+    #[serde(default)]
+    pub coupled: CoupledCost,
+}
+
+/// Where a coupled evaluation's dynamic time went (s, wall on its thread).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct CoupledCost {
+    /// The normal contact of every post at every time step's phase.
+    pub normal_grid_s: f64,
+    /// The stall point.
+    pub stall_s: f64,
+    /// The no-load speed's search.
+    pub no_load_s: f64,
+    /// The remaining curve points.
+    pub points_s: f64,
+    /// Wave periods stepped at the solved points (the no-load search's not counted).
+    pub periods: usize,
 }
 
 /// One point of a speed–thrust curve (SI).
@@ -133,6 +151,11 @@ pub struct MotorOutputs {
     pub contact_fraction: Option<f64>,
     /// The speed–thrust curve.
     pub curve: Vec<CurvePoint>,
+    /// The dynamic model that ran: `"lumped"` (period average or transient on N_eff = η·N) or
+    /// `"coupled"` (every post of the whole slider).
+    pub dynamics_model: &'static str,
+    /// Why that model ran (`model.dynamics`, or the criterion's estimate under `auto`).
+    pub dynamics_reason: String,
     /// Where the evaluation's time went.
     pub cost: EvaluationCost,
 }
@@ -232,6 +255,9 @@ pub trait Evaluator: Sync {
     fn model_versions(&self) -> Vec<u8>;
     /// Refuses the scene's settings a study could not honour, naming the key.
     fn check_study(&self, scene: &Self::Scene) -> Result<(), ModelError>;
+    /// One sentence: which dynamic model a study's evaluations of `scene` run and how it is
+    /// chosen (once for the scene, or per sample).
+    fn dynamics_policy(&self, scene: &Self::Scene) -> String;
 
     /// The human value `text` of scene key `key` ("20 um" for `posts.diameter`) in SI.
     fn quantity(&self, key: &str, text: &str) -> Result<f64, ModelError>;

@@ -15,8 +15,8 @@ pub mod uq;
 pub use distribution::{Distribution, ScatterInput, draw_inputs, sample_seed};
 pub use error::{DesignError, Result, StudyError, invalid};
 pub use evaluator::{
-    CurvePoint, EvaluationCost, Evaluator, Fidelity as ModelFidelity, ModelError, MotorOutputs,
-    MotorSample, OUTPUT_NAMES, SceneFacts, VariableKind,
+    CoupledCost, CurvePoint, EvaluationCost, Evaluator, Fidelity as ModelFidelity, ModelError,
+    MotorOutputs, MotorSample, OUTPUT_NAMES, SceneFacts, VariableKind,
 };
 pub use optimise::{
     Evaluation, Fidelity, Objective, OptimiserSettings, Outcome, SearchResult, Sense, Variable,

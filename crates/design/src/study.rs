@@ -750,6 +750,8 @@ pub struct DesignReport {
     pub baseline: Option<EvaluationRow>,
     /// Robust quantile, if any.
     pub quantile: Option<f64>,
+    /// The dynamic model of the evaluations and how it is chosen (`model.dynamics`).
+    pub dynamics: String,
     /// Sensitivity of the optimum's objective to each variable (full fidelity).
     pub sensitivity: Vec<VariableSensitivity>,
     /// Every evaluation.
@@ -866,6 +868,7 @@ pub fn run_design<E: Evaluator>(
         optimum: optimum(spec, best),
         baseline,
         quantile: spec.quantile,
+        dynamics: ev.dynamics_policy(&scene),
         sensitivity,
         evaluations: result.evaluations.iter().map(|e| row(spec, e)).collect(),
         cost,

@@ -19,7 +19,8 @@ use sha2::{Digest, Sha256};
 
 use crate::error::StudyError;
 use crate::evaluator::{
-    EvaluationCost, Evaluator, Fidelity, MotorOutputs, MotorSample, OUTPUT_NAMES, SceneFacts,
+    CoupledCost, EvaluationCost, Evaluator, Fidelity, MotorOutputs, MotorSample, OUTPUT_NAMES,
+    SceneFacts,
 };
 use crate::files::{staged_results, write_atomically};
 use crate::scatter::ScatterSpec;
@@ -30,7 +31,7 @@ const BAND_SPEEDS: usize = 41;
 /// Bins of each histogram.
 const HISTOGRAM_BINS: usize = 20;
 /// Version of the sample files' layout (part of the inputs hash).
-const SAMPLE_FORMAT: u32 = 3;
+const SAMPLE_FORMAT: u32 = 4;
 
 /// How to run a UQ.
 #[derive(Debug, Clone)]
@@ -60,6 +61,9 @@ pub struct SampleRecord {
     pub outputs: Vec<f64>,
     /// Its speed–thrust curve, (speed m/s, thrust N).
     pub curve: Vec<(f64, f64)>,
+    /// The dynamic model that ran (`lumped` or `coupled`).
+    #[serde(default)]
+    pub dynamics_model: String,
     /// Wall time (s).
     pub wall_time_s: f64,
     /// Where its time went.
@@ -83,6 +87,10 @@ pub struct UqCost {
     pub dynamic_s: f64,
     /// Samples that built their own operator (another post diameter).
     pub operators_built: usize,
+    /// Computed samples that ran the coupled model.
+    pub coupled_samples: usize,
+    /// Mean coupled part of `dynamic_s` over the samples that ran it, by piece (s).
+    pub coupled: CoupledCost,
 }
 
 /// P5/P50/P95 of thrust on a speed grid.
@@ -109,6 +117,11 @@ pub struct UqReport {
     pub seed: u64,
     /// Static model of every sample.
     pub fidelity: &'static str,
+    /// The dynamic model of the samples and how it was chosen (`model.dynamics`).
+    pub dynamics: String,
+    /// Samples (of `samples`, resumed ones included) that ran the coupled model; the others
+    /// ran the lumped one.
+    pub coupled_samples: usize,
     /// The scatter.
     pub scatter: ScatterSpec,
     /// Names (with units) of the scattered inputs.
@@ -182,6 +195,7 @@ fn record(
             .iter()
             .map(|p| (p.speed_m_per_s, p.thrust_n))
             .collect(),
+        dynamics_model: out.dynamics_model.to_owned(),
         wall_time_s: wall,
         cost: out.cost,
     }
@@ -345,6 +359,14 @@ fn uq_cost(fresh: &[&SampleRecord], operator_s: f64) -> UqCost {
     let mean = |f: &dyn Fn(&SampleRecord) -> f64| {
         fresh.iter().map(|r| f(r)).sum::<f64>() / fresh.len().max(1) as f64
     };
+    let coupled: Vec<&CoupledCost> = fresh
+        .iter()
+        .filter(|r| r.dynamics_model == "coupled")
+        .map(|r| &r.cost.coupled)
+        .collect();
+    let mean_coupled = |f: &dyn Fn(&CoupledCost) -> f64| {
+        coupled.iter().map(|c| f(c)).sum::<f64>() / coupled.len().max(1) as f64
+    };
     UqCost {
         operator_s,
         computed_samples: fresh.len(),
@@ -352,6 +374,14 @@ fn uq_cost(fresh: &[&SampleRecord], operator_s: f64) -> UqCost {
         sample_operator_s: mean(&|r| r.cost.operator_s),
         dynamic_s: mean(&|r| r.cost.dynamic_s),
         operators_built: fresh.iter().filter(|r| r.cost.operator_built).count(),
+        coupled_samples: coupled.len(),
+        coupled: CoupledCost {
+            normal_grid_s: mean_coupled(&|c| c.normal_grid_s),
+            stall_s: mean_coupled(&|c| c.stall_s),
+            no_load_s: mean_coupled(&|c| c.no_load_s),
+            points_s: mean_coupled(&|c| c.points_s),
+            periods: (mean_coupled(&|c| c.periods as f64)).round() as usize,
+        },
     }
 }
 
@@ -463,6 +493,11 @@ pub fn run_uq_staged<E: Evaluator>(
         samples: records.len(),
         seed: options.seed,
         fidelity: ev.fidelity(&model).label(),
+        dynamics: ev.dynamics_policy(scene),
+        coupled_samples: records
+            .iter()
+            .filter(|r| r.dynamics_model == "coupled")
+            .count(),
         scatter: scatter.clone(),
         input_names: inputs.iter().map(|i| i.name.clone()).collect(),
         effective_contact_ratio: bands[0],

@@ -287,32 +287,130 @@ fn an_interrupted_run_resumes_from_its_saved_samples_and_loses_nothing() {
     );
 }
 
+/// A 12 × 12-post slider (the paper's 4 mN a post) with `sets` (the coupled model, when it may
+/// run, at 32 steps per period: a sample's curve takes well under a second).
+fn coupled_scene(sets: &[&str]) -> Scene {
+    let mut all: Vec<String> = [
+        "posts.count=12x12",
+        "posts.array=0.48mm",
+        "slider.length=0.5mm",
+        "slider.width=0.5mm",
+        "load.preload=0.576N",
+        "static.model=slider",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    if !sets.iter().any(|s| s.contains("periodic-average")) {
+        all.push("model.coupled.steps_per_period=32".into());
+    }
+    all.extend(sets.iter().map(|s| s.to_string()));
+    load_scene(None, &all).unwrap()
+}
+
+fn height_scatter(sigma_m: f64) -> ScatterSpec {
+    ScatterSpec {
+        height_scatter_m: sigma_m,
+        ..ScatterSpec::default()
+    }
+}
+
+fn band_bits(r: &UqReport) -> Vec<u64> {
+    [
+        r.effective_contact_ratio,
+        r.stall_thrust_n,
+        r.no_load_speed_m_per_s,
+        r.max_output_power_w,
+        r.efficiency,
+    ]
+    .iter()
+    .flat_map(|b| [b.mean, b.p5, b.p50, b.p95])
+    .map(f64::to_bits)
+    .collect()
+}
+
 #[test]
-fn coupled_model_settings_are_refused_naming_the_key() {
+fn coupled_uq_runs_every_samples_whole_slider_through_the_coupled_model_reproducibly() {
+    let (a, b, c) = (
+        tempfile::tempdir().unwrap(),
+        tempfile::tempdir().unwrap(),
+        tempfile::tempdir().unwrap(),
+    );
+    let scatter = height_scatter(5e-9);
+    let coupled = coupled_scene(&["model.dynamics=coupled", "wave.attenuation=off"]);
+    let (r, _) = run_uq(
+        &SceneEvaluator,
+        &coupled,
+        &scatter,
+        &options(a.path(), 3, 5),
+    )
+    .unwrap();
+    assert_eq!(r.coupled_samples, 3, "samples run coupled: {}", r.dynamics);
+    assert_eq!(r.cost.coupled_samples, 3, "coupled samples in the cost");
+    assert!(
+        r.dynamics.starts_with("coupled"),
+        "the reason names the model: {}",
+        r.dynamics
+    );
+    assert!(
+        r.stall_thrust_n.p5 > 0.0,
+        "stall thrust {:?}",
+        r.stall_thrust_n
+    );
+    assert!(r.no_load_speed_m_per_s.p5 > 0.0, "no-load speed");
+    assert!(
+        r.efficiency.p95 < 1.0 && r.efficiency.p5 > 0.0,
+        "efficiency {:?}",
+        r.efficiency
+    );
+    assert!(
+        r.stall_thrust_n.p95 > r.stall_thrust_n.p5,
+        "5 nm scatter spreads the coupled stall thrust: {:?}",
+        r.stall_thrust_n
+    );
+    let (again, _) = run_uq(
+        &SceneEvaluator,
+        &coupled,
+        &scatter,
+        &options(b.path(), 3, 5),
+    )
+    .unwrap();
+    assert_eq!(
+        band_bits(&r),
+        band_bits(&again),
+        "bands of two coupled runs, seed 5"
+    );
+    // The constant-amplitude wave for both (the lumped model would settle η at the local
+    // amplitude of the energy-conserving wave, which the coupled model keeps constant).
+    let lumped = coupled_scene(&["model.dynamics=periodic-average", "wave.attenuation=off"]);
+    let (l, _) = run_uq(&SceneEvaluator, &lumped, &scatter, &options(c.path(), 3, 5)).unwrap();
+    assert_eq!(l.coupled_samples, 0, "the lumped run's samples");
+    assert_eq!(
+        l.effective_contact_ratio.p50.to_bits(),
+        r.effective_contact_ratio.p50.to_bits(),
+        "the same samples' static η in both runs"
+    );
+    assert_ne!(
+        l.stall_thrust_n.p50.to_bits(),
+        r.stall_thrust_n.p50.to_bits(),
+        "the coupled model, not the lumped one, gave the coupled run's stall thrust"
+    );
+}
+
+#[test]
+fn coupled_uq_with_the_strip_a_given_eta_or_the_attenuated_wave_is_refused_naming_the_key() {
     let dir = tempfile::tempdir().unwrap();
     for (set, key) in [
-        ("model.dynamics=coupled", "model.dynamics"),
-        ("model.lumped_tolerance=0.01", "model.lumped_tolerance"),
-        (
-            "model.coupled.steps_per_period=128",
-            "model.coupled.steps_per_period",
-        ),
+        ("static.model=strip", "static.model"),
+        ("contact.effective_ratio=0.5", "contact.effective_ratio"),
+        ("wave.attenuation=on", "wave.attenuation"),
     ] {
-        let scene = load_scene(
-            None,
-            &[
-                "posts.count=10x10".into(),
-                "posts.array=0.4mm".into(),
-                "load.preload=4N".into(),
-                set.into(),
-            ],
-        )
-        .unwrap();
+        let scene = coupled_scene(&["model.dynamics=coupled", set]);
         let e = run_uq(
             &SceneEvaluator,
             &scene,
-            &scattered(),
-            &options(dir.path(), 2, 1),
+            &ScatterSpec::default(),
+            &options(dir.path(), 1, 1),
         )
         .unwrap_err();
         assert!(e.to_string().contains(key), "uq with {set}: {e}");
@@ -321,6 +419,81 @@ fn coupled_model_settings_are_refused_naming_the_key() {
             "uq with {set} wrote no results"
         );
     }
+}
+
+#[test]
+fn the_coupled_models_steps_and_curve_points_are_honoured_in_a_study() {
+    let sample = |scene: &Scene| {
+        let model = StaticModel::build(scene, Fidelity::Slider).unwrap();
+        let facts = SceneEvaluator.facts(scene);
+        evaluate_with(&model, scene, &design::MotorSample::nominal(&facts)).unwrap()
+    };
+    let base = sample(&coupled_scene(&["model.dynamics=coupled"]));
+    assert_eq!(base.dynamics_model, "coupled");
+    assert_eq!(
+        base.curve.len(),
+        5,
+        "auto points: stall, 0.55, 0.75, 0.92 v0 and v0"
+    );
+    let finer = sample(&coupled_scene(&[
+        "model.dynamics=coupled",
+        "model.coupled.steps_per_period=48",
+    ]));
+    assert_ne!(
+        finer.stall_thrust_n.to_bits(),
+        base.stall_thrust_n.to_bits(),
+        "model.coupled.steps_per_period changes the coupled stall thrust"
+    );
+    let even = sample(&coupled_scene(&[
+        "model.dynamics=coupled",
+        "model.curve_points=4",
+    ]));
+    let speeds: Vec<f64> = even.curve.iter().map(|p| p.speed_m_per_s).collect();
+    assert_eq!(speeds.len(), 4, "model.curve_points = 4: {speeds:?}");
+    let v0 = even.no_load_speed_m_per_s;
+    assert!(
+        (speeds[1] - v0 / 3.0).abs() < 1e-12 * v0,
+        "evenly spaced speeds: {speeds:?}"
+    );
+}
+
+#[test]
+fn auto_decides_per_sample_by_the_criterion_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let scatter = height_scatter(5e-9);
+    // The constant-amplitude wave: with the energy-conserving one on, `auto` keeps the lumped
+    // model (as the dynamic stage does; the whole slider's coupled model keeps the constant
+    // wave).
+    let tight = coupled_scene(&["model.lumped_tolerance=1e-9", "wave.attenuation=off"]);
+    let (r, _) = run_uq(
+        &SceneEvaluator,
+        &tight,
+        &scatter,
+        &options(dir.path(), 2, 3),
+    )
+    .unwrap();
+    assert!(
+        r.dynamics.contains("per sample"),
+        "the reason for the per-sample decision: {}",
+        r.dynamics
+    );
+    assert_eq!(
+        r.coupled_samples, 2,
+        "an estimated lumped error above 1e-9 runs the coupled model"
+    );
+    let loose = coupled_scene(&["model.lumped_tolerance=0.9", "wave.attenuation=off"]);
+    let (r, _) = run_uq(
+        &SceneEvaluator,
+        &loose,
+        &scatter,
+        &options(dir.path(), 2, 3),
+    )
+    .unwrap();
+    assert!(r.dynamics.contains("per sample"), "{}", r.dynamics);
+    assert_eq!(
+        r.coupled_samples, 0,
+        "an estimated lumped error below 0.9 keeps the lumped model"
+    );
 }
 
 #[test]
@@ -523,20 +696,22 @@ fn the_order_of_the_variables_does_not_depend_on_the_files_order() {
 }
 
 #[test]
-fn a_coupled_dynamics_setting_is_refused_naming_the_key() {
+fn a_design_runs_on_the_coupled_model_and_says_so() {
     let text = SMALL_DESIGN.replace(
         "\"posts.array\" = \"0.4mm\" }",
-        "\"posts.array\" = \"0.4mm\", \"model.dynamics\" = \"coupled\" }",
+        "\"posts.array\" = \"0.4mm\", \"model.dynamics\" = \"coupled\", \
+         \"static.model\" = \"slider\", \"model.coupled.steps_per_period\" = 32 }",
     );
     let dir = tempfile::tempdir().unwrap();
-    let e = run_design(&SceneEvaluator, &parse(&text).unwrap(), dir.path(), false)
-        .unwrap_err()
-        .to_string();
-    assert!(e.contains("model.dynamics"), "{e}");
+    let (r, _) = run_design(&SceneEvaluator, &parse(&text).unwrap(), dir.path(), false).unwrap();
     assert!(
-        !dir.path().join("small").exists(),
-        "a refused design run wrote no results"
+        r.dynamics.starts_with("coupled"),
+        "the design's dynamics: {}",
+        r.dynamics
     );
+    assert!(r.optimum.objective_value > 0.0, "maximum output power");
+    let p = r.optimum.variables["preload_n"];
+    assert!((1.0..=4.0).contains(&p), "optimal preload {p} N");
 }
 
 #[test]

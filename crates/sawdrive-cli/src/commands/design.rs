@@ -39,6 +39,7 @@ pub fn run(args: &DesignArgs) -> anyhow::Result<()> {
             b.fidelity
         );
     }
+    println!("  dynamics: {}", report.dynamics);
     for (fidelity, n, s) in &report.cost {
         println!("  {n} evaluations at {fidelity}, {s:.2} s each");
     }

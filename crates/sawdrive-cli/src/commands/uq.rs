@@ -37,6 +37,10 @@ pub fn run(args: &UqArgs) -> anyhow::Result<()> {
         report.wall_time_s
     );
     println!(
+        "dynamics: {} ({} of {} samples coupled)",
+        report.dynamics, report.coupled_samples, report.samples
+    );
+    println!(
         "{:<26} {:>11} {:>11} {:>11} {:>11} {:>11}",
         "output", "determ.", "mean", "P5", "P50", "P95"
     );
@@ -64,6 +68,15 @@ pub fn run(args: &UqArgs) -> anyhow::Result<()> {
         c.computed_samples,
         c.operators_built
     );
+    if c.coupled_samples > 0 {
+        let k = &c.coupled;
+        println!(
+            "cost of a coupled sample (wall on its thread, {} computed): normal grid {:.2} s, \
+             stall {:.2} s, no-load search {:.2} s, other points {:.2} s ({} periods at the \
+             points)",
+            c.coupled_samples, k.normal_grid_s, k.stall_s, k.no_load_s, k.points_s, k.periods
+        );
+    }
     println!("{} samples failed", report.failed_samples.len());
     for (k, e) in &report.failed_samples {
         println!("sample {k} failed (left out of the bands): {e}");

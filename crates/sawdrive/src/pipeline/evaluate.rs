@@ -24,16 +24,18 @@ use std::path::Path;
 use std::time::Instant;
 
 use contact_springs::PostSprings;
+use coupled_dynamics::{DEFAULT_AUTO_TOLERANCE, DynamicsChoice, LumpedEvidence, choose_model};
 use design::evaluator::{
-    CurvePoint, EvaluationCost, Evaluator, Fidelity, ModelError, MotorOutputs, MotorSample,
-    SceneFacts, VariableKind,
+    CoupledCost, CurvePoint, EvaluationCost, Evaluator, Fidelity, ModelError, MotorOutputs,
+    MotorSample, SceneFacts, VariableKind,
 };
 use slider_contact::{Imperfections, ImperfectionsExt, SliderModel, SliderParams};
 
-use super::dynamic_stage::attenuation::{AmplitudeProfile, attenuate_lumped, is_transient};
+use super::dynamic_stage::attenuation::{self, AmplitudeProfile, attenuate_lumped, is_transient};
+use super::dynamic_stage::whole_slider::{self, StudyCurve, StudyTangential, StudyWarmStart};
 use super::local_amplitude::{attenuation_off, post_columns_m, settle_eta, stall_profile_at};
 use crate::pipeline::{PipelineError, dynamic_scene, scene_springs};
-use crate::scene::{Dynamics, Scene};
+use crate::scene::{Dynamics, Scene, StaticModel as StaticChoice};
 use crate::units::{Dimension, format_quantity, parse_quantity};
 
 /// Rows of posts (along y) the `patch` fidelity solves.
@@ -81,6 +83,12 @@ pub struct StaticModel {
     fidelity: Fidelity,
     /// The nominal scene's whole-slider model (`None`: η given by the scene).
     nominal: Option<SliderModel>,
+    /// The coupled model's warm start: the periodic states of the nominal sample's coupled
+    /// curve, solved from rest once when the operator is built ([`Self::build`]) and shared by
+    /// every evaluation, so that a sample's result depends only on the scene and the sample.
+    warm: Option<StudyWarmStart>,
+    /// The nominal operator's tangential lattice operator, when the coupled model may run.
+    tangential: Option<StudyTangential>,
 }
 
 impl StaticModel {
@@ -90,14 +98,68 @@ impl StaticModel {
             return Ok(Self {
                 fidelity: Fidelity::Given,
                 nominal: None,
+                warm: None,
+                tangential: None,
             });
         }
         let params = fidelity_params(slider_params(scene, Imperfections::default()), fidelity);
         let nominal = SliderModel::build(&params).map_err(unsupported)?;
-        Ok(Self {
+        let mut out = Self {
             fidelity,
             nominal: Some(nominal),
-        })
+            warm: None,
+            tangential: None,
+        };
+        out.warm = out.nominal_warm(scene)?;
+        Ok(out)
+    }
+
+    /// The periodic states of the nominal sample's coupled curve (the scene's own preload,
+    /// diameter and μ, ideal posts), from rest, when `model.dynamics = "coupled"`; with them
+    /// (and under `auto`) the tangential operator. Solved here, once and before any sample, so
+    /// that every sample starts from the same states whatever the threads. Under `auto` no
+    /// nominal curve is solved (its lumped curve alone may cost as much as a sample, and the
+    /// nominal's ideal posts rarely pick the coupled model): an `auto` sample that goes coupled
+    /// starts from rest.
+    fn nominal_warm(&mut self, scene: &Scene) -> Result<Option<StudyWarmStart>, PipelineError> {
+        let may_couple = match scene.model.dynamics {
+            Dynamics::Lumped(_) => false,
+            Dynamics::Auto => {
+                scene.static_fem.model != StaticChoice::Strip
+                    && whole_slider::check_scene(scene).is_ok()
+            }
+            Dynamics::Coupled => check_dynamics(scene).is_ok(),
+        };
+        if !may_couple {
+            return Ok(None);
+        }
+        let m = &scene.motor;
+        let nominal = MotorSample {
+            preload_n: m.load.preload_n,
+            post_diameter_m: m.posts.diameter_m,
+            mu_static: m.friction.mu_static,
+            mu_kinetic: m.friction.mu_kinetic,
+            tilt_x_m: 0.0,
+            tilt_y_m: 0.0,
+            bow_m: 0.0,
+            height_scatter_m: 0.0,
+            scatter_seed: 0,
+        };
+        let Some((slider, _)) = self.sample_model(scene, &nominal)? else {
+            return Ok(None);
+        };
+        let tangential = StudyTangential::build(&slider)?;
+        if scene.model.dynamics != Dynamics::Coupled {
+            self.tangential = Some(tangential);
+            return Ok(None);
+        }
+        let fit = constant_wave_fit(&slider)?;
+        let springs = scene_springs(scene)?;
+        let dynamic = dynamic_scene(scene, &springs, fit.eta)?;
+        let lumped_v0 = stick_slip::solve(&dynamic)?.no_load_speed_m_per_s;
+        let curve = whole_slider::study_curve(scene, &slider, &tangential, lumped_v0, None)?;
+        self.tangential = Some(tangential);
+        Ok(Some(curve.warm))
     }
 
     /// The fidelity its numbers carry.
@@ -179,9 +241,8 @@ fn fit_eta(model: &SliderModel) -> Result<(Option<f64>, f64), PipelineError> {
     Ok((report.effective_contact_ratio, report.contact_fraction))
 }
 
-/// η and the contact fraction on the constant wave, or the error naming why η is not
-/// identifiable.
-fn constant_wave_eta(model: &SliderModel) -> Result<(f64, f64), PipelineError> {
+/// The η fit on the constant wave, or the error naming why η is not identifiable.
+fn constant_wave_fit(model: &SliderModel) -> Result<StaticFit, PipelineError> {
     let report = model.analyse(model.params.preload_n).map_err(unsupported)?;
     let eta = report
         .effective_contact_ratio
@@ -196,7 +257,11 @@ fn constant_wave_eta(model: &SliderModel) -> Result<(f64, f64), PipelineError> {
                     .unwrap_or("no reason given")
             ),
         })?;
-    Ok((eta, report.contact_fraction))
+    Ok(StaticFit {
+        eta,
+        contact_fraction: report.contact_fraction,
+        misfit: report.eta_fit.relative_rms_residual,
+    })
 }
 
 fn unsupported(e: slider_contact::SliderError) -> PipelineError {
@@ -217,15 +282,20 @@ fn fidelity_params(params: SliderParams, fidelity: Fidelity) -> SliderParams {
 
 /// Refuses the `[model]` settings that UQ and design could not honour, naming the key.
 ///
-/// A sample or design evaluation is a whole-slider contact solve and a curve of the lumped
-/// dynamic model (N_eff = η·N posts, `stick_slip`), never an FEM. The coupled model
-/// (`coupled_dynamics`) runs on the strip FEM's tip compliances, which no sample has, so:
-/// * `model.dynamics` = `periodic-average` or `transient`: used as given;
-/// * `auto`: the lumped model (which picks the period average or the transient by their effect),
-///   for the reason the pipeline's `auto` gives with a whole-slider static stage (its η carries
-///   the imperfections, the coupled model the strip's ideal posts);
-/// * `coupled`, and the keys only the coupled model or its choice use
-///   (`model.lumped_tolerance`, `model.coupled.steps_per_period`): refused.
+/// A sample or design evaluation is a whole-slider contact solve (the study's static model:
+/// the lattice operator with Johnson's near field, no FEM) followed by
+/// * the lumped model (N_eff = η·N posts, `stick_slip`) for `periodic-average` and `transient`;
+/// * the whole slider's coupled model (every post of the sample's own slider, its scatter,
+///   tilt, bow, preload, diameter and μ; [`whole_slider::study_curve`]) for `coupled`;
+/// * per sample, the one the criterion picks for `auto` ([`dynamics_policy`]).
+///
+/// Refused, naming the key: `coupled` with η given (`contact.effective_ratio`: no static state
+/// to run it on) or with `static.model = "strip"` (the strip's coupled model needs a strip FEM
+/// per sample and cannot carry a sample's scatter, tilt or bow), and what the whole slider's
+/// coupled model refuses in the dynamic stage (`wave.attenuation = "on"`,
+/// `model.lumped.vertical = "dynamic"`). The coupled model's own keys
+/// (`model.coupled.steps_per_period`, `model.curve_points`, `model.lumped_tolerance` under
+/// `auto`) are honoured; the scene reader refuses them under a lumped `model.dynamics`.
 pub fn check_dynamics(scene: &Scene) -> Result<(), PipelineError> {
     let refuse = |message: String| {
         Err(PipelineError::Unsupported {
@@ -233,28 +303,141 @@ pub fn check_dynamics(scene: &Scene) -> Result<(), PipelineError> {
             message,
         })
     };
-    let m = &scene.model;
-    if m.dynamics == Dynamics::Coupled {
+    if scene.model.dynamics != Dynamics::Coupled {
+        return Ok(());
+    }
+    if let Some(eta) = scene.contact.effective_ratio {
+        return refuse(format!(
+            "model.dynamics = \"coupled\" runs every sample's whole slider on its own static \
+             state, but contact.effective_ratio = {eta} is given: set it to \"fem\""
+        ));
+    }
+    if scene.static_fem.model == StaticChoice::Strip {
         return refuse(
-            "model.dynamics = \"coupled\" is not available to uq/design: a sample runs the \
-             lumped model on the whole-slider η (the coupled model needs the strip FEM); set \
-             \"auto\", \"periodic-average\" or \"transient\""
+            "static.model = \"strip\" with model.dynamics = \"coupled\": uq/design run the \
+             coupled model on every sample's whole slider (its own scatter, tilt and bow); the \
+             strip's coupled model would need a strip FEM per sample and cannot carry them: set \
+             static.model = \"slider\" or \"auto\""
                 .into(),
         );
     }
-    if let Some(t) = m.lumped_tolerance {
-        return refuse(format!(
-            "model.lumped_tolerance = {t} is not used by uq/design: they always run the lumped \
-             model (the coupled one needs the strip FEM); remove it (\"auto\")"
-        ));
+    whole_slider::check_scene(scene).map_err(|e| PipelineError::Unsupported {
+        stage: "uq/design",
+        message: e.to_string(),
+    })
+}
+
+/// Which dynamic model the evaluations of `scene` run and how it is chosen, in one sentence.
+///
+/// `auto` decides **per sample**, by the dynamic stage's criterion on that sample's
+/// whole-slider η fit (estimated lumped error = the fit's relative rms misfit × the strips'
+/// envelope factor, against `model.lumped_tolerance`), not once on the nominal: the nominal
+/// sample has ideal posts, whose fit misfit is the smallest, so a decision on it would keep
+/// the lumped model for exactly the scattered samples whose error the criterion is meant to
+/// bound; per sample, every sample's output carries the criterion's bound.
+pub fn dynamics_policy(scene: &Scene) -> String {
+    let tolerance = scene
+        .model
+        .lumped_tolerance
+        .unwrap_or(DEFAULT_AUTO_TOLERANCE);
+    match scene.model.dynamics {
+        Dynamics::Lumped(_) => "lumped (model.dynamics names it): every sample's whole-slider η \
+                                on N_eff = η·N posts"
+            .into(),
+        Dynamics::Coupled => format!(
+            "coupled (model.dynamics = \"coupled\"): every sample's whole slider (its own \
+             scatter, tilt, bow, preload, diameter, μ) through the whole-slider coupled model \
+             (every post, Coulomb stick/slip; Johnson's near fields, as the study's static \
+             model) at stall, v₀ and {}, warm-started from the nominal sample's periodic states",
+            curve_layout(scene)
+        ),
+        Dynamics::Auto if scene.contact.effective_ratio.is_some() => {
+            "lumped (model.dynamics = \"auto\"): η is given, so no static fit estimates the \
+             lumped model's error"
+                .into()
+        }
+        Dynamics::Auto if scene.static_fem.model == StaticChoice::Strip => {
+            "lumped (model.dynamics = \"auto\" with static.model = \"strip\"): the strip's \
+             coupled model cannot carry a sample's scatter; set static.model = \"slider\" to let \
+             the criterion choose the whole slider's coupled model"
+                .into()
+        }
+        Dynamics::Auto => format!(
+            "auto, per sample: the coupled model (at stall, v₀ and {}, from rest) when \
+             the lumped model's error estimated from the sample's whole-slider η fit misfit \
+             exceeds {tolerance} (model.lumped_tolerance), else the lumped one; per sample, not \
+             once on the nominal, because the nominal sample's ideal posts have the smallest \
+             misfit and would hide the scattered samples' error",
+            curve_layout(scene)
+        ),
     }
-    if let Some(n) = m.steps_per_period {
-        return refuse(format!(
-            "model.coupled.steps_per_period = {n} is not used by uq/design: it sets the coupled model, \
-             and they run the lumped one; remove it (\"auto\")"
-        ));
+}
+
+/// The speeds of a study's coupled curve besides stall and v₀, in words.
+fn curve_layout(scene: &Scene) -> String {
+    match scene.model.curve_points {
+        Some(n) => format!("{n} evenly spaced points (model.curve_points)"),
+        None => format!(
+            "{:?} v₀ (maximum power and efficiency from the interpolants through them)",
+            whole_slider::STUDY_SPEED_FRACTIONS
+        ),
     }
-    Ok(())
+}
+
+/// Whether the coupled model runs for one sample, and why: `model.dynamics` when it names a
+/// model; under `auto` the criterion on the sample's η fit `fit` (none: η given) and the lumped
+/// no-load speed, kept lumped when the energy-conserving wave would be on (as the dynamic
+/// stage does) or the static model is the strip.
+fn choose_dynamics(
+    scene: &Scene,
+    fit: Option<&StaticFit>,
+    lumped: &stick_slip::DynamicScene,
+    lumped_no_load_m_per_s: f64,
+) -> Result<(bool, String), PipelineError> {
+    match scene.model.dynamics {
+        Dynamics::Lumped(_) => return Ok((false, "model.dynamics names a lumped model".into())),
+        Dynamics::Coupled => return Ok((true, "model.dynamics = \"coupled\"".into())),
+        Dynamics::Auto => {}
+    }
+    let (Some(fit), false) = (fit, scene.static_fem.model == StaticChoice::Strip) else {
+        return Ok((false, dynamics_policy(scene)));
+    };
+    let evidence = LumpedEvidence {
+        eta_fit_misfit: fit.misfit,
+        lumped_no_load_speed_m_per_s: lumped_no_load_m_per_s,
+        crest_speed_m_per_s: scene.motor.wave.crest_speed_m_per_s(),
+    };
+    let tolerance = scene
+        .model
+        .lumped_tolerance
+        .unwrap_or(DEFAULT_AUTO_TOLERANCE);
+    let decision = choose_model(&evidence, tolerance)?;
+    let coupled = decision.model == DynamicsChoice::Coupled;
+    if coupled {
+        let draw_w = attenuation::lumped_stall_draw_w(lumped)?.unwrap_or(0.0);
+        if attenuation::decide(scene, draw_w)?.on() {
+            return Ok((
+                false,
+                format!(
+                    "{}; but the energy-conserving wave is on (wave.attenuation) and the whole \
+                     slider's coupled model keeps the constant-amplitude wave, so the lumped \
+                     model runs",
+                    decision.reason
+                ),
+            ));
+        }
+        whole_slider::check_scene(scene)?;
+    }
+    Ok((coupled, decision.reason))
+}
+
+/// A sample's whole-slider η fit on the constant wave.
+#[derive(Debug, Clone, Copy)]
+struct StaticFit {
+    eta: f64,
+    contact_fraction: f64,
+    /// Relative rms misfit of the η fit (the auto criterion's evidence).
+    misfit: f64,
 }
 
 /// Evaluates `scene` perturbed by `sample`: η at `fidelity` (or the scene's given η), springs,
@@ -269,11 +452,33 @@ pub fn evaluate(
     evaluate_with(&StaticModel::build(scene, fidelity)?, scene, sample)
 }
 
+/// When one evaluation started and its static part's times.
+#[derive(Debug, Clone, Copy)]
+struct Clock {
+    start: Instant,
+    static_s: f64,
+    operator_s: Option<f64>,
+}
+
+impl Clock {
+    fn cost(&self, coupled: CoupledCost) -> EvaluationCost {
+        EvaluationCost {
+            static_s: self.static_s,
+            operator_s: self.operator_s.unwrap_or(0.0),
+            dynamic_s: self.start.elapsed().as_secs_f64() - self.static_s,
+            operator_built: self.operator_s.is_some(),
+            coupled,
+        }
+    }
+}
+
 /// Evaluates `scene` perturbed by `sample` with the prepared static model of `scene`
-/// (bitwise the same as [`evaluate`]). With the energy-conserving wave on and η from the
-/// whole-slider model, η is the one at the local amplitude of the stall profile, settled with
-/// the curve as in the dynamic stage (`pipeline::local_amplitude`, docs/physics.md §5.5); the
-/// contact fraction stays the constant wave's.
+/// (bitwise the same as [`evaluate`]): the sample's whole-slider η, the lumped curve at it,
+/// then the dynamic model [`choose_dynamics`] picks — the lumped curve as it is (with the
+/// energy-conserving wave on, η at the local amplitude of the stall profile, settled with the
+/// curve as in the dynamic stage: `pipeline::local_amplitude`, docs/physics.md §5.5; the contact
+/// fraction stays the constant wave's), or the whole slider's coupled curve of the sample
+/// ([`coupled_outputs`]).
 pub fn evaluate_with(
     model: &StaticModel,
     scene: &Scene,
@@ -282,75 +487,141 @@ pub fn evaluate_with(
     let start = Instant::now();
     let scene = perturbed_scene(scene, sample);
     let slider = model.sample_model(&scene, sample)?;
-    let (eta, contact_fraction, operator_s) = match &slider {
-        Some((m, operator_s)) => {
-            let (eta, fraction) = constant_wave_eta(m)?;
-            (eta, Some(fraction), *operator_s)
-        }
-        None => (
-            scene.contact.effective_ratio.unwrap_or_default(),
-            None,
-            None,
-        ),
+    let fit = match &slider {
+        Some((m, _)) => Some(constant_wave_fit(m)?),
+        None => None,
     };
-    let static_s = start.elapsed().as_secs_f64();
+    let clock = Clock {
+        start,
+        static_s: start.elapsed().as_secs_f64(),
+        operator_s: slider.as_ref().and_then(|s| s.1),
+    };
+    let eta = fit.map_or(scene.contact.effective_ratio.unwrap_or_default(), |f| f.eta);
     let springs: PostSprings = scene_springs(&scene)?;
     let dynamic = dynamic_scene(&scene, &springs, eta)?;
-    let mut result = stick_slip::solve(&dynamic)?;
-    // `wave.attenuation`, as in the dynamic stage: the energy-conserving wave when it is on.
-    let attenuation = attenuate_lumped(&scene, &dynamic, &mut result)?;
-    let eta = match (slider, attenuation.stall_profile) {
-        (Some((mut slider, _)), Some(profile)) => {
-            let columns = post_columns_m(&slider.params.geometry());
-            let transient = is_transient(result.model);
-            let eta_at = |scale: &[f64]| {
-                slider.params.amplitude_scale_x = scale.to_vec();
-                Ok(fit_eta(&slider)?.0)
+    let result = stick_slip::solve(&dynamic)?;
+    let (coupled, reason) =
+        choose_dynamics(&scene, fit.as_ref(), &dynamic, result.no_load_speed_m_per_s)?;
+    match (coupled, slider, fit) {
+        (true, Some((slider, _)), Some(fit)) => {
+            let lumped_v0 = result.no_load_speed_m_per_s;
+            let tangential = match &model.tangential {
+                Some(t) => t.clone(),
+                None => StudyTangential::build(&slider)?,
             };
-            let stall_profile = |eta: f64, warm: &AmplitudeProfile| {
-                stall_profile_at(&scene, &springs, eta, transient, warm)
-            };
-            let settled = settle_eta(&columns, eta, profile, eta_at, stall_profile)?;
-            let eta = settled.effective_contact_ratio;
-            if settled.passes > 1 {
-                let dynamic = dynamic_scene(&scene, &springs, eta)?;
-                result = stick_slip::solve(&dynamic)?;
-                let a = attenuate_lumped(&scene, &dynamic, &mut result)?;
-                if a.stall_profile.is_none() {
-                    return Err(attenuation_off(eta, &a.wave.reason));
-                }
-            }
-            eta
+            let warm = model.warm.as_ref();
+            let curve = whole_slider::study_curve(&scene, &slider, &tangential, lumped_v0, warm)?;
+            Ok(coupled_outputs(model, &scene, fit, curve, reason, clock))
         }
-        _ => eta,
+        (_, slider, _) => {
+            let (eta, result) = lumped_curve(&scene, &springs, &dynamic, result, slider, eta)?;
+            let max_output_power_w = result
+                .curve
+                .iter()
+                .map(|p| p.output_power_w)
+                .fold(0.0, f64::max);
+            Ok(MotorOutputs {
+                effective_contact_ratio: eta,
+                stall_thrust_n: result.stall_thrust_n,
+                no_load_speed_m_per_s: result.no_load_speed_m_per_s,
+                max_output_power_w,
+                efficiency: result.efficiency,
+                contact_fraction: fit.map(|f| f.contact_fraction),
+                curve: result
+                    .curve
+                    .iter()
+                    .map(|p| CurvePoint {
+                        speed_m_per_s: p.speed_m_per_s,
+                        thrust_n: p.thrust_n,
+                    })
+                    .collect(),
+                dynamics_model: "lumped",
+                dynamics_reason: reason,
+                cost: clock.cost(CoupledCost::default()),
+            })
+        }
+    }
+}
+
+/// The lumped curve at η (`result`, solved on `dynamic`), on the energy-conserving wave when
+/// `wave.attenuation` turns it on (as in the dynamic stage), with η settled at the local
+/// amplitude when the whole slider's model `slider` is there; returns that η and the curve.
+fn lumped_curve(
+    scene: &Scene,
+    springs: &PostSprings,
+    dynamic: &stick_slip::DynamicScene,
+    mut result: stick_slip::DynamicResult,
+    slider: Option<(SliderModel, Option<f64>)>,
+    eta: f64,
+) -> Result<(f64, stick_slip::DynamicResult), PipelineError> {
+    let attenuation = attenuate_lumped(scene, dynamic, &mut result)?;
+    let (Some((mut slider, _)), Some(profile)) = (slider, attenuation.stall_profile) else {
+        return Ok((eta, result));
     };
-    let max_output_power_w = result
-        .curve
-        .iter()
-        .map(|p| p.output_power_w)
-        .fold(0.0, f64::max);
-    Ok(MotorOutputs {
-        effective_contact_ratio: eta,
-        stall_thrust_n: result.stall_thrust_n,
-        no_load_speed_m_per_s: result.no_load_speed_m_per_s,
-        max_output_power_w,
-        efficiency: result.efficiency,
-        contact_fraction,
-        curve: result
+    let columns = post_columns_m(&slider.params.geometry());
+    let transient = is_transient(result.model);
+    let eta_at = |scale: &[f64]| {
+        slider.params.amplitude_scale_x = scale.to_vec();
+        Ok(fit_eta(&slider)?.0)
+    };
+    let stall_profile =
+        |eta: f64, warm: &AmplitudeProfile| stall_profile_at(scene, springs, eta, transient, warm);
+    let settled = settle_eta(&columns, eta, profile, eta_at, stall_profile)?;
+    let eta = settled.effective_contact_ratio;
+    if settled.passes > 1 {
+        let dynamic = dynamic_scene(scene, springs, eta)?;
+        result = stick_slip::solve(&dynamic)?;
+        let a = attenuate_lumped(scene, &dynamic, &mut result)?;
+        if a.stall_profile.is_none() {
+            return Err(attenuation_off(eta, &a.wave.reason));
+        }
+    }
+    Ok((eta, result))
+}
+
+/// The outputs of a sample's coupled curve: η and the contact fraction of its static fit; a
+/// `patch` evaluation's thrust and powers scaled from its rows to the whole slider's
+/// (`posts_y / rows`: the patch carries that share of the preload; speed and efficiency stay).
+fn coupled_outputs(
+    model: &StaticModel,
+    scene: &Scene,
+    fit: StaticFit,
+    curve: StudyCurve,
+    reason: String,
+    clock: Clock,
+) -> MotorOutputs {
+    let rows = match model.fidelity {
+        Fidelity::Patch => PATCH_ROWS.min(scene.motor.posts.count_y),
+        _ => scene.motor.posts.count_y,
+    };
+    let share = f64::from(scene.motor.posts.count_y) / f64::from(rows);
+    let t = curve.times_s;
+    let cost = CoupledCost {
+        normal_grid_s: t.normal_grid_s,
+        stall_s: t.stall_s,
+        no_load_s: t.no_load_s,
+        points_s: t.points_s,
+        periods: curve.periods,
+    };
+    MotorOutputs {
+        effective_contact_ratio: fit.eta,
+        stall_thrust_n: curve.stall_thrust_n * share,
+        no_load_speed_m_per_s: curve.no_load_speed_m_per_s,
+        max_output_power_w: curve.max_output_power_w * share,
+        efficiency: curve.efficiency,
+        contact_fraction: Some(fit.contact_fraction),
+        curve: curve
             .curve
             .iter()
             .map(|p| CurvePoint {
                 speed_m_per_s: p.speed_m_per_s,
-                thrust_n: p.thrust_n,
+                thrust_n: p.thrust_n * share,
             })
             .collect(),
-        cost: EvaluationCost {
-            static_s,
-            operator_s: operator_s.unwrap_or(0.0),
-            dynamic_s: start.elapsed().as_secs_f64() - static_s,
-            operator_built: operator_s.is_some(),
-        },
-    })
+        dynamics_model: "coupled",
+        dynamics_reason: reason,
+        cost: clock.cost(cost),
+    }
 }
 
 /// The motor model of `sawdrive uq`, `sawdrive design` and the Python studies: the
@@ -441,6 +712,10 @@ impl Evaluator for SceneEvaluator {
 
     fn check_study(&self, scene: &Scene) -> Result<(), ModelError> {
         Ok(check_dynamics(scene)?)
+    }
+
+    fn dynamics_policy(&self, scene: &Scene) -> String {
+        dynamics_policy(scene)
     }
 
     fn quantity(&self, key: &str, text: &str) -> Result<f64, ModelError> {

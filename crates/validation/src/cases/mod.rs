@@ -24,6 +24,7 @@ pub mod springs;
 pub mod static_contact;
 pub mod stick_slip;
 pub mod whole_slider;
+pub mod whole_slider_bands;
 
 use serde::{Deserialize, Serialize};
 

@@ -26,7 +26,8 @@
 //! 100 N): smoke 20 × 20 posts, σ ∈ {0, 5} nm with 1 seed, every mechanism at σ = 0; quick
 //! 40 × 40, σ ∈ {0, 5} nm with 2 seeds, one tilt and one bow, every mechanism at σ = 0 and 5 nm;
 //! full the study of the README (100 × 100, σ ∈ {0, 1, 2, 5, 10} nm with 5 seeds, 7 tilts and
-//! bows, every mechanism at σ = 0 and 5 nm, post-force maps). Valid for the lattice model's range
+//! bows, every mechanism at σ = 0 and 5 nm, post-force maps). At every level, the band study's
+//! claims on its committed CSV ([`super::whole_slider_bands`]). Valid for the lattice model's range
 //! (docs/physics.md §6: rigid-disk tips, quasi-static, frictionless normal contact).
 
 use std::io::Write as _;
@@ -326,6 +327,8 @@ pub fn run(level: Level, out: &Path) -> Result<Vec<Check>, ValidationError> {
     if level == Level::Full {
         committed_checks(&ideal, &mechanism_rows, &mut checks)?;
     }
+    // The lumped-against-coupled band study, from its committed CSV at every level.
+    checks.extend(super::whole_slider_bands::checks()?);
     Ok(checks)
 }
 

@@ -20,7 +20,9 @@
 use std::path::{Path, PathBuf};
 
 use coupled_dynamics::slider::MAP_FIELDS;
-use coupled_dynamics::{CoupledError, SliderDynamics, SliderDynamicsResult, SliderScene};
+use coupled_dynamics::{
+    CoupledError, CoupledPoint, PeriodState, SliderDynamics, SliderDynamicsResult, SliderScene,
+};
 use serde::Serialize;
 use slider_contact::{NearField, SliderModel};
 use stick_slip::{AttenuationSetting, VerticalModel};
@@ -50,7 +52,7 @@ pub struct SliderCoupledFigures {
 /// Refuses, before anything runs, what the whole slider's coupled model cannot honour: the
 /// energy-conserving wave asked for by `wave.attenuation = "on"` and the slider's vertical
 /// dynamics.
-pub(super) fn check_scene(scene: &Scene) -> Result<(), PipelineError> {
+pub(crate) fn check_scene(scene: &Scene) -> Result<(), PipelineError> {
     if scene.wave_attenuation == AttenuationSetting::On {
         return Err(PipelineError::Unsupported {
             stage: "dynamic",
@@ -176,4 +178,305 @@ pub(super) fn write_maps(
         files.push(svg);
     }
     Ok(files)
+}
+
+/// Fractions of the no-load speed v₀ at which a study's coupled curve is solved when
+/// `model.curve_points = "auto"`, besides the stall (0) and v₀ itself: the largest output
+/// power lies near 0.6 v₀ and the largest efficiency near 0.9–0.95 v₀ on the whole slider's
+/// concave curve (validation/whole-slider/dynamics), so the three points sit around and
+/// between them; the maxima are read off the interpolants through all five points
+/// ([`curve_maxima`]).
+pub const STUDY_SPEED_FRACTIONS: [f64; 3] = [0.55, 0.75, 0.92];
+/// Tolerance of a study's no-load speed (of the crest speed): bands of several per cent need
+/// far less than the dynamic stage's 1e-7, and every secant step costs a steady solve of every
+/// post. Default 1e-5.
+pub const STUDY_SPEED_TOLERANCE: f64 = 1e-5;
+/// Speeds of the grid on which the interpolants' maxima are searched. Default 801.
+const MAXIMA_GRID: usize = 801;
+
+/// The tangential lattice operator of a study's slider (Cerruti terms of both bodies, the
+/// bonded layer's correction, Johnson's tangential near field), built once per operator
+/// (lattice, bodies, post diameter) and shared by the samples that keep it.
+#[derive(Clone)]
+pub struct StudyTangential {
+    spec: slider_contact::OperatorSpec,
+    operator: std::sync::Arc<dyn coupled_dynamics::ComplianceProduct>,
+}
+
+impl std::fmt::Debug for StudyTangential {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("StudyTangential")
+            .field("spec", &self.spec)
+            .finish_non_exhaustive()
+    }
+}
+
+impl StudyTangential {
+    /// The operator of `static_model`'s lattice and bodies.
+    pub fn build(static_model: &SliderModel) -> Result<Self, PipelineError> {
+        let spec = static_model.params.operator_spec();
+        let operator = slider_contact::LatticeOperator::tangential(&spec, NearField::Johnson)
+            .map_err(CoupledError::from)?;
+        Ok(Self {
+            spec,
+            operator: std::sync::Arc::new(operator),
+        })
+    }
+}
+
+/// The periodic states of one coupled study curve, the warm start of the next sample's (same
+/// lattice): the stall's, the no-load speed's and each curve point's, with the no-load speeds
+/// of the coupled and the lumped model that predict the next sample's.
+#[derive(Debug, Clone)]
+pub struct StudyWarmStart {
+    posts: usize,
+    stall: PeriodState,
+    no_load: Option<PeriodState>,
+    points: Vec<PeriodState>,
+    /// Coupled over lumped no-load speed of the run that left these states.
+    no_load_ratio: f64,
+}
+
+/// Where one study curve's wall time went (s).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct StudyTimes {
+    /// The contact solves of the normal grid (every step's phase).
+    pub normal_grid_s: f64,
+    /// The stall point.
+    pub stall_s: f64,
+    /// The no-load search.
+    pub no_load_s: f64,
+    /// The other points (v₀ and the curve points).
+    pub points_s: f64,
+}
+
+/// One sample's coupled curve for a study: stall thrust, no-load speed, largest output power
+/// and efficiency, the solved points, the periods stepped and the states it ended in.
+#[derive(Debug, Clone)]
+pub struct StudyCurve {
+    /// Stall thrust (N).
+    pub stall_thrust_n: f64,
+    /// No-load speed (m/s).
+    pub no_load_speed_m_per_s: f64,
+    /// Largest thrust × speed (W).
+    pub max_output_power_w: f64,
+    /// Largest efficiency.
+    pub efficiency: f64,
+    /// The solved points, speed ascending (stall first, v₀ last).
+    pub curve: Vec<CoupledPoint>,
+    /// Wave periods stepped at the solved points (the no-load search's not counted).
+    pub periods: usize,
+    /// Wall time (s) of the normal grid's contact solves, the stall, the no-load search and the
+    /// other points.
+    pub times_s: StudyTimes,
+    /// The states the curve ended in (the next sample's warm start).
+    pub warm: StudyWarmStart,
+}
+
+/// The coupled curve a study needs of one sample whose whole-slider static model is
+/// `static_model` (the sample's offsets, preload and diameter; Johnson's near fields, as the
+/// study's static model): the normal grid, the stall, the no-load speed from the lumped
+/// model's `lumped_no_load_m_per_s` (scaled by the warm start's coupled/lumped ratio) to
+/// [`STUDY_SPEED_TOLERANCE`], then v₀ and the curve points downwards, every speed started
+/// from `warm` (the nominal sample's states) where given, else from its neighbour.
+/// `model.curve_points` given: its evenly spaced speeds and the largest power and efficiency
+/// among them (the dynamic stage's layout); `auto`: [`STUDY_SPEED_FRACTIONS`] and
+/// [`curve_maxima`].
+pub fn study_curve(
+    scene: &Scene,
+    static_model: &SliderModel,
+    tangential: &StudyTangential,
+    lumped_no_load_m_per_s: f64,
+    warm: Option<&StudyWarmStart>,
+) -> Result<StudyCurve, PipelineError> {
+    check_scene(scene)?;
+    let slider = slider_scene(scene, static_model);
+    let posts = slider.geometry.len();
+    let warm = warm.filter(|w| w.posts == posts);
+    let spec = static_model.params.operator_spec();
+    let operator = match tangential.spec == spec {
+        true => tangential.operator.clone(),
+        false => StudyTangential::build(static_model)?.operator,
+    };
+    let dynamics = SliderDynamics::new(&slider, static_model, operator)?;
+    let model = dynamics.model();
+    let mut clock = std::time::Instant::now();
+    let mut lap = || {
+        let s = clock.elapsed().as_secs_f64();
+        clock = std::time::Instant::now();
+        s
+    };
+    let (stall, stall_state) = model.at_speed_from(0.0, warm.map(|w| &w.stall))?;
+    let stall_s = lap();
+    let guess = lumped_no_load_m_per_s * warm.map_or(1.0, |w| w.no_load_ratio);
+    let start = warm
+        .and_then(|w| w.no_load.as_ref())
+        .unwrap_or(&stall_state);
+    let (no_load, top) =
+        model.no_load_search_near(stall.thrust_n, guess, STUDY_SPEED_TOLERANCE, Some(start))?;
+    let no_load_s = lap();
+    let fractions = study_fractions(scene);
+    let mut periods = stall.periods;
+    let mut points = Vec::with_capacity(fractions.len());
+    let mut states = Vec::with_capacity(fractions.len());
+    let mut previous = top.clone();
+    for (k, f) in fractions.iter().enumerate().rev() {
+        let from = warm.and_then(|w| w.points.get(k)).or(previous.as_ref());
+        let (point, state) = model.at_speed_from(f * no_load, from)?;
+        periods += point.periods;
+        points.push(point);
+        previous = Some(state.clone());
+        states.push(state);
+    }
+    points.reverse();
+    states.reverse();
+    let times_s = StudyTimes {
+        normal_grid_s: dynamics.normal_grid_wall_s(),
+        stall_s,
+        no_load_s,
+        points_s: lap(),
+    };
+    let mut curve = vec![stall];
+    curve.extend(points);
+    let (max_output_power_w, efficiency) = match scene.model.curve_points {
+        Some(_) => sampled_maxima(&curve),
+        None => curve_maxima(&curve),
+    };
+    Ok(StudyCurve {
+        stall_thrust_n: stall.thrust_n.max(0.0),
+        no_load_speed_m_per_s: no_load,
+        max_output_power_w,
+        efficiency,
+        curve,
+        periods,
+        times_s,
+        warm: StudyWarmStart {
+            posts,
+            stall: stall_state,
+            no_load: top,
+            points: states,
+            no_load_ratio: no_load / lumped_no_load_m_per_s,
+        },
+    })
+}
+
+/// The fractions of v₀ a study solves besides the stall: v₀ itself last, after
+/// [`STUDY_SPEED_FRACTIONS`] or `model.curve_points`' evenly spaced speeds.
+fn study_fractions(scene: &Scene) -> Vec<f64> {
+    match scene.model.curve_points {
+        Some(n) => (1..n).map(|k| f64::from(k) / f64::from(n - 1)).collect(),
+        None => STUDY_SPEED_FRACTIONS.iter().copied().chain([1.0]).collect(),
+    }
+}
+
+/// The largest output power and efficiency among the solved points.
+fn sampled_maxima(curve: &[CoupledPoint]) -> (f64, f64) {
+    let max = |f: fn(&CoupledPoint) -> f64| curve.iter().map(f).fold(0.0, f64::max);
+    (max(|p| p.output_power_w), max(|p| p.efficiency))
+}
+
+/// The largest output power F(v)·v and efficiency F(v)·v/P_stator(v) on [0, v₀] of the
+/// polynomial interpolants of the thrust F and the stator power P_stator through the solved
+/// points (stall, [`STUDY_SPEED_FRACTIONS`] of v₀, v₀; degree 4, Lagrange form), each at
+/// least the largest solved value. Both are smooth in v between stall and no load (the
+/// curve's stick/slip fractions change continuously), so the interpolants' error is that of
+/// five-node interpolation; measured against the 8-point curve in validation/whole-slider/bands.
+pub fn curve_maxima(curve: &[CoupledPoint]) -> (f64, f64) {
+    let (mut power, mut efficiency) = sampled_maxima(curve);
+    let v0 = curve.last().map_or(0.0, |p| p.speed_m_per_s);
+    if curve.len() < 3 || v0 <= 0.0 {
+        return (power, efficiency);
+    }
+    let speeds: Vec<f64> = curve.iter().map(|p| p.speed_m_per_s).collect();
+    let thrust: Vec<f64> = curve.iter().map(|p| p.thrust_n).collect();
+    let stator: Vec<f64> = curve.iter().map(|p| p.stator_power_w).collect();
+    for k in 1..MAXIMA_GRID {
+        let v = v0 * k as f64 / MAXIMA_GRID as f64;
+        let output = lagrange(&speeds, &thrust, v) * v;
+        power = power.max(output);
+        let drawn = lagrange(&speeds, &stator, v);
+        if drawn > 0.0 && output > 0.0 {
+            efficiency = efficiency.max(output / drawn);
+        }
+    }
+    (power, efficiency)
+}
+
+/// The interpolating polynomial through (`xs`, `ys`) at `x` (Lagrange form).
+fn lagrange(xs: &[f64], ys: &[f64], x: f64) -> f64 {
+    xs.iter()
+        .zip(ys)
+        .enumerate()
+        .map(|(i, (xi, yi))| {
+            let basis = xs
+                .iter()
+                .enumerate()
+                .filter(|(j, _)| *j != i)
+                .map(|(_, xj)| (x - xj) / (xi - xj))
+                .product::<f64>();
+            yi * basis
+        })
+        .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A point of the curve F(v) = F₀(1 − (v/v₀)²) drawing the stator power P₀(1 + v/v₀).
+    fn point(v: f64) -> CoupledPoint {
+        let (f0, v0, p0) = (2.0, 0.8, 3.0);
+        let thrust_n = f0 * (1.0 - (v / v0).powi(2));
+        let stator_power_w = p0 * (1.0 + v / v0);
+        CoupledPoint {
+            speed_m_per_s: v,
+            thrust_n,
+            output_power_w: thrust_n * v,
+            stator_power_w,
+            friction_dissipation_w: stator_power_w - thrust_n * v,
+            numerical_dissipation_w: 0.0,
+            efficiency: thrust_n * v / stator_power_w,
+            stick_fraction: 0.0,
+            contact_fraction: 0.0,
+            energy_balance_residual: 0.0,
+            right_endpoint_balance_residual: 0.0,
+            energy_identity_residual: 0.0,
+            converged: true,
+            periods: 2,
+            max_solver_residual: 0.0,
+            solver_iterations: 0,
+            fallback_steps: 0,
+        }
+    }
+
+    #[test]
+    fn the_interpolants_find_the_maxima_between_the_solved_points_of_a_smooth_curve() {
+        let v0 = 0.8;
+        let curve: Vec<CoupledPoint> = [0.0]
+            .iter()
+            .chain(&STUDY_SPEED_FRACTIONS)
+            .chain(&[1.0])
+            .map(|f| point(f * v0))
+            .collect();
+        // Exact: P = F₀ v (1 − v²/v₀²) peaks at v₀/√3 with 2F₀v₀/(3√3); the efficiency
+        // F v / P_stator on a fine grid.
+        let exact_power = 2.0 * 2.0 * v0 / (3.0 * 3f64.sqrt());
+        let exact_efficiency = (1..100_000)
+            .map(|k| point(v0 * k as f64 / 100_000.0).efficiency)
+            .fold(0.0, f64::max);
+        let (power, efficiency) = curve_maxima(&curve);
+        let (sampled_power, sampled_efficiency) = sampled_maxima(&curve);
+        assert!(
+            (power / exact_power - 1.0).abs() < 1e-5,
+            "largest output power {power} against {exact_power}"
+        );
+        assert!(
+            (efficiency / exact_efficiency - 1.0).abs() < 1e-4,
+            "largest efficiency {efficiency} against {exact_efficiency}"
+        );
+        assert!(
+            sampled_power < power && sampled_efficiency < efficiency,
+            "the solved points alone fall short of the maxima: {sampled_power}, {sampled_efficiency}"
+        );
+    }
 }
