@@ -57,7 +57,26 @@ pub fn run(args: &UqArgs) -> anyhow::Result<()> {
             report.deterministic[k].1, b.mean, b.p5, b.p50, b.p95
         );
     }
-    let c = &report.cost;
+    print_cost(&report.cost);
+    println!("{} samples failed", report.failed_samples.len());
+    for (k, e) in &report.failed_samples {
+        println!("sample {k} failed (left out of the bands): {e}");
+    }
+    for (output, ranking) in &report.sensitivity {
+        if let Some(top) = ranking.first().filter(|s| s.spearman_rho.is_some()) {
+            println!(
+                "spread of {output} driven most by {} (Spearman ρ = {:.2})",
+                top.input,
+                top.spearman_rho.unwrap_or(0.0)
+            );
+        }
+    }
+    println!("results in {}", folder.display());
+    Ok(())
+}
+
+/// The cost lines: the static and dynamic parts of a sample, and the coupled samples' pieces.
+fn print_cost(c: &design::uq::UqCost) {
     println!(
         "cost: operator {:.3} s once; per sample {:.3} s static (of which {:.3} s its own \
          operator) + {:.4} s dynamic ({} computed, {} built their own operator)",
@@ -77,19 +96,4 @@ pub fn run(args: &UqArgs) -> anyhow::Result<()> {
             c.coupled_samples, k.normal_grid_s, k.stall_s, k.no_load_s, k.points_s, k.periods
         );
     }
-    println!("{} samples failed", report.failed_samples.len());
-    for (k, e) in &report.failed_samples {
-        println!("sample {k} failed (left out of the bands): {e}");
-    }
-    for (output, ranking) in &report.sensitivity {
-        if let Some(top) = ranking.first().filter(|s| s.spearman_rho.is_some()) {
-            println!(
-                "spread of {output} driven most by {} (Spearman ρ = {:.2})",
-                top.input,
-                top.spearman_rho.unwrap_or(0.0)
-            );
-        }
-    }
-    println!("results in {}", folder.display());
-    Ok(())
 }
