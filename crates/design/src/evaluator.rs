@@ -132,6 +132,9 @@ pub struct CurvePoint {
     pub speed_m_per_s: f64,
     /// Thrust (N).
     pub thrust_n: f64,
+    /// Output power over the power the stator delivers through the contacts at this speed
+    /// (0 where there is no output): at most 1 on every model's curve.
+    pub efficiency: f64,
 }
 
 /// The outputs of one evaluation (SI, unit in the name).

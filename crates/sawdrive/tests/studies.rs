@@ -496,6 +496,100 @@ fn auto_decides_per_sample_by_the_criterion_and_says_so() {
     );
 }
 
+/// Output over stator power is at most 1, and the largest output power at most the largest
+/// stator power along the curve, whichever model ran.
+fn assert_books_balance(out: &design::MotorOutputs, what: &str) {
+    assert!(
+        (0.0..=1.0).contains(&out.efficiency),
+        "{what}: efficiency {} ({}: {})",
+        out.efficiency,
+        out.dynamics_model,
+        out.dynamics_reason
+    );
+    let mut stator_w: f64 = 0.0;
+    for p in &out.curve {
+        assert!(
+            (0.0..=1.0).contains(&p.efficiency),
+            "{what}: efficiency {} at {} m/s",
+            p.efficiency,
+            p.speed_m_per_s
+        );
+        if p.efficiency > 0.0 {
+            stator_w = stator_w.max(p.thrust_n * p.speed_m_per_s / p.efficiency);
+        }
+    }
+    assert!(
+        out.max_output_power_w <= stator_w * (1.0 + 1e-9),
+        "{what}: largest output power {} W above the largest stator power {stator_w} W",
+        out.max_output_power_w
+    );
+}
+
+/// The golden design's own baseline: 40 N on 10 × 10 posts of 0.4 mm, 5 nm of height scatter.
+/// The posts never separate and the slider all but locks (the lumped no-load speed ≈ 4e-8
+/// m/s), so the criterion's bound is infinite and `auto` picks the coupled model, whose
+/// steady period cannot close at such a speed: its unclosed books once gave an efficiency of
+/// 1.06 through the interpolants.
+#[test]
+fn a_nearly_locked_design_keeps_its_energy_books_on_every_model_path() {
+    let sample = |sets: &[&str]| {
+        let mut all = vec![
+            "posts.count=10x10",
+            "posts.array=0.4mm",
+            "slider.length=0.4mm",
+            "slider.width=0.4mm",
+            "load.preload=40N",
+            "static.model=slider",
+        ];
+        all.extend(sets);
+        let all: Vec<String> = all.iter().map(|s| s.to_string()).collect();
+        let scene = load_scene(None, &all).unwrap();
+        let model = StaticModel::build(&scene, Fidelity::Slider).unwrap();
+        let nominal = design::MotorSample::nominal(&SceneEvaluator.facts(&scene));
+        let scattered = design::MotorSample {
+            height_scatter_m: 5e-9,
+            scatter_seed: 11,
+            ..nominal
+        };
+        evaluate_with(&model, &scene, &scattered)
+    };
+    let attenuated = sample(&["model.dynamics=periodic-average"]).unwrap();
+    assert_books_balance(&attenuated, "periodic-average, wave.attenuation = auto");
+    let lumped = sample(&["model.dynamics=periodic-average", "wave.attenuation=off"]).unwrap();
+    assert_books_balance(&lumped, "periodic-average");
+    let auto = sample(&[
+        "model.dynamics=auto",
+        "wave.attenuation=off",
+        "model.coupled.steps_per_period=32",
+    ])
+    .unwrap();
+    assert_books_balance(&auto, "auto");
+    assert!(
+        auto.dynamics_reason.starts_with("coupled") && auto.dynamics_model == "lumped",
+        "auto: the criterion picks the coupled model, whose unclosed curve leaves the lumped \
+         one: {} ({})",
+        auto.dynamics_model,
+        auto.dynamics_reason
+    );
+    assert!(
+        auto.dynamics_reason.contains("so the lumped model runs"),
+        "auto says why it kept the lumped model: {}",
+        auto.dynamics_reason
+    );
+    match sample(&[
+        "model.dynamics=coupled",
+        "wave.attenuation=off",
+        "model.coupled.steps_per_period=32",
+    ]) {
+        Ok(coupled) => assert_books_balance(&coupled, "coupled"),
+        Err(e) => assert!(
+            e.to_string().contains("model.dynamics = \"coupled\"")
+                && e.to_string().contains("did not close"),
+            "coupled refused naming the key and the cause: {e}"
+        ),
+    }
+}
+
 #[test]
 fn bad_scatter_and_sample_count_are_refused_naming_the_key() {
     let dir = tempfile::tempdir().unwrap();

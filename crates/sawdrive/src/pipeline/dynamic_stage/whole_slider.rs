@@ -281,14 +281,17 @@ pub struct StudyCurve {
 /// from `warm` (the nominal sample's states) where given, else from its neighbour.
 /// `model.curve_points` given: its evenly spaced speeds and the largest power and efficiency
 /// among them (the dynamic stage's layout); `auto`: [`STUDY_SPEED_FRACTIONS`] and
-/// [`curve_maxima`].
+/// [`curve_maxima`]. Every point must be a closed steady period with output ≤ stator power and
+/// v₀'s thrust ≈ 0 ([`accept`], [`NO_LOAD_THRUST_TOLERANCE`]); the first that is not ends the
+/// curve with the [`Unresolved`] reason (the inner error), the model's own failures are the
+/// outer one.
 pub fn study_curve(
     scene: &Scene,
     static_model: &SliderModel,
     tangential: &StudyTangential,
     lumped_no_load_m_per_s: f64,
     warm: Option<&StudyWarmStart>,
-) -> Result<StudyCurve, PipelineError> {
+) -> Result<Result<StudyCurve, Unresolved>, PipelineError> {
     check_scene(scene)?;
     let slider = slider_scene(scene, static_model);
     let posts = slider.geometry.len();
@@ -307,6 +310,9 @@ pub fn study_curve(
         s
     };
     let (stall, stall_state) = model.at_speed_from(0.0, warm.map(|w| &w.stall))?;
+    if let Err(unresolved) = accept(&stall, model.crest_speed_m_per_s()) {
+        return Ok(Err(unresolved));
+    }
     let stall_s = lap();
     let guess = lumped_no_load_m_per_s * warm.map_or(1.0, |w| w.no_load_ratio);
     let start = warm
@@ -316,20 +322,10 @@ pub fn study_curve(
         model.no_load_search_near(stall.thrust_n, guess, STUDY_SPEED_TOLERANCE, Some(start))?;
     let no_load_s = lap();
     let fractions = study_fractions(scene);
-    let mut periods = stall.periods;
-    let mut points = Vec::with_capacity(fractions.len());
-    let mut states = Vec::with_capacity(fractions.len());
-    let mut previous = top.clone();
-    for (k, f) in fractions.iter().enumerate().rev() {
-        let from = warm.and_then(|w| w.points.get(k)).or(previous.as_ref());
-        let (point, state) = model.at_speed_from(f * no_load, from)?;
-        periods += point.periods;
-        points.push(point);
-        previous = Some(state.clone());
-        states.push(state);
-    }
-    points.reverse();
-    states.reverse();
+    let solved = match solve_points(model, &stall, no_load, &fractions, top.clone(), warm)? {
+        Ok(solved) => solved,
+        Err(unresolved) => return Ok(Err(unresolved)),
+    };
     let times_s = StudyTimes {
         normal_grid_s: dynamics.normal_grid_wall_s(),
         stall_s,
@@ -337,27 +333,190 @@ pub fn study_curve(
         points_s: lap(),
     };
     let mut curve = vec![stall];
-    curve.extend(points);
+    curve.extend(solved.points);
     let (max_output_power_w, efficiency) = match scene.model.curve_points {
         Some(_) => sampled_maxima(&curve),
         None => curve_maxima(&curve),
     };
-    Ok(StudyCurve {
+    Ok(Ok(StudyCurve {
         stall_thrust_n: stall.thrust_n.max(0.0),
         no_load_speed_m_per_s: no_load,
         max_output_power_w,
         efficiency,
         curve,
-        periods,
+        periods: stall.periods + solved.periods,
         times_s,
         warm: StudyWarmStart {
             posts,
             stall: stall_state,
             no_load: top,
-            points: states,
+            points: solved.states,
             no_load_ratio: no_load / lumped_no_load_m_per_s,
         },
-    })
+    }))
+}
+
+/// The points of a study curve above the stall, speed ascending, their periodic states and the
+/// periods stepped.
+struct SolvedPoints {
+    points: Vec<CoupledPoint>,
+    states: Vec<PeriodState>,
+    periods: usize,
+}
+
+/// Solves `fractions` of the no-load speed `no_load` from the top down (v₀ first, from the
+/// no-load search's last state `top`; each next from `warm`'s state of the same point, else
+/// its faster neighbour's), accepting each ([`accept`]) and v₀'s thrust as a root
+/// ([`NO_LOAD_THRUST_TOLERANCE`] of the stall thrust).
+fn solve_points(
+    model: &coupled_dynamics::CoupledModel,
+    stall: &CoupledPoint,
+    no_load: f64,
+    fractions: &[f64],
+    top: Option<PeriodState>,
+    warm: Option<&StudyWarmStart>,
+) -> Result<Result<SolvedPoints, Unresolved>, PipelineError> {
+    let crest = model.crest_speed_m_per_s();
+    let mut solved = SolvedPoints {
+        points: Vec::with_capacity(fractions.len()),
+        states: Vec::with_capacity(fractions.len()),
+        periods: 0,
+    };
+    let mut previous = top;
+    for (k, f) in fractions.iter().enumerate().rev() {
+        let from = warm.and_then(|w| w.points.get(k)).or(previous.as_ref());
+        let (point, state) = model.at_speed_from(f * no_load, from)?;
+        if let Err(unresolved) = accept(&point, crest) {
+            return Ok(Err(unresolved));
+        }
+        let leftover = point.thrust_n.abs() / stall.thrust_n.abs();
+        if k + 1 == fractions.len() && no_load > 0.0 && !(leftover <= NO_LOAD_THRUST_TOLERANCE) {
+            return Ok(Err(Unresolved::NoRoot {
+                speed_m_per_s: point.speed_m_per_s,
+                crest_speed_m_per_s: crest,
+                thrust_n: point.thrust_n,
+                stall_thrust_n: stall.thrust_n,
+            }));
+        }
+        solved.periods += point.periods;
+        solved.points.push(point);
+        previous = Some(state.clone());
+        solved.states.push(state);
+    }
+    solved.points.reverse();
+    solved.states.reverse();
+    Ok(Ok(solved))
+}
+
+/// Largest |F(v₀)| over the stall thrust that a study's no-load speed may leave. The search
+/// stops on a speed step of [`STUDY_SPEED_TOLERANCE`] of the crest speed, which leaves ≈ 1e-5
+/// of the stall thrust on a moving slider; a nearly locked slider's v₀ lies below that step, so
+/// the search stops on a speed whose thrust is still the stall's. Default 1e-3.
+pub const NO_LOAD_THRUST_TOLERANCE: f64 = 1e-3;
+/// Largest excess of a solved point's output power over the power its stator delivers,
+/// relative to the larger of the two: the books of a closed steady period balance to round-off
+/// (≈ 1e-15 of the power flow), so output ≤ stator power, efficiency ≤ 1. Default 1e-9.
+pub const BOOKS_TOLERANCE: f64 = 1e-9;
+
+/// Why a sample's coupled study curve is refused: its figures would not be the coupled
+/// model's steady ones. A study's `auto` then keeps the lumped model and says why; an explicit
+/// `model.dynamics = "coupled"` fails naming the sample.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Unresolved {
+    /// The steady period at a speed did not close within the model's period budget: its books
+    /// hold a change of stored energy, so output over stator power is no efficiency. A nearly
+    /// locked slider is the usual case: moving µm/s or less, its stuck posts wind up over far
+    /// more periods than the budget before they slip.
+    OpenPeriod {
+        /// Speed of the point (m/s).
+        speed_m_per_s: f64,
+        /// Crest speed of the wave (m/s).
+        crest_speed_m_per_s: f64,
+        /// Periods stepped.
+        periods: usize,
+    },
+    /// The no-load search ended on a speed whose thrust is not ≈ 0
+    /// ([`NO_LOAD_THRUST_TOLERANCE`] of the stall thrust).
+    NoRoot {
+        /// Speed the search ended on (m/s).
+        speed_m_per_s: f64,
+        /// Crest speed of the wave (m/s).
+        crest_speed_m_per_s: f64,
+        /// Thrust there (N).
+        thrust_n: f64,
+        /// Stall thrust (N).
+        stall_thrust_n: f64,
+    },
+    /// A point's output power exceeds its stator power ([`BOOKS_TOLERANCE`]).
+    Books {
+        /// Speed of the point (m/s).
+        speed_m_per_s: f64,
+        /// Output power (W).
+        output_power_w: f64,
+        /// Power the stator delivers (W).
+        stator_power_w: f64,
+    },
+}
+
+impl std::fmt::Display for Unresolved {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            Unresolved::OpenPeriod {
+                speed_m_per_s: v,
+                crest_speed_m_per_s: c,
+                periods,
+            } => write!(
+                f,
+                "the whole slider's coupled steady period at {v:.3e} m/s ({:.1e} of the crest \
+                 speed) did not close within {periods} periods (a nearly locked slider)",
+                v / c
+            ),
+            Unresolved::NoRoot {
+                speed_m_per_s: v,
+                crest_speed_m_per_s: c,
+                thrust_n,
+                stall_thrust_n,
+            } => write!(
+                f,
+                "the whole slider's coupled no-load search ended at {v:.3e} m/s ({:.1e} of the \
+                 crest speed) with the thrust {thrust_n:.4e} N of the stall's {stall_thrust_n:.4e} \
+                 N (no root within the speed tolerance {STUDY_SPEED_TOLERANCE:e} of the crest \
+                 speed: a nearly locked slider)",
+                v / c
+            ),
+            Unresolved::Books {
+                speed_m_per_s: v,
+                output_power_w,
+                stator_power_w,
+            } => write!(
+                f,
+                "the whole slider's coupled point at {v:.3e} m/s puts out {output_power_w:.6e} W, \
+                 more than the {stator_power_w:.6e} W its stator delivers"
+            ),
+        }
+    }
+}
+
+/// Whether a solved point's figures are a steady cycle's with balanced books: its period
+/// closed and its output power is at most the stator's ([`BOOKS_TOLERANCE`]).
+fn accept(point: &CoupledPoint, crest_speed_m_per_s: f64) -> Result<(), Unresolved> {
+    if !point.converged {
+        return Err(Unresolved::OpenPeriod {
+            speed_m_per_s: point.speed_m_per_s,
+            crest_speed_m_per_s,
+            periods: point.periods,
+        });
+    }
+    let (output, stator) = (point.output_power_w, point.stator_power_w);
+    let scale = output.abs().max(stator.abs());
+    if output > 0.0 && !(output - stator <= BOOKS_TOLERANCE * scale) {
+        return Err(Unresolved::Books {
+            speed_m_per_s: point.speed_m_per_s,
+            output_power_w: output,
+            stator_power_w: stator,
+        });
+    }
+    Ok(())
 }
 
 /// The fractions of v₀ a study solves besides the stall: v₀ itself last, after
@@ -375,12 +534,16 @@ fn sampled_maxima(curve: &[CoupledPoint]) -> (f64, f64) {
     (max(|p| p.output_power_w), max(|p| p.efficiency))
 }
 
-/// The largest output power F(v)·v and efficiency F(v)·v/P_stator(v) on [0, v₀] of the
-/// polynomial interpolants of the thrust F and the stator power P_stator through the solved
-/// points (stall, [`STUDY_SPEED_FRACTIONS`] of v₀, v₀; degree 4, Lagrange form), each at
-/// least the largest solved value. Both are smooth in v between stall and no load (the
-/// curve's stick/slip fractions change continuously), so the interpolants' error is that of
-/// five-node interpolation; measured against the 8-point curve in validation/whole-slider/bands.
+/// The largest output power P(v) = F(v)·v and efficiency P(v)/(P(v) + D(v)) on [0, v₀] of the
+/// polynomial interpolants of the thrust F and the loss D = P_stator − P (friction and the
+/// stepping's numerical dissipation, ≥ 0 on every accepted point) through the solved points
+/// (stall, [`STUDY_SPEED_FRACTIONS`] of v₀, v₀; degree 4, Lagrange form), each at least the
+/// largest solved value. The loss interpolant is floored at 0 between the points, so the
+/// efficiency is at most 1 and the output power at most the stator power P + D by
+/// construction, whatever the interpolants do. Both are smooth in v between stall and no load
+/// (the curve's stick/slip fractions change continuously), so the interpolants' error is that
+/// of five-node interpolation; measured against the 8-point curve in
+/// validation/whole-slider/bands.
 pub fn curve_maxima(curve: &[CoupledPoint]) -> (f64, f64) {
     let (mut power, mut efficiency) = sampled_maxima(curve);
     let v0 = curve.last().map_or(0.0, |p| p.speed_m_per_s);
@@ -389,14 +552,17 @@ pub fn curve_maxima(curve: &[CoupledPoint]) -> (f64, f64) {
     }
     let speeds: Vec<f64> = curve.iter().map(|p| p.speed_m_per_s).collect();
     let thrust: Vec<f64> = curve.iter().map(|p| p.thrust_n).collect();
-    let stator: Vec<f64> = curve.iter().map(|p| p.stator_power_w).collect();
+    let loss: Vec<f64> = curve
+        .iter()
+        .map(|p| (p.stator_power_w - p.output_power_w).max(0.0))
+        .collect();
     for k in 1..MAXIMA_GRID {
         let v = v0 * k as f64 / MAXIMA_GRID as f64;
         let output = lagrange(&speeds, &thrust, v) * v;
         power = power.max(output);
-        let drawn = lagrange(&speeds, &stator, v);
-        if drawn > 0.0 && output > 0.0 {
-            efficiency = efficiency.max(output / drawn);
+        let lost = lagrange(&speeds, &loss, v).max(0.0);
+        if output > 0.0 {
+            efficiency = efficiency.max(output / (output + lost));
         }
     }
     (power, efficiency)
@@ -478,5 +644,77 @@ mod tests {
             sampled_power < power && sampled_efficiency < efficiency,
             "the solved points alone fall short of the maxima: {sampled_power}, {sampled_efficiency}"
         );
+    }
+
+    /// The nearly locked slider's points whose periods did not close (a degenerate design of
+    /// the design golden): thrust ≈ constant, efficiency 0.98–0.996 at the points and the
+    /// stall's stator power a round-off below 0. Interpolating the stator power and dividing
+    /// gave an efficiency of 1.06 between the points.
+    #[test]
+    fn the_interpolated_efficiency_of_a_degenerate_curve_stays_at_most_one() {
+        let at = |v: f64, thrust_n: f64, stator_power_w: f64| CoupledPoint {
+            speed_m_per_s: v,
+            thrust_n,
+            output_power_w: thrust_n * v,
+            stator_power_w,
+            efficiency: if v > 0.0 {
+                thrust_n * v / stator_power_w
+            } else {
+                0.0
+            },
+            ..point(0.0)
+        };
+        let curve = [
+            at(0.0, 7.158464777582371e-2, -8.453473708672885e-12),
+            at(
+                8.988465646565014e-7,
+                7.044346757734055e-2,
+                6.433516130955116e-8,
+            ),
+            at(
+                1.225699860895229e-6,
+                7.066235379670369e-2,
+                8.77328392684223e-8,
+            ),
+            at(
+                1.5035251626981477e-6,
+                7.095147020778521e-2,
+                1.0762086573899793e-7,
+            ),
+            at(
+                1.6342664811936387e-6,
+                7.129440234959188e-2,
+                1.1697993705581368e-7,
+            ),
+        ];
+        let (power, efficiency) = curve_maxima(&curve);
+        assert!(efficiency <= 1.0, "efficiency {efficiency}");
+        let stator = curve.iter().map(|p| p.stator_power_w).fold(0.0, f64::max);
+        assert!(
+            power <= stator,
+            "output {power} W above the stator's {stator} W"
+        );
+    }
+
+    #[test]
+    fn a_point_with_an_open_period_or_more_output_than_stator_power_is_refused() {
+        let crest = 1.1;
+        assert_eq!(accept(&point(0.4), crest), Ok(()));
+        let open = CoupledPoint {
+            converged: false,
+            periods: 64,
+            ..point(0.4)
+        };
+        assert!(matches!(
+            accept(&open, crest),
+            Err(Unresolved::OpenPeriod { periods: 64, .. })
+        ));
+        let over = CoupledPoint {
+            stator_power_w: 0.5 * point(0.4).output_power_w,
+            ..point(0.4)
+        };
+        let e = accept(&over, crest).unwrap_err();
+        assert!(matches!(e, Unresolved::Books { .. }), "{e}");
+        assert!(e.to_string().contains("more than"), "{e}");
     }
 }
