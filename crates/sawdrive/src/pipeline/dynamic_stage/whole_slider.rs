@@ -235,6 +235,12 @@ pub struct StudyWarmStart {
     points: Vec<PeriodState>,
     /// Coupled over lumped no-load speed of the run that left these states.
     no_load_ratio: f64,
+    /// The run's stall thrust (N), no-load speed (m/s) and thrust slope −dF/dv at v₀ (N s/m,
+    /// the chord from the point below v₀): the next sample's first no-load speed and its
+    /// Newton step.
+    stall_thrust_n: f64,
+    no_load_m_per_s: f64,
+    no_load_slope_n_s_per_m: f64,
 }
 
 /// Where one study curve's wall time went (s).
@@ -275,16 +281,16 @@ pub struct StudyCurve {
 
 /// The coupled curve a study needs of one sample whose whole-slider static model is
 /// `static_model` (the sample's offsets, preload and diameter; Johnson's near fields, as the
-/// study's static model): the normal grid, the stall, the no-load speed from the lumped
-/// model's `lumped_no_load_m_per_s` (scaled by the warm start's coupled/lumped ratio) to
-/// [`STUDY_SPEED_TOLERANCE`], then v₀ and the curve points downwards, every speed started
-/// from `warm` (the nominal sample's states) where given, else from its neighbour.
-/// `model.curve_points` given: its evenly spaced speeds and the largest power and efficiency
-/// among them (the dynamic stage's layout); `auto`: [`STUDY_SPEED_FRACTIONS`] and
-/// [`curve_maxima`]. Every point must be a closed steady period with output ≤ stator power and
-/// v₀'s thrust ≈ 0 ([`accept`], [`NO_LOAD_THRUST_TOLERANCE`]); the first that is not ends the
-/// curve with the [`Unresolved`] reason (the inner error), the model's own failures are the
-/// outer one.
+/// study's static model; steps solved to [`STUDY_STEP_TOLERANCE`]): the normal grid, the
+/// stall, the no-load speed from the lumped model's `lumped_no_load_m_per_s` (scaled by the
+/// warm start's coupled/lumped ratio) to [`STUDY_SPEED_TOLERANCE`] ([`no_load_search`]), then
+/// the curve points downwards, every speed started from `warm` (the nominal sample's states)
+/// where given, else from its neighbour. `model.curve_points` given: its evenly spaced speeds
+/// and the largest power and efficiency among them (the dynamic stage's layout); `auto`:
+/// [`STUDY_SPEED_FRACTIONS`] and [`curve_maxima`]. Every point must be a closed steady period
+/// with output ≤ stator power and v₀'s thrust ≈ 0 ([`accept`], [`NO_LOAD_THRUST_TOLERANCE`]);
+/// the first that is not ends the curve with the [`Unresolved`] reason (the inner error), the
+/// model's own failures are the outer one.
 pub fn study_curve(
     scene: &Scene,
     static_model: &SliderModel,
@@ -293,7 +299,8 @@ pub fn study_curve(
     warm: Option<&StudyWarmStart>,
 ) -> Result<Result<StudyCurve, Unresolved>, PipelineError> {
     check_scene(scene)?;
-    let slider = slider_scene(scene, static_model);
+    let mut slider = slider_scene(scene, static_model);
+    slider.tolerance = STUDY_STEP_TOLERANCE;
     let posts = slider.geometry.len();
     let warm = warm.filter(|w| w.posts == posts);
     let spec = static_model.params.operator_spec();
@@ -314,15 +321,16 @@ pub fn study_curve(
         return Ok(Err(unresolved));
     }
     let stall_s = lap();
-    let guess = lumped_no_load_m_per_s * warm.map_or(1.0, |w| w.no_load_ratio);
-    let start = warm
-        .and_then(|w| w.no_load.as_ref())
-        .unwrap_or(&stall_state);
-    let (no_load, top) =
-        model.no_load_search_near(stall.thrust_n, guess, STUDY_SPEED_TOLERANCE, Some(start))?;
-    let no_load_s = lap();
     let fractions = study_fractions(scene);
-    let solved = match solve_points(model, &stall, no_load, &fractions, top.clone(), warm)? {
+    let guess = lumped_no_load_m_per_s * warm.map_or(1.0, |w| w.no_load_ratio);
+    let search = match no_load_search(model, &stall, &stall_state, guess, &fractions, warm)? {
+        Ok(search) => search,
+        Err(unresolved) => return Ok(Err(unresolved)),
+    };
+    let no_load_s = lap();
+    let no_load = search.last().map_or(0.0, |s| s.0.speed_m_per_s);
+    let exact = scene.model.curve_points.is_some();
+    let solved = match solve_points(model, no_load, &fractions, exact, &search, warm)? {
         Ok(solved) => solved,
         Err(unresolved) => return Ok(Err(unresolved)),
     };
@@ -338,42 +346,248 @@ pub fn study_curve(
         Some(_) => sampled_maxima(&curve),
         None => curve_maxima(&curve),
     };
+    let search_periods: usize = search.iter().map(|s| s.0.periods).sum();
+    let no_load_slope_n_s_per_m = chord_slope(&curve);
     Ok(Ok(StudyCurve {
         stall_thrust_n: stall.thrust_n.max(0.0),
         no_load_speed_m_per_s: no_load,
         max_output_power_w,
         efficiency,
         curve,
-        periods: stall.periods + solved.periods,
+        periods: stall.periods + search_periods + solved.periods,
         times_s,
         warm: StudyWarmStart {
             posts,
             stall: stall_state,
-            no_load: top,
+            no_load: search.last().map(|s| s.1.clone()),
+            no_load_slope_n_s_per_m,
             points: solved.states,
             no_load_ratio: no_load / lumped_no_load_m_per_s,
+            stall_thrust_n: stall.thrust_n,
+            no_load_m_per_s: no_load,
         },
     }))
 }
 
+/// −dF/dv at the last point of `curve` from the chord to the one before (N s/m); NaN with
+/// fewer than two points.
+fn chord_slope(curve: &[CoupledPoint]) -> f64 {
+    match curve {
+        [.., a, b] => (a.thrust_n - b.thrust_n) / (b.speed_m_per_s - a.speed_m_per_s),
+        _ => f64::NAN,
+    }
+}
+
+/// Natural-residual tolerance of a study's step solves (relative to the friction scale); the
+/// periodicity rule is 100× it. The dynamic stage's 1e-10 resolves a curve to ≈ 1e-8; a band
+/// of several per cent needs far less, and every decade costs CG products in every step and
+/// periods to periodicity. Measured on the default slider (100 × 100 posts, 40 N) against
+/// 1e-10: the nominal's and a 5 nm sample's stall thrust, no-load speed, largest power and
+/// efficiency move by at most 8e-7 (relative); periods per sample 88 → 58.
+/// Default 1e-6.
+pub const STUDY_STEP_TOLERANCE: f64 = 1e-6;
+/// Evaluations of a study's no-load search at most, besides its two first speeds. Default 6.
+const NO_LOAD_EVALUATIONS: usize = 6;
+
+/// One solved speed: the steady point and the periodic state it started from.
+type Solved = (CoupledPoint, PeriodState);
+
+/// The no-load speed v₀ of a study's curve: with the nominal run `warm`, its v₀ scaled by the
+/// stall thrusts and a Newton step ([`newton_start`]); else from the predicted `guess`, the
+/// thrust at [`STUDY_SPEED_FRACTIONS`]' last fraction (0.92) of the guess and at the guess
+/// (each started from the stall's `stall_state`); then inverse
+/// interpolation F ↦ v through the last three solved speeds (a secant with two), kept inside
+/// the bracket once one is found, until the next step is below [`STUDY_SPEED_TOLERANCE`] of the
+/// crest speed; each solve starts from the nearest solved speed's state. Returns every solved
+/// speed, v₀'s last (its thrust ≈ 0: [`NO_LOAD_THRUST_TOLERANCE`]); none if F(0⁺) ≤ 0.
+fn no_load_search(
+    model: &coupled_dynamics::CoupledModel,
+    stall: &CoupledPoint,
+    stall_state: &PeriodState,
+    guess: f64,
+    fractions: &[f64],
+    warm: Option<&StudyWarmStart>,
+) -> Result<Result<Vec<Solved>, Unresolved>, PipelineError> {
+    if stall.thrust_n <= 0.0 {
+        return Ok(Ok(Vec::new()));
+    }
+    let crest = model.crest_speed_m_per_s();
+    let guess = match guess.is_finite() && guess > 0.0 {
+        true => guess.min(11.0 * crest),
+        false => 0.5 * crest,
+    };
+    let mut solved: Vec<Solved> = Vec::with_capacity(NO_LOAD_EVALUATIONS + 2);
+    if let Some(first) = warm.and_then(|w| newton_start(model, stall, w).transpose()) {
+        solved = match first? {
+            Ok(first) => first,
+            Err(unresolved) => return Ok(Err(unresolved)),
+        };
+    }
+    let low = STUDY_SPEED_FRACTIONS[STUDY_SPEED_FRACTIONS.len() - 1];
+    let low_start = warm.and_then(|w| w.points.get(fractions.len().saturating_sub(2)));
+    let high_start = warm.and_then(|w| w.no_load.as_ref());
+    let starts = match solved.is_empty() {
+        true => vec![(low * guess, low_start), (guess, high_start)],
+        false => Vec::new(),
+    };
+    for (v, start) in starts {
+        let (point, state) = model.at_speed_from(v, Some(start.unwrap_or(stall_state)))?;
+        if let Err(unresolved) = accept(&point, crest) {
+            return Ok(Err(unresolved));
+        }
+        solved.push((point, state));
+    }
+    for _ in 0..=NO_LOAD_EVALUATIONS {
+        let best = nearest_root(&solved);
+        let next = next_speed(&solved, stall.thrust_n);
+        if (next - solved[best].0.speed_m_per_s).abs() <= STUDY_SPEED_TOLERANCE * crest {
+            let root = solved.remove(best);
+            if !(root.0.thrust_n.abs() <= NO_LOAD_THRUST_TOLERANCE * stall.thrust_n) {
+                return Ok(Err(no_root(&root.0, crest, stall)));
+            }
+            solved.push(root);
+            return Ok(Ok(solved));
+        }
+        let from = nearest_speed(&solved, next);
+        let (point, state) = model.at_speed_from(next, Some(&solved[from].1))?;
+        if let Err(unresolved) = accept(&point, crest) {
+            return Ok(Err(unresolved));
+        }
+        solved.push((point, state));
+    }
+    let best = nearest_root(&solved);
+    Ok(Err(no_root(&solved[best].0, crest, stall)))
+}
+
+/// The first two speeds of a sample's no-load search from the nominal run `warm`: the
+/// nominal's v₀ scaled by the sample's stall thrust over the nominal's (the curve's thrust
+/// scale; the lumped model's v₀ is no predictor under scatter: it rises with σ while the
+/// coupled one falls, validation/whole-slider/bands), started from the nominal's v₀ state,
+/// then the Newton step from it with the nominal's slope at v₀. `None` without a usable
+/// nominal slope.
+#[allow(clippy::type_complexity)]
+fn newton_start(
+    model: &coupled_dynamics::CoupledModel,
+    stall: &CoupledPoint,
+    warm: &StudyWarmStart,
+) -> Result<Option<Result<Vec<Solved>, Unresolved>>, PipelineError> {
+    let slope = warm.no_load_slope_n_s_per_m;
+    let (Some(start), true) = (
+        warm.no_load.as_ref(),
+        slope > 0.0 && warm.stall_thrust_n > 0.0 && warm.no_load_m_per_s > 0.0,
+    ) else {
+        return Ok(None);
+    };
+    let crest = model.crest_speed_m_per_s();
+    let first = warm.no_load_m_per_s * stall.thrust_n / warm.stall_thrust_n;
+    let (point, state) = model.at_speed_from(first.min(11.0 * crest), Some(start))?;
+    if let Err(unresolved) = accept(&point, crest) {
+        return Ok(Some(Err(unresolved)));
+    }
+    let second = point.speed_m_per_s + point.thrust_n / slope;
+    let mut solved = vec![(point, state)];
+    if second > 0.0 && second.is_finite() {
+        let (point, state) = model.at_speed_from(second, Some(&solved[0].1))?;
+        if let Err(unresolved) = accept(&point, crest) {
+            return Ok(Some(Err(unresolved)));
+        }
+        solved.push((point, state));
+    }
+    Ok(Some(Ok(solved)))
+}
+
+/// The refusal of a no-load search that ended on `point`.
+fn no_root(point: &CoupledPoint, crest: f64, stall: &CoupledPoint) -> Unresolved {
+    Unresolved::NoRoot {
+        speed_m_per_s: point.speed_m_per_s,
+        crest_speed_m_per_s: crest,
+        thrust_n: point.thrust_n,
+        stall_thrust_n: stall.thrust_n,
+    }
+}
+
+/// Index of the solved speed with the smallest |thrust|.
+fn nearest_root(solved: &[Solved]) -> usize {
+    (0..solved.len())
+        .min_by(|&a, &b| {
+            solved[a]
+                .0
+                .thrust_n
+                .abs()
+                .total_cmp(&solved[b].0.thrust_n.abs())
+        })
+        .unwrap_or(0)
+}
+
+/// Index of the solved speed nearest `speed` (its state starts the next solve).
+fn nearest_speed(solved: &[Solved], speed: f64) -> usize {
+    let distance = |k: usize| (solved[k].0.speed_m_per_s - speed).abs();
+    (0..solved.len())
+        .min_by(|&a, &b| distance(a).total_cmp(&distance(b)))
+        .unwrap_or(0)
+}
+
+/// The next speed of the no-load search: inverse interpolation v(F) at F = 0 through the last
+/// three solved speeds (two: the secant), or the middle of the bracket (the stall at v = 0 with
+/// `stall_n` its lower end) where that leaves it or is not finite.
+fn next_speed(solved: &[Solved], stall_n: f64) -> f64 {
+    let (mut lo, mut hi) = ((0.0, stall_n), None::<(f64, f64)>);
+    for (p, _) in solved {
+        let at = (p.speed_m_per_s, p.thrust_n);
+        if p.thrust_n > 0.0 && at.0 > lo.0 {
+            lo = at;
+        } else if p.thrust_n <= 0.0 && hi.is_none_or(|h: (f64, f64)| at.0 < h.0) {
+            hi = Some(at);
+        }
+    }
+    let mut last: Vec<(f64, f64)> = solved
+        .iter()
+        .rev()
+        .take(3)
+        .map(|(p, _)| (p.speed_m_per_s, p.thrust_n))
+        .collect();
+    if last.len() < 2 {
+        last.push((0.0, stall_n));
+    }
+    let forces: Vec<f64> = last.iter().map(|x| x.1).collect();
+    let speeds: Vec<f64> = last.iter().map(|x| x.0).collect();
+    let distinct = forces
+        .iter()
+        .enumerate()
+        .all(|(i, a)| forces[..i].iter().all(|b| b != a));
+    let predicted = match distinct {
+        true => lagrange(&forces, &speeds, 0.0),
+        false => f64::NAN,
+    };
+    let upper = hi.map_or(f64::INFINITY, |h| h.0);
+    match predicted.is_finite() && predicted > lo.0 && predicted < upper {
+        true => predicted,
+        false => match hi {
+            Some(h) => 0.5 * (lo.0 + h.0),
+            None => 1.5 * lo.0.max(speeds[0]),
+        },
+    }
+}
+
 /// The points of a study curve above the stall, speed ascending, their periodic states and the
-/// periods stepped.
+/// periods stepped beyond the no-load search's.
 struct SolvedPoints {
     points: Vec<CoupledPoint>,
     states: Vec<PeriodState>,
     periods: usize,
 }
 
-/// Solves `fractions` of the no-load speed `no_load` from the top down (v₀ first, from the
-/// no-load search's last state `top`; each next from `warm`'s state of the same point, else
-/// its faster neighbour's), accepting each ([`accept`]) and v₀'s thrust as a root
-/// ([`NO_LOAD_THRUST_TOLERANCE`] of the stall thrust).
+/// The points at `fractions` of the no-load speed `no_load` (the last, v₀, is the no-load
+/// search's root; unless `exact` (`model.curve_points` given), a search speed within
+/// [`REUSE_WINDOW`] of a fraction stands for it, the interpolants need no exact fractions), the
+/// others solved from the top down, each from `warm`'s state of the same point, else from its
+/// faster neighbour's, and accepted ([`accept`]).
 fn solve_points(
     model: &coupled_dynamics::CoupledModel,
-    stall: &CoupledPoint,
     no_load: f64,
     fractions: &[f64],
-    top: Option<PeriodState>,
+    exact: bool,
+    search: &[Solved],
     warm: Option<&StudyWarmStart>,
 ) -> Result<Result<SolvedPoints, Unresolved>, PipelineError> {
     let crest = model.crest_speed_m_per_s();
@@ -382,23 +596,27 @@ fn solve_points(
         states: Vec::with_capacity(fractions.len()),
         periods: 0,
     };
-    let mut previous = top;
+    let mut previous: Option<PeriodState> = None;
     for (k, f) in fractions.iter().enumerate().rev() {
-        let from = warm.and_then(|w| w.points.get(k)).or(previous.as_ref());
-        let (point, state) = model.at_speed_from(f * no_load, from)?;
-        if let Err(unresolved) = accept(&point, crest) {
-            return Ok(Err(unresolved));
-        }
-        let leftover = point.thrust_n.abs() / stall.thrust_n.abs();
-        if k + 1 == fractions.len() && no_load > 0.0 && !(leftover <= NO_LOAD_THRUST_TOLERANCE) {
-            return Ok(Err(Unresolved::NoRoot {
-                speed_m_per_s: point.speed_m_per_s,
-                crest_speed_m_per_s: crest,
-                thrust_n: point.thrust_n,
-                stall_thrust_n: stall.thrust_n,
-            }));
-        }
-        solved.periods += point.periods;
+        let v = f * no_load;
+        let near = search.iter().enumerate().find(|(j, s)| {
+            let last = j + 1 == search.len();
+            let close = (s.0.speed_m_per_s - v).abs() <= REUSE_WINDOW * no_load;
+            (last && k + 1 == fractions.len())
+                || (!exact && !last && close && k + 1 < fractions.len())
+        });
+        let (point, state) = match near {
+            Some((_, s)) => s.clone(),
+            None => {
+                let from = warm.and_then(|w| w.points.get(k)).or(previous.as_ref());
+                let (point, state) = model.at_speed_from(v, from)?;
+                if let Err(unresolved) = accept(&point, crest) {
+                    return Ok(Err(unresolved));
+                }
+                solved.periods += point.periods;
+                (point, state)
+            }
+        };
         solved.points.push(point);
         previous = Some(state.clone());
         solved.states.push(state);
@@ -407,6 +625,11 @@ fn solve_points(
     solved.states.reverse();
     Ok(Ok(solved))
 }
+
+/// How far (of v₀) a no-load search speed may lie from a curve fraction to stand for it in the
+/// `auto` layout: the search's first speed, 0.92 of the predicted v₀, lands within a few per
+/// cent of 0.92 v₀ when the prediction is good. Default 0.05.
+const REUSE_WINDOW: f64 = 0.05;
 
 /// Largest |F(v₀)| over the stall thrust that a study's no-load speed may leave. The search
 /// stops on a speed step of [`STUDY_SPEED_TOLERANCE`] of the crest speed, which leaves ≈ 1e-5
