@@ -1,5 +1,6 @@
 #![doc = include_str!("../README.md")]
 
+mod anderson;
 pub mod attenuation;
 pub mod boxqp;
 pub mod criterion;

@@ -40,7 +40,7 @@ use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 use static_contact::{ActiveSetOptions, ActiveSetSolver, ContactProblem};
 
-use crate::attenuation::Anderson;
+use crate::anderson::Anderson;
 use crate::boxqp::{self, ActiveSet};
 use crate::error::{CoupledError, Result};
 use crate::scene::{CoupledScene, PreloadBalance};
