@@ -8,6 +8,10 @@ what a user writes, `r = sawdrive.dynamic(scene)` with default arguments, then r
 `r.stall_thrust_n` and `r.curve` (fields and the numpy curve are converted when first read, so
 reading them is part of the cost); and, separately, the call alone.
 
+The default call is a light one (the constant wave, ≈ 2 ms: the default scene's
+energy-conserving wave makes it ≈ 0.25 s, which would hide the overhead), since a fixed
+per-call overhead weighs most there.
+
 Noise on a shared machine: calls are paired (Rust and Python-with-reads, then Rust and
 Python-call-only; within each pair the order is drawn at random, seed 1, so neither side always
 runs on the caches the other left), so that load from other processes hits both members of a
@@ -46,7 +50,8 @@ def median_ci(values):
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--calls", type=int, default=3000, help="pairs per measurement")
-    parser.add_argument("--set", action="append", default=["preload=20N", "effective_ratio=0.36"],
+    parser.add_argument("--set", action="append", default=["preload=20N", "effective_ratio=0.36",
+                                 "wave.attenuation=off"],
                         help="scene overrides (key=value)")
     args = parser.parse_args()
     scene = sawdrive.Scene.default()
