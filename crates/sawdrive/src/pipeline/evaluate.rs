@@ -288,7 +288,7 @@ fn fidelity_params(params: SliderParams, fidelity: Fidelity) -> SliderParams {
 /// the lattice operator with Johnson's near field, no FEM) followed by
 /// * the lumped model (N_eff = η·N posts, `stick_slip`) for `periodic-average` and `transient`;
 /// * the whole slider's coupled model (every post of the sample's own slider, its scatter,
-///   tilt, bow, preload, diameter and μ; [`whole_slider::study_curve`]) for `coupled`;
+///   tilt, bow, preload, diameter and μ; `whole_slider::study_curve`) for `coupled`;
 /// * per sample, the one the criterion picks for `auto` ([`dynamics_policy`]).
 ///
 /// Refused, naming the key: `coupled` with η given (`contact.effective_ratio`: no static state
@@ -476,11 +476,11 @@ impl Clock {
 
 /// Evaluates `scene` perturbed by `sample` with the prepared static model of `scene`
 /// (bitwise the same as [`evaluate`]): the sample's whole-slider η, the lumped curve at it,
-/// then the dynamic model [`choose_dynamics`] picks — the lumped curve as it is (with the
+/// then the dynamic model `choose_dynamics` picks — the lumped curve as it is (with the
 /// energy-conserving wave on, η at the local amplitude of the stall profile, settled with the
 /// curve as in the dynamic stage: `pipeline::local_amplitude`, docs/physics.md §5.5; the contact
 /// fraction stays the constant wave's), or the whole slider's coupled curve of the sample
-/// ([`coupled_outputs`]).
+/// (`coupled_outputs`).
 pub fn evaluate_with(
     model: &StaticModel,
     scene: &Scene,
