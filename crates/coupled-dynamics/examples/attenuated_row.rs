@@ -9,50 +9,9 @@
 //! at stall, at maximum output power and near no load) and STEM-speed-thrust.svg/.png (the
 //! curves with and without the energy-conserving wave).
 
-use contact_springs::{Material, post_springs};
-use coupled_dynamics::{
-    AttenuationOptions, CoupledModel, CoupledScene, PreloadBalance, solve, solve_attenuated,
-};
-use nalgebra::DMatrix;
-use static_contact::halfspace::{
-    RowLayout, StripPost, strip_compliance, strip_tangential_compliance,
-};
-use stick_slip::Wave;
+use coupled_dynamics::{AttenuationOptions, CoupledModel, solve, solve_attenuated};
 
-const PITCH_M: f64 = 40e-6;
-const RADIUS_M: f64 = 10e-6;
-const ROWS: usize = 100;
-
-fn row_scene(n: usize, preload_n: f64) -> CoupledScene {
-    let si = Material::silicon();
-    let ln = Material::lithium_niobate();
-    let springs = post_springs(&si, &ln, RADIUS_M).unwrap();
-    let posts: Vec<StripPost> = (0..n)
-        .map(|i| StripPost {
-            x_m: (i as f64 - 0.5 * (n - 1) as f64) * PITCH_M,
-            row: 0,
-        })
-        .collect();
-    let layout = RowLayout {
-        pitch_m: PITCH_M,
-        strip_rows: 1,
-        slider_rows: ROWS,
-    };
-    let (g, nu) = (ln.shear_modulus_pa, ln.poisson_ratio);
-    let cn = strip_compliance(g, nu, RADIUS_M, &posts, &layout)
-        + DMatrix::identity(n, n) / springs.k_pn_n_per_m;
-    let ct = strip_tangential_compliance(g, nu, RADIUS_M, &posts, &layout)
-        + DMatrix::identity(n, n) / springs.k_pt_n_per_m;
-    let x = posts.iter().map(|p| p.x_m).collect();
-    let mut scene =
-        CoupledScene::independent_posts(Wave::paper_default(), x, 1.0, 1.0, 0.3, 0.3, preload_n);
-    scene.normal_compliance_m_per_n = cn;
-    scene.tangential_compliance_m_per_n = ct;
-    scene.strip_share = n as f64 / (ROWS * 100) as f64;
-    scene.preload_balance = PreloadBalance::Instant;
-    scene.steps_per_period = 128;
-    scene
-}
+mod common;
 
 fn main() {
     let args: Vec<f64> = std::env::args()
@@ -60,7 +19,7 @@ fn main() {
         .map(|a| a.parse().expect("a number"))
         .collect();
     let (preload, power_in) = (args[0], args[1]);
-    let mut scene = row_scene(100, preload);
+    let mut scene = common::analytic_row(100, preload);
     scene.curve_points = args.get(2).map_or(21, |p| *p as usize);
     let started = std::time::Instant::now();
     let constant = solve(&CoupledModel::new(&scene).unwrap(), None).unwrap();

@@ -15,103 +15,14 @@
 
 use std::fmt::Write as _;
 
-use contact_springs::{Material, post_springs};
+mod common;
+use common::cpu_s;
+
 use coupled_dynamics::model::periods_stepped;
-use coupled_dynamics::{
-    AttenuationOptions, CoupledModel, CoupledScene, PreloadBalance, solve,
-    solve_attenuated_with_histories,
-};
-use motor::Motor;
-use nalgebra::DMatrix;
-use static_contact::halfspace::{
-    RowLayout, StripPost, strip_compliance, strip_tangential_compliance,
-};
+use coupled_dynamics::{AttenuationOptions, CoupledModel, solve, solve_attenuated_with_histories};
 
 /// `sawdrive wave --json`'s `power_under_array_w` for the paper wave.
 const POWER_UNDER_ARRAY_W: f64 = 9.78634644379686;
-
-fn row_scene(preload_n: f64) -> CoupledScene {
-    let (pitch, radius, n) = (40e-6, 10e-6, 100);
-    let (si, ln) = (Material::silicon(), Material::lithium_niobate());
-    let springs = post_springs(&si, &ln, radius).unwrap();
-    let posts: Vec<StripPost> = (0..n)
-        .map(|i| StripPost {
-            x_m: (i as f64 - 0.5 * (n - 1) as f64) * pitch,
-            row: 0,
-        })
-        .collect();
-    let layout = RowLayout {
-        pitch_m: pitch,
-        strip_rows: 1,
-        slider_rows: 100,
-    };
-    let (g, nu) = (ln.shear_modulus_pa, ln.poisson_ratio);
-    let mut scene = CoupledScene::independent_posts(
-        stick_slip::Wave::paper_default(),
-        posts.iter().map(|p| p.x_m).collect(),
-        1.0,
-        1.0,
-        0.3,
-        0.3,
-        preload_n,
-    );
-    scene.normal_compliance_m_per_n = strip_compliance(g, nu, radius, &posts, &layout)
-        + DMatrix::identity(n, n) / springs.k_pn_n_per_m;
-    scene.tangential_compliance_m_per_n =
-        strip_tangential_compliance(g, nu, radius, &posts, &layout)
-            + DMatrix::identity(n, n) / springs.k_pt_n_per_m;
-    scene.strip_share = 0.01;
-    scene.preload_balance = PreloadBalance::Instant;
-    scene.steps_per_period = 128;
-    scene
-}
-
-fn cached_scene(path: &str) -> CoupledScene {
-    let text = std::fs::read_to_string(path).expect("the compliance cache entry");
-    let entry: serde_json::Value = serde_json::from_str(&text).expect("JSON");
-    let tips = &entry["tips"];
-    let numbers = |key: &str| -> Vec<f64> {
-        tips[key]
-            .as_array()
-            .expect(key)
-            .iter()
-            .map(|v| v.as_f64().expect("a number"))
-            .collect()
-    };
-    let x = numbers("post_x_m");
-    let n = x.len();
-    let motor = Motor::paper();
-    let mut scene = CoupledScene::independent_posts(
-        motor.wave.clone(),
-        x,
-        1.0,
-        1.0,
-        motor.friction.mu_static,
-        motor.friction.mu_kinetic,
-        motor.load.preload_n,
-    );
-    scene.normal_compliance_m_per_n = DMatrix::from_vec(n, n, numbers("normal_m_per_n"));
-    scene.tangential_compliance_m_per_n = DMatrix::from_vec(n, n, numbers("tangential_m_per_n"));
-    scene.strip_share = tips["strip_share"].as_f64().expect("strip_share");
-    scene.preload_balance = PreloadBalance::Instant;
-    scene.steps_per_period = 64;
-    scene
-}
-
-/// Process CPU time (user + system, s) from /proc/self/stat (clock ticks of 1/100 s).
-fn cpu_s() -> f64 {
-    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
-    let fields: Vec<&str> = stat
-        .rsplit_once(')')
-        .map_or(vec![], |(_, rest)| rest.split_whitespace().collect());
-    let tick = |k: usize| {
-        fields
-            .get(k)
-            .and_then(|v| v.parse::<f64>().ok())
-            .unwrap_or(0.0)
-    };
-    (tick(11) + tick(12)) / 100.0
-}
 
 /// Periods and CPU seconds of `f`, with its value.
 fn cost<T>(f: impl FnOnce() -> T) -> (T, usize, f64) {
@@ -123,8 +34,11 @@ fn cost<T>(f: impl FnOnce() -> T) -> (T, usize, f64) {
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let mut scene = match args.first().map(String::as_str) {
-        Some("--row") => row_scene(args[1].parse().expect("PRELOAD_N")),
-        Some(path) => cached_scene(path),
+        Some("--row") => common::analytic_row(100, args[1].parse().expect("PRELOAD_N")),
+        Some(path) => common::cached_strip(path, 64).unwrap_or_else(|e| {
+            eprintln!("error: {e}");
+            std::process::exit(1);
+        }),
         None => {
             eprintln!(
                 "error: usage: attenuation_cost (COMPLIANCE.json | --row PRELOAD_N) [--out FILE]"

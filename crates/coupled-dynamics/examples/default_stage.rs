@@ -15,70 +15,15 @@
 use std::fmt::Write as _;
 use std::time::Instant;
 
+mod common;
+use common::cpu_s;
+
 use contact_springs::{Material, post_springs};
-use coupled_dynamics::{CoupledModel, CoupledScene, PreloadBalance, solve};
-use motor::Motor;
-use nalgebra::DMatrix;
+use coupled_dynamics::{CoupledModel, CoupledScene, solve};
 use stick_slip::DynamicScene;
 
 /// Steps per period of the default coupled run (`sawdrive`'s `DEFAULT_COUPLED_STEPS_PER_PERIOD`).
 const STEPS_PER_PERIOD: usize = 64;
-/// Post radius of the default slider (m), for the lumped scene of η_dyn.
-const POST_RADIUS_M: f64 = 10e-6;
-
-fn scene(path: &str) -> Result<CoupledScene, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
-    let entry: serde_json::Value =
-        serde_json::from_str(&text).map_err(|e| format!("{path}: {e}"))?;
-    let tips = &entry["tips"];
-    let numbers = |key: &str| -> Result<Vec<f64>, String> {
-        tips[key]
-            .as_array()
-            .ok_or_else(|| format!("{path}: tips.{key} missing"))?
-            .iter()
-            .map(|v| {
-                v.as_f64()
-                    .ok_or_else(|| format!("{path}: tips.{key}: not a number"))
-            })
-            .collect()
-    };
-    let x = numbers("post_x_m")?;
-    let n = x.len();
-    let motor = Motor::paper();
-    let mut scene = CoupledScene::independent_posts(
-        motor.wave.clone(),
-        x,
-        1.0,
-        1.0,
-        motor.friction.mu_static,
-        motor.friction.mu_kinetic,
-        motor.load.preload_n,
-    );
-    scene.normal_compliance_m_per_n = DMatrix::from_vec(n, n, numbers("normal_m_per_n")?);
-    scene.tangential_compliance_m_per_n = DMatrix::from_vec(n, n, numbers("tangential_m_per_n")?);
-    scene.strip_share = tips["strip_share"]
-        .as_f64()
-        .ok_or_else(|| format!("{path}: tips.strip_share missing"))?;
-    scene.preload_balance = PreloadBalance::Instant;
-    scene.steps_per_period = STEPS_PER_PERIOD;
-    scene.validate().map_err(|e| e.to_string())?;
-    Ok(scene)
-}
-
-/// Process CPU time (user + system, s) from /proc/self/stat (clock ticks of 1/100 s).
-fn cpu_s() -> f64 {
-    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
-    let fields: Vec<&str> = stat
-        .rsplit_once(')')
-        .map_or(vec![], |(_, rest)| rest.split_whitespace().collect());
-    let tick = |k: usize| {
-        fields
-            .get(k)
-            .and_then(|v| v.parse::<f64>().ok())
-            .unwrap_or(0.0)
-    };
-    (tick(11) + tick(12)) / 100.0
-}
 
 fn run(
     scene: &CoupledScene,
@@ -146,14 +91,14 @@ fn main() {
             std::process::exit(2);
         }
     };
-    let scene = scene(path).unwrap_or_else(|e| {
+    let scene = common::cached_strip(path, STEPS_PER_PERIOD).unwrap_or_else(|e| {
         eprintln!("error: {e}");
         std::process::exit(1);
     });
     let springs = post_springs(
         &Material::silicon(),
         &Material::lithium_niobate(),
-        POST_RADIUS_M,
+        common::RADIUS_M,
     )
     .unwrap_or_else(|e| {
         eprintln!("error: post springs: {e}");
