@@ -506,6 +506,15 @@ pub fn validate_springs(options: &SpringsOptions) -> Result<SpringsValidation, V
 }
 
 impl Runner<'_> {
+    /// The study's material of that name, if it has one.
+    fn material_named(&self, name: &str) -> Option<Material> {
+        self.options
+            .materials
+            .iter()
+            .find(|m| m.name == name)
+            .cloned()
+    }
+
     /// 1. Convergence ladders: every radius, level and spring group on its mesh.
     fn ladders(&self) -> Result<Vec<LevelResult>, ValidationError> {
         let mut levels: Vec<LevelResult> = Vec::new();
@@ -548,11 +557,7 @@ impl Runner<'_> {
                 )?;
                 for r in self.solve_on(&mesh, &self.options.materials, &springs)? {
                     let material = self
-                        .options
-                        .materials
-                        .iter()
-                        .find(|m| m.name == r.material)
-                        .cloned()
+                        .material_named(&r.material)
                         .unwrap_or_else(Material::silicon);
                     let analytic = r.spring.analytic_n_per_m(&material, r.radius_m)?;
                     truncation.push(TruncationPoint {
@@ -575,11 +580,7 @@ impl Runner<'_> {
         let mut work_precision = Vec::new();
         if let Some(wp) = &self.options.work_precision {
             let material = self
-                .options
-                .materials
-                .iter()
-                .find(|m| m.name == wp.material)
-                .cloned()
+                .material_named(&wp.material)
                 .unwrap_or_else(Material::lithium_niobate);
             let exact = wp.spring.analytic_n_per_m(&material, wp.radius_m)?;
             let symmetry = self.symmetry_of(wp.spring);
@@ -624,11 +625,7 @@ impl Runner<'_> {
             None => None,
             Some(st) => {
                 let material = self
-                    .options
-                    .materials
-                    .iter()
-                    .find(|m| m.name == "linbo3")
-                    .cloned()
+                    .material_named("linbo3")
                     .unwrap_or_else(|| self.options.materials[0].clone());
                 let radius_m = self.options.radii_m[0];
                 let tet4_family = self
