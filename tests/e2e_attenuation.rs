@@ -158,7 +158,10 @@ fn the_whole_sliders_eta_is_fitted_at_the_local_amplitude_of_the_attenuated_wave
             "--out",
             out.path().to_str().unwrap(),
         ];
+        // The lumped model (`auto` may pick the coupled one, which runs every post at its own
+        // amplitude instead of one η).
         args.extend(["--json", "--set", "static.model=slider"]);
+        args.extend(["--set", "model.dynamics=periodic-average"]);
         for set in sets {
             args.extend(["--set", set]);
         }
@@ -204,6 +207,8 @@ fn the_whole_sliders_eta_is_fitted_at_the_local_amplitude_of_the_attenuated_wave
         "--json",
         "--set",
         "static.model=slider",
+        "--set",
+        "model.dynamics=periodic-average",
     ]))
     .unwrap();
     assert_eq!(

@@ -58,7 +58,7 @@ use crate::error::{CoupledError, Result};
 use crate::model::{
     CoupledModel, CoupledPoint, PeriodState, PostHistories, ProfileMap, SPEED_TOLERANCE,
 };
-use crate::scene::CoupledScene;
+use crate::scene::{CoupledScene, WaveDirection};
 use serde::Serialize;
 
 /// Default tolerance of the fixed point: max |Δα| (of A₀). Default 1e-6 (module docs).
@@ -130,23 +130,23 @@ pub fn attenuated_at_speed(
     options: &AttenuationOptions,
 ) -> Result<AttenuatedPoint> {
     check_options(options)?;
-    Ok(iterate_profile(scene, speed_m_per_s, options, None)?.0)
+    Ok(iterate_profile(&StripModels::new(scene), speed_m_per_s, options, None)?.0)
 }
 
 /// What a converged point hands to the next one: its amplitude profile, the tips' state at
 /// the start of its steady period and its model (whose normal contact sets start the next
 /// model's normal solves).
 #[derive(Clone)]
-struct WarmStart {
-    alpha: Vec<f64>,
-    state: PeriodState,
-    model: CoupledModel,
+pub(crate) struct WarmStart {
+    pub(crate) alpha: Vec<f64>,
+    pub(crate) state: PeriodState,
+    pub(crate) model: CoupledModel,
     /// The joint acceleration's differences: the joint map's Jacobian changes little between
     /// neighbouring speeds, so the next point starts with its secant information.
     anderson: Option<Anderson>,
 }
 
-fn check_options(o: &AttenuationOptions) -> Result<()> {
+pub(crate) fn check_options(o: &AttenuationOptions) -> Result<()> {
     let check = |parameter: &'static str, value: f64, ok: bool, requirement: &str| {
         if ok {
             Ok(())
@@ -178,15 +178,53 @@ fn check_options(o: &AttenuationOptions) -> Result<()> {
     )
 }
 
+/// The paths the wave's power flows along under the slider (module docs), in the model's post
+/// order: each lane's posts in the order the wave reaches them (σx ascending; ties keep the
+/// model's order) and its share of P_in. The strip is one lane (its draws are the whole
+/// slider's at that x, so the lane carries all of P_in); the whole slider one lane per lattice
+/// row along x ([`crate::slider`]).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Lanes(Vec<(Vec<usize>, f64)>);
+
+impl Lanes {
+    /// Lanes of the posts `lane_posts` (model indices, any order), each with its share of P_in;
+    /// the posts of each lane sorted in the order the wave reaches them.
+    pub(crate) fn new(
+        lane_posts: Vec<(Vec<usize>, f64)>,
+        post_x_m: &[f64],
+        wave_direction: WaveDirection,
+    ) -> Self {
+        let sigma = wave_direction.sign();
+        let lanes = lane_posts
+            .into_iter()
+            .map(|(mut posts, share)| {
+                posts.sort_by(|&a, &b| (sigma * post_x_m[a]).total_cmp(&(sigma * post_x_m[b])));
+                (posts, share)
+            })
+            .collect();
+        Self(lanes)
+    }
+
+    /// One lane of every post of `scene`, carrying all of P_in (the strip).
+    fn strip(scene: &CoupledScene) -> Self {
+        let all = (0..scene.post_x_m.len()).collect();
+        Self::new(vec![(all, 1.0)], &scene.post_x_m, scene.wave_direction)
+    }
+}
+
 /// The target profile g(α) of the fixed point from the posts' draws (module docs, midpoint
-/// rule), posts visited in the order the wave reaches them.
-fn target_profile(order: &[usize], power_w: &[f64], power_in_w: f64) -> Vec<f64> {
-    let mut remaining = power_in_w;
+/// rule), each lane's posts visited in the order the wave reaches them from the lane's power
+/// P_in × share.
+fn target_profile(lanes: &Lanes, power_w: &[f64], power_in_w: f64) -> Vec<f64> {
     let mut target = vec![0.0; power_w.len()];
-    for &i in order {
-        let at_post = remaining - 0.5 * power_w[i];
-        target[i] = (at_post.max(0.0) / power_in_w).sqrt();
-        remaining -= power_w[i];
+    for (order, share) in &lanes.0 {
+        let lane_in = power_in_w * share;
+        let mut remaining = lane_in;
+        for &i in order {
+            let at_post = remaining - 0.5 * power_w[i];
+            target[i] = (at_post.max(0.0) / lane_in).sqrt();
+            remaining -= power_w[i];
+        }
     }
     target
 }
@@ -194,35 +232,78 @@ fn target_profile(order: &[usize], power_w: &[f64], power_in_w: f64) -> Vec<f64>
 /// The marching update of the profile: the target profile with each post's draw scaled with
 /// its own amplitude, p_j(α) = p_j (α/α_j)^e about the iterate α_j (the stator power a post
 /// draws grows with the wave it sees), solved post by post in the order the wave reaches them
-/// (the midpoint rule of [`target_profile`]; closed form for e = 2:
-/// α_i² = R_i / (P_in + ½ p_i/α_i²), R_i the power left before post i). Its fixed point is
+/// along each lane (the midpoint rule of [`target_profile`]; closed form for e = 2:
+/// α_i² = R_i / (P_lane + ½ p_i/α_i²), R_i the power left before post i). Its fixed point is
 /// the fixed point of `target_profile` (at α = α_j the scaled draws are the draws), but it
 /// sees the drop of a post's draw with its own amplitude, which the plain map leaves to the
 /// iteration: the update is close to a Newton step where the posts' coupling through the
 /// preload is weak. A post whose draw cannot be scaled (α_j = 0, or a returned power that
 /// would leave no positive denominator) keeps its draw.
-fn marching_profile(order: &[usize], power_w: &[f64], alpha: &[f64], power_in_w: f64) -> Vec<f64> {
-    let mut remaining = power_in_w;
+fn marching_profile(lanes: &Lanes, power_w: &[f64], alpha: &[f64], power_in_w: f64) -> Vec<f64> {
     let mut target = vec![0.0; power_w.len()];
-    for &i in order {
-        let scalable = alpha[i] > 1e-12;
-        let slope = if scalable {
-            power_w[i] / (alpha[i] * alpha[i])
-        } else {
-            0.0
-        };
-        let denominator = power_in_w + 0.5 * slope;
-        if scalable && denominator > 0.5 * power_in_w {
-            let a2 = remaining.max(0.0) / denominator;
-            target[i] = a2.sqrt();
-            remaining -= slope * a2;
-        } else {
-            let at_post = remaining - 0.5 * power_w[i];
-            target[i] = (at_post.max(0.0) / power_in_w).sqrt();
-            remaining -= power_w[i];
+    for (order, share) in &lanes.0 {
+        let lane_in = power_in_w * share;
+        let mut remaining = lane_in;
+        for &i in order {
+            let scalable = alpha[i] > 1e-12;
+            let slope = if scalable {
+                power_w[i] / (alpha[i] * alpha[i])
+            } else {
+                0.0
+            };
+            let denominator = lane_in + 0.5 * slope;
+            if scalable && denominator > 0.5 * lane_in {
+                let a2 = remaining.max(0.0) / denominator;
+                target[i] = a2.sqrt();
+                remaining -= slope * a2;
+            } else {
+                let at_post = remaining - 0.5 * power_w[i];
+                target[i] = (at_post.max(0.0) / lane_in).sqrt();
+                remaining -= power_w[i];
+            }
         }
     }
     target
+}
+
+/// Where the models of the amplitude profiles come from: the strip's dense model of its scene
+/// ([`StripModels`]) or the whole slider's lattice model ([`crate::slider`]), with the lanes
+/// the wave's power flows along.
+pub(crate) trait ProfiledModels: Sync {
+    /// The lanes of the model's posts.
+    fn lanes(&self) -> &Lanes;
+    /// Posts of the model.
+    fn posts(&self) -> usize;
+    /// The model at the amplitude profile `alpha` (A_i/A₀, model order), its normal solves
+    /// started from `from` (a model of a nearby profile) if given.
+    fn model(&self, alpha: &[f64], from: Option<&CoupledModel>) -> Result<CoupledModel>;
+}
+
+/// The strip's models: [`CoupledModel::new_from`] on the scene with each profile.
+struct StripModels<'a> {
+    scene: &'a CoupledScene,
+    lanes: Lanes,
+}
+
+impl<'a> StripModels<'a> {
+    fn new(scene: &'a CoupledScene) -> Self {
+        Self {
+            scene,
+            lanes: Lanes::strip(scene),
+        }
+    }
+}
+
+impl ProfiledModels for StripModels<'_> {
+    fn lanes(&self) -> &Lanes {
+        &self.lanes
+    }
+    fn posts(&self) -> usize {
+        self.scene.post_x_m.len()
+    }
+    fn model(&self, alpha: &[f64], from: Option<&CoupledModel>) -> Result<CoupledModel> {
+        CoupledModel::new_from(&with_profile(self.scene, alpha), from)
+    }
 }
 
 /// The start of the point at `speed` from the converged `warm` one (at `warm_speed`): its profile
@@ -247,23 +328,22 @@ fn predicted(
 /// (module docs), the marching update as the profile's part of the joint map, and the model of
 /// each new profile from the last one, counting the profile updates against the limit.
 struct Profile<'a> {
-    scene: &'a CoupledScene,
+    models: &'a dyn ProfiledModels,
     options: &'a AttenuationOptions,
     speed_m_per_s: f64,
-    /// Posts in the order the wave reaches them.
-    order: Vec<usize>,
     updates: usize,
     last_change: f64,
 }
 
 impl ProfileMap for Profile<'_> {
     fn target(&mut self, alpha: &[f64], power_w: &[f64]) -> Result<(f64, Vec<f64>)> {
-        let target = target_profile(&self.order, power_w, self.options.power_in_w);
+        let lanes = self.models.lanes();
+        let target = target_profile(lanes, power_w, self.options.power_in_w);
         self.last_change = target
             .iter()
             .zip(alpha)
             .fold(0.0, |m, (t, a)| f64::max(m, (t - a).abs()));
-        let marched = marching_profile(&self.order, power_w, alpha, self.options.power_in_w);
+        let marched = marching_profile(lanes, power_w, alpha, self.options.power_in_w);
         Ok((self.last_change, marched))
     }
 
@@ -286,7 +366,7 @@ impl ProfileMap for Profile<'_> {
             });
         }
         self.updates += 1;
-        CoupledModel::new_from(&with_profile(self.scene, alpha), Some(from))
+        self.models.model(alpha, Some(from))
     }
 }
 
@@ -301,25 +381,20 @@ fn with_profile(scene: &CoupledScene, alpha: &[f64]) -> CoupledScene {
 /// converged point) or from the constant-amplitude wave: the tips and the profile stepped
 /// together ([`CoupledModel::steady_profiled`]) until a period is periodic at a profile settled
 /// to the tolerance.
-fn iterate_profile(
-    scene: &CoupledScene,
+pub(crate) fn iterate_profile(
+    models: &dyn ProfiledModels,
     speed_m_per_s: f64,
     o: &AttenuationOptions,
     warm: Option<&WarmStart>,
 ) -> Result<(AttenuatedPoint, WarmStart)> {
-    let n = scene.post_x_m.len();
-    // Posts in the order the wave reaches them (σx ascending); ties keep scene order.
-    let sigma = scene.wave_direction.sign();
-    let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by(|&a, &b| (sigma * scene.post_x_m[a]).total_cmp(&(sigma * scene.post_x_m[b])));
+    let n = models.posts();
     let warm_fits = warm.filter(|w| w.alpha.len() == n);
     let alpha = warm_fits.map_or_else(|| vec![1.0; n], |w| w.alpha.clone());
-    let model = CoupledModel::new_from(&with_profile(scene, &alpha), warm_fits.map(|w| &w.model))?;
+    let model = models.model(&alpha, warm_fits.map(|w| &w.model))?;
     let mut profile = Profile {
-        scene,
+        models,
         options: o,
         speed_m_per_s,
-        order,
         updates: 0,
         last_change: f64::INFINITY,
     };
@@ -385,7 +460,7 @@ pub fn solve_attenuated(
     scene: &CoupledScene,
     options: &AttenuationOptions,
 ) -> Result<AttenuatedCurve> {
-    Ok(solve_chains(scene, options)?.0)
+    Ok(solve_chains(&StripModels::new(scene), options)?.curve)
 }
 
 /// [`solve_attenuated`] and the steady period at `history_fraction` of its no-load speed (the
@@ -406,42 +481,53 @@ pub fn solve_attenuated_with_histories(
             requirement: "must lie in [0, 1]".into(),
         });
     }
-    let (curve, ends) = solve_chains(scene, options)?;
+    let models = StripModels::new(scene);
+    let Chains { curve, ends, .. } = solve_chains(&models, options)?;
     let speed = history_fraction * curve.no_load_speed_m_per_s;
     let nearest = ends
         .iter()
         .min_by(|a, b| (a.0 - speed).abs().total_cmp(&(b.0 - speed).abs()))
         .map(|(_, w)| w);
-    let (point, warm) = iterate_profile(scene, speed, options, nearest)?;
+    let (point, warm) = iterate_profile(&models, speed, options, nearest)?;
     let histories = warm.model.histories_from_periodic(speed, &warm.state)?;
     Ok((curve, point, histories))
 }
 
-/// The attenuated curve and the last converged point of each chain (speed, warm start).
-fn solve_chains(
-    scene: &CoupledScene,
+/// The attenuated curve with the converged stall and the last converged point of each chain.
+pub(crate) struct Chains {
+    pub(crate) curve: AttenuatedCurve,
+    /// The stall point's warm start.
+    pub(crate) stall: WarmStart,
+    /// Each chain's last point: (speed, warm start).
+    pub(crate) ends: Vec<(f64, WarmStart)>,
+}
+
+/// The attenuated curve of `models` ([`solve_attenuated`]'s sequence).
+pub(crate) fn solve_chains(
+    models: &dyn ProfiledModels,
     options: &AttenuationOptions,
-) -> Result<(AttenuatedCurve, Vec<(f64, WarmStart)>)> {
+) -> Result<Chains> {
     check_options(options)?;
-    let (stall, stall_warm) = iterate_profile(scene, 0.0, options, None)?;
+    let (stall, stall_warm) = iterate_profile(models, 0.0, options, None)?;
     let stall_n = stall.point.thrust_n;
     // The no-load search's last evaluation lies nearest the no-load speed: the high chain's start.
     let mut last = Some(stall_warm.clone());
     let mut last_speed = 0.0;
     let mut thrust = |speed: f64| -> Result<f64> {
-        let (point, warm) = iterate_profile(scene, speed, options, last.as_ref())?;
+        let (point, warm) = iterate_profile(models, speed, options, last.as_ref())?;
         last = Some(warm);
         last_speed = speed;
         Ok(point.point.thrust_n)
     };
-    let crest = scene.wave.crest_speed_m_per_s();
+    let settings = stall_warm.model.scene();
+    let crest = settings.wave.crest_speed_m_per_s();
     let no_load = match options.no_load_guess_m_per_s {
         Some(guess) => {
             crate::model::secant_root(stall_n, guess, crest, SPEED_TOLERANCE, &mut thrust)?
         }
         None => stall_warm.model.regula_falsi(stall_n, &mut thrust)?,
     };
-    let points = scene.curve_points;
+    let points = settings.curve_points;
     let speed = |k: usize| no_load * k as f64 / (points - 1) as f64;
     let middle = (points / 2).max(1);
     let chain = |ks: Vec<usize>, mut warm: Option<WarmStart>, from_speed: f64| {
@@ -454,7 +540,7 @@ fn solve_chains(
             let start = warm
                 .as_ref()
                 .map(|w| predicted(w, before.as_ref(), warm_speed, v));
-            let (point, next) = iterate_profile(scene, v, options, start.as_ref())?;
+            let (point, next) = iterate_profile(models, v, options, start.as_ref())?;
             before = warm.map(|w| (warm_speed, w.alpha));
             warm = Some(next);
             warm_speed = v;
@@ -462,8 +548,9 @@ fn solve_chains(
         }
         Ok::<_, CoupledError>((out, warm.map(|w| (warm_speed, w))))
     };
+    let stall_start = stall_warm.clone();
     let (low, high) = rayon::join(
-        || chain((1..middle).collect(), Some(stall_warm), 0.0),
+        || chain((1..middle).collect(), Some(stall_start), 0.0),
         || chain((middle..points).rev().collect(), last, last_speed),
     );
     let ((low, low_end), (high, high_end)) = (low?, high?);
@@ -472,14 +559,15 @@ fn solve_chains(
     let mut curve = vec![stall];
     curve.extend(rest.into_iter().map(|(_, p)| p));
     let ends = low_end.into_iter().chain(high_end).collect();
-    Ok((
-        AttenuatedCurve {
+    Ok(Chains {
+        curve: AttenuatedCurve {
             stall_thrust_n: stall_n.max(0.0),
             no_load_speed_m_per_s: no_load,
             max_iterations: curve.iter().map(|p| p.iterations).max().unwrap_or(0),
             max_balance_residual: curve.iter().map(|p| p.balance_residual).fold(0.0, f64::max),
             curve,
         },
+        stall: stall_warm,
         ends,
-    ))
+    })
 }

@@ -25,5 +25,6 @@ pub use model::{
 pub use result::{CoupledResult, fit_eta_dyn, lumped_misfit, solve};
 pub use scene::{CoupledScene, PreloadBalance, WaveDirection};
 pub use slider::{
-    NormalContact, RigidBackContact, SliderDynamics, SliderDynamicsResult, SliderMaps, SliderScene,
+    AttenuatedSlider, NormalContact, RigidBackContact, SliderDynamics, SliderDynamicsResult,
+    SliderMaps, SliderScene,
 };

@@ -621,6 +621,12 @@ impl CoupledModel {
         }
     }
 
+    /// Every post's normal force at grid phase `j` (N, the model's post order; a strip post's
+    /// own force, not over the strip share).
+    pub(crate) fn normal_forces_n(&self, j: usize) -> Vec<f64> {
+        self.normals[j].iter().map(|f| f * self.force_n).collect()
+    }
+
     /// Names the posts of errors as lattice posts (i, j), post i·`rows` + j.
     pub(crate) fn set_lattice_rows(&mut self, rows: usize) {
         self.lattice_rows = Some(rows.max(1));

@@ -1,7 +1,7 @@
 //! The coupled model of every post of the whole slider through `sawdrive dynamic`
 //! (`static.model = "slider"`): the contract's JSON keys, its files (the strip's coupled files
 //! plus the three 2D maps), the `auto` choice with its reason, and the energy-conserving wave
-//! refused by name before anything runs.
+//! under every post (its books closed, the amplitude map written).
 //!
 //! Scene: a small slider of 12 × 12 posts of the default post cell (20 µm at 40 µm) on a 0.5 mm
 //! square body, the paper's 4 mN a post, Tet4 for the near field's one-off strip FEM,
@@ -130,41 +130,67 @@ fn auto_on_the_whole_slider_estimates_the_lumped_error_and_says_why() {
     assert_eq!(tight["model"], "coupled", "{}", tight["dynamics_reason"]);
     assert_eq!(tight["coupled_posts"], 144);
     // The small slider's posts draw 14 % of the wave's power at stall: `auto` turns the
-    // energy-conserving wave on, which only the lumped model carries on the whole slider.
+    // energy-conserving wave on, and the whole slider's coupled model runs on it.
     let attenuated = json_ok(dir.path(), &[&tolerance]);
-    assert_eq!(attenuated["model"], "periodic-average");
+    assert_eq!(attenuated["model"], "coupled");
     assert_eq!(attenuated["wave_attenuation"], "on");
     let reason = attenuated["dynamics_reason"].as_str().unwrap();
     assert!(
-        reason.contains("coupled: the lumped model's estimated error")
-            && reason.contains("the lumped model runs"),
+        reason.contains("coupled: the lumped model's estimated error"),
         "{reason}"
     );
 }
 
 #[test]
-fn the_energy_conserving_wave_is_refused_by_name_for_the_whole_sliders_coupled_model() {
+fn the_whole_sliders_coupled_model_runs_on_the_energy_conserving_wave_and_closes_its_books() {
     let dir = tempfile::tempdir().unwrap();
-    let out = sawdrive(
+    let off = json_ok(
+        dir.path(),
+        &["model.dynamics=coupled", "wave.attenuation=off"],
+    );
+    let on = json_ok(
         dir.path(),
         &["model.dynamics=coupled", "wave.attenuation=on"],
     );
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success(), "attenuation on is refused");
-    assert!(stderr.contains("wave.attenuation"), "{stderr}");
-    assert_eq!(stderr.trim().lines().count(), 1, "one line: {stderr}");
+    assert_eq!(on["model"], "coupled");
+    assert_eq!(on["wave_attenuation"], "on");
+    assert_eq!(off["wave_attenuation"], "off");
+    let p_in = number(&on, "wave_power_in_w");
+    for point in on["curve"].as_array().unwrap() {
+        let (stator, out) = (
+            number(point, "stator_power_w"),
+            number(point, "wave_power_out_w"),
+        );
+        assert!(
+            stator < p_in,
+            "the posts draw {stator} W of the wave's {p_in} W"
+        );
+        assert!(
+            (p_in - out - stator).abs() <= 1e-9 * p_in,
+            "books: P_in {p_in} − P_out {out} vs stator power {stator} W"
+        );
+    }
     assert!(
-        !dir.path().join("out/small-slider/dynamic").exists(),
-        "nothing written"
+        number(&on, "stall_thrust_n") < number(&off, "stall_thrust_n"),
+        "less wave under the trailing posts, less thrust"
     );
-    let auto = json_ok(dir.path(), &["model.dynamics=coupled"]);
-    assert_eq!(auto["wave_attenuation"], "off");
-    assert!(
-        auto["wave_attenuation_reason"]
-            .as_str()
-            .unwrap()
-            .contains("keeps the constant-amplitude wave"),
-        "{}",
-        auto["wave_attenuation_reason"]
+    assert_eq!(
+        on["eta_dyn"], off["eta_dyn"],
+        "η_dyn is the constant wave's"
     );
+    let folder = dir.path().join("out/small-slider/dynamic");
+    assert!(folder.join("coupled_map_amplitude_scale.svg").is_file());
+    let means = std::fs::read_to_string(folder.join("coupled_post_means_stall.csv")).unwrap();
+    let header: Vec<&str> = means.lines().next().unwrap().split(',').collect();
+    let column = header.iter().position(|c| *c == "amplitude_scale").unwrap();
+    let trailing: f64 = means
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .nth(column)
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(trailing < 1.0, "the trailing post's amplitude {trailing}");
 }

@@ -143,13 +143,17 @@ impl BalancedCg {
         length_scale_m: f64,
         arms: &[(f64, f64)],
     ) -> Result<CgSolution> {
-        self.solve_preconditioned(op, None, height_m, preload_n, length_scale_m, arms)
+        self.solve_preconditioned(op, None, height_m, preload_n, length_scale_m, arms, None)
     }
 
     /// As [`BalancedCg::solve`], with the conjugate directions preconditioned on the contact set
     /// by `preconditioner` (z = P M_A⁻¹ g, P the projection off the three rigid modes; a
     /// symmetric positive definite M keeps it a conjugate-gradient method): same solution, fewer
     /// iterations when M_A approximates the operator's contact block ([`crate::precondition`]).
+    /// `start_n`: forces (N) to start from instead of equal ones, e.g. the solution of nearby
+    /// heights (rebalanced against the moments; ignored if it does not fit or cannot be
+    /// balanced): the same solution to the tolerance, in fewer iterations.
+    #[allow(clippy::too_many_arguments)]
     pub fn solve_preconditioned(
         &self,
         op: &dyn ComplianceOperator,
@@ -158,13 +162,20 @@ impl BalancedCg {
         preload_n: f64,
         length_scale_m: f64,
         arms: &[(f64, f64)],
+        start_n: Option<&[f64]>,
     ) -> Result<CgSolution> {
         let n = op.len();
         check_inputs(n, height_m, preload_n, length_scale_m, arms)?;
         let f0 = preload_n / n as f64;
         let s = f0 / length_scale_m;
         let h: Vec<f64> = height_m.iter().map(|x| x / length_scale_m).collect();
-        let mut f = initial_forces(n, arms)?;
+        let warm = crate::solver::start_forces(n, start_n)
+            .map(|mut f| rebalance(&mut f, arms).then_some(f))
+            .and_then(|f| f);
+        let mut f = match warm {
+            Some(f) => f,
+            None => initial_forces(n, arms)?,
+        };
         let (mut t, mut u, mut r, mut g) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         let mut z = vec![0.0; n];
         let (mut delta, mut g_old) = (0.0, 1.0);

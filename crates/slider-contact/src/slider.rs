@@ -253,11 +253,22 @@ impl SliderParams {
             return Err(invalid(
                 "amplitude_scale_x",
                 self.amplitude_scale_x.len() as f64,
-                format!("one factor per post column ({} columns), or none", self.posts_x),
+                format!(
+                    "one factor per post column ({} columns), or none",
+                    self.posts_x
+                ),
             ));
         }
-        if let Some(a) = self.amplitude_scale_x.iter().find(|a| !(**a >= 0.0 && a.is_finite())) {
-            return Err(invalid("amplitude_scale_x", *a, "factors must be ≥ 0 and finite"));
+        if let Some(a) = self
+            .amplitude_scale_x
+            .iter()
+            .find(|a| !(**a >= 0.0 && a.is_finite()))
+        {
+            return Err(invalid(
+                "amplitude_scale_x",
+                *a,
+                "factors must be ≥ 0 and finite",
+            ));
         }
         if self.phases == 0 {
             return Err(invalid("phases", 0.0, "at least one phase"));
@@ -515,7 +526,7 @@ impl SliderModel {
     pub fn solve_phase(&self, preload_n: f64, phase_rad: Option<f64>) -> Result<SliderSnapshot> {
         let h = self.obstacle_heights(phase_rad);
         let sol = self
-            .solve_heights(preload_n, &h)
+            .solve_heights(preload_n, &h, None)
             .map_err(|e| with_context(e, preload_n, phase_rad))?;
         Ok(snapshot(phase_rad, h, sol))
     }
@@ -525,8 +536,15 @@ impl SliderModel {
     /// amplitude) under `preload_n`, with this slider's operator and preload mechanism (rigid
     /// back: Σf = P; free back: P and its moments about the load point, the preload's own plate
     /// deflection subtracted): the static stage's solve, also used by the coupled dynamics of
-    /// the whole slider at every grid phase.
-    pub fn solve_heights(&self, preload_n: f64, h: &[f64]) -> Result<CgSolution> {
+    /// the whole slider at every grid phase. `start_n`: forces (N) to start the solve from,
+    /// e.g. the solution of nearby heights (the same solution to the tolerance, fewer
+    /// iterations); `None`: equal forces.
+    pub fn solve_heights(
+        &self,
+        preload_n: f64,
+        h: &[f64],
+        start_n: Option<&[f64]>,
+    ) -> Result<CgSolution> {
         if h.len() != self.operator.len() {
             return Err(invalid(
                 "obstacle_height_m",
@@ -536,9 +554,13 @@ impl SliderModel {
         }
         let scale = self.length_scale(preload_n, h);
         match &self.free_back {
-            None => {
-                ConstrainedCg::new(self.params.solver).solve(&self.operator, h, preload_n, scale)
-            }
+            None => ConstrainedCg::new(self.params.solver).solve_from(
+                &self.operator,
+                h,
+                preload_n,
+                scale,
+                start_n,
+            ),
             Some(back) => {
                 // gap = z + θ·φ − h + (C + G) f + w_load: the load's deflection lowers the obstacle.
                 let shifted: Vec<f64> = h
@@ -558,7 +580,7 @@ impl SliderModel {
                 });
                 let pre = pre.as_mut().map(|p| p as &mut dyn ContactPreconditioner);
                 BalancedCg::new(self.params.solver)
-                    .solve_preconditioned(&op, pre, &shifted, preload_n, scale, &back.arms)
+                    .solve_preconditioned(&op, pre, &shifted, preload_n, scale, &back.arms, start_n)
             }
         }
     }

@@ -238,12 +238,28 @@ impl ConstrainedCg {
         preload_n: f64,
         length_scale_m: f64,
     ) -> Result<CgSolution> {
+        self.solve_from(op, height_m, preload_n, length_scale_m, None)
+    }
+
+    /// [`Self::solve`] started from the forces `start_n` (N, e.g. the solution of nearby
+    /// heights; scaled to sum to the preload) instead of equal forces: the same solution (the
+    /// problem is a convex QP with one minimiser) to the tolerance, in fewer iterations when
+    /// the start's contact set is nearly the solution's. A start of the wrong length or without
+    /// a positive force is ignored.
+    pub fn solve_from(
+        &self,
+        op: &dyn ComplianceOperator,
+        height_m: &[f64],
+        preload_n: f64,
+        length_scale_m: f64,
+        start_n: Option<&[f64]>,
+    ) -> Result<CgSolution> {
         let n = op.len();
         Self::validate(n, height_m, preload_n, length_scale_m)?;
         let f0 = preload_n / n as f64;
         let s = f0 / length_scale_m;
         let h: Vec<f64> = height_m.iter().map(|x| x / length_scale_m).collect();
-        let mut f = vec![1.0; n];
+        let mut f = start_forces(n, start_n).unwrap_or_else(|| vec![1.0; n]);
         let mut t = vec![0.0; n];
         let (mut u, mut r) = (vec![0.0; n], vec![0.0; n]);
         let mut g = vec![0.0; n];
@@ -304,6 +320,15 @@ impl ConstrainedCg {
         }
         Err(not_converged(&self.options, &history, &f))
     }
+}
+
+/// A warm start's forces on the solvers' scale (Σf = n, f ≥ 0), or `None` when `start_n` does
+/// not fit `n` posts or carries no positive force.
+pub(crate) fn start_forces(n: usize, start_n: Option<&[f64]>) -> Option<Vec<f64>> {
+    let start = start_n.filter(|f| f.len() == n)?;
+    let sum: f64 = start.iter().map(|x| x.max(0.0)).sum();
+    (sum > 0.0 && sum.is_finite())
+        .then(|| start.iter().map(|x| x.max(0.0) * n as f64 / sum).collect())
 }
 
 /// The iteration limit reached: the last residual, the tolerance and the contact set's size.

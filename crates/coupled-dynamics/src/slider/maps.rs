@@ -23,11 +23,24 @@ pub struct SliderMaps {
     /// The per-post time means.
     #[serde(flatten)]
     pub means: PostMeans,
+    /// The local wave amplitude A_i/A₀ of every post (lattice order): 1 on the
+    /// constant-amplitude wave, the self-consistent profile of the energy-conserving wave.
+    pub amplitude_scale: Vec<f64>,
 }
 
 impl SliderMaps {
-    /// The maps of `means` on `geometry`'s lattice.
-    pub fn new(geometry: &LatticeGeometry, point: CoupledPoint, means: PostMeans) -> Self {
+    /// The maps of `means` on `geometry`'s lattice, with the posts' local wave amplitudes
+    /// `amplitude_scale` (A_i/A₀, lattice order; empty: 1 everywhere).
+    pub fn new(
+        geometry: &LatticeGeometry,
+        point: CoupledPoint,
+        means: PostMeans,
+        amplitude_scale: &[f64],
+    ) -> Self {
+        let amplitude_scale = match amplitude_scale.is_empty() {
+            true => vec![1.0; geometry.len()],
+            false => amplitude_scale.to_vec(),
+        };
         Self {
             posts_x: geometry.posts_x,
             posts_y: geometry.posts_y,
@@ -35,6 +48,7 @@ impl SliderMaps {
             y_m: (0..geometry.posts_y).map(|j| geometry.y_m(j)).collect(),
             point,
             means,
+            amplitude_scale,
         }
     }
 
@@ -80,8 +94,13 @@ pub const MAP_FIELDS: [(&str, &str); 3] = [
     ("friction_power", "W"),
 ];
 
+/// The map of the local wave amplitude A_i/A₀ (drawn when the energy-conserving wave is on:
+/// where the wave runs out under the slider), with its file stem and unit.
+pub const AMPLITUDE_FIELD: (&str, &str) = ("amplitude_scale", "");
+
 impl SliderMaps {
-    /// The per-post field of [`MAP_FIELDS`] named `name` (lattice order); `None` for another name.
+    /// The per-post field of [`MAP_FIELDS`] (or contact_fraction, stator_power,
+    /// [`AMPLITUDE_FIELD`]) named `name` (lattice order); `None` for another name.
     pub fn field(&self, name: &str) -> Option<&[f64]> {
         match name {
             "mean_normal_force" => Some(&self.means.mean_normal_force_n),
@@ -89,6 +108,7 @@ impl SliderMaps {
             "contact_fraction" => Some(&self.means.contact_fraction),
             "friction_power" => Some(&self.means.friction_power_w),
             "stator_power" => Some(&self.means.stator_power_w),
+            "amplitude_scale" => Some(&self.amplitude_scale),
             _ => None,
         }
     }
@@ -97,20 +117,21 @@ impl SliderMaps {
     pub fn csv(&self) -> String {
         let m = &self.means;
         let mut csv = String::from(
-            "column,row,x_m,y_m,mean_normal_force_n,slip_fraction,contact_fraction,friction_power_w,stator_power_w\n",
+            "column,row,x_m,y_m,mean_normal_force_n,slip_fraction,contact_fraction,friction_power_w,stator_power_w,amplitude_scale\n",
         );
         for i in 0..self.posts_x {
             for j in 0..self.posts_y {
                 let k = i * self.posts_y + j;
                 csv.push_str(&format!(
-                    "{i},{j},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}\n",
+                    "{i},{j},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}\n",
                     self.x_m[i],
                     self.y_m[j],
                     m.mean_normal_force_n[k],
                     m.slip_fraction[k],
                     m.contact_fraction[k],
                     m.friction_power_w[k],
-                    m.stator_power_w[k]
+                    m.stator_power_w[k],
+                    self.amplitude_scale[k]
                 ));
             }
         }

@@ -45,14 +45,15 @@
 //!
 //! **Energy-conserving wave**: [`SliderScene::amplitude_scale`] carries α_i per post (lattice
 //! order; the strip's `CoupledScene::amplitude_scale` convention), and
-//! [`CoupledModel::post_means_from`] each post's drawn stator power: the inputs of the
-//! fixed point of [`crate::attenuation`], which today rebuilds a strip model from a
-//! `CoupledScene` and so cannot be called for the slider (see the crate README).
+//! [`SliderDynamics::solve_attenuated`] solves every curve point at its self-consistent profile
+//! (the fixed point of [`crate::attenuation`], one lane of the wave's power per lattice row;
+//! the `attenuation` submodule).
 //!
 //! Valid where the strip model is (quasi-static posts, rigid heavy slider at an imposed speed,
 //! continuous wave) and the lattice operators are (loads ≫ a apart, ≥ t from the slider's
 //! edges for the body's local part).
 
+mod attenuation;
 mod maps;
 pub mod mirror;
 
@@ -68,7 +69,8 @@ use slider_contact::{
 };
 use stick_slip::{DynamicScene, Wave};
 
-pub use maps::{MAP_FIELDS, SliderMaps};
+pub use attenuation::AttenuatedSlider;
+pub use maps::{AMPLITUDE_FIELD, MAP_FIELDS, SliderMaps};
 pub use mirror::Mirror;
 
 use crate::error::{CoupledError, Result};
@@ -317,8 +319,14 @@ pub trait NormalContact: Sync {
     /// A representative normal self compliance C_ii (m/N): the solver's force scale.
     fn self_compliance_m_per_n(&self) -> f64;
     /// Post forces f_i ≥ 0 (N, lattice order) and the rigid approach z (m) for obstacle
-    /// heights h (m) under the preload (N).
-    fn solve_contact(&self, heights_m: &[f64], preload_n: f64) -> Result<(Vec<f64>, f64)>;
+    /// heights h (m) under the preload (N), the solve started from the forces `start_n` (N,
+    /// e.g. the solution of nearby heights) if given: the same solution to the tolerance.
+    fn solve_contact(
+        &self,
+        heights_m: &[f64],
+        preload_n: f64,
+        start_n: Option<&[f64]>,
+    ) -> Result<(Vec<f64>, f64)>;
 }
 
 impl NormalContact for SliderModel {
@@ -328,8 +336,13 @@ impl NormalContact for SliderModel {
     fn self_compliance_m_per_n(&self) -> f64 {
         self.operator.parts().total_m_per_n()
     }
-    fn solve_contact(&self, heights_m: &[f64], preload_n: f64) -> Result<(Vec<f64>, f64)> {
-        let s = self.solve_heights(preload_n, heights_m)?;
+    fn solve_contact(
+        &self,
+        heights_m: &[f64],
+        preload_n: f64,
+        start_n: Option<&[f64]>,
+    ) -> Result<(Vec<f64>, f64)> {
+        let s = self.solve_heights(preload_n, heights_m, start_n)?;
         Ok((s.force_n, s.reference_height_m))
     }
 }
@@ -354,25 +367,44 @@ impl<C: ComplianceOperator + Sync> NormalContact for RigidBackContact<C> {
         let d = self.operator.diagonal();
         d.iter().sum::<f64>() / d.len().max(1) as f64
     }
-    fn solve_contact(&self, heights_m: &[f64], preload_n: f64) -> Result<(Vec<f64>, f64)> {
-        let s = ConstrainedCg::new(self.options).solve(
+    fn solve_contact(
+        &self,
+        heights_m: &[f64],
+        preload_n: f64,
+        start_n: Option<&[f64]>,
+    ) -> Result<(Vec<f64>, f64)> {
+        let s = ConstrainedCg::new(self.options).solve_from(
             &self.operator,
             heights_m,
             preload_n,
             self.length_scale_m,
+            start_n,
         )?;
         Ok((s.force_n, s.reference_height_m))
     }
 }
 
 /// The whole slider's coupled model, normal forces on the phase grid solved.
-#[derive(Debug, Clone)]
+#[derive(Clone)]
 pub struct SliderDynamics {
     scene: SliderScene,
     model: CoupledModel,
+    /// C_t as the model holds it (the folded operator under a mirror): the models of other
+    /// amplitude profiles share it.
+    tangential: Arc<dyn ComplianceProduct>,
     dundurs_beta: Option<f64>,
     normal_grid_wall_s: f64,
     mirror: Option<Mirror>,
+}
+
+impl std::fmt::Debug for SliderDynamics {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SliderDynamics")
+            .field("scene", &self.scene)
+            .field("model", &self.model)
+            .field("mirror", &self.mirror)
+            .finish_non_exhaustive()
+    }
 }
 
 /// The normal contact of every post on the phase grid (full lattice order).
@@ -385,8 +417,13 @@ struct NormalGrid {
 
 impl NormalGrid {
     /// Validates the scene and solves the normal contact at every grid phase with `normal`
-    /// (in parallel over the phases).
-    fn solve(scene: &SliderScene, normal: &dyn NormalContact) -> Result<Self> {
+    /// (in parallel over the phases), each phase's solve started from `start`'s forces at that
+    /// phase (full lattice order, e.g. the grid of a nearby amplitude profile) if given.
+    fn solve(
+        scene: &SliderScene,
+        normal: &dyn NormalContact,
+        start: Option<&[Vec<f64>]>,
+    ) -> Result<Self> {
         scene.validate()?;
         let n = scene.geometry.len();
         if normal.posts() != n {
@@ -402,7 +439,8 @@ impl NormalGrid {
             .into_par_iter()
             .map(|j| {
                 let theta = scene.start_phase_rad + 2.0 * PI * j as f64 / m as f64;
-                normal.solve_contact(&scene.obstacle_heights_m(theta), scene.preload_n)
+                let from = start.and_then(|grid| grid.get(j)).map(Vec::as_slice);
+                normal.solve_contact(&scene.obstacle_heights_m(theta), scene.preload_n, from)
             })
             .collect::<Result<Vec<_>>>()?;
         let (normals_n, approach_m): (Vec<Vec<f64>>, Vec<f64>) = grid.into_iter().unzip();
@@ -447,7 +485,7 @@ impl SliderDynamics {
         normal: &dyn NormalContact,
         tangential: Arc<dyn ComplianceProduct>,
     ) -> Result<Self> {
-        let grid = NormalGrid::solve(scene, normal)?;
+        let grid = NormalGrid::solve(scene, normal, None)?;
         Self::on_grid(scene, grid, tangential, None)
     }
 
@@ -475,12 +513,13 @@ impl SliderDynamics {
             grid.k_ref_n_per_m,
             normals,
             grid.approach_m,
-            tangential,
+            tangential.clone(),
         )?;
         model.set_lattice_rows(mirror.map_or(scene.geometry.posts_y, |m| m.half_posts_y()));
         Ok(Self {
             scene: scene.clone(),
             model,
+            tangential,
             dundurs_beta: None,
             normal_grid_wall_s: grid.wall_s,
             mirror,
@@ -511,7 +550,7 @@ impl SliderDynamics {
         scene.validate()?;
         let spec = static_model.params.operator_spec();
         let kernel = TangentialKernel::new(&spec, tangential_near_field)?;
-        let grid = NormalGrid::solve(scene, static_model)?;
+        let grid = NormalGrid::solve(scene, static_model, None)?;
         let mirror = Mirror::of(scene, &grid.normals_n).filter(|_| use_mirror);
         let tangential: Arc<dyn ComplianceProduct> = match mirror {
             Some(_) => Arc::new(kernel.mirror_operator(&spec.geometry)?),
@@ -555,7 +594,12 @@ impl SliderDynamics {
             Some(fold) => fold.expand_means(means),
             None => means,
         };
-        SliderMaps::new(&self.scene.geometry, point, means)
+        SliderMaps::new(
+            &self.scene.geometry,
+            point,
+            means,
+            &self.scene.amplitude_scale,
+        )
     }
 
     /// The model's indices of the full lattice's posts `posts`.

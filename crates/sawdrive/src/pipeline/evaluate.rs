@@ -126,7 +126,7 @@ impl StaticModel {
             Dynamics::Lumped(_) => false,
             Dynamics::Auto => {
                 scene.static_fem.model != StaticChoice::Strip
-                    && whole_slider::check_scene(scene).is_ok()
+                    && whole_slider::check_study_scene(scene).is_ok()
             }
             Dynamics::Coupled => check_dynamics(scene).is_ok(),
         };
@@ -323,7 +323,7 @@ pub fn check_dynamics(scene: &Scene) -> Result<(), PipelineError> {
                 .into(),
         );
     }
-    whole_slider::check_scene(scene).map_err(|e| PipelineError::Unsupported {
+    whole_slider::check_study_scene(scene).map_err(|e| PipelineError::Unsupported {
         stage: "uq/design",
         message: e.to_string(),
     })
@@ -421,14 +421,14 @@ fn choose_dynamics(
             return Ok((
                 false,
                 format!(
-                    "{}; but the energy-conserving wave is on (wave.attenuation) and the whole \
-                     slider's coupled model keeps the constant-amplitude wave, so the lumped \
-                     model runs",
+                    "{}; but the energy-conserving wave is on (wave.attenuation) and a study's \
+                     whole-slider coupled curve keeps the constant-amplitude wave, so the lumped \
+                     model runs (on the local amplitude)",
                     decision.reason
                 ),
             ));
         }
-        whole_slider::check_scene(scene)?;
+        whole_slider::check_study_scene(scene)?;
     }
     Ok((coupled, decision.reason))
 }
@@ -671,6 +671,17 @@ fn coupled_outputs(
         _ => scene.motor.posts.count_y,
     };
     let share = f64::from(scene.motor.posts.count_y) / f64::from(rows);
+    // A study's coupled curve keeps the constant wave: say so where it asks for more than 1 %
+    // of the wave's power (where the dynamic stage would attenuate it).
+    let stall_draw_w = curve.curve.first().map_or(0.0, |p| p.stator_power_w) * share;
+    let reason = match attenuation::decide(scene, stall_draw_w) {
+        Ok(wave) if wave.on() => format!(
+            "{reason}; on the constant-amplitude wave (a study's coupled curve does not \
+             attenuate it; `sawdrive dynamic` does): {}",
+            wave.reason
+        ),
+        _ => reason,
+    };
     let t = curve.times_s;
     let cost = CoupledCost {
         normal_grid_s: t.normal_grid_s,

@@ -147,7 +147,13 @@ fn solve_lumped_attenuated(
         let (books, stall) = books_and_stall(
             &solved.points,
             |p| (&p.x_m, &p.amplitude_scale),
-            |p| (p.wave_power_in_w - p.wave_power_out_w, p.wave_power_in_w, p.wave_power_out_w),
+            |p| {
+                (
+                    p.wave_power_in_w - p.wave_power_out_w,
+                    p.wave_power_in_w,
+                    p.wave_power_out_w,
+                )
+            },
         );
         Ok((solved.result, books, stall))
     } else {
@@ -155,7 +161,13 @@ fn solve_lumped_attenuated(
         let (books, stall) = books_and_stall(
             &solved.points,
             |p| (&p.x_m, &p.amplitude_scale),
-            |p| (p.sample.stator_power_w, p.wave_power_in_w, p.wave_power_out_w),
+            |p| {
+                (
+                    p.sample.stator_power_w,
+                    p.wave_power_in_w,
+                    p.wave_power_out_w,
+                )
+            },
         );
         Ok((solved.result, books, stall))
     }

@@ -488,18 +488,22 @@ pub(super) fn strip_coupled(
     })
 }
 
-/// The coupled model of every post of the whole slider (constant-amplitude wave).
+/// The coupled model of every post of the whole slider (with the energy-conserving wave when
+/// it is on).
 pub(super) fn slider_coupled(
     scene: &Scene,
     stage: &crate::pipeline::SliderStage,
     lumped: &DynamicRun,
+    control: &RunControl,
 ) -> Result<CoupledOutcome, PipelineError> {
-    let run = whole_slider::run(scene, stage, lumped)?;
+    let whole_slider::SliderRun {
+        result: run,
+        wave,
+        wave_power_out_w,
+    } = whole_slider::run(scene, stage, lumped, control)?;
     let mut result = run.coupled;
     prepend_scene_warnings(scene, &mut result);
-    let stall_draw_w = result.curve.first().map_or(0.0, |p| p.stator_power_w);
-    let wave = whole_slider::wave_decision(scene, stall_draw_w)?;
-    let books = coupled_books(&result, &vec![None; result.curve.len()], &wave);
+    let books = coupled_books(&result, &wave_power_out_w, &wave);
     Ok(CoupledOutcome {
         result: Some(result),
         histories: Some(run.histories),

@@ -26,7 +26,7 @@ use coupled_dynamics::{
 };
 
 use self::coupled::{CoupledOutcome, DriveFigures, DynamicStage, slider_coupled, strip_coupled};
-use self::lumped::{DynamicRun, run_dynamic};
+use self::lumped::run_dynamic;
 use crate::pipeline::RunControl;
 use crate::pipeline::{StaticDetails, StaticOutcome};
 use crate::scene::{Dynamics, Scene, StaticModel};
@@ -53,14 +53,14 @@ pub fn run_dynamic_stage(
         )
     });
     let estimate = evidence.as_ref().map(lumped_error_estimate);
-    let (run_coupled, reason) = decide(scene, statics, evidence.as_ref(), &lumped)?;
+    let (run_coupled, reason) = decide(scene, statics, evidence.as_ref())?;
     let mut lumped = lumped;
     let mut local_amplitude = None;
     let outcome = match (run_coupled, statics) {
         (true, Some(statics)) => {
             PipelineError::check(control, "dynamic (coupled model)")?;
             match &statics.report.details {
-                StaticDetails::Slider(stage) => slider_coupled(scene, stage, &lumped)?,
+                StaticDetails::Slider(stage) => slider_coupled(scene, stage, &lumped, control)?,
                 StaticDetails::Strip(_) => {
                     strip_coupled(scene, statics, &lumped, cache_dir, control)?
                 }
@@ -132,7 +132,6 @@ fn decide(
     scene: &Scene,
     statics: Option<&StaticOutcome>,
     evidence: Option<&LumpedEvidence>,
-    lumped: &DynamicRun,
 ) -> Result<(bool, String), PipelineError> {
     match (scene.model.dynamics, statics, evidence) {
         (Dynamics::Lumped(_), _, _) => Ok((false, "model.dynamics names a lumped model".into())),
@@ -181,17 +180,6 @@ fn decide(
                  the whole slider's η fit misfit with the strips' envelope factor",
                 decision.reason
             );
-            let stall_draw_w = attenuation::lumped_stall_draw_w(&lumped.scene)?;
-            if coupled && attenuation::decide(scene, stall_draw_w.unwrap_or(0.0))?.on() {
-                return Ok((
-                    false,
-                    format!(
-                        "{reason}; but the energy-conserving wave is on (wave.attenuation) and \
-                         the whole slider's coupled model keeps the constant-amplitude wave, so \
-                         the lumped model runs (on the local amplitude)"
-                    ),
-                ));
-            }
             if coupled {
                 whole_slider::check_scene(scene)?;
             }

@@ -11,15 +11,22 @@
 //! and friction power per post at half the no-load speed (SVG, and every post's means at
 //! stall and at half the no-load speed as CSV); the post histories are the middle row's.
 //!
-//! Not modelled here, and refused or stated rather than ignored: the energy-conserving wave
-//! (`wave.attenuation = "on"` is refused; `auto` keeps the constant-amplitude wave and says
-//! so), the slider's vertical dynamics (`model.lumped.vertical = "dynamic"` refused, as for the
-//! strip), the time-step error estimate (not made: it would cost a second normal grid and two
-//! steady solves of every post).
+//! The energy-conserving wave (`wave.attenuation = "on"`, or `auto` when the constant wave's
+//! posts would draw more than the wave carries): the constant-amplitude run first (η_dyn, the
+//! stall draw that `auto` decides on, the no-load guess), then every curve point, the maps and
+//! the histories at their self-consistent profiles, each post at its local amplitude
+//! (`SliderDynamics::solve_attenuated`: one lane of the wave's power per lattice row);
+//! η_dyn stays the constant wave's, as on the strip.
+//!
+//! Not modelled here, and refused or stated rather than ignored: the slider's vertical
+//! dynamics (`model.lumped.vertical = "dynamic"` refused, as for the strip), the time-step
+//! error estimate (not made: it would cost a second normal grid and two steady solves of every
+//! post). The studies' curves ([`study_curve`]) run on the constant-amplitude wave and refuse
+//! `wave.attenuation = "on"`.
 
 use std::path::{Path, PathBuf};
 
-use coupled_dynamics::slider::MAP_FIELDS;
+use coupled_dynamics::slider::{AMPLITUDE_FIELD, MAP_FIELDS};
 use coupled_dynamics::{
     CoupledError, CoupledPoint, PeriodState, SliderDynamics, SliderDynamicsResult, SliderScene,
 };
@@ -30,6 +37,7 @@ use stick_slip::{AttenuationSetting, VerticalModel};
 use super::attenuation::{self, WaveAttenuation};
 use super::lumped::DynamicRun;
 use crate::output::io;
+use crate::pipeline::RunControl;
 use crate::pipeline::{PipelineError, SliderStage, slider_params};
 use crate::scene::{DEFAULT_COUPLED_STEPS_PER_PERIOD, Scene};
 
@@ -49,20 +57,26 @@ pub struct SliderCoupledFigures {
     pub maps: Vec<coupled_dynamics::SliderMaps>,
 }
 
-/// Refuses, before anything runs, what the whole slider's coupled model cannot honour: the
-/// energy-conserving wave asked for by `wave.attenuation = "on"` and the slider's vertical
-/// dynamics.
-pub(crate) fn check_scene(scene: &Scene) -> Result<(), PipelineError> {
+/// Refuses, before a study runs, what a study's whole-slider coupled curve cannot honour: the
+/// energy-conserving wave asked for by `wave.attenuation = "on"` (the studies' curves run on
+/// the constant-amplitude wave) and what [`check_scene`] refuses.
+pub(crate) fn check_study_scene(scene: &Scene) -> Result<(), PipelineError> {
     if scene.wave_attenuation == AttenuationSetting::On {
         return Err(PipelineError::Unsupported {
             stage: "dynamic",
-            message: "wave.attenuation = \"on\": the whole slider's coupled model \
-                      (static.model = \"slider\") runs on the constant-amplitude wave (the local \
-                      amplitude of every post is not modelled for it); set wave.attenuation = \
-                      \"off\" or \"auto\", static.model = \"strip\", or a lumped model.dynamics"
+            message: "wave.attenuation = \"on\": a study's whole-slider coupled curves (uq, \
+                      design) run on the constant-amplitude wave; set wave.attenuation = \"off\" \
+                      or \"auto\", or a lumped model.dynamics (the dynamic stage runs the whole \
+                      slider on the energy-conserving wave)"
                 .into(),
         });
     }
+    check_scene(scene)
+}
+
+/// Refuses, before anything runs, what the whole slider's coupled model cannot honour: the
+/// slider's vertical dynamics.
+pub(crate) fn check_scene(scene: &Scene) -> Result<(), PipelineError> {
     if let VerticalModel::Dynamic { .. } = scene.model.vertical {
         return Err(PipelineError::Unsupported {
             stage: "dynamic",
@@ -95,13 +109,23 @@ fn slider_scene(scene: &Scene, static_model: &SliderModel) -> SliderScene {
     s
 }
 
+/// The whole slider's coupled run of the dynamic stage: its result, the wave's decision and,
+/// per curve point, the wave power leaving (with the energy-conserving wave).
+pub(super) struct SliderRun {
+    pub(super) result: SliderDynamicsResult,
+    pub(super) wave: WaveAttenuation,
+    pub(super) wave_power_out_w: Vec<Option<f64>>,
+}
+
 /// Runs the whole slider's coupled model of `scene` on the static stage's slider `stage`, with
-/// η_dyn against the lumped scene.
+/// η_dyn against the lumped scene; on the energy-conserving wave when `wave.attenuation` asks
+/// for it or `auto` finds the constant wave's stall draw above what the wave carries.
 pub(super) fn run(
     scene: &Scene,
     stage: &SliderStage,
     lumped: &DynamicRun,
-) -> Result<SliderDynamicsResult, PipelineError> {
+    control: &RunControl,
+) -> Result<SliderRun, PipelineError> {
     check_scene(scene)?;
     let started = std::time::Instant::now();
     let params = slider_params(scene, &stage.near_field);
@@ -115,41 +139,72 @@ pub(super) fn run(
     // estimated error (a few per cent): the search starts there.
     let guess = Some(lumped.result.no_load_speed_m_per_s).filter(|v| *v > 0.0);
     let mut result = dynamics.solve_from_guess(Some(&lumped.scene), guess)?;
+    let stall_draw_w = result
+        .coupled
+        .curve
+        .first()
+        .map_or(0.0, |p| p.stator_power_w);
+    let wave = attenuation::decide(scene, stall_draw_w)?;
+    let mut wave_power_out_w = vec![None; result.coupled.curve.len()];
+    if wave.on() {
+        PipelineError::check(control, "dynamic (whole slider, energy-conserving wave)")?;
+        let mut options = coupled_dynamics::AttenuationOptions::new(wave.power_in_w);
+        options.no_load_guess_m_per_s = Some(result.coupled.no_load_speed_m_per_s);
+        let attenuated = dynamics.solve_attenuated(&static_model, &options)?;
+        wave_power_out_w = attenuate(&mut result, attenuated);
+    }
     result.coupled.wall_time_s = started.elapsed().as_secs_f64();
     result.coupled.warnings.push(
         "whole slider: the tangential near field is Johnson's 1/k_pt (the normal one is \
          calibrated on the strip FEM); no time-step error estimate is made"
             .into(),
     );
-    Ok(result)
-}
-
-/// The energy-conserving wave's decision for the whole slider's coupled run drawing
-/// `stall_draw_w` (W) at stall: `off` as the setting says; `auto` keeps the constant-amplitude
-/// wave and says so when the draw would have turned it on (`on` was refused by
-/// [`check_scene`]).
-pub(super) fn wave_decision(
-    scene: &Scene,
-    stall_draw_w: f64,
-) -> Result<WaveAttenuation, PipelineError> {
-    let decided = attenuation::decide(scene, stall_draw_w)?;
-    if !decided.on() {
-        return Ok(decided);
-    }
-    Ok(WaveAttenuation {
-        state: "off",
-        reason: format!(
-            "{}; but the whole slider's coupled model keeps the constant-amplitude wave (the \
-             local amplitude of every post is not modelled for it): the curve is the constant \
-             wave's",
-            decided.reason
-        ),
-        power_in_w: decided.power_in_w,
+    Ok(SliderRun {
+        result,
+        wave,
+        wave_power_out_w,
     })
 }
 
+/// Replaces the constant-amplitude run's curve, stall, no-load speed, efficiency, stick
+/// fraction, maps and histories by the energy-conserving wave's; η_dyn stays the constant
+/// wave's (the contact's mechanics, which the profile does not change) and a warning says so.
+/// Returns each curve point's wave power leaving.
+fn attenuate(
+    result: &mut SliderDynamicsResult,
+    attenuated: coupled_dynamics::AttenuatedSlider,
+) -> Vec<Option<f64>> {
+    let curve = attenuated.curve;
+    let r = &mut result.coupled;
+    r.stall_thrust_n = curve.stall_thrust_n;
+    r.no_load_speed_m_per_s = curve.no_load_speed_m_per_s;
+    r.curve = curve.curve.iter().map(|p| p.point.clone()).collect();
+    r.energy_balance_residual = r
+        .curve
+        .iter()
+        .map(|p| p.energy_balance_residual.abs())
+        .fold(0.0, f64::max);
+    r.efficiency = r.curve.iter().map(|p| p.efficiency).fold(0.0, f64::max);
+    r.stick_fraction = r.curve.first().map_or(0.0, |p| p.stick_fraction);
+    r.warnings.push(format!(
+        "energy-conserving wave on the whole slider (one lane of the wave's power per lattice \
+         row): {} fixed-point iterations at most per point, {} normal grids solved, books \
+         closed to {:.1e} of P_in; eta_dyn is the constant-amplitude wave's",
+        curve.max_iterations, attenuated.normal_grids, curve.max_balance_residual
+    ));
+    result.maps = attenuated.maps;
+    result.history_posts = attenuated.history_posts;
+    result.histories = attenuated.histories;
+    curve
+        .curve
+        .iter()
+        .map(|p| Some(p.wave_power_out_w))
+        .collect()
+}
+
 /// Writes the maps of a whole-slider coupled run into `dir`: `coupled_map_<field>.svg` of the
-/// time-mean normal force, slip fraction and friction power per post at half the no-load speed,
+/// time-mean normal force, slip fraction and friction power per post at half the no-load speed
+/// (and of the local wave amplitude `amplitude_scale` when the energy-conserving wave is on),
 /// and `coupled_post_means_stall.csv`, `coupled_post_means_half_no_load.csv` (every post's
 /// time means).
 pub(super) fn write_maps(
@@ -166,7 +221,11 @@ pub(super) fn write_maps(
     let Some(half) = figures.maps.get(1) else {
         return Ok(files);
     };
-    for (name, unit) in MAP_FIELDS {
+    let attenuated = half.amplitude_scale.iter().any(|a| *a != 1.0);
+    let drawn = MAP_FIELDS
+        .iter()
+        .chain(attenuated.then_some(&AMPLITUDE_FIELD));
+    for &(name, unit) in drawn {
         let field = half.field(name).unwrap_or_default();
         let caption = format!(
             "{title}: {} per post at {:.3} m/s (half the no-load speed)",
@@ -298,7 +357,7 @@ pub fn study_curve(
     lumped_no_load_m_per_s: f64,
     warm: Option<&StudyWarmStart>,
 ) -> Result<Result<StudyCurve, Unresolved>, PipelineError> {
-    check_scene(scene)?;
+    check_study_scene(scene)?;
     let mut slider = slider_scene(scene, static_model);
     slider.tolerance = STUDY_STEP_TOLERANCE;
     let posts = slider.geometry.len();
