@@ -48,6 +48,30 @@ pub struct AttenuatedSlider {
     pub normal_grids: usize,
 }
 
+impl AttenuatedSlider {
+    /// The largest |α − g(α)| over the posts of curve point `point`: each post's amplitude
+    /// against what its row's lane leaves it (the midpoint rule on the posts' own draws, from
+    /// P_in/n_y with `power_in_w` the whole array's P_in; module docs). The fixed point's
+    /// residual as a user can recompute it from the point's outputs; `None` for no such point.
+    pub fn lane_residual(&self, point: usize, power_in_w: f64) -> Option<f64> {
+        let p = self.curve.curve.get(point)?;
+        let map = self.maps.first()?;
+        let (nx, ny) = (map.posts_x, map.posts_y);
+        let lane_in = power_in_w / ny as f64;
+        let mut worst: f64 = 0.0;
+        for j in 0..ny {
+            let mut remaining = lane_in;
+            for k in (0..nx).map(|i| i * ny + j) {
+                let at_post = remaining - 0.5 * p.post_power_w[k];
+                let target = (at_post.max(0.0) / lane_in).sqrt();
+                worst = worst.max((p.amplitude_scale[k] - target).abs());
+                remaining -= p.post_power_w[k];
+            }
+        }
+        Some(worst)
+    }
+}
+
 /// The models of the whole slider's amplitude profiles and the lanes of its rows.
 struct SliderModels<'a> {
     dynamics: &'a SliderDynamics,

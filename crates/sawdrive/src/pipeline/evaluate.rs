@@ -350,8 +350,9 @@ pub fn dynamics_policy(scene: &Scene) -> String {
             "coupled (model.dynamics = \"coupled\"): every sample's whole slider (its own \
              scatter, tilt, bow, preload, diameter, μ) through the whole-slider coupled model \
              (every post, Coulomb stick/slip; Johnson's near fields, as the study's static \
-             model) at stall, v₀ and {}, warm-started from the nominal sample's periodic states",
-            curve_layout(scene)
+             model) at stall, v₀ and {}, warm-started from the nominal sample's periodic states{}",
+            curve_layout(scene),
+            study_wave(scene)
         ),
         Dynamics::Auto if scene.contact.effective_ratio.is_some() => {
             "lumped (model.dynamics = \"auto\"): η is given, so no static fit estimates the \
@@ -372,6 +373,17 @@ pub fn dynamics_policy(scene: &Scene) -> String {
              misfit and would hide the scattered samples' error",
             curve_layout(scene)
         ),
+    }
+}
+
+/// What wave a study's coupled curves run on, in words (empty with `wave.attenuation = "off"`).
+fn study_wave(scene: &Scene) -> &'static str {
+    match scene.wave_attenuation {
+        stick_slip::AttenuationSetting::Off => "",
+        _ => {
+            "; on the constant-amplitude wave (a study's coupled curves do not apply \
+             wave.attenuation = \"auto\"; `sawdrive dynamic` does)"
+        }
     }
 }
 

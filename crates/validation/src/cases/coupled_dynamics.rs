@@ -27,7 +27,10 @@
 //!   [`ATTENUATION_BALANCE`] of P_in and the drawn power is ≤ P_in; a weak load (posts drawing
 //!   1e-8 of P_in) recovers the constant-amplitude thrust and stator power to
 //!   [`WEAK_LOAD_RECOVERY`]; (quick, full) the default 100-post row at 100 N, which draws
-//!   2.3 × P_in at constant amplitude, draws ≤ P_in = 9.786 W with the wave's balance.
+//!   2.3 × P_in at constant amplitude, draws ≤ P_in = 9.786 W with the wave's balance; the
+//!   whole slider on it (§5.6, 12 × 5 posts under 3 nm scatter, every level): at every curve
+//!   point the books close, the draw stays ≤ P_in and every post's amplitude is what its row's
+//!   lane leaves it, to [`SLIDER_LANE_RESIDUAL`].
 //!
 //! Levels: smoke — work-precision on the 50 µm × 1600 analytic row (40 posts) at 40 N, T/32,
 //! T/64 against T/256, the whole row of that slider at 10 N, the 12-post attenuation checks;
@@ -72,6 +75,9 @@ pub use super::coupled_strips::{ENERGY_BALANCE, T128_ERROR};
 pub const ATTENUATION_BALANCE: f64 = 1e-6;
 /// Largest relative difference of the weak-load limit from the constant amplitude. 1e-6.
 pub const WEAK_LOAD_RECOVERY: f64 = 1e-6;
+/// Largest |α − g(α)| of a whole slider's converged profile (of A₀): the fixed point's
+/// tolerance (1e-6) with the last period's change of the draws. Default 1e-5.
+pub const SLIDER_LANE_RESIDUAL: f64 = 1e-5;
 /// `sawdrive wave --json`'s `power_under_array_w` for the paper wave (128° Y-X LiNbO3, 20 nm,
 /// 9.61 MHz, 2.4466 kW/m × the 4 mm array).
 pub const POWER_UNDER_ARRAY_W: f64 = 9.786_346_443_796_86;
@@ -535,6 +541,86 @@ fn whole_rows(
     Ok(checks)
 }
 
+/// The whole slider on the energy-conserving wave (docs/physics.md §5.6): 12 × 5 posts under
+/// 3 nm height scatter (every row its own lane, no mirror), P_in = 0.8 × the constant wave's
+/// stall draw. At every point of a 3-point curve the books close, the draw stays below P_in,
+/// and every post's amplitude is what its row's lane leaves it (the midpoint rule on the posts'
+/// own draws, to the fixed point's tolerance).
+fn slider_attenuation() -> Result<Vec<Check>, ValidationError> {
+    use coupled_dynamics::{SliderDynamics, SliderScene};
+    use slider_contact::{NearField, SliderModel, SliderParams};
+    let source = "energy-conserving wave under the whole slider, docs/physics.md §5.6 \
+                  (coupled_dynamics::slider::attenuation)";
+    let (nx, ny, pitch_m) = (12, 5, 40e-6);
+    let params = SliderParams {
+        posts_x: nx,
+        posts_y: ny,
+        post_pitch_m: pitch_m,
+        slider_length_m: nx as f64 * pitch_m,
+        slider_width_m: ny as f64 * pitch_m,
+        preload_n: (nx * ny) as f64 * 4e-3,
+        imperfections: motor::Imperfections {
+            height_scatter_m: 3e-9,
+            ..motor::Imperfections::default()
+        },
+        ..SliderParams::default()
+    };
+    let fail = |e: &dyn std::fmt::Display| failed("12 × 5 slider on the energy-conserving wave", e);
+    let static_model = SliderModel::build(&params).map_err(|e| fail(&e))?;
+    let mut scene = SliderScene::for_static(&static_model, Wave::paper_default(), 0.35, 0.3);
+    scene.curve_points = 3;
+    let slider = SliderDynamics::for_slider(&scene, &static_model, NearField::Johnson)
+        .map_err(|e| fail(&e))?;
+    let constant = slider.model().at_speed(0.0).map_err(|e| fail(&e))?;
+    let power_in = 0.8 * constant.stator_power_w;
+    let run = slider
+        .solve_attenuated(&static_model, &AttenuationOptions::new(power_in))
+        .map_err(|e| fail(&e))?;
+    let mut checks = Vec::new();
+    for (k, p) in run.curve.curve.iter().enumerate() {
+        let what = format!(
+            "whole slider 12 × 5 under 3 nm scatter, P_in = 0.8 × the constant-amplitude stall \
+             draw, v = {:.4} m/s",
+            p.point.speed_m_per_s
+        );
+        checks.extend(books_checks(&what, p, power_in, source));
+        checks.push(Check::at_most(
+            CASE,
+            format!("{what}: max over posts |A/A₀ − what the row's lane leaves the post|"),
+            run.lane_residual(k, power_in).unwrap_or(f64::INFINITY),
+            SLIDER_LANE_RESIDUAL,
+            source,
+        ));
+    }
+    Ok(checks)
+}
+
+/// The wave's books of an attenuated point `p` (P_in `power_in`): the balance
+/// |P_in − P_out − stator power| / P_in within [`ATTENUATION_BALANCE`] and the draw ≤ P_in.
+fn books_checks(
+    what: &str,
+    p: &coupled_dynamics::AttenuatedPoint,
+    power_in: f64,
+    source: &str,
+) -> [Check; 2] {
+    [
+        Check::at_most(
+            CASE,
+            format!("{what}: |P_in − P_out − stator power| / P_in"),
+            p.balance_residual,
+            ATTENUATION_BALANCE,
+            source,
+        ),
+        Check::at_most(
+            CASE,
+            format!("{what}: stator power drawn over P_in"),
+            p.point.stator_power_w / power_in,
+            1.0 + 1e-9,
+            source,
+        ),
+    ]
+}
+
 /// A row of 12 independent posts 0.37 λ apart (spread over the phase), one row, 0.5 N.
 fn spread_row() -> CoupledScene {
     let wave = Wave::paper_default();
@@ -564,20 +650,7 @@ fn attenuation(s: &Setup) -> Result<Vec<Check>, ValidationError> {
         let what = format!(
             "12-post row, P_in = 0.6 × the constant-amplitude stall power, v = {speed} m/s"
         );
-        checks.push(Check::at_most(
-            CASE,
-            format!("{what}: |P_in − P_out − stator power| / P_in"),
-            p.balance_residual,
-            ATTENUATION_BALANCE,
-            source,
-        ));
-        checks.push(Check::at_most(
-            CASE,
-            format!("{what}: stator power drawn over P_in"),
-            p.point.stator_power_w / power_in,
-            1.0 + 1e-9,
-            source,
-        ));
+        checks.extend(books_checks(&what, &p, power_in, source));
     }
     for speed in [0.0, 0.3] {
         let constant = model
@@ -601,6 +674,7 @@ fn attenuation(s: &Setup) -> Result<Vec<Check>, ValidationError> {
             source,
         ));
     }
+    checks.extend(slider_attenuation()?);
     if s.default_row_attenuated {
         let mut row = analytic_row(20e-6, 100, 100.0, 128)?;
         row.strip_share = 0.01;
