@@ -277,6 +277,11 @@ pub(crate) trait ProfiledModels: Sync {
     /// The model at the amplitude profile `alpha` (A_i/A₀, model order), its normal solves
     /// started from `from` (a model of a nearby profile) if given.
     fn model(&self, alpha: &[f64], from: Option<&CoupledModel>) -> Result<CoupledModel>;
+    /// Relative tolerance of the no-load speed's secant search (of the crest speed): what the
+    /// models' thrust is known to. Default the strip's [`SPEED_TOLERANCE`].
+    fn speed_tolerance(&self) -> f64 {
+        SPEED_TOLERANCE
+    }
 }
 
 /// The strip's models: [`CoupledModel::new_from`] on the scene with each profile.
@@ -523,7 +528,8 @@ pub(crate) fn solve_chains(
     let crest = settings.wave.crest_speed_m_per_s();
     let no_load = match options.no_load_guess_m_per_s {
         Some(guess) => {
-            crate::model::secant_root(stall_n, guess, crest, SPEED_TOLERANCE, &mut thrust)?
+            let tolerance = models.speed_tolerance();
+            crate::model::secant_root(stall_n, guess, crest, tolerance, &mut thrust)?
         }
         None => stall_warm.model.regula_falsi(stall_n, &mut thrust)?,
     };

@@ -115,6 +115,11 @@ impl ProfiledModels for SliderModels<'_> {
     fn lanes(&self) -> &Lanes {
         &self.lanes
     }
+    /// The constant wave's [`super::SLIDER_SPEED_TOLERANCE`]: the slider's step solves know the
+    /// thrust to ≈ 1e-8 of the friction scale, so a tighter root only costs secant steps.
+    fn speed_tolerance(&self) -> f64 {
+        super::SLIDER_SPEED_TOLERANCE
+    }
     fn posts(&self) -> usize {
         self.dynamics.model.scene().post_x_m.len()
     }
