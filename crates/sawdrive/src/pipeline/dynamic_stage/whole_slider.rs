@@ -12,11 +12,11 @@
 //! stall and at half the no-load speed as CSV); the post histories are the middle row's.
 //!
 //! The energy-conserving wave (`wave.attenuation = "on"`, or `auto` when the constant wave's
-//! posts would draw more than the wave carries): the constant-amplitude run first (η_dyn, the
-//! stall draw that `auto` decides on, the no-load guess), then every curve point, the maps and
-//! the histories at their self-consistent profiles, each post at its local amplitude
-//! (`SliderDynamics::solve_attenuated`: one lane of the wave's power per lattice row);
-//! η_dyn stays the constant wave's, as on the strip.
+//! posts would draw more than the wave carries): the constant wave's stall point decides
+//! `auto`; then, side by side, the constant-amplitude curve (η_dyn stays the constant wave's, as
+//! on the strip) and every curve point, the maps and the histories at their self-consistent
+//! profiles, each post at its local amplitude (`SliderDynamics::solve_attenuated`: one lane of
+//! the wave's power per lattice row).
 //!
 //! Not modelled here, and refused or stated rather than ignored: the slider's vertical
 //! dynamics (`model.lumped.vertical = "dynamic"` refused, as for the strip), the time-step
@@ -136,23 +136,32 @@ pub(super) fn run(
         NearField::Johnson,
     )?;
     // The lumped model's no-load speed at the static η predicts the coupled one within its
-    // estimated error (a few per cent): the search starts there.
+    // estimated error (a few per cent): both searches start there.
     let guess = Some(lumped.result.no_load_speed_m_per_s).filter(|v| *v > 0.0);
-    let mut result = dynamics.solve_from_guess(Some(&lumped.scene), guess)?;
-    let stall_draw_w = result
-        .coupled
-        .curve
-        .first()
-        .map_or(0.0, |p| p.stator_power_w);
-    let wave = attenuation::decide(scene, stall_draw_w)?;
-    let mut wave_power_out_w = vec![None; result.coupled.curve.len()];
-    if wave.on() {
+    // The constant wave's stall draw decides `auto` (the same steady period as the constant
+    // curve's stall point, solved from rest); `off` needs no decision before the curve.
+    let stall_draw_w = match scene.wave_attenuation {
+        AttenuationSetting::Off => None,
+        _ => Some(dynamics.model().at_speed_from(0.0, None)?.0.stator_power_w),
+    };
+    let wave = attenuation::decide(scene, stall_draw_w.unwrap_or(0.0))?;
+    let constant = || dynamics.solve_from_guess(Some(&lumped.scene), guess);
+    let (mut result, wave_power_out_w) = if wave.on() {
         PipelineError::check(control, "dynamic (whole slider, energy-conserving wave)")?;
         let mut options = coupled_dynamics::AttenuationOptions::new(wave.power_in_w);
-        options.no_load_guess_m_per_s = Some(result.coupled.no_load_speed_m_per_s);
-        let attenuated = dynamics.solve_attenuated(&static_model, &options)?;
-        wave_power_out_w = attenuate(&mut result, attenuated);
-    }
+        options.no_load_guess_m_per_s = guess;
+        // The constant curve (η_dyn) and the attenuated one are independent: side by side.
+        let (constant, attenuated) = rayon::join(constant, || {
+            dynamics.solve_attenuated(&static_model, &options)
+        });
+        let mut result = constant?;
+        let out = attenuate(&mut result, attenuated?);
+        (result, out)
+    } else {
+        let result = constant()?;
+        let out = vec![None; result.coupled.curve.len()];
+        (result, out)
+    };
     result.coupled.wall_time_s = started.elapsed().as_secs_f64();
     result.coupled.warnings.push(
         "whole slider: the tangential near field is Johnson's 1/k_pt (the normal one is \
