@@ -377,8 +377,20 @@ def section_python(quick):
     command = [sys.executable, "python/benchmarks/dynamic_overhead.py", "--calls", str(calls)]
     started, before = time.time(), load()
     out = run(command)
+    report = json.loads(out)
+    verdict = []
+    for key, what in (("ratio_call_only", "the call alone"), ("ratio_with_reads", "the call with "
+                      "`r.stall_thrust_n` and `r.curve` read")):
+        low, high = report[f"{key}_95ci"]
+        ok = "met" if high <= 1.05 else "not met"
+        verdict.append(f"{what} {report[f'{key}_median_of_pairs']:.3f}× [{low:.3f}, {high:.3f}] "
+                       f"(target ≤ 1.05×: {ok})")
     return [stamp(started, before, f"python python/benchmarks/dynamic_overhead.py --calls "
-                  f"{calls}"), "", "```"] + out.strip().splitlines() + ["```"]
+                  f"{calls}"), "",
+            f"`sawdrive.dynamic(scene)` against the same call made from Rust "
+            f"({report['rust_median_s'] * 1e3:.3f} ms, the constant wave with η given), median "
+            f"of {report['pairs']} per-pair ratios [95 % interval]: " + "; ".join(verdict) + ".",
+            "", "```"] + out.strip().splitlines() + ["```"]
 
 
 def section_peers(quick):

@@ -212,10 +212,11 @@ fn static_stage<'py>(
 /// library's one branch ([`effective_ratio`], as `sawdrive run` and `sawdrive dynamic` take it).
 fn scene_eta(
     scene: &Scene,
+    springs: &contact_springs::PostSprings,
     cache: Option<&Path>,
     control: &RunControl,
 ) -> Result<(f64, &'static str, Option<StaticOutcome>), Failure> {
-    let eta = effective_ratio(scene, &springs_of(scene)?, cache, false, control)?;
+    let eta = effective_ratio(scene, springs, cache, false, control)?;
     Ok((eta.value, eta.source, eta.statics))
 }
 
@@ -255,8 +256,8 @@ fn dynamic_stage<'py>(
     let (out, cache) = folders(out, cache);
     let job = move |cancel: &Cancel| {
         let control = cancel.control();
-        let (eta, source, statics) = scene_eta(&scene, cache.as_deref(), &control)?;
         let springs = springs_of(&scene)?;
+        let (eta, source, statics) = scene_eta(&scene, &springs, cache.as_deref(), &control)?;
         let stage = run_dynamic_stage(
             &scene,
             &springs,
@@ -275,7 +276,7 @@ fn dynamic_stage<'py>(
             }
             None => None,
         };
-        let (fields, curve) = Fields::of_stage(stage, eta, source)?;
+        let (fields, curve) = Fields::of_stage(stage, eta, source);
         Ok((fields, curve, staged))
     };
     let (fields, curve, staged) = if inline {

@@ -23,14 +23,12 @@ use crate::errors::Failure;
 pub enum Fields {
     /// Already serialised (a JSON object).
     Json(Map<String, Value>),
-    /// The lumped dynamic stage's result (its curve taken out) and the η it ran with.
-    Dynamic {
-        /// `sawdrive dynamic --json` without the curve (and without the two keys below).
-        result: Box<stick_slip::DynamicResult>,
-        /// Why the lumped model ran (`auto`'s decision or the scene's choice).
-        dynamics_reason: String,
-        /// The lumped model's estimated error (`None`: η given).
-        lumped_error_estimate: Option<f64>,
+    /// The dynamic stage as it ran, serialised (as `sawdrive dynamic --json`) only when a field
+    /// other than a lumped number is read: the serde form of the 50-point curve with its wave
+    /// books is a few thousand map entries, ≈ 0.1 ms, a tenth of a period-average call.
+    Stage {
+        /// The stage (the reported model's result, the choices, the wave's books).
+        stage: Box<sawdrive::pipeline::DynamicStage>,
         /// η used.
         effective_ratio: f64,
         /// Where η came from: `given` or `fem`.
@@ -39,57 +37,47 @@ pub enum Fields {
 }
 
 impl Fields {
-    /// The fields as one JSON object.
+    /// The fields as one JSON object: for a stage, `sawdrive dynamic --json` (the reported
+    /// model's result, the choices, the wave's books on every curve point) with
+    /// `effective_ratio` and `effective_ratio_source`, bit for bit the command line's.
     fn to_json(&self) -> Result<Map<String, Value>, Failure> {
         match self {
             Fields::Json(map) => Ok(map.clone()),
-            Fields::Dynamic {
-                result,
-                dynamics_reason,
-                lumped_error_estimate,
+            Fields::Stage {
+                stage,
                 effective_ratio,
                 source,
             } => {
-                let mut map = match serde_json::to_value(result.as_ref())? {
+                let mut map = match serde_json::to_value(stage.json())? {
                     Value::Object(map) => map,
-                    other => Map::from_iter([("result".to_owned(), other)]),
+                    _ => Map::new(),
                 };
-                map.remove("curve");
-                map.insert(
-                    "dynamics_reason".into(),
-                    Value::from(dynamics_reason.as_str()),
-                );
-                map.insert(
-                    "lumped_error_estimate".into(),
-                    serde_json::to_value(lumped_error_estimate)?,
-                );
-                // The lumped model ran: its error estimate is the model's.
-                map.insert(
-                    "model_error_estimate".into(),
-                    serde_json::to_value(lumped_error_estimate)?,
-                );
                 map.insert("effective_ratio".into(), Value::from(*effective_ratio));
                 map.insert("effective_ratio_source".into(), Value::from(*source));
                 Ok(map)
             }
         }
     }
-}
 
-impl Fields {
-    /// A number field of the lumped result read straight from it, without serialising the
-    /// result: the common reads (`r.stall_thrust_n`, …) then create one Python float. `None`:
-    /// not such a field, or not finite (serde writes those as null): the caller takes the JSON
-    /// path, which gives the same value otherwise (the fields carry no serde renames).
+    /// A number field of a lumped stage read straight from its result, without serialising
+    /// it: the common reads (`r.stall_thrust_n`, …) then create one Python float. `None`: not
+    /// such a field, a coupled run (whose JSON flattens another result), or not finite (serde
+    /// writes those as null): the caller takes the JSON path, which gives the same value
+    /// otherwise (the lumped result is flattened into the JSON without renames, and no other
+    /// part of it has these names).
     fn number(&self, name: &str) -> Option<f64> {
-        let Fields::Dynamic {
-            result,
+        let Fields::Stage {
+            stage,
             effective_ratio,
             ..
         } = self
         else {
             return None;
         };
+        if stage.coupled.is_some() {
+            return None;
+        }
+        let result = &stage.lumped.result;
         let value = match name {
             "stall_thrust_n" => result.stall_thrust_n,
             "no_load_speed_m_per_s" => result.no_load_speed_m_per_s,
@@ -109,26 +97,20 @@ impl Fields {
         value.is_finite().then_some(value)
     }
 
-    /// The fields and the curve of a dynamic stage run at η = `effective_ratio` (from `source`):
-    /// the lumped result as it is (converted when read), or a coupled run's JSON (that of
-    /// `sawdrive dynamic --json`: the coupled result, the lumped figures, the choice) with its
-    /// curve in the lumped model's columns.
+    /// The fields and the curve (in the lumped model's columns) of a dynamic stage run at
+    /// η = `effective_ratio` (from `source`); the fields are serialised when first read.
     pub fn of_stage(
         stage: sawdrive::pipeline::DynamicStage,
         effective_ratio: f64,
         source: &'static str,
-    ) -> Result<(Self, Vec<CurvePoint>), Failure> {
-        // Both models through `sawdrive dynamic --json` (the reported model's result, the
-        // choices, the wave's books on every curve point), so the fields and the curve's columns
-        // are the command line's, bit for bit; `curve` stays in the map for `curve_points`.
+    ) -> (Self, Vec<CurvePoint>) {
         let curve = stage.curve();
-        let mut map = match serde_json::to_value(stage.json())? {
-            Value::Object(map) => map,
-            _ => Map::new(),
+        let fields = Fields::Stage {
+            stage: Box::new(stage),
+            effective_ratio,
+            source,
         };
-        map.insert("effective_ratio".into(), Value::from(effective_ratio));
-        map.insert("effective_ratio_source".into(), Value::from(source));
-        Ok((Fields::Json(map), curve))
+        (fields, curve)
     }
 }
 
@@ -243,14 +225,20 @@ impl Outcome {
 
     /// The curve as the command line's JSON has it: a list of one dict per point.
     fn curve_points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        // A stage's JSON has the command line's curve (with the wave's books on every point).
         let from_json = match &self.fields {
             Fields::Json(map) => map.get("curve").filter(|c| c.is_array()).cloned(),
-            _ => None,
+            Fields::Stage { .. } => self
+                .json(py)?
+                .get("curve")
+                .filter(|c| c.is_array())
+                .cloned(),
         };
         let points = match from_json {
             Some(points) => points,
-            None => serde_json::to_value(&self.curve)
-                .map_err(|e| Failure::from(e).into_pyerr(py))?,
+            None => {
+                serde_json::to_value(&self.curve).map_err(|e| Failure::from(e).into_pyerr(py))?
+            }
         };
         convert::to_py(py, &points)?
             .cast_into::<PyList>()
