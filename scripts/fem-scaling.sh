@@ -33,7 +33,7 @@ for l in $levels; do
 done
 
 cargo build --release -q -p validation --example punch_scaling
-bin="$PWD/target/release/examples/punch_scaling"
+bin="${CARGO_TARGET_DIR:-$PWD/target}/release/examples/punch_scaling"
 scratch="$(mktemp -d)"
 trap 'rm -rf "$scratch"' EXIT
 declare -A mesh

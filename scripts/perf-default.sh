@@ -37,7 +37,7 @@ done
 [[ "$runs" =~ ^[1-9][0-9]*$ ]] || { echo "error: --runs must be a positive integer" >&2; exit 2; }
 
 cargo build --release -q -p sawdrive-cli
-bin="$PWD/target/release/sawdrive"
+bin="${CARGO_TARGET_DIR:-$PWD/target}/release/sawdrive"
 scratch="$(mktemp -d)"
 trap 'rm -rf "$scratch"' EXIT
 

@@ -52,7 +52,7 @@ done
 
 cargo build --release -q -p validation --example punch_scaling
 cargo build --release -q -p static-contact --example static_breakdown
-bin="$PWD/target/release/examples"
+bin="${CARGO_TARGET_DIR:-$PWD/target}/release/examples"
 scratch="$(mktemp -d)"
 trap 'rm -rf "$scratch"' EXIT
 log="$scratch/runs.jsonl"
