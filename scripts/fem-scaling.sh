@@ -66,12 +66,13 @@ import math, statistics, sys
 runs = {}
 for line in open(sys.argv[1]):
     f = line.split(maxsplit=6)
-    runs.setdefault(int(f[0]), []).append((float(f[2]), float(f[4])))
+    runs.setdefault(int(f[0]), []).append((float(f[2]), float(f[4]), float(f[3])))
 sizes = sorted(runs)
-med = {n: statistics.median(w for w, _ in runs[n]) for n in sizes}
+med = {n: statistics.median(w for w, _, _ in runs[n]) for n in sizes}
 for n in sizes:
-    print(f"level of {n} unknowns: median wall {med[n]:.2f} s over {len(runs[n])} run(s), "
-          f"peak {max(m for _, m in runs[n]):.2f} GB")
+    print(f"level of {n} unknowns: median wall {med[n]:.2f} s, CPU (user + sys) "
+          f"{statistics.median(c for _, _, c in runs[n]):.2f} s over {len(runs[n])} run(s), "
+          f"peak {max(m for _, m, _ in runs[n]):.2f} GB")
 if len(sizes) >= 2:
     xs = [math.log(n) for n in sizes]
     ys = [math.log(med[n]) for n in sizes]
