@@ -515,7 +515,34 @@ def section_threads(quick):
     started, before = time.time(), load()
     out = run(command)
     lines = [line for line in out.splitlines() if not line.startswith("#")]
-    return [stamp(started, before, shlex.join(command)), "", "```"] + lines + ["```"]
+    return ([stamp(started, before, shlex.join(command)), "",
+             "The punch at 350k unknowns (`punch_scaling --method iterative`, level 3), each "
+             "repeat one thread then two back to back, then two one-thread copies side by side: "
+             "2 × t(alone) / t(side by side) is the most two threads can gain on this machine "
+             "under its present load (`ceiling`), measured in the same run. Times are the "
+             "minimum over the repeats (s):", "", "```"] + lines + ["```", ""]
+            + threads_verdict(out))
+
+
+def threads_verdict(out):
+    """The 2-thread target (≥ 1.7× on assembly and on the PCG solve) against this run."""
+    rows = {}
+    for line in out.splitlines():
+        f = line.split()
+        if len(f) == 7 and f[0] in ("assembly_s", "solve_s", "total_s", "wall_s"):
+            rows[f[0]] = (float(f[3]), float(f[5]))
+    if not {"assembly_s", "solve_s"} <= set(rows):
+        return []
+    parts = []
+    for key, what in (("assembly_s", "assembly"), ("solve_s", "PCG solve")):
+        speedup, ceiling = rows[key]
+        verdict = "met" if speedup >= 1.7 else (
+            "not met; the machine's own ceiling in this run is below the target" if ceiling < 1.7
+            else "not met")
+        parts.append(f"{what} {speedup:.2f}× against a ceiling of {ceiling:.2f}× "
+                     f"({speedup / ceiling:.0%} of it): {verdict}")
+    return ["Target: two threads ≥ 1.7× one on assembly and on the PCG solve at 350k. This run: "
+            + "; ".join(parts) + "."]
 
 
 def section_operator(quick):
