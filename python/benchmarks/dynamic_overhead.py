@@ -8,7 +8,7 @@ what a user writes, `r = sawdrive.dynamic(scene)` with default arguments, then r
 `r.stall_thrust_n` and `r.curve` (fields and the numpy curve are converted when first read, so
 reading them is part of the cost); and, separately, the call alone.
 
-The default call is a light one (the constant wave, ≈ 2 ms: the default scene's
+The default call is a light one (the constant wave, ≈ 1 ms: the default scene's
 energy-conserving wave makes it ≈ 0.25 s, which would hide the overhead), since a fixed
 per-call overhead weighs most there.
 
