@@ -429,19 +429,26 @@ def peer_verdicts(verdict):
     near = min(verdict, key=lambda n: abs(n - 350_000), default=None)
     if near is not None and abs(near - 350_000) < 50_000:
         ratio, ours, ccx = verdict[near]
-        skfem_cpu = ratio["skfem"][1]
-        lines.append(f"- ≥ 3× tuned scikit-fem at 350k: {skfem_cpu:.1f}× in CPU time "
-                     f"({ratio['skfem'][0]:.1f}× wall): {'met' if skfem_cpu >= 3 else 'not met'}.")
+        lines.append(f"- ≥ 3× tuned scikit-fem at 350k: {met_in(ratio['skfem'], 3)}.")
         mem = ours["peak_mb"] <= ccx["peak_mb"]
         lines.append(f"- peak memory at 350k ≤ CalculiX's: {ours['peak_mb'] / 1024:.2f} GB "
                      f"against {ccx['peak_mb'] / 1024:.2f} GB: {'met' if mem else 'not met'}.")
     big = {n: v for n, v in verdict.items() if n >= 55_000}
     if big:
-        low = min(v[0]["ccx"][1] for v in big.values())
-        lines.append(f"- ≥ 10× CalculiX from 55k up: at least {low:.1f}× in CPU time over "
-                     f"{', '.join(f'{n:,}'.replace(',', ' ') for n in sorted(big))} unknowns: "
-                     f"{'met' if low >= 10 else 'not met'}.")
+        low = tuple(min(v[0]["ccx"][k] for v in big.values()) for k in (0, 1))
+        sizes = ", ".join(f"{n:,}".replace(",", " ") for n in sorted(big))
+        lines.append(f"- ≥ 10× CalculiX from 55k up (the smallest ratio over {sizes} "
+                     f"unknowns): {met_in(low, 10)}.")
     return lines
+
+
+def met_in(ratio, target):
+    """`(wall, cpu)` ratios against `target`, judged on each (a short run's wall time carries the
+    other jobs' load, its CPU time much less)."""
+    wall, cpu = ratio
+    judged = [f"{what} {value:.1f}× ({'met' if value >= target else 'not met'})"
+              for what, value in (("CPU time", cpu), ("wall time", wall))]
+    return ", ".join(judged)
 
 
 def section_peers(quick):
