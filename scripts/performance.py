@@ -336,6 +336,36 @@ def section_whole_slider_cli(quick):
             "| case | command | wall |", "|---|---|---:|"] + rows
 
 
+def section_whole_slider_coupled(quick):
+    """The whole slider's coupled curve from the command line, constant and attenuated wave."""
+    started, before = time.time(), load()
+    run(["cargo", "build", "--release", "-q", "-p", "sawdrive-cli"])
+    binary = str(TARGET / "release" / "sawdrive")
+    base = ["dynamic", "--set", "static.model=slider", "--set", "model.dynamics=coupled", "--json"]
+    cases = [("constant-amplitude wave", ["--set", "wave.attenuation=off"]),
+             ("energy-conserving wave (the default `auto` turns it on)", [])]
+    rows = []
+    with tempfile.TemporaryDirectory() as scratch:
+        for name, extra in cases:
+            argv = [binary] + base + extra + ["--out", f"{scratch}/out"]
+            timing = f"{scratch}/time.txt"
+            out = run(["/usr/bin/time", "-o", timing, "-f", "%e %U %S"] + argv)
+            wall, user, system = (float(x) for x in open(timing).read().split()[-3:])
+            result = json.loads(out)
+            shown = "sawdrive " + shlex.join(base[:-1] + extra)
+            rows.append(
+                f"| {name} | `{shown}` | {wall:.1f} s | {user + system:.1f} s | "
+                f"{result['stall_thrust_n']:.3f} N | {result['no_load_speed_m_per_s']:.4f} m/s | "
+                f"{result['wave_attenuation']} |")
+    return [stamp(started, before, "scripts/performance.sh --section whole-slider-coupled"), "",
+            "The coupled model of every post of the default slider (10 000 posts, 64 steps per "
+            "period, 8 curve points, maps and the middle row's histories; the static stage "
+            "included), one run each; target: the default slider's coupled curve ≤ 60 s wall on "
+            "2 cores:", "",
+            "| case | command | wall | CPU | stall thrust | no-load speed | wave |",
+            "|---|---|---:|---:|---:|---:|---|"] + rows
+
+
 def section_uq(quick):
     samples = 50 if quick else 200
     command = ["scripts/perf-design.sh", "--no-design", "--samples", str(samples)]
@@ -582,6 +612,8 @@ SECTIONS = {
     "bench-slider": ("Benchmark: whole slider, rigid back", section_bench_slider, False),
     "whole-slider-cli": ("The whole slider through the command line", section_whole_slider_cli,
                          False),
+    "whole-slider-coupled": ("The whole slider's coupled curve", section_whole_slider_coupled,
+                             False),
     "uq": ("UQ", section_uq, False),
     "sharded": ("Sharded sweeps", section_sharded, False),
     "python": ("Python overhead", section_python, True),
