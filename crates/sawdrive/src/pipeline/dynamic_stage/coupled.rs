@@ -547,7 +547,25 @@ fn attenuate_coupled(run: &mut CoupledRun, power_in_w: f64) -> Result<(), Pipeli
         &options,
         HISTORY_SPEED_FRACTION,
     )?;
+    run.books = take_attenuated_curve(&mut run.result, &curve);
     let r = &mut run.result;
+    r.wall_time_s += started.elapsed().as_secs_f64();
+    r.warnings.push(format!(
+        "energy-conserving wave: {} fixed-point iterations at most per point, books closed to \
+         {:.1e} of P_in; eta_dyn and the step-error estimate are the constant-amplitude wave's",
+        curve.max_iterations, curve.max_balance_residual
+    ));
+    run.histories = histories;
+    Ok(())
+}
+
+/// Puts the energy-conserving wave's `curve` into a constant-amplitude coupled result `r` (the
+/// strip's or the whole slider's): stall thrust, no-load speed, curve, energy balance,
+/// efficiency and stick fraction; η_dyn stays as it is. Returns each point's wave power leaving.
+pub(super) fn take_attenuated_curve(
+    r: &mut CoupledResult,
+    curve: &coupled_dynamics::AttenuatedCurve,
+) -> Vec<Option<f64>> {
     r.stall_thrust_n = curve.stall_thrust_n;
     r.no_load_speed_m_per_s = curve.no_load_speed_m_per_s;
     r.curve = curve.curve.iter().map(|p| p.point.clone()).collect();
@@ -558,19 +576,11 @@ fn attenuate_coupled(run: &mut CoupledRun, power_in_w: f64) -> Result<(), Pipeli
         .fold(0.0, f64::max);
     r.efficiency = r.curve.iter().map(|p| p.efficiency).fold(0.0, f64::max);
     r.stick_fraction = r.curve.first().map_or(0.0, |p| p.stick_fraction);
-    r.wall_time_s += started.elapsed().as_secs_f64();
-    r.warnings.push(format!(
-        "energy-conserving wave: {} fixed-point iterations at most per point, books closed to \
-         {:.1e} of P_in; eta_dyn and the step-error estimate are the constant-amplitude wave's",
-        curve.max_iterations, curve.max_balance_residual
-    ));
-    run.histories = histories;
-    run.books = curve
+    curve
         .curve
         .iter()
         .map(|p| Some(p.wave_power_out_w))
-        .collect();
-    Ok(())
+        .collect()
 }
 
 /// Fraction of the coupled no-load speed at which the post histories are taken.

@@ -184,17 +184,8 @@ fn attenuate(
     attenuated: coupled_dynamics::AttenuatedSlider,
 ) -> Vec<Option<f64>> {
     let curve = attenuated.curve;
+    let out = super::coupled::take_attenuated_curve(&mut result.coupled, &curve);
     let r = &mut result.coupled;
-    r.stall_thrust_n = curve.stall_thrust_n;
-    r.no_load_speed_m_per_s = curve.no_load_speed_m_per_s;
-    r.curve = curve.curve.iter().map(|p| p.point.clone()).collect();
-    r.energy_balance_residual = r
-        .curve
-        .iter()
-        .map(|p| p.energy_balance_residual.abs())
-        .fold(0.0, f64::max);
-    r.efficiency = r.curve.iter().map(|p| p.efficiency).fold(0.0, f64::max);
-    r.stick_fraction = r.curve.first().map_or(0.0, |p| p.stick_fraction);
     r.warnings.push(format!(
         "energy-conserving wave on the whole slider (one lane of the wave's power per lattice \
          row): {} fixed-point iterations at most per point, {} normal grids solved, books \
@@ -204,11 +195,7 @@ fn attenuate(
     result.maps = attenuated.maps;
     result.history_posts = attenuated.history_posts;
     result.histories = attenuated.histories;
-    curve
-        .curve
-        .iter()
-        .map(|p| Some(p.wave_power_out_w))
-        .collect()
+    out
 }
 
 /// Writes the maps of a whole-slider coupled run into `dir`: `coupled_map_<field>.svg` of the
