@@ -49,7 +49,9 @@ pub enum InputProblem {
         kind: &'static str,
     },
     /// Larger than the limit for its kind of input.
-    #[error("is {size_bytes} bytes, more than the {limit_bytes} bytes accepted for this kind of input")]
+    #[error(
+        "is {size_bytes} bytes, more than the {limit_bytes} bytes accepted for this kind of input"
+    )]
     TooLarge {
         /// Its size (bytes), or how far it was read if it grew while read.
         size_bytes: u64,

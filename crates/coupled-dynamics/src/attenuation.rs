@@ -146,6 +146,19 @@ pub(crate) struct WarmStart {
     anderson: Option<Anderson>,
 }
 
+impl WarmStart {
+    /// The start of a point from `alpha`, the tips' `state` and `model`, without secant
+    /// differences.
+    pub(crate) fn new(alpha: Vec<f64>, state: PeriodState, model: CoupledModel) -> Self {
+        Self {
+            alpha,
+            state,
+            model,
+            anderson: None,
+        }
+    }
+}
+
 pub(crate) fn check_options(o: &AttenuationOptions) -> Result<()> {
     let check = |parameter: &'static str, value: f64, ok: bool, requirement: &str| {
         if ok {
@@ -487,13 +500,10 @@ pub fn solve_attenuated_with_histories(
         });
     }
     let models = StripModels::new(scene);
-    let Chains { curve, ends, .. } = solve_chains(&models, options)?;
-    let speed = history_fraction * curve.no_load_speed_m_per_s;
-    let nearest = ends
-        .iter()
-        .min_by(|a, b| (a.0 - speed).abs().total_cmp(&(b.0 - speed).abs()))
-        .map(|(_, w)| w);
-    let (point, warm) = iterate_profile(&models, speed, options, nearest)?;
+    let chains = solve_chains(&models, options)?;
+    let speed = history_fraction * chains.curve.no_load_speed_m_per_s;
+    let (point, warm) = iterate_profile(&models, speed, options, chains.nearest_end(speed))?;
+    let curve = chains.curve;
     let histories = warm.model.histories_from_periodic(speed, &warm.state)?;
     Ok((curve, point, histories))
 }
@@ -505,6 +515,18 @@ pub(crate) struct Chains {
     pub(crate) stall: WarmStart,
     /// Each chain's last point: (speed, warm start).
     pub(crate) ends: Vec<(f64, WarmStart)>,
+}
+
+impl Chains {
+    /// The chain end nearest `speed_m_per_s` (the two chains end on either side of the middle
+    /// of the curve), the start of a point there.
+    pub(crate) fn nearest_end(&self, speed_m_per_s: f64) -> Option<&WarmStart> {
+        let distance = |v: f64| (v - speed_m_per_s).abs();
+        self.ends
+            .iter()
+            .min_by(|a, b| distance(a.0).total_cmp(&distance(b.0)))
+            .map(|(_, w)| w)
+    }
 }
 
 /// The attenuated curve of `models` ([`solve_attenuated`]'s sequence).

@@ -25,6 +25,6 @@ pub use model::{
 pub use result::{CoupledResult, fit_eta_dyn, lumped_misfit, solve};
 pub use scene::{CoupledScene, PreloadBalance, WaveDirection};
 pub use slider::{
-    AttenuatedSlider, NormalContact, RigidBackContact, SliderDynamics, SliderDynamicsResult,
-    SliderMaps, SliderScene,
+    AttenuatedSlider, NormalContact, ProfiledState, RigidBackContact, SliderDynamics,
+    SliderDynamicsResult, SliderMaps, SliderProfiles, SliderScene,
 };

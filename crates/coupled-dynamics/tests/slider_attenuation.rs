@@ -3,6 +3,8 @@
 //! the model on every post (a folded row carries a row and its image); under scatter the books
 //! close at every point and every post's amplitude is the one its lane leaves it.
 
+mod common;
+
 use std::sync::Arc;
 
 use coupled_dynamics::{
@@ -10,61 +12,10 @@ use coupled_dynamics::{
     solve_attenuated,
 };
 use nalgebra::DMatrix;
-use slider_contact::{
-    CgOptions, LatticeGeometry, LatticeKernel, NearField, OperatorSpec, SliderModel, SliderParams,
-    TangentialKernel,
-};
+use slider_contact::{LatticeKernel, NearField, SliderModel, SliderParams, TangentialKernel};
 use stick_slip::Wave;
 
-const PITCH_M: f64 = 40e-6;
-/// Preload per post (N): the paper's 40 N over 10⁴ posts.
-const PRELOAD_PER_POST_N: f64 = 4e-3;
-
-fn geometry(nx: usize, ny: usize) -> LatticeGeometry {
-    LatticeGeometry {
-        posts_x: nx,
-        posts_y: ny,
-        pitch_m: PITCH_M,
-        post_radius_m: 10e-6,
-        slider_length_m: nx as f64 * PITCH_M,
-        slider_width_m: ny as f64 * PITCH_M,
-    }
-}
-
-fn spec(nx: usize, ny: usize) -> OperatorSpec {
-    OperatorSpec {
-        geometry: geometry(nx, ny),
-        slider_material: contact_springs::Material::silicon(),
-        stator_material: contact_springs::Material::lithium_niobate(),
-        slider_thickness_m: 0.5e-3,
-        near_field: NearField::Johnson,
-    }
-}
-
-fn tight() -> CgOptions {
-    CgOptions {
-        tolerance: 1e-13,
-        ..CgOptions::default()
-    }
-}
-
-fn rel(a: f64, b: f64) -> f64 {
-    (a - b).abs() / b.abs().max(1e-300)
-}
-
-/// The lattice kernel wrapped on a torus of `ny` rows: circulant in y.
-fn periodic(kernel: impl Fn(i64, i64) -> f64, nx: usize, ny: usize, images: i64) -> DMatrix<f64> {
-    let n = nx * ny;
-    let half = (ny / 2) as i64;
-    DMatrix::from_fn(n, n, |p, q| {
-        let (ip, jp) = ((p / ny) as i64, (p % ny) as i64);
-        let (iq, jq) = ((q / ny) as i64, (q % ny) as i64);
-        let dj = (jp - jq + half).rem_euclid(ny as i64) - half;
-        (-images..=images)
-            .map(|m| kernel(ip - iq, dj + m * ny as i64))
-            .sum()
-    })
-}
+use common::{PITCH_M, PRELOAD_PER_POST_N, geometry, periodic, rel, spec, tight};
 
 /// Options whose P_in is `fraction` of the constant wave's stall draw `stall_draw_w`: the wave
 /// runs low under the slider.

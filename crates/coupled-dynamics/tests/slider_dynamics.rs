@@ -3,6 +3,8 @@
 //! exactly (every row the same); the energy balance closes and the maps add up to the point's
 //! totals under scatter; friction's two limits (locked posts, no friction).
 
+mod common;
+
 use std::sync::Arc;
 
 use coupled_dynamics::{
@@ -10,31 +12,12 @@ use coupled_dynamics::{
 };
 use nalgebra::DMatrix;
 use slider_contact::{
-    CgOptions, LatticeGeometry, LatticeKernel, NearField, OperatorSpec, SliderModel, SliderParams,
+    LatticeGeometry, LatticeKernel, NearField, OperatorSpec, SliderModel, SliderParams,
     TangentialKernel,
 };
 use stick_slip::Wave;
 
-const PITCH_M: f64 = 40e-6;
-/// Preload per post (N): the paper's 40 N over 10⁴ posts.
-const PRELOAD_PER_POST_N: f64 = 4e-3;
-
-fn spec(nx: usize, ny: usize) -> OperatorSpec {
-    OperatorSpec {
-        geometry: LatticeGeometry {
-            posts_x: nx,
-            posts_y: ny,
-            pitch_m: PITCH_M,
-            post_radius_m: 10e-6,
-            slider_length_m: nx as f64 * PITCH_M,
-            slider_width_m: ny as f64 * PITCH_M,
-        },
-        slider_material: contact_springs::Material::silicon(),
-        stator_material: contact_springs::Material::lithium_niobate(),
-        slider_thickness_m: 0.5e-3,
-        near_field: NearField::Johnson,
-    }
-}
+use common::{PITCH_M, PRELOAD_PER_POST_N, periodic, rel, spec, tight};
 
 fn slider_scene(geometry: LatticeGeometry, offsets: Vec<f64>) -> SliderScene {
     let n = geometry.len();
@@ -62,17 +45,6 @@ fn rigid_back(s: &OperatorSpec) -> RigidBackContact<DMatrix<f64>> {
         options: tight(),
         length_scale_m: 20e-9,
     }
-}
-
-fn tight() -> CgOptions {
-    CgOptions {
-        tolerance: 1e-13,
-        ..CgOptions::default()
-    }
-}
-
-fn rel(a: f64, b: f64) -> f64 {
-    (a - b).abs() / b.abs().max(1e-300)
 }
 
 /// A 1 × 16 slider (one row, rigid back, no scatter) through the whole slider's path (lattice
@@ -156,21 +128,6 @@ fn compare(
             q.stator_power_w
         );
     }
-}
-
-/// The lattice kernel wrapped on a torus of `ny` rows (odd): c(di, dj) summed over the images
-/// dj + m·ny, |m| ≤ `images`. Circulant in y, so an ideal lattice's rows are all alike.
-fn periodic(kernel: impl Fn(i64, i64) -> f64, nx: usize, ny: usize, images: i64) -> DMatrix<f64> {
-    let n = nx * ny;
-    let half = (ny / 2) as i64;
-    DMatrix::from_fn(n, n, |p, q| {
-        let (ip, jp) = ((p / ny) as i64, (p % ny) as i64);
-        let (iq, jq) = ((q / ny) as i64, (q % ny) as i64);
-        let dj = (jp - jq + half).rem_euclid(ny as i64) - half;
-        (-images..=images)
-            .map(|m| kernel(ip - iq, dj + m * ny as i64))
-            .sum()
-    })
 }
 
 /// An ideal 10 × 5 lattice periodic in y (both compliances circulant over the rows) gives every

@@ -97,8 +97,15 @@ fn a_large_file_that_is_not_a_mesh_is_refused_from_its_first_bytes() {
     file.set_len(3 << 29).expect("sparse length");
     let before = peak_rss_kb();
     let err = read_msh(&path).expect_err("not a mesh");
-    assert!(err.to_string().contains("$MeshFormat"), "names what an MSH file starts with: {err}");
+    assert!(
+        err.to_string().contains("$MeshFormat"),
+        "names what an MSH file starts with: {err}"
+    );
     if let (Some(before), Some(after)) = (before, peak_rss_kb()) {
-        assert!(after - before < 100_000, "read only the head: peak memory grew by {} kB", after - before);
+        assert!(
+            after - before < 100_000,
+            "read only the head: peak memory grew by {} kB",
+            after - before
+        );
     }
 }

@@ -113,7 +113,10 @@ mod tests {
         assert!(!clone.should_stop(), "not stopped before the request");
         flag.store(true, Ordering::Relaxed);
         assert!(control.should_stop(), "the control sees the request");
-        assert!(clone.should_stop(), "a clone without progress keeps the stop request");
+        assert!(
+            clone.should_stop(),
+            "a clone without progress keeps the stop request"
+        );
     }
 
     #[test]
@@ -125,6 +128,10 @@ mod tests {
         control.stage("dynamics");
         control.report(Progress::Count { done: 2, total: 5 });
         control.without_progress().stage("hidden");
-        assert_eq!(*seen.lock().unwrap(), ["dynamics", "2 of 5"], "the reports received");
+        assert_eq!(
+            *seen.lock().unwrap(),
+            ["dynamics", "2 of 5"],
+            "the reports received"
+        );
     }
 }

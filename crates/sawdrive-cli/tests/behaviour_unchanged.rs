@@ -175,7 +175,11 @@ fn mask_csv(text: &str) -> String {
     let Some(header) = lines.next() else {
         return String::new();
     };
-    let Some(column) = header.trim_end().split(',').position(|c| c == "wall_time_s") else {
+    let Some(column) = header
+        .trim_end()
+        .split(',')
+        .position(|c| c == "wall_time_s")
+    else {
         return text.to_owned();
     };
     let mut out = header.to_owned();
@@ -197,7 +201,9 @@ fn normalised(path: &Path, scratch: &str) -> Vec<u8> {
     let Ok(text) = String::from_utf8(bytes.clone()) else {
         return bytes;
     };
-    let text = text.replace(scratch, "<scratch>").replace(&repo_root(), "<repo>");
+    let text = text
+        .replace(scratch, "<scratch>")
+        .replace(&repo_root(), "<repo>");
     match path.extension().and_then(|e| e.to_str()) {
         Some("json") => mask_json(&text).into_bytes(),
         Some("csv") => mask_csv(&text).into_bytes(),
@@ -380,5 +386,8 @@ fn wall_clock_values_are_masked_by_name_and_nothing_else() {
         "masked pretty JSON"
     );
     let csv = "a,wall_time_s,b\n1,0.5,2\n3,0.7,4\n";
-    assert_eq!(mask_csv(csv), "a,wall_time_s,b\n1,\"<clock>\",2\n3,\"<clock>\",4\n");
+    assert_eq!(
+        mask_csv(csv),
+        "a,wall_time_s,b\n1,\"<clock>\",2\n3,\"<clock>\",4\n"
+    );
 }

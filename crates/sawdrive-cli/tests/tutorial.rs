@@ -38,7 +38,10 @@ fn executable_blocks() -> Vec<String> {
             _ => {}
         }
     }
-    assert!(current.is_none(), "an executable block of the tutorial is not closed");
+    assert!(
+        current.is_none(),
+        "an executable block of the tutorial is not closed"
+    );
     blocks
 }
 
@@ -153,16 +156,30 @@ fn csv_value(path: &Path, key: &str) -> f64 {
         .collect();
     let rows: Vec<Vec<String>> = lines
         .map(csv_fields)
-        .filter(|row| filters.iter().all(|(i, v)| row.get(*i).map(String::as_str) == Some(*v)))
+        .filter(|row| {
+            filters
+                .iter()
+                .all(|(i, v)| row.get(*i).map(String::as_str) == Some(*v))
+        })
         .collect();
-    assert_eq!(rows.len(), 1, "{}: `{key}` matches {} rows", path.display(), rows.len());
+    assert_eq!(
+        rows.len(),
+        1,
+        "{}: `{key}` matches {} rows",
+        path.display(),
+        rows.len()
+    );
     rows[0][column(wanted)].parse().unwrap()
 }
 
 #[test]
 fn the_tutorial_blocks_parse_and_its_checks_are_well_formed() {
     let blocks = executable_blocks();
-    assert!(blocks.len() >= 5, "executable blocks found: {}", blocks.len());
+    assert!(
+        blocks.len() >= 5,
+        "executable blocks found: {}",
+        blocks.len()
+    );
     let mut commands = 0;
     for line in blocks.iter().flat_map(|b| b.lines()) {
         let command = line.split(" #").next().unwrap_or_default().trim();
@@ -193,8 +210,9 @@ fn the_tutorial_runs_and_its_figures_hold() {
     let folder = tempfile::tempdir().unwrap();
     let binary = PathBuf::from(env!("CARGO_BIN_EXE_sawdrive"));
     let path = std::env::join_paths(
-        std::iter::once(binary.parent().unwrap().to_path_buf())
-            .chain(std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default())),
+        std::iter::once(binary.parent().unwrap().to_path_buf()).chain(std::env::split_paths(
+            &std::env::var_os("PATH").unwrap_or_default(),
+        )),
     )
     .unwrap();
     for block in executable_blocks() {
@@ -227,7 +245,11 @@ fn the_tutorial_runs_and_its_figures_hold() {
             ));
         }
     }
-    assert!(failures.is_empty(), "tutorial figures that do not hold:\n{}", failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "tutorial figures that do not hold:\n{}",
+        failures.join("\n")
+    );
 }
 
 #[test]
@@ -238,5 +260,8 @@ fn a_figure_holds_to_its_digits_or_half_a_percent() {
     assert!(holds(17.15, 2, 17.149));
     assert!(!holds(17.15, 2, 17.5));
     assert_eq!(quoted("12.00"), (12.0, 2));
-    assert_eq!(csv_fields(r#",20 um,"a, ""b""",0.5"#), ["", "20 um", r#"a, "b""#, "0.5"]);
+    assert_eq!(
+        csv_fields(r#",20 um,"a, ""b""",0.5"#),
+        ["", "20 um", r#"a, "b""#, "0.5"]
+    );
 }

@@ -230,7 +230,11 @@ mod tests {
     #[test]
     fn voltages_parse_to_volts_and_a_missing_unit_is_refused() {
         for (text, volts) in [("125 V", 125.0), ("0.125 kV", 125.0), ("2500mV", 2.5)] {
-            assert_eq!(parse_quantity(text, Dimension::Voltage), Ok(volts), "{text}");
+            assert_eq!(
+                parse_quantity(text, Dimension::Voltage),
+                Ok(volts),
+                "{text}"
+            );
         }
         for text in ["125", "125 W", "V", "1e999 V"] {
             assert!(

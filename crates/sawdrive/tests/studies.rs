@@ -380,8 +380,8 @@ fn coupled_uq_runs_every_samples_whole_slider_through_the_coupled_model_reproduc
         band_bits(&again),
         "bands of two coupled runs, seed 5"
     );
-    // The constant-amplitude wave for both (the lumped model would settle η at the local
-    // amplitude of the energy-conserving wave, which the coupled model keeps constant).
+    // The constant-amplitude wave for both: the lumped model on the energy-conserving wave
+    // settles η at the local amplitude, which would move the static η this compares.
     let lumped = coupled_scene(&["model.dynamics=periodic-average", "wave.attenuation=off"]);
     let (l, _) = run_uq(&SceneEvaluator, &lumped, &scatter, &options(c.path(), 3, 5)).unwrap();
     assert_eq!(l.coupled_samples, 0, "the lumped run's samples");
@@ -398,12 +398,33 @@ fn coupled_uq_runs_every_samples_whole_slider_through_the_coupled_model_reproduc
 }
 
 #[test]
-fn coupled_uq_with_the_strip_a_given_eta_or_the_attenuated_wave_is_refused_naming_the_key() {
+fn coupled_uq_runs_on_the_energy_conserving_wave_when_the_constant_one_would_be_overdrawn() {
+    let (a, b) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+    let scatter = height_scatter(5e-9);
+    let auto = coupled_scene(&["model.dynamics=coupled"]);
+    let (r, _) = run_uq(&SceneEvaluator, &auto, &scatter, &options(a.path(), 2, 5)).unwrap();
+    assert_eq!(r.coupled_samples, 2, "samples run coupled: {}", r.dynamics);
+    assert!(
+        r.dynamics.contains("energy-conserving wave"),
+        "the policy names the wave: {}",
+        r.dynamics
+    );
+    let off = coupled_scene(&["model.dynamics=coupled", "wave.attenuation=off"]);
+    let (c, _) = run_uq(&SceneEvaluator, &off, &scatter, &options(b.path(), 2, 5)).unwrap();
+    assert!(
+        r.stall_thrust_n.p50 < c.stall_thrust_n.p50,
+        "the energy-conserving wave's stall thrust {} N below the constant wave's {} N",
+        r.stall_thrust_n.p50,
+        c.stall_thrust_n.p50
+    );
+}
+
+#[test]
+fn coupled_uq_with_the_strip_or_a_given_eta_is_refused_naming_the_key() {
     let dir = tempfile::tempdir().unwrap();
     for (set, key) in [
         ("static.model=strip", "static.model"),
         ("contact.effective_ratio=0.5", "contact.effective_ratio"),
-        ("wave.attenuation=on", "wave.attenuation"),
     ] {
         let scene = coupled_scene(&["model.dynamics=coupled", set]);
         let e = run_uq(
@@ -461,9 +482,8 @@ fn the_coupled_models_steps_and_curve_points_are_honoured_in_a_study() {
 fn auto_decides_per_sample_by_the_criterion_and_says_so() {
     let dir = tempfile::tempdir().unwrap();
     let scatter = height_scatter(5e-9);
-    // The constant-amplitude wave: with the energy-conserving one on, `auto` keeps the lumped
-    // model (as the dynamic stage does; the whole slider's coupled model keeps the constant
-    // wave).
+    // The constant-amplitude wave keeps the lumped samples' η the constant wave's fit, which
+    // the criterion reads.
     let tight = coupled_scene(&["model.lumped_tolerance=1e-9", "wave.attenuation=off"]);
     let (r, _) = run_uq(
         &SceneEvaluator,

@@ -21,7 +21,6 @@ pub use analysis::{
     PostResult, PreloadResult, PreparedStrip, SnapshotResult, StaticAnalysis, StaticReport,
     prepare_strip,
 };
-pub use run_control::RunControl;
 pub use body::{BodyCompliance, BodySpec, Disk, FemStats, TangentialCompliance, TipLateral};
 pub use body_solver::{BodySolver, FemSolver};
 pub use error::{ContactError, Result};
@@ -29,4 +28,5 @@ pub use eta::{EtaFit, FitSample, fit_eta};
 pub use eta_full_contact::full_contact_eta;
 pub use lcp::{ActiveSetOptions, ActiveSetSolver, ContactProblem, ContactSolution, IterationLog};
 pub use params::{MeshChoice, MeshSizes, StaticParams};
+pub use run_control::RunControl;
 pub use scene::{PostSite, StatorCompliance, StatorModel, StripConfig, StripModel, TipCompliance};

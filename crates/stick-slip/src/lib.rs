@@ -23,8 +23,7 @@ mod wave;
 
 pub use attenuation::{
     AttenuatedPeriodicModel, AttenuatedResult, AttenuatedRun, AttenuatedSample,
-    AttenuatedTransientResult, AttenuationOptions,
-    AttenuationSetting, ProfileIteration,
+    AttenuatedTransientResult, AttenuationOptions, AttenuationSetting, ProfileIteration,
 };
 pub use contact::{PAPER_FRICTION_COEFFICIENT, PostContact};
 pub use cost::{MAX_POST_STEPS, MAX_RUN_MEMORY_BYTES, MemoryEstimate, WorkEstimate};
@@ -39,6 +38,7 @@ pub use post::stepping::StabilityProbe;
 pub use result::{
     CurvePoint, DynamicResult, OperatingPoint, TransientSummary, curve_csv, write_curve_csv,
 };
+pub use run_control::RunControl;
 pub use scene::{
     BOUNCE_LIMIT, DynamicScene, HistoryOptions, ModelChoice, ModelKind, PHASE_HARMONICS,
     SPEED_RIPPLE_LIMIT, SolveOptions, TransientOptions, TransientStart,
@@ -47,7 +47,6 @@ pub use slider::{
     PAPER_EFFECTIVE_RATIO, PAPER_PITCH_M, PAPER_POSTS_PER_SIDE, PAPER_SLIDER_SIDE_M,
     PAPER_SLIDER_THICKNESS_M, PostLayout, Slider, VerticalModel,
 };
-pub use run_control::RunControl;
 pub use solve::{RunHistories, solve, solve_with_histories};
 pub use transient::{TransientModel, TransientRun};
 pub use wave::{Wave, WaveLimits};

@@ -5,10 +5,10 @@ use serde::{Deserialize, Serialize};
 
 use motor::{Motor, PostArray};
 
-use crate::limits::MAX_RUN_MEMORY_BYTES;
 use crate::error::{
     Result, StickSlipError, Warning, require_finite, require_non_negative, require_positive,
 };
+use crate::limits::MAX_RUN_MEMORY_BYTES;
 
 // The paper's slider (docs/physics.md §1), from the one copy of its numbers in `motor::paper`.
 pub use motor::paper::{

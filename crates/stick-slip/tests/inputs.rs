@@ -439,7 +439,8 @@ fn result_serialises_with_the_documented_keys_and_csv_header() {
 #[test]
 fn histories_for_the_charts_cover_the_requested_periods() {
     let scene = paper_scene();
-    let (result, histories) = stick_slip::solve_with_histories(&scene, &stick_slip::RunControl::none()).unwrap();
+    let (result, histories) =
+        stick_slip::solve_with_histories(&scene, &stick_slip::RunControl::none()).unwrap();
     let post = &histories.post;
     let span = post.time_s.last().unwrap() - post.time_s[0];
     let expected = scene.options.history.periods * scene.wave.period_s();

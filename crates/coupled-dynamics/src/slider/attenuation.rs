@@ -11,15 +11,15 @@
 //! and its image, carries 2 P_in/n_y, and its draws are the pair's.
 //!
 //! Each new profile re-solves the normal contact of every grid phase on the new obstacle
-//! h_i = δ_i + α_i A_n sin(θ − σ k x_i) (the static stage's own solve, cold) and keeps the
-//! tangential operator, which the amplitude does not change.
+//! h_i = δ_i + α_i A_n sin(θ − σ k x_i) (the static stage's own solve, started from the previous
+//! profile's forces) and keeps the tangential operator, which the amplitude does not change.
+//! [`SliderDynamics::solve_attenuated`] runs the curve; [`SliderProfiles`] one speed at a time
+//! from a neighbour's [`ProfiledState`] (a study's search, which picks its own speeds).
 //!
 //! Assumptions beyond the strip's: no power crosses between rows (no diffraction within the
 //! slider: its rows are ≈ 0.1 mm apart, and the beam's Fresnel length is ≈ 200 mm); the beam's
 //! power is uniform over the array's width (a narrower beam would leave rows outside it
 //! without wave, which neither wave model describes).
-
-use std::sync::Arc;
 
 use serde::Serialize;
 
@@ -29,7 +29,7 @@ use crate::attenuation::{
     check_options, iterate_profile, solve_chains,
 };
 use crate::error::Result;
-use crate::model::{ComplianceProduct, CoupledModel, PostHistories};
+use crate::model::{CoupledModel, PeriodState, PostHistories};
 
 /// The whole slider's run on the energy-conserving wave: the self-consistent curve (amplitude
 /// profiles and per-post draws on the full lattice), the maps at stall and at half the no-load
@@ -76,7 +76,6 @@ impl AttenuatedSlider {
 struct SliderModels<'a> {
     dynamics: &'a SliderDynamics,
     normal: &'a dyn NormalContact,
-    tangential: Arc<dyn ComplianceProduct>,
     lanes: Lanes,
     grids: std::sync::atomic::AtomicUsize,
 }
@@ -96,7 +95,6 @@ impl<'a> SliderModels<'a> {
         Self {
             dynamics,
             normal,
-            tangential: dynamics.tangential.clone(),
             lanes: Lanes::new(lanes, &settings.post_x_m, settings.wave_direction),
             grids: std::sync::atomic::AtomicUsize::new(0),
         }
@@ -135,9 +133,120 @@ impl ProfiledModels for SliderModels<'_> {
         let grid = NormalGrid::solve(&scene, self.normal, start.as_deref())?;
         self.grids
             .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        let on =
-            SliderDynamics::on_grid(&scene, grid, self.tangential.clone(), self.dynamics.mirror)?;
+        let on = SliderDynamics::on_grid(
+            &scene,
+            grid,
+            self.dynamics.tangential.clone(),
+            self.dynamics.mirror,
+        )?;
         Ok(on.model)
+    }
+}
+
+/// A converged point's state on the energy-conserving wave: its amplitude profile, the tips'
+/// periodic state, its model (whose normal forces start the next model's contact solves) and
+/// the joint acceleration's secant differences. Hand it to [`SliderProfiles::at_speed_from`]
+/// at a nearby speed, or at the same speed of a nearby slider of the same lattice (a study's
+/// next sample): the point is the same to the fixed point's and the periodicity rule's
+/// tolerances, in fewer periods.
+#[derive(Clone)]
+pub struct ProfiledState(WarmStart);
+
+impl ProfiledState {
+    /// The tips' state at the start of the steady period.
+    pub fn period_state(&self) -> &PeriodState {
+        &self.0.state
+    }
+
+    /// A_i/A₀ at each of the model's posts.
+    pub fn amplitude_scale(&self) -> &[f64] {
+        &self.0.alpha
+    }
+}
+
+impl std::fmt::Debug for ProfiledState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ProfiledState")
+            .field("posts", &self.0.alpha.len())
+            .finish_non_exhaustive()
+    }
+}
+
+/// The whole slider's points on the energy-conserving wave one speed at a time, each from a
+/// converged neighbour's [`ProfiledState`]: what a search that picks its own speeds needs (a
+/// study's curve). [`SliderDynamics::solve_attenuated`] runs the whole curve.
+pub struct SliderProfiles<'a> {
+    models: SliderModels<'a>,
+    options: AttenuationOptions,
+}
+
+impl SliderProfiles<'_> {
+    /// The self-consistent point at `speed_m_per_s` (per-post vectors on the full lattice)
+    /// and its state, started from `from` (else from the constant wave, α = 1, tips at rest).
+    /// A state of another lattice size is ignored.
+    pub fn at_speed_from(
+        &self,
+        speed_m_per_s: f64,
+        from: Option<&ProfiledState>,
+    ) -> Result<(AttenuatedPoint, ProfiledState)> {
+        let warm = from.map(|s| &s.0);
+        let (mut point, next) = iterate_profile(&self.models, speed_m_per_s, &self.options, warm)?;
+        self.models.dynamics.expand_point(&mut point);
+        Ok((point, ProfiledState(next)))
+    }
+
+    /// Normal solves of the phase grid made so far (one per profile tried).
+    pub fn normal_grids(&self) -> usize {
+        self.models.grids.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    /// Crest speed of the wave (m/s).
+    pub fn crest_speed_m_per_s(&self) -> f64 {
+        self.models.dynamics.model().crest_speed_m_per_s()
+    }
+
+    /// The settings of the energy-conserving wave.
+    pub fn options(&self) -> &AttenuationOptions {
+        &self.options
+    }
+
+    /// The state of a constant-wave point of this slider (α = 1, the tips' periodic `state`
+    /// of [`SliderDynamics::model`]): the start of the energy-conserving wave's point at the
+    /// same speed.
+    pub fn constant_state(&self, state: &PeriodState) -> ProfiledState {
+        let model = self.models.dynamics.model();
+        let posts = model.scene().post_x_m.len();
+        ProfiledState(WarmStart::new(
+            vec![1.0; posts],
+            state.clone(),
+            model.clone(),
+        ))
+    }
+}
+
+impl std::fmt::Debug for SliderProfiles<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SliderProfiles")
+            .field("options", &self.options)
+            .field("normal_grids", &self.normal_grids())
+            .finish_non_exhaustive()
+    }
+}
+
+impl SliderDynamics {
+    /// The whole slider's points on the energy-conserving wave of `options`, one speed at a
+    /// time ([`SliderProfiles`]); `normal` as in [`Self::solve_attenuated`]. Errors: bad
+    /// options, named.
+    pub fn profiles<'a>(
+        &'a self,
+        normal: &'a dyn NormalContact,
+        options: &AttenuationOptions,
+    ) -> Result<SliderProfiles<'a>> {
+        check_options(options)?;
+        Ok(SliderProfiles {
+            models: SliderModels::new(self, normal),
+            options: *options,
+        })
     }
 }
 
@@ -156,11 +265,7 @@ impl SliderDynamics {
         let models = SliderModels::new(self, normal);
         let chains = solve_chains(&models, options)?;
         let half = 0.5 * chains.curve.no_load_speed_m_per_s;
-        let nearest = chains
-            .ends
-            .iter()
-            .min_by(|a, b| (a.0 - half).abs().total_cmp(&(b.0 - half).abs()))
-            .map(|(_, w)| w);
+        let nearest = chains.nearest_end(half);
         let history_posts = self.middle_row_posts();
         let (stall, at_half) = rayon::join(
             || self.profiled_maps(&chains.stall, 0.0, &[]),

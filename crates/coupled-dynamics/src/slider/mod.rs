@@ -69,7 +69,7 @@ use slider_contact::{
 };
 use stick_slip::{DynamicScene, Wave};
 
-pub use attenuation::AttenuatedSlider;
+pub use attenuation::{AttenuatedSlider, ProfiledState, SliderProfiles};
 pub use maps::{AMPLITUDE_FIELD, MAP_FIELDS, SliderMaps};
 pub use mirror::Mirror;
 

@@ -31,7 +31,7 @@ use design::evaluator::{
 };
 use slider_contact::{Imperfections, ImperfectionsExt, SliderModel, SliderParams};
 
-use super::dynamic_stage::attenuation::{self, AmplitudeProfile, attenuate_lumped, is_transient};
+use super::dynamic_stage::attenuation::{AmplitudeProfile, attenuate_lumped, is_transient};
 use super::dynamic_stage::whole_slider::{self, StudyCurve, StudyTangential, StudyWarmStart};
 use super::local_amplitude::{attenuation_off, post_columns_m, settle_eta, stall_profile_at};
 use crate::pipeline::{PipelineError, dynamic_scene, scene_springs};
@@ -126,7 +126,7 @@ impl StaticModel {
             Dynamics::Lumped(_) => false,
             Dynamics::Auto => {
                 scene.static_fem.model != StaticChoice::Strip
-                    && whole_slider::check_study_scene(scene).is_ok()
+                    && whole_slider::check_scene(scene).is_ok()
             }
             Dynamics::Coupled => check_dynamics(scene).is_ok(),
         };
@@ -294,8 +294,9 @@ fn fidelity_params(params: SliderParams, fidelity: Fidelity) -> SliderParams {
 /// Refused, naming the key: `coupled` with η given (`contact.effective_ratio`: no static state
 /// to run it on) or with `static.model = "strip"` (the strip's coupled model needs a strip FEM
 /// per sample and cannot carry a sample's scatter, tilt or bow), and what the whole slider's
-/// coupled model refuses in the dynamic stage (`wave.attenuation = "on"`,
-/// `model.lumped.vertical = "dynamic"`). The coupled model's own keys
+/// coupled model refuses in the dynamic stage (`model.lumped.vertical = "dynamic"`).
+/// `wave.attenuation` is honoured as in the dynamic stage: on the energy-conserving wave each
+/// sample's coupled curve is self-consistent in its amplitude profile. The coupled model's own keys
 /// (`model.coupled.steps_per_period`, `model.curve_points`, `model.lumped_tolerance` under
 /// `auto`) are honoured; the scene reader refuses them under a lumped `model.dynamics`.
 pub fn check_dynamics(scene: &Scene) -> Result<(), PipelineError> {
@@ -323,7 +324,7 @@ pub fn check_dynamics(scene: &Scene) -> Result<(), PipelineError> {
                 .into(),
         );
     }
-    whole_slider::check_study_scene(scene).map_err(|e| PipelineError::Unsupported {
+    whole_slider::check_scene(scene).map_err(|e| PipelineError::Unsupported {
         stage: "uq/design",
         message: e.to_string(),
     })
@@ -370,20 +371,31 @@ pub fn dynamics_policy(scene: &Scene) -> String {
              the lumped model's error estimated from the sample's whole-slider η fit misfit \
              exceeds {tolerance} (model.lumped_tolerance), else the lumped one; per sample, not \
              once on the nominal, because the nominal sample's ideal posts have the smallest \
-             misfit and would hide the scattered samples' error",
-            curve_layout(scene)
+             misfit and would hide the scattered samples' error{}",
+            curve_layout(scene),
+            study_wave(scene)
         ),
     }
 }
 
-/// What wave a study's coupled curves run on, in words (empty with `wave.attenuation = "off"`).
-fn study_wave(scene: &Scene) -> &'static str {
+/// What wave a study's coupled curves run on, in words.
+fn study_wave(scene: &Scene) -> String {
     match scene.wave_attenuation {
-        stick_slip::AttenuationSetting::Off => "",
-        _ => {
-            "; on the constant-amplitude wave (a study's coupled curves do not apply \
-             wave.attenuation = \"auto\"; `sawdrive dynamic` does)"
+        stick_slip::AttenuationSetting::Off => {
+            "; on the constant-amplitude wave (wave.attenuation)".into()
         }
+        stick_slip::AttenuationSetting::On => {
+            "; on the energy-conserving wave (wave.attenuation): \
+                                               every post at its local amplitude, each speed's \
+                                               profile self-consistent"
+                .into()
+        }
+        stick_slip::AttenuationSetting::Auto => format!(
+            "; on the energy-conserving wave (every post at its local amplitude) when the \
+             sample's constant-wave posts draw more than {} % of the wave's power at stall, as \
+             in the dynamic stage (wave.attenuation = \"auto\")",
+            100.0 * stick_slip::attenuation::AUTO_DRAW_FRACTION
+        ),
     }
 }
 
@@ -400,12 +412,11 @@ fn curve_layout(scene: &Scene) -> String {
 
 /// Whether the coupled model runs for one sample, and why: `model.dynamics` when it names a
 /// model; under `auto` the criterion on the sample's η fit `fit` (none: η given) and the lumped
-/// no-load speed, kept lumped when the energy-conserving wave would be on (as the dynamic
-/// stage does) or the static model is the strip.
+/// no-load speed, kept lumped when the static model is the strip. The wave is the coupled
+/// curve's own decision ([`whole_slider::study_curve`]).
 fn choose_dynamics(
     scene: &Scene,
     fit: Option<&StaticFit>,
-    lumped: &stick_slip::DynamicScene,
     lumped_no_load_m_per_s: f64,
 ) -> Result<(bool, String), PipelineError> {
     match scene.model.dynamics {
@@ -428,19 +439,7 @@ fn choose_dynamics(
     let decision = choose_model(&evidence, tolerance)?;
     let coupled = decision.model == DynamicsChoice::Coupled;
     if coupled {
-        let draw_w = attenuation::lumped_stall_draw_w(lumped)?.unwrap_or(0.0);
-        if attenuation::decide(scene, draw_w)?.on() {
-            return Ok((
-                false,
-                format!(
-                    "{}; but the energy-conserving wave is on (wave.attenuation) and a study's \
-                     whole-slider coupled curve keeps the constant-amplitude wave, so the lumped \
-                     model runs (on the local amplitude)",
-                    decision.reason
-                ),
-            ));
-        }
-        whole_slider::check_study_scene(scene)?;
+        whole_slider::check_scene(scene)?;
     }
     Ok((coupled, decision.reason))
 }
@@ -515,7 +514,7 @@ pub fn evaluate_with(
     let dynamic = dynamic_scene(&scene, &springs, eta)?;
     let result = stick_slip::solve(&dynamic)?;
     let lumped_v0 = result.no_load_speed_m_per_s;
-    let (coupled, reason) = choose_dynamics(&scene, fit.as_ref(), &dynamic, lumped_v0)?;
+    let (coupled, reason) = choose_dynamics(&scene, fit.as_ref(), lumped_v0)?;
     let run = LumpedRun {
         springs: &springs,
         dynamic: &dynamic,
@@ -683,17 +682,11 @@ fn coupled_outputs(
         _ => scene.motor.posts.count_y,
     };
     let share = f64::from(scene.motor.posts.count_y) / f64::from(rows);
-    // A study's coupled curve keeps the constant wave: say so where it asks for more than 1 %
-    // of the wave's power (where the dynamic stage would attenuate it).
-    let stall_draw_w = curve.curve.first().map_or(0.0, |p| p.stator_power_w) * share;
-    let reason = match attenuation::decide(scene, stall_draw_w) {
-        Ok(wave) if wave.on() => format!(
-            "{reason}; on the constant-amplitude wave (a study's coupled curve does not \
-             attenuate it; `sawdrive dynamic` does): {}",
-            wave.reason
-        ),
-        _ => reason,
+    let wave = match curve.wave.on() {
+        true => "the energy-conserving wave",
+        false => "the constant-amplitude wave",
     };
+    let reason = format!("{reason}; on {wave} ({})", curve.wave.reason);
     let t = curve.times_s;
     let cost = CoupledCost {
         normal_grid_s: t.normal_grid_s,

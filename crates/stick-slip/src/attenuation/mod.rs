@@ -446,8 +446,16 @@ mod tests {
         })
         .unwrap();
         assert!(solution.converged, "last change {:e}", solution.last_change);
-        assert!((solution.alpha[0] - 0.8).abs() < 1e-10, "{:?}", solution.alpha);
-        assert!(solution.iterations < 10, "{} iterations", solution.iterations);
+        assert!(
+            (solution.alpha[0] - 0.8).abs() < 1e-10,
+            "{:?}",
+            solution.alpha
+        );
+        assert!(
+            solution.iterations < 10,
+            "{} iterations",
+            solution.iterations
+        );
     }
 
     #[test]

@@ -21,8 +21,13 @@
 //! Not modelled here, and refused or stated rather than ignored: the slider's vertical
 //! dynamics (`model.lumped.vertical = "dynamic"` refused, as for the strip), the time-step
 //! error estimate (not made: it would cost a second normal grid and two steady solves of every
-//! post). The studies' curves ([`study_curve`]) run on the constant-amplitude wave and refuse
-//! `wave.attenuation = "on"`.
+//! post).
+//!
+//! The studies' curves ([`study_curve`]: stall, no-load speed and a few points of each
+//! sample) follow the same wave decision, on each sample's own constant-wave stall draw, and
+//! on the energy-conserving wave solve every speed's profile to self-consistency
+//! (`coupled_dynamics::SliderProfiles`), started from the nominal sample's profiled states
+//! with their secant differences ([`StudyWarmStart`]).
 
 use std::path::{Path, PathBuf};
 
@@ -55,23 +60,6 @@ pub struct SliderCoupledFigures {
     /// Maps at stall and at half the no-load speed.
     #[serde(skip)]
     pub maps: Vec<coupled_dynamics::SliderMaps>,
-}
-
-/// Refuses, before a study runs, what a study's whole-slider coupled curve cannot honour: the
-/// energy-conserving wave asked for by `wave.attenuation = "on"` (the studies' curves run on
-/// the constant-amplitude wave) and what [`check_scene`] refuses.
-pub(crate) fn check_study_scene(scene: &Scene) -> Result<(), PipelineError> {
-    if scene.wave_attenuation == AttenuationSetting::On {
-        return Err(PipelineError::Unsupported {
-            stage: "dynamic",
-            message: "wave.attenuation = \"on\": a study's whole-slider coupled curves (uq, \
-                      design) run on the constant-amplitude wave; set wave.attenuation = \"off\" \
-                      or \"auto\", or a lumped model.dynamics (the dynamic stage runs the whole \
-                      slider on the energy-conserving wave)"
-                .into(),
-        });
-    }
-    check_scene(scene)
 }
 
 /// Refuses, before anything runs, what the whole slider's coupled model cannot honour: the
@@ -285,9 +273,9 @@ impl StudyTangential {
 #[derive(Debug, Clone)]
 pub struct StudyWarmStart {
     posts: usize,
-    stall: PeriodState,
-    no_load: Option<PeriodState>,
-    points: Vec<PeriodState>,
+    stall: StudyState,
+    no_load: Option<StudyState>,
+    points: Vec<StudyState>,
     /// Coupled over lumped no-load speed of the run that left these states.
     no_load_ratio: f64,
     /// The run's stall thrust (N), no-load speed (m/s) and thrust slope −dF/dv at v₀ (N s/m,
@@ -330,6 +318,9 @@ pub struct StudyCurve {
     /// Wall time (s) of the normal grid's contact solves, the stall, the no-load search and the
     /// other points.
     pub times_s: StudyTimes,
+    /// The wave the curve ran on: the energy-conserving wave when `wave.attenuation` asks for
+    /// it or `auto` finds the constant wave's stall draw above what the wave carries.
+    pub wave: WaveAttenuation,
     /// The states the curve ended in (the next sample's warm start).
     pub warm: StudyWarmStart,
 }
@@ -340,7 +331,12 @@ pub struct StudyCurve {
 /// stall, the no-load speed from the lumped model's `lumped_no_load_m_per_s` (scaled by the
 /// warm start's coupled/lumped ratio) to [`STUDY_SPEED_TOLERANCE`] ([`no_load_search`]), then
 /// the curve points downwards, every speed started from `warm` (the nominal sample's states)
-/// where given, else from its neighbour. `model.curve_points` given: its evenly spaced speeds
+/// where given, else from its neighbour. The wave is the dynamic stage's decision
+/// (`wave.attenuation`; `auto` on the constant wave's stall draw against the power the wave
+/// carries under the model's rows): on the energy-conserving wave every speed is the
+/// self-consistent point of its amplitude profile (the dynamic stage's lanes, one per row;
+/// profile tolerance [`STUDY_AMPLITUDE_TOLERANCE`]), so no point draws more than the wave
+/// carries. `model.curve_points` given: its evenly spaced speeds
 /// and the largest power and efficiency among them (the dynamic stage's layout); `auto`:
 /// [`STUDY_SPEED_FRACTIONS`] and [`curve_maxima`]. Every point must be a closed steady period
 /// with output ≤ stator power and v₀'s thrust ≈ 0 ([`accept`], [`NO_LOAD_THRUST_TOLERANCE`]);
@@ -353,7 +349,7 @@ pub fn study_curve(
     lumped_no_load_m_per_s: f64,
     warm: Option<&StudyWarmStart>,
 ) -> Result<Result<StudyCurve, Unresolved>, PipelineError> {
-    check_study_scene(scene)?;
+    check_scene(scene)?;
     let mut slider = slider_scene(scene, static_model);
     slider.tolerance = STUDY_STEP_TOLERANCE;
     let posts = slider.geometry.len();
@@ -364,17 +360,43 @@ pub fn study_curve(
         false => StudyTangential::build(static_model)?.operator,
     };
     let dynamics = SliderDynamics::new(&slider, static_model, operator)?;
-    let model = dynamics.model();
     let mut clock = std::time::Instant::now();
     let mut lap = || {
         let s = clock.elapsed().as_secs_f64();
         clock = std::time::Instant::now();
         s
     };
-    let (stall, stall_state) = model.at_speed_from(0.0, warm.map(|w| &w.stall))?;
-    if let Err(unresolved) = accept(&stall, model.crest_speed_m_per_s()) {
+    let constant = StudySolver::Constant(dynamics.model());
+    let (stall, stall_state) = constant.at_speed_from(0.0, warm.map(|w| &w.stall))?;
+    if let Err(unresolved) = accept(&stall, constant.crest_speed_m_per_s()) {
         return Ok(Err(unresolved));
     }
+    // The constant wave's stall draw decides the wave, as in the dynamic stage; a patch of
+    // the lattice's rows draws, and is given, its rows' share of the wave.
+    let rows = static_model.params.posts_y as f64 / f64::from(scene.motor.posts.count_y);
+    let wave = attenuation::decide(scene, stall.stator_power_w / rows)?;
+    let profiled = match wave.on() {
+        true => {
+            let power_in_w = wave.power_in_w * rows;
+            let mut options = coupled_dynamics::AttenuationOptions::new(power_in_w);
+            options.tolerance = STUDY_AMPLITUDE_TOLERANCE;
+            Some(dynamics.profiles(static_model, &options)?)
+        }
+        false => None,
+    };
+    let (model, stall, stall_state) = match profiled {
+        Some(profiles) => {
+            let solver = StudySolver::Profiled(profiles);
+            let from = warm.map_or(&stall_state, |w| &w.stall);
+            let (stall, state) = solver.at_speed_from(0.0, Some(from))?;
+            if let Err(unresolved) = accept(&stall, solver.crest_speed_m_per_s()) {
+                return Ok(Err(unresolved));
+            }
+            (solver, stall, state)
+        }
+        None => (constant, stall, stall_state),
+    };
+    let model = &model;
     let stall_s = lap();
     let fractions = study_fractions(scene);
     let guess = lumped_no_load_m_per_s * warm.map_or(1.0, |w| w.no_load_ratio);
@@ -411,6 +433,7 @@ pub fn study_curve(
         curve,
         periods: stall.periods + search_periods + solved.periods,
         times_s,
+        wave,
         warm: StudyWarmStart {
             posts,
             stall: stall_state,
@@ -433,6 +456,73 @@ fn chord_slope(curve: &[CoupledPoint]) -> f64 {
     }
 }
 
+/// Tolerance of a study's amplitude profile on the energy-conserving wave (max |Δα| of A₀;
+/// the dynamic stage's is `coupled_dynamics::attenuation::DEFAULT_AMPLITUDE_TOLERANCE`, 1e-6).
+/// Measured on the default slider with 5 nm height scatter (four samples) against 1e-6: the
+/// P50 stall thrust, no-load speed, largest power and efficiency move by at most 1e-6
+/// (relative), and the samples step 69 periods instead of 74; 1e-4 moves the stall thrust by
+/// 2.4e-4, and 1e-3 leaves the nominal's no-load search without a root. Default 1e-5.
+pub const STUDY_AMPLITUDE_TOLERANCE: f64 = 1e-5;
+
+/// One solved speed's state, the start of a neighbouring speed's solve (or of the next
+/// sample's at the same speed): the tips' periodic state on the constant wave, or with the
+/// amplitude profile on the energy-conserving wave.
+#[derive(Debug, Clone)]
+pub enum StudyState {
+    /// On the constant-amplitude wave.
+    Constant(PeriodState),
+    /// On the energy-conserving wave.
+    Profiled(coupled_dynamics::ProfiledState),
+}
+
+/// The whole slider's coupled model of a study's curve, one speed at a time: on the constant
+/// wave, or on the energy-conserving wave (every speed's amplitude profile self-consistent).
+enum StudySolver<'a> {
+    Constant(&'a coupled_dynamics::CoupledModel),
+    Profiled(coupled_dynamics::SliderProfiles<'a>),
+}
+
+impl StudySolver<'_> {
+    fn crest_speed_m_per_s(&self) -> f64 {
+        match self {
+            StudySolver::Constant(model) => model.crest_speed_m_per_s(),
+            StudySolver::Profiled(profiles) => profiles.crest_speed_m_per_s(),
+        }
+    }
+
+    /// The steady point at `speed_m_per_s` from a neighbour's state: a constant-wave solve
+    /// starts from a profiled state's tips, a profiled solve from a constant state at α = 1.
+    fn at_speed_from(
+        &self,
+        speed_m_per_s: f64,
+        from: Option<&StudyState>,
+    ) -> Result<Solved, PipelineError> {
+        match self {
+            StudySolver::Constant(model) => {
+                let start = from.map(|s| match s {
+                    StudyState::Constant(state) => state,
+                    StudyState::Profiled(profiled) => profiled.period_state(),
+                });
+                let (point, state) = model.at_speed_from(speed_m_per_s, start)?;
+                Ok((point, StudyState::Constant(state)))
+            }
+            StudySolver::Profiled(profiles) => {
+                let constant;
+                let start = match from {
+                    Some(StudyState::Profiled(profiled)) => Some(profiled),
+                    Some(StudyState::Constant(state)) => {
+                        constant = profiles.constant_state(state);
+                        Some(&constant)
+                    }
+                    None => None,
+                };
+                let (point, state) = profiles.at_speed_from(speed_m_per_s, start)?;
+                Ok((point.point, StudyState::Profiled(state)))
+            }
+        }
+    }
+}
+
 /// Natural-residual tolerance of a study's step solves (relative to the friction scale); the
 /// periodicity rule is 100× it. The dynamic stage's 1e-10 resolves a curve to ≈ 1e-8; a band
 /// of several per cent needs far less, and every decade costs CG products in every step and
@@ -445,7 +535,7 @@ pub const STUDY_STEP_TOLERANCE: f64 = 1e-6;
 const NO_LOAD_EVALUATIONS: usize = 6;
 
 /// One solved speed: the steady point and the periodic state it started from.
-type Solved = (CoupledPoint, PeriodState);
+type Solved = (CoupledPoint, StudyState);
 
 /// The no-load speed v₀ of a study's curve: with the nominal run `warm`, its v₀ scaled by the
 /// stall thrusts and a Newton step ([`newton_start`]); else from the predicted `guess`, the
@@ -456,9 +546,9 @@ type Solved = (CoupledPoint, PeriodState);
 /// crest speed; each solve starts from the nearest solved speed's state. Returns every solved
 /// speed, v₀'s last (its thrust ≈ 0: [`NO_LOAD_THRUST_TOLERANCE`]); none if F(0⁺) ≤ 0.
 fn no_load_search(
-    model: &coupled_dynamics::CoupledModel,
+    model: &StudySolver<'_>,
     stall: &CoupledPoint,
-    stall_state: &PeriodState,
+    stall_state: &StudyState,
     guess: f64,
     fractions: &[f64],
     warm: Option<&StudyWarmStart>,
@@ -522,7 +612,7 @@ fn no_load_search(
 /// nominal slope.
 #[allow(clippy::type_complexity)]
 fn newton_start(
-    model: &coupled_dynamics::CoupledModel,
+    model: &StudySolver<'_>,
     stall: &CoupledPoint,
     warm: &StudyWarmStart,
 ) -> Result<Option<Result<Vec<Solved>, Unresolved>>, PipelineError> {
@@ -628,7 +718,7 @@ fn next_speed(solved: &[Solved], stall_n: f64) -> f64 {
 /// periods stepped beyond the no-load search's.
 struct SolvedPoints {
     points: Vec<CoupledPoint>,
-    states: Vec<PeriodState>,
+    states: Vec<StudyState>,
     periods: usize,
 }
 
@@ -638,7 +728,7 @@ struct SolvedPoints {
 /// others solved from the top down, each from `warm`'s state of the same point, else from its
 /// faster neighbour's, and accepted ([`accept`]).
 fn solve_points(
-    model: &coupled_dynamics::CoupledModel,
+    model: &StudySolver<'_>,
     no_load: f64,
     fractions: &[f64],
     exact: bool,
@@ -651,7 +741,7 @@ fn solve_points(
         states: Vec::with_capacity(fractions.len()),
         periods: 0,
     };
-    let mut previous: Option<PeriodState> = None;
+    let mut previous: Option<StudyState> = None;
     for (k, f) in fractions.iter().enumerate().rev() {
         let v = f * no_load;
         let near = search.iter().enumerate().find(|(j, s)| {
@@ -994,5 +1084,102 @@ mod tests {
         let e = accept(&over, crest).unwrap_err();
         assert!(matches!(e, Unresolved::Books { .. }), "{e}");
         assert!(e.to_string().contains("more than"), "{e}");
+    }
+
+    /// A 12 × 12 slider (the studies' small scene) with `sets`: its scene, static model and
+    /// tangential operator, with 5 nm height scatter when `scattered`.
+    fn small_study(sets: &[&str], scattered: bool) -> (Scene, SliderModel, StudyTangential) {
+        let mut all = vec![
+            "posts.count=12x12",
+            "posts.array=0.48mm",
+            "slider.length=0.5mm",
+            "slider.width=0.5mm",
+            "load.preload=0.576N",
+            "static.model=slider",
+            "model.dynamics=coupled",
+            "model.coupled.steps_per_period=32",
+        ];
+        all.extend(sets);
+        let all: Vec<String> = all.iter().map(|s| s.to_string()).collect();
+        let scene = crate::scene::load_scene(None, &all).unwrap();
+        let mut imperfections = slider_contact::Imperfections::default();
+        if scattered {
+            imperfections.height_scatter_m = 5e-9;
+            imperfections.scatter_seed = 11;
+        }
+        let params = crate::pipeline::evaluate::slider_params(&scene, imperfections);
+        let slider = SliderModel::build(&params).unwrap();
+        let tangential = StudyTangential::build(&slider).unwrap();
+        (scene, slider, tangential)
+    }
+
+    fn curve_of(scene: &Scene, slider: &SliderModel, t: &StudyTangential) -> StudyCurve {
+        study_curve(scene, slider, t, 0.5, None).unwrap().unwrap()
+    }
+
+    #[test]
+    fn a_study_curve_on_the_energy_conserving_wave_never_draws_more_than_the_wave_carries() {
+        let (scene, slider, t) = small_study(&[], true);
+        let attenuated = curve_of(&scene, &slider, &t);
+        assert!(attenuated.wave.on(), "auto: {}", attenuated.wave.reason);
+        let (off, ..) = small_study(&["wave.attenuation=off"], true);
+        let constant = curve_of(&off, &slider, &t);
+        assert!(!constant.wave.on(), "off: {}", constant.wave.reason);
+        let p_in = attenuated.wave.power_in_w;
+        let constant_draw = constant.curve[0].stator_power_w;
+        assert!(
+            constant_draw > 0.01 * p_in,
+            "the constant wave's stall draw {constant_draw} W is what turns auto on (P_in {p_in} W)"
+        );
+        for p in &attenuated.curve {
+            assert!(
+                p.stator_power_w <= p_in,
+                "at {} m/s the posts draw {} W of the {p_in} W the wave carries",
+                p.speed_m_per_s,
+                p.stator_power_w
+            );
+        }
+        let (a, c) = (&attenuated.curve[0], &constant.curve[0]);
+        assert!(
+            a.stator_power_w < c.stator_power_w && a.thrust_n < c.thrust_n,
+            "the attenuated stall draws {} W and pushes {} N, the constant one {} W and {} N",
+            a.stator_power_w,
+            a.thrust_n,
+            c.stator_power_w,
+            c.thrust_n
+        );
+    }
+
+    #[test]
+    fn a_sample_started_from_the_nominals_profiled_states_gives_its_cold_curve() {
+        // Evenly spaced speeds: the `auto` layout lets a no-load search speed stand for a
+        // curve fraction, so warm and cold curves would sit on different speeds.
+        let exact = ["model.curve_points=5"];
+        let (scene, nominal, t) = small_study(&exact, false);
+        let warm = curve_of(&scene, &nominal, &t).warm;
+        let (_, sample, _) = small_study(&exact, true);
+        let cold = curve_of(&scene, &sample, &t);
+        let started = study_curve(&scene, &sample, &t, 0.5, Some(&warm))
+            .unwrap()
+            .unwrap();
+        assert!(started.wave.on() && cold.wave.on());
+        let close = |a: f64, b: f64, what: &str| {
+            assert!(
+                (a - b).abs() <= 1e-4 * b.abs(),
+                "{what}: warm {a}, cold {b}"
+            );
+        };
+        close(started.stall_thrust_n, cold.stall_thrust_n, "stall thrust");
+        close(
+            started.no_load_speed_m_per_s,
+            cold.no_load_speed_m_per_s,
+            "no-load speed",
+        );
+        close(
+            started.max_output_power_w,
+            cold.max_output_power_w,
+            "largest output power",
+        );
+        close(started.efficiency, cold.efficiency, "efficiency");
     }
 }
