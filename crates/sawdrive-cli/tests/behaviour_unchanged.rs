@@ -37,7 +37,7 @@ use std::process::Command;
 use sha2::{Digest, Sha256};
 
 /// JSON keys whose values are wall-clock durations (s).
-const TIMING_KEYS: [&str; 16] = [
+const TIMING_KEYS: [&str; 20] = [
     "wall_time_s",
     "sample_cost_s",
     "total_s",
@@ -54,6 +54,10 @@ const TIMING_KEYS: [&str; 16] = [
     "mesh_s",
     "operator_s",
     "sample_operator_s",
+    "normal_grid_s",
+    "stall_s",
+    "no_load_s",
+    "points_s",
 ];
 
 /// JSON keys holding the hash of a file that contains wall-clock values.
