@@ -384,12 +384,11 @@ fn study_wave(scene: &Scene) -> String {
         stick_slip::AttenuationSetting::Off => {
             "; on the constant-amplitude wave (wave.attenuation)".into()
         }
-        stick_slip::AttenuationSetting::On => {
-            "; on the energy-conserving wave (wave.attenuation): \
-                                               every post at its local amplitude, each speed's \
-                                               profile self-consistent"
-                .into()
-        }
+        stick_slip::AttenuationSetting::On => concat!(
+            "; on the energy-conserving wave (wave.attenuation): every post at its local ",
+            "amplitude, each speed's profile self-consistent"
+        )
+        .into(),
         stick_slip::AttenuationSetting::Auto => format!(
             "; on the energy-conserving wave (every post at its local amplitude) when the \
              sample's constant-wave posts draw more than {} % of the wave's power at stall, as \

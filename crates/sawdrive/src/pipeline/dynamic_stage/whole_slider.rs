@@ -350,52 +350,25 @@ pub fn study_curve(
     warm: Option<&StudyWarmStart>,
 ) -> Result<Result<StudyCurve, Unresolved>, PipelineError> {
     check_scene(scene)?;
-    let mut slider = slider_scene(scene, static_model);
-    slider.tolerance = STUDY_STEP_TOLERANCE;
-    let posts = slider.geometry.len();
+    let dynamics = study_dynamics(scene, static_model, tangential)?;
+    let posts = dynamics.model().scene().post_x_m.len();
     let warm = warm.filter(|w| w.posts == posts);
-    let spec = static_model.params.operator_spec();
-    let operator = match tangential.spec == spec {
-        true => tangential.operator.clone(),
-        false => StudyTangential::build(static_model)?.operator,
-    };
-    let dynamics = SliderDynamics::new(&slider, static_model, operator)?;
     let mut clock = std::time::Instant::now();
     let mut lap = || {
         let s = clock.elapsed().as_secs_f64();
         clock = std::time::Instant::now();
         s
     };
-    let constant = StudySolver::Constant(dynamics.model());
-    let (stall, stall_state) = constant.at_speed_from(0.0, warm.map(|w| &w.stall))?;
-    if let Err(unresolved) = accept(&stall, constant.crest_speed_m_per_s()) {
-        return Ok(Err(unresolved));
-    }
-    // The constant wave's stall draw decides the wave, as in the dynamic stage; a patch of
-    // the lattice's rows draws, and is given, its rows' share of the wave.
-    let rows = static_model.params.posts_y as f64 / f64::from(scene.motor.posts.count_y);
-    let wave = attenuation::decide(scene, stall.stator_power_w / rows)?;
-    let profiled = match wave.on() {
-        true => {
-            let power_in_w = wave.power_in_w * rows;
-            let mut options = coupled_dynamics::AttenuationOptions::new(power_in_w);
-            options.tolerance = STUDY_AMPLITUDE_TOLERANCE;
-            Some(dynamics.profiles(static_model, &options)?)
-        }
-        false => None,
+    let stall = match study_stall(scene, static_model, &dynamics, warm)? {
+        Ok(stall) => stall,
+        Err(unresolved) => return Ok(Err(unresolved)),
     };
-    let (model, stall, stall_state) = match profiled {
-        Some(profiles) => {
-            let solver = StudySolver::Profiled(profiles);
-            let from = warm.map_or(&stall_state, |w| &w.stall);
-            let (stall, state) = solver.at_speed_from(0.0, Some(from))?;
-            if let Err(unresolved) = accept(&stall, solver.crest_speed_m_per_s()) {
-                return Ok(Err(unresolved));
-            }
-            (solver, stall, state)
-        }
-        None => (constant, stall, stall_state),
-    };
+    let StudyStall {
+        solver: model,
+        point: stall,
+        state: stall_state,
+        wave,
+    } = stall;
     let model = &model;
     let stall_s = lap();
     let fractions = study_fractions(scene);
@@ -444,6 +417,73 @@ pub fn study_curve(
             stall_thrust_n: stall.thrust_n,
             no_load_m_per_s: no_load,
         },
+    }))
+}
+
+/// The whole slider's coupled model of a study's sample on `static_model`: steps solved to
+/// [`STUDY_STEP_TOLERANCE`], the shared tangential operator where the sample keeps its lattice
+/// and bodies (else its own), on every post.
+fn study_dynamics(
+    scene: &Scene,
+    static_model: &SliderModel,
+    tangential: &StudyTangential,
+) -> Result<SliderDynamics, PipelineError> {
+    let mut slider = slider_scene(scene, static_model);
+    slider.tolerance = STUDY_STEP_TOLERANCE;
+    let operator = match tangential.spec == static_model.params.operator_spec() {
+        true => tangential.operator.clone(),
+        false => StudyTangential::build(static_model)?.operator,
+    };
+    Ok(SliderDynamics::new(&slider, static_model, operator)?)
+}
+
+/// The stall of a study's curve, the model its other speeds run on and the wave's decision.
+struct StudyStall<'a> {
+    solver: StudySolver<'a>,
+    point: CoupledPoint,
+    state: StudyState,
+    wave: WaveAttenuation,
+}
+
+/// The stall of a study's curve on `dynamics` (the sample's model of `static_model`): the
+/// constant wave's, from `warm`'s stall; the wave's decision on its draw (a patch of the
+/// lattice's rows draws, and is given, its rows' share of the wave); on the energy-conserving
+/// wave the self-consistent stall, from `warm`'s stall or else the constant one's. A stall
+/// that is no closed steady period is the [`Unresolved`] reason.
+fn study_stall<'a>(
+    scene: &Scene,
+    static_model: &'a SliderModel,
+    dynamics: &'a SliderDynamics,
+    warm: Option<&StudyWarmStart>,
+) -> Result<Result<StudyStall<'a>, Unresolved>, PipelineError> {
+    let constant = StudySolver::Constant(dynamics.model());
+    let (point, state) = constant.at_speed_from(0.0, warm.map(|w| &w.stall))?;
+    if let Err(unresolved) = accept(&point, constant.crest_speed_m_per_s()) {
+        return Ok(Err(unresolved));
+    }
+    let rows = static_model.params.posts_y as f64 / f64::from(scene.motor.posts.count_y);
+    let wave = attenuation::decide(scene, point.stator_power_w / rows)?;
+    if !wave.on() {
+        return Ok(Ok(StudyStall {
+            solver: constant,
+            point,
+            state,
+            wave,
+        }));
+    }
+    let mut options = coupled_dynamics::AttenuationOptions::new(wave.power_in_w * rows);
+    options.tolerance = STUDY_AMPLITUDE_TOLERANCE;
+    let solver = StudySolver::Profiled(dynamics.profiles(static_model, &options)?);
+    let from = warm.map_or(&state, |w| &w.stall);
+    let (point, state) = solver.at_speed_from(0.0, Some(from))?;
+    if let Err(unresolved) = accept(&point, solver.crest_speed_m_per_s()) {
+        return Ok(Err(unresolved));
+    }
+    Ok(Ok(StudyStall {
+        solver,
+        point,
+        state,
+        wave,
     }))
 }
 
