@@ -1,6 +1,6 @@
 //! The energy-conserving wave of the dynamic stage (`wave.attenuation`, docs/physics.md §5.5):
-//! the wave power that enters under the post array, the `auto` decision, and the wave's books of
-//! every curve point.
+//! the wave power that enters under the post array, the `auto` decision, the wave's books of
+//! every curve point, and the coupled models' attenuated curves put into their results.
 //!
 //! Formula: P_in = (power per unit beam width of the stator cut's Rayleigh wave at the scene's
 //! amplitude and frequency, `scene::crystal`) × min(post-array width, `wave.aperture`): the part
@@ -335,4 +335,28 @@ impl WaveBooks {
             wave_power_out_w: power_in_w - stator_power_w,
         }
     }
+}
+
+/// Puts the energy-conserving wave's `curve` into a constant-amplitude coupled result `r` (the
+/// strip's or the whole slider's): stall thrust, no-load speed, curve, energy balance,
+/// efficiency and stick fraction; η_dyn stays as it is. Returns each point's wave power leaving.
+pub(super) fn take_attenuated_curve(
+    r: &mut coupled_dynamics::CoupledResult,
+    curve: &coupled_dynamics::AttenuatedCurve,
+) -> Vec<Option<f64>> {
+    r.stall_thrust_n = curve.stall_thrust_n;
+    r.no_load_speed_m_per_s = curve.no_load_speed_m_per_s;
+    r.curve = curve.curve.iter().map(|p| p.point.clone()).collect();
+    r.energy_balance_residual = r
+        .curve
+        .iter()
+        .map(|p| p.energy_balance_residual.abs())
+        .fold(0.0, f64::max);
+    r.efficiency = r.curve.iter().map(|p| p.efficiency).fold(0.0, f64::max);
+    r.stick_fraction = r.curve.first().map_or(0.0, |p| p.stick_fraction);
+    curve
+        .curve
+        .iter()
+        .map(|p| Some(p.wave_power_out_w))
+        .collect()
 }

@@ -547,7 +547,7 @@ fn attenuate_coupled(run: &mut CoupledRun, power_in_w: f64) -> Result<(), Pipeli
         &options,
         HISTORY_SPEED_FRACTION,
     )?;
-    run.books = take_attenuated_curve(&mut run.result, &curve);
+    run.books = super::attenuation::take_attenuated_curve(&mut run.result, &curve);
     let r = &mut run.result;
     r.wall_time_s += started.elapsed().as_secs_f64();
     r.warnings.push(format!(
@@ -557,30 +557,6 @@ fn attenuate_coupled(run: &mut CoupledRun, power_in_w: f64) -> Result<(), Pipeli
     ));
     run.histories = histories;
     Ok(())
-}
-
-/// Puts the energy-conserving wave's `curve` into a constant-amplitude coupled result `r` (the
-/// strip's or the whole slider's): stall thrust, no-load speed, curve, energy balance,
-/// efficiency and stick fraction; η_dyn stays as it is. Returns each point's wave power leaving.
-pub(super) fn take_attenuated_curve(
-    r: &mut CoupledResult,
-    curve: &coupled_dynamics::AttenuatedCurve,
-) -> Vec<Option<f64>> {
-    r.stall_thrust_n = curve.stall_thrust_n;
-    r.no_load_speed_m_per_s = curve.no_load_speed_m_per_s;
-    r.curve = curve.curve.iter().map(|p| p.point.clone()).collect();
-    r.energy_balance_residual = r
-        .curve
-        .iter()
-        .map(|p| p.energy_balance_residual.abs())
-        .fold(0.0, f64::max);
-    r.efficiency = r.curve.iter().map(|p| p.efficiency).fold(0.0, f64::max);
-    r.stick_fraction = r.curve.first().map_or(0.0, |p| p.stick_fraction);
-    curve
-        .curve
-        .iter()
-        .map(|p| Some(p.wave_power_out_w))
-        .collect()
 }
 
 /// Fraction of the coupled no-load speed at which the post histories are taken.

@@ -172,7 +172,7 @@ fn attenuate(
     attenuated: coupled_dynamics::AttenuatedSlider,
 ) -> Vec<Option<f64>> {
     let curve = attenuated.curve;
-    let out = super::coupled::take_attenuated_curve(&mut result.coupled, &curve);
+    let out = super::attenuation::take_attenuated_curve(&mut result.coupled, &curve);
     let r = &mut result.coupled;
     r.warnings.push(format!(
         "energy-conserving wave on the whole slider (one lane of the wave's power per lattice \
