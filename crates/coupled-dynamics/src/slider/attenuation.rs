@@ -157,11 +157,6 @@ impl ProfiledState {
     pub fn period_state(&self) -> &PeriodState {
         &self.0.state
     }
-
-    /// A_i/A₀ at each of the model's posts.
-    pub fn amplitude_scale(&self) -> &[f64] {
-        &self.0.alpha
-    }
 }
 
 impl std::fmt::Debug for ProfiledState {
@@ -203,11 +198,6 @@ impl SliderProfiles<'_> {
     /// Crest speed of the wave (m/s).
     pub fn crest_speed_m_per_s(&self) -> f64 {
         self.models.dynamics.model().crest_speed_m_per_s()
-    }
-
-    /// The settings of the energy-conserving wave.
-    pub fn options(&self) -> &AttenuationOptions {
-        &self.options
     }
 
     /// The state of a constant-wave point of this slider (α = 1, the tips' periodic `state`
