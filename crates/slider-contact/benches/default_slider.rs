@@ -10,7 +10,7 @@
 //! `cargo run -p slider-contact --profile test --example speed`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use slider_contact::{Mechanism, SliderModel, SliderParams, run};
+use slider_contact::{ComplianceOperator, Mechanism, SliderModel, SliderParams, run};
 
 fn lattice(side_x: usize, side_y: usize) -> SliderParams {
     SliderParams {
@@ -38,6 +38,20 @@ fn default_slider(c: &mut Criterion) {
         b.iter(|| model.analyse(40.0).unwrap())
     });
     group.bench_function("whole_stage_40n", |b| b.iter(|| run(&params).unwrap()));
+    group.finish();
+}
+
+/// One product C·f of the default slider's lattice operator (10 000 posts, the zero-padded FFT
+/// convolution every CG iteration of the static and the coupled solves applies).
+fn operator_product(c: &mut Criterion) {
+    let model = SliderModel::build(&SliderParams::default()).unwrap();
+    let n = model.operator.len();
+    let force: Vec<f64> = (0..n).map(|i| 1.0 + (i % 7) as f64 * 0.1).collect();
+    let mut out = vec![0.0; n];
+    let mut group = c.benchmark_group("operator_product");
+    group.bench_function("apply_10000_posts", |b| {
+        b.iter(|| model.operator.apply(&force, &mut out))
+    });
     group.finish();
 }
 
@@ -85,5 +99,5 @@ fn free_back(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, default_slider, growth, free_back);
+criterion_group!(benches, default_slider, operator_product, growth, free_back);
 criterion_main!(benches);

@@ -311,7 +311,8 @@ pub struct StudyCurve {
     pub max_output_power_w: f64,
     /// Largest efficiency.
     pub efficiency: f64,
-    /// The solved points, speed ascending (stall first, v₀ last).
+    /// The solved points, speed ascending: the stall first, v₀'s last (the solved speed nearest
+    /// v₀, its thrust within [`NO_LOAD_THRUST_TOLERANCE`] of the stall's).
     pub curve: Vec<CoupledPoint>,
     /// Wave periods stepped at the solved points (the no-load search's not counted).
     pub periods: usize,
@@ -378,7 +379,10 @@ pub fn study_curve(
         Err(unresolved) => return Ok(Err(unresolved)),
     };
     let no_load_s = lap();
-    let no_load = search.last().map_or(0.0, |s| s.0.speed_m_per_s);
+    let NoLoad {
+        solved: search,
+        speed_m_per_s: no_load,
+    } = search;
     let exact = scene.model.curve_points.is_some();
     let solved = match solve_points(model, no_load, &fractions, exact, &search, warm)? {
         Ok(solved) => solved,
@@ -577,14 +581,25 @@ const NO_LOAD_EVALUATIONS: usize = 6;
 /// One solved speed: the steady point and the periodic state it started from.
 type Solved = (CoupledPoint, StudyState);
 
+/// The no-load search of a study's curve: every solved speed, the one nearest v₀ last, and v₀.
+struct NoLoad {
+    /// The solved speeds; the last is v₀'s point (|F| ≤ [`NO_LOAD_THRUST_TOLERANCE`] F(0⁺)).
+    solved: Vec<Solved>,
+    /// v₀ (m/s): the last point's speed, or the root interpolated through the solved speeds
+    /// ([`interpolated_root`]) when its error estimate is below the tolerance.
+    speed_m_per_s: f64,
+}
+
 /// The no-load speed v₀ of a study's curve: with the nominal run `warm`, its v₀ scaled by the
 /// stall thrusts and a Newton step ([`newton_start`]); else from the predicted `guess`, the
 /// thrust at [`STUDY_SPEED_FRACTIONS`]' last fraction (0.92) of the guess and at the guess
 /// (each started from the stall's `stall_state`); then inverse
 /// interpolation F ↦ v through the last three solved speeds (a secant with two), kept inside
-/// the bracket once one is found, until the next step is below [`STUDY_SPEED_TOLERANCE`] of the
-/// crest speed; each solve starts from the nearest solved speed's state. Returns every solved
-/// speed, v₀'s last (its thrust ≈ 0: [`NO_LOAD_THRUST_TOLERANCE`]); none if F(0⁺) ≤ 0.
+/// the bracket once one is found, until v₀ is known to [`STUDY_SPEED_TOLERANCE`] of the crest
+/// speed: the next step is below it, or the root interpolated through the solved speeds is
+/// ([`interpolated_root`]: its error estimate below it, the nearest solved speed's thrust
+/// ≈ 0); each solve starts from the nearest solved speed's state. Returns every solved speed,
+/// v₀'s point last (its thrust ≈ 0: [`NO_LOAD_THRUST_TOLERANCE`]); none if F(0⁺) ≤ 0.
 fn no_load_search(
     model: &StudySolver<'_>,
     stall: &CoupledPoint,
@@ -592,9 +607,12 @@ fn no_load_search(
     guess: f64,
     fractions: &[f64],
     warm: Option<&StudyWarmStart>,
-) -> Result<Result<Vec<Solved>, Unresolved>, PipelineError> {
+) -> Result<Result<NoLoad, Unresolved>, PipelineError> {
     if stall.thrust_n <= 0.0 {
-        return Ok(Ok(Vec::new()));
+        return Ok(Ok(NoLoad {
+            solved: Vec::new(),
+            speed_m_per_s: 0.0,
+        }));
     }
     let crest = model.crest_speed_m_per_s();
     let guess = match guess.is_finite() && guess > 0.0 {
@@ -625,13 +643,24 @@ fn no_load_search(
     for _ in 0..=NO_LOAD_EVALUATIONS {
         let best = nearest_root(&solved);
         let next = next_speed(&solved, stall.thrust_n);
-        if (next - solved[best].0.speed_m_per_s).abs() <= STUDY_SPEED_TOLERANCE * crest {
+        let near_zero = solved[best].0.thrust_n.abs() <= NO_LOAD_THRUST_TOLERANCE * stall.thrust_n;
+        let interpolated = interpolated_root(solved.iter().map(|s| &s.0), stall.thrust_n)
+            .filter(|&(_, error)| near_zero && error <= STUDY_SPEED_TOLERANCE * crest);
+        let stepped = (next - solved[best].0.speed_m_per_s).abs() <= STUDY_SPEED_TOLERANCE * crest;
+        if stepped || interpolated.is_some() {
             let root = solved.remove(best);
-            if !(root.0.thrust_n.abs() <= NO_LOAD_THRUST_TOLERANCE * stall.thrust_n) {
+            if !near_zero {
                 return Ok(Err(no_root(&root.0, crest, stall)));
             }
+            let speed_m_per_s = match interpolated {
+                Some((speed, _)) if !stepped => speed,
+                _ => root.0.speed_m_per_s,
+            };
             solved.push(root);
-            return Ok(Ok(solved));
+            return Ok(Ok(NoLoad {
+                solved,
+                speed_m_per_s,
+            }));
         }
         let from = nearest_speed(&solved, next);
         let (point, state) = model.at_speed_from(next, Some(&solved[from].1))?;
@@ -754,6 +783,34 @@ fn next_speed(solved: &[Solved], stall_n: f64) -> f64 {
     }
 }
 
+/// v₀ interpolated through the solved points and its error estimate (m/s): the secant through
+/// the two whose thrusts are nearest zero, and its difference from the inverse quadratic
+/// F ↦ v through those two and the next nearest (the stall, F(0) = `stall_n`, with only two
+/// solved), which is the secant's second-order term. `None` with fewer than two solved speeds
+/// or a root that is not finite and positive.
+fn interpolated_root<'a>(
+    solved: impl Iterator<Item = &'a CoupledPoint>,
+    stall_n: f64,
+) -> Option<(f64, f64)> {
+    let mut order: Vec<(f64, f64)> = solved.map(|p| (p.thrust_n, p.speed_m_per_s)).collect();
+    order.sort_by(|a, b| a.0.abs().total_cmp(&b.0.abs()));
+    if order.len() < 2 {
+        return None;
+    }
+    if order.len() == 2 {
+        order.push((stall_n, 0.0));
+    }
+    let (forces, speeds): (Vec<f64>, Vec<f64>) = order[..3].iter().copied().unzip();
+    let distinct = forces[0] != forces[1] && forces[0] != forces[2] && forces[1] != forces[2];
+    if !distinct {
+        return None;
+    }
+    let secant = lagrange(&forces[..2], &speeds[..2], 0.0);
+    let quadratic = lagrange(&forces, &speeds, 0.0);
+    let error = (quadratic - secant).abs();
+    (secant.is_finite() && secant > 0.0 && error.is_finite()).then_some((secant, error))
+}
+
 /// The points of a study curve above the stall, speed ascending, their periodic states and the
 /// periods stepped beyond the no-load search's.
 struct SolvedPoints {
@@ -762,8 +819,8 @@ struct SolvedPoints {
     periods: usize,
 }
 
-/// The points at `fractions` of the no-load speed `no_load` (the last, v₀, is the no-load
-/// search's root; unless `exact` (`model.curve_points` given), a search speed within
+/// The points at `fractions` of the no-load speed `no_load` (the last, v₀'s, is the no-load
+/// search's last point, its thrust ≈ 0; unless `exact` (`model.curve_points` given), a search speed within
 /// [`REUSE_WINDOW`] of a fraction stands for it, the interpolants need no exact fractions), the
 /// others solved from the top down, each from `warm`'s state of the same point, else from its
 /// faster neighbour's, and accepted ([`accept`]).
@@ -1058,6 +1115,21 @@ mod tests {
     /// the design golden): thrust ≈ constant, efficiency 0.98–0.996 at the points and the
     /// stall's stator power a round-off below 0. Interpolating the stator power and dividing
     /// gave an efficiency of 1.06 between the points.
+    #[test]
+    fn the_interpolated_no_load_speed_of_a_smooth_curve_lies_within_its_error_estimate() {
+        // F = F₀(1 − (v/v₀)²), solved at 0.99 v₀ and 0.9998 v₀ (v₀ = 0.8 m/s).
+        let near = [point(0.99 * 0.8), point(0.9998 * 0.8)];
+        let (root, error) = interpolated_root(near.iter(), point(0.0).thrust_n).unwrap();
+        assert!((root - 0.8).abs() <= error, "root {root}, error estimate {error}");
+        assert!(error < 1e-5 * 0.8, "error estimate {error} of two points close to v₀");
+        // Two points far from v₀: the estimate grows with the distance (no false confidence).
+        let far = [point(0.5 * 0.8), point(0.7 * 0.8)];
+        let (root, error) = interpolated_root(far.iter(), point(0.0).thrust_n).unwrap();
+        assert!((root - 0.8).abs() <= error, "root {root}, error estimate {error}");
+        assert!(error > 1e-2 * 0.8, "error estimate {error} of two points far from v₀");
+        assert!(interpolated_root(near[..1].iter(), 10.0).is_none(), "one point");
+    }
+
     #[test]
     fn the_interpolated_efficiency_of_a_degenerate_curve_stays_at_most_one() {
         let at = |v: f64, thrust_n: f64, stator_power_w: f64| CoupledPoint {
