@@ -581,8 +581,8 @@ impl ComplianceOperator for LatticeOperator {
     /// of a real row's spectrum), so only the P_y/2 + 1 non-negative y-wavenumbers are
     /// transformed along x; the product with the real, even spectrum keeps every row's spectrum
     /// Hermitian, and the inverse repacks two rows again. Half the transforms of a plain complex
-    /// 2D convolution, the same result to rounding. The work arrays are the calling thread's
-    /// ([`ProductBuffers`]): a product allocates nothing once its thread has made one.
+    /// 2D convolution, the same result to rounding. The work arrays are the calling thread's,
+    /// kept between products: a product allocates nothing once its thread has made one.
     fn apply(&self, force_n: &[f64], out_m: &mut [f64]) {
         PRODUCT_BUFFERS.with(|cell| {
             let mut buffers = cell.borrow_mut();
