@@ -660,9 +660,7 @@ pub(crate) mod tests {
         let op = LatticeOperator::from_kernel(&kernel);
         let dense = kernel.to_dense();
         let n = 5 * 14;
-        let f: Vec<f64> = (0..n)
-            .map(|i| ((i * 13 % 7) as f64 - 2.5) * 1e-3)
-            .collect();
+        let f: Vec<f64> = (0..n).map(|i| ((i * 13 % 7) as f64 - 2.5) * 1e-3).collect();
         let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
         op.apply(&f, &mut a);
         dense.apply(&f, &mut b);

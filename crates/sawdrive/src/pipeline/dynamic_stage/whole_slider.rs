@@ -765,11 +765,7 @@ fn next_speed(solved: &[Solved], stall_n: f64) -> f64 {
     }
     let forces: Vec<f64> = last.iter().map(|x| x.1).collect();
     let speeds: Vec<f64> = last.iter().map(|x| x.0).collect();
-    let distinct = forces
-        .iter()
-        .enumerate()
-        .all(|(i, a)| forces[..i].iter().all(|b| b != a));
-    let predicted = match distinct {
+    let predicted = match all_distinct(&forces) {
         true => lagrange(&forces, &speeds, 0.0),
         false => f64::NAN,
     };
@@ -781,6 +777,14 @@ fn next_speed(solved: &[Solved], stall_n: f64) -> f64 {
             None => 1.5 * lo.0.max(speeds[0]),
         },
     }
+}
+
+/// Whether no two of `values` are equal (the nodes of an inverse interpolation in F).
+fn all_distinct(values: &[f64]) -> bool {
+    values
+        .iter()
+        .enumerate()
+        .all(|(i, a)| values[..i].iter().all(|b| b != a))
 }
 
 /// v₀ interpolated through the solved points and its error estimate (m/s): the secant through
@@ -801,8 +805,7 @@ fn interpolated_root<'a>(
         order.push((stall_n, 0.0));
     }
     let (forces, speeds): (Vec<f64>, Vec<f64>) = order[..3].iter().copied().unzip();
-    let distinct = forces[0] != forces[1] && forces[0] != forces[2] && forces[1] != forces[2];
-    if !distinct {
+    if !all_distinct(&forces) {
         return None;
     }
     let secant = lagrange(&forces[..2], &speeds[..2], 0.0);
@@ -820,10 +823,10 @@ struct SolvedPoints {
 }
 
 /// The points at `fractions` of the no-load speed `no_load` (the last, v₀'s, is the no-load
-/// search's last point, its thrust ≈ 0; unless `exact` (`model.curve_points` given), a search speed within
-/// [`REUSE_WINDOW`] of a fraction stands for it, the interpolants need no exact fractions), the
-/// others solved from the top down, each from `warm`'s state of the same point, else from its
-/// faster neighbour's, and accepted ([`accept`]).
+/// search's last point, its thrust ≈ 0; unless `exact` (`model.curve_points` given), a search
+/// speed within [`REUSE_WINDOW`] of a fraction stands for it, the interpolants need no exact
+/// fractions), the others solved from the top down, each from `warm`'s state of the same point,
+/// else from its faster neighbour's, and accepted ([`accept`]).
 fn solve_points(
     model: &StudySolver<'_>,
     no_load: f64,
@@ -1111,25 +1114,40 @@ mod tests {
         );
     }
 
-    /// The nearly locked slider's points whose periods did not close (a degenerate design of
-    /// the design golden): thrust ≈ constant, efficiency 0.98–0.996 at the points and the
-    /// stall's stator power a round-off below 0. Interpolating the stator power and dividing
-    /// gave an efficiency of 1.06 between the points.
     #[test]
     fn the_interpolated_no_load_speed_of_a_smooth_curve_lies_within_its_error_estimate() {
         // F = F₀(1 − (v/v₀)²), solved at 0.99 v₀ and 0.9998 v₀ (v₀ = 0.8 m/s).
         let near = [point(0.99 * 0.8), point(0.9998 * 0.8)];
         let (root, error) = interpolated_root(near.iter(), point(0.0).thrust_n).unwrap();
-        assert!((root - 0.8).abs() <= error, "root {root}, error estimate {error}");
-        assert!(error < 1e-5 * 0.8, "error estimate {error} of two points close to v₀");
+        assert!(
+            (root - 0.8).abs() <= error,
+            "root {root}, error estimate {error}"
+        );
+        assert!(
+            error < 1e-5 * 0.8,
+            "error estimate {error} of two points close to v₀"
+        );
         // Two points far from v₀: the estimate grows with the distance (no false confidence).
         let far = [point(0.5 * 0.8), point(0.7 * 0.8)];
         let (root, error) = interpolated_root(far.iter(), point(0.0).thrust_n).unwrap();
-        assert!((root - 0.8).abs() <= error, "root {root}, error estimate {error}");
-        assert!(error > 1e-2 * 0.8, "error estimate {error} of two points far from v₀");
-        assert!(interpolated_root(near[..1].iter(), 10.0).is_none(), "one point");
+        assert!(
+            (root - 0.8).abs() <= error,
+            "root {root}, error estimate {error}"
+        );
+        assert!(
+            error > 1e-2 * 0.8,
+            "error estimate {error} of two points far from v₀"
+        );
+        assert!(
+            interpolated_root(near[..1].iter(), 10.0).is_none(),
+            "one point"
+        );
     }
 
+    /// The nearly locked slider's points whose periods did not close (a degenerate design of
+    /// the design golden): thrust ≈ constant, efficiency 0.98–0.996 at the points and the
+    /// stall's stator power a round-off below 0. Interpolating the stator power and dividing
+    /// gave an efficiency of 1.06 between the points.
     #[test]
     fn the_interpolated_efficiency_of_a_degenerate_curve_stays_at_most_one() {
         let at = |v: f64, thrust_n: f64, stator_power_w: f64| CoupledPoint {
