@@ -39,6 +39,7 @@ use std::time::Instant;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 use static_contact::{ActiveSetOptions, ActiveSetSolver, ContactProblem};
+use slider_contact::Precision;
 
 use crate::anderson::Anderson;
 use crate::boxqp::{self, ActiveSet};
@@ -83,6 +84,12 @@ pub trait ComplianceProduct: Send + Sync {
     fn posts(&self) -> usize;
     /// u = C_t f (m for f in N; `u` overwritten).
     fn apply(&self, force_n: &[f64], out_m: &mut [f64]);
+    /// u = C_t f in `precision` (`slider_contact::Precision`; an operator without a
+    /// single-precision product computes in double).
+    fn apply_at(&self, force_n: &[f64], out_m: &mut [f64], precision: Precision) {
+        let _ = precision;
+        self.apply(force_n, out_m);
+    }
 }
 
 impl<T: slider_contact::ComplianceOperator + Send + Sync> ComplianceProduct for T {
@@ -91,6 +98,9 @@ impl<T: slider_contact::ComplianceOperator + Send + Sync> ComplianceProduct for 
     }
     fn apply(&self, force_n: &[f64], out_m: &mut [f64]) {
         slider_contact::ComplianceOperator::apply(self, force_n, out_m);
+    }
+    fn apply_at(&self, force_n: &[f64], out_m: &mut [f64], precision: Precision) {
+        slider_contact::ComplianceOperator::apply_at(self, force_n, out_m, precision);
     }
 }
 

@@ -32,6 +32,19 @@ use static_contact::halfspace::{disk_mutual_compliance, disk_self_compliance};
 use crate::error::{Result, invalid};
 use crate::layer::LayerCorrection;
 
+/// Arithmetic of a compliance product's transforms.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Precision {
+    /// f64 throughout: the product to rounding (≈ 1e-16 of ‖C‖‖f‖).
+    #[default]
+    Double,
+    /// The FFT convolution's transforms and spectrum product in f32, input and output f64:
+    /// the product to ≈ 1e-7 of ‖C‖‖f‖, for the inner iterations of a solver that checks its
+    /// answer on a double product (an inexact Newton step, an iterative refinement's
+    /// correction). Operators without transforms (dense, plate) compute in double.
+    Single,
+}
+
 /// What a contact solver needs of a compliance: its size, C·f and its diagonal.
 pub trait ComplianceOperator {
     /// Number of posts.
@@ -42,6 +55,12 @@ pub trait ComplianceOperator {
     }
     /// out = C·f (m, for f in N).
     fn apply(&self, force_n: &[f64], out_m: &mut [f64]);
+    /// out = C·f in the given `precision` ([`Precision::Single`]: an operator without a
+    /// single-precision product computes in double, its only arithmetic).
+    fn apply_at(&self, force_n: &[f64], out_m: &mut [f64], precision: Precision) {
+        let _ = precision;
+        self.apply(force_n, out_m);
+    }
     /// The diagonal C_ii (m/N).
     fn diagonal(&self) -> Vec<f64>;
 }

@@ -22,7 +22,7 @@ pub use error::{Result, SliderError};
 pub use heights::{HeightMap, HeightMapCsv, Imperfections, ImperfectionsExt};
 pub use lattice::{
     ComplianceOperator, DiagonalParts, LatticeGeometry, LatticeKernel, LatticeOperator, NearField,
-    OperatorSpec,
+    OperatorSpec, Precision,
 };
 pub use plate::FreePlate;
 pub use precondition::{ContactPreconditioner, PlatePreconditioner};
