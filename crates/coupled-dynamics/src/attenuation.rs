@@ -288,12 +288,25 @@ pub(crate) trait ProfiledModels: Sync {
     /// Posts of the model.
     fn posts(&self) -> usize;
     /// The model at the amplitude profile `alpha` (A_i/A₀, model order), its normal solves
-    /// started from `from` (a model of a nearby profile) if given.
-    fn model(&self, alpha: &[f64], from: Option<&CoupledModel>) -> Result<CoupledModel>;
+    /// started from `from` (a model of a nearby profile) if given. `accuracy`: how far `alpha`
+    /// may still lie from the fixed point (max |Δα|, of A₀; 0 for a profile taken as it is):
+    /// a model may resolve its normal forces no finer than a profile that uncertain fixes them
+    /// (the strip's exact normal solves do not use it).
+    fn model(
+        &self,
+        alpha: &[f64],
+        from: Option<&CoupledModel>,
+        accuracy: f64,
+    ) -> Result<CoupledModel>;
     /// Relative tolerance of the no-load speed's secant search (of the crest speed): what the
     /// models' thrust is known to. Default the strip's [`SPEED_TOLERANCE`].
     fn speed_tolerance(&self) -> f64 {
         SPEED_TOLERANCE
+    }
+    /// Whether [`Self::model`] resolves a model only to its `accuracy` (else exactly whatever
+    /// the accuracy). Default false.
+    fn rough_models(&self) -> bool {
+        false
     }
 }
 
@@ -319,7 +332,7 @@ impl ProfiledModels for StripModels<'_> {
     fn posts(&self) -> usize {
         self.scene.post_x_m.len()
     }
-    fn model(&self, alpha: &[f64], from: Option<&CoupledModel>) -> Result<CoupledModel> {
+    fn model(&self, alpha: &[f64], from: Option<&CoupledModel>, _: f64) -> Result<CoupledModel> {
         CoupledModel::new_from(&with_profile(self.scene, alpha), from)
     }
 }
@@ -344,14 +357,25 @@ fn predicted(
 
 /// The profile's side of the joint stepping ([`ProfileMap`]): the target profile's residual
 /// (module docs), the marching update as the profile's part of the joint map, and the model of
-/// each new profile from the last one, counting the profile updates against the limit.
+/// each new profile from the last one, counting the profile updates against the limit. A
+/// profile at least [`ROUGH_PROFILE`] tolerances from the fixed point gets a model to its
+/// residual ([`ProfiledModels::model`]'s `accuracy`); a profile whose model is that rough does
+/// not settle (its residual counts at least the tolerance), so the settled model is resolved
+/// as finely as without it.
 struct Profile<'a> {
     models: &'a dyn ProfiledModels,
     options: &'a AttenuationOptions,
     speed_m_per_s: f64,
     updates: usize,
     last_change: f64,
+    /// Whether the current model was made to a trial profile's accuracy.
+    rough: bool,
 }
+
+/// Residual, in profile tolerances, above which a trial profile's model is made only to the
+/// profile's accuracy (the whole slider's normal grid to a share of it: the CG iterations of
+/// the grid re-solves fall by ≈ 2× on the paper's slider). Default 100.
+pub const ROUGH_PROFILE: f64 = 100.0;
 
 impl ProfileMap for Profile<'_> {
     fn target(&mut self, alpha: &[f64], power_w: &[f64]) -> Result<(f64, Vec<f64>)> {
@@ -362,7 +386,11 @@ impl ProfileMap for Profile<'_> {
             .zip(alpha)
             .fold(0.0, |m, (t, a)| f64::max(m, (t - a).abs()));
         let marched = marching_profile(lanes, power_w, alpha, self.options.power_in_w);
-        Ok((self.last_change, marched))
+        let residual = match self.rough {
+            true => self.last_change.max(self.options.tolerance),
+            false => self.last_change,
+        };
+        Ok((residual, marched))
     }
 
     fn tolerance(&self) -> f64 {
@@ -384,7 +412,10 @@ impl ProfileMap for Profile<'_> {
             });
         }
         self.updates += 1;
-        self.models.model(alpha, Some(from))
+        self.rough =
+            self.models.rough_models() && self.last_change > ROUGH_PROFILE * self.options.tolerance;
+        let accuracy = if self.rough { self.last_change } else { 0.0 };
+        self.models.model(alpha, Some(from), accuracy)
     }
 }
 
@@ -408,13 +439,14 @@ pub(crate) fn iterate_profile(
     let n = models.posts();
     let warm_fits = warm.filter(|w| w.alpha.len() == n);
     let alpha = warm_fits.map_or_else(|| vec![1.0; n], |w| w.alpha.clone());
-    let model = models.model(&alpha, warm_fits.map(|w| &w.model))?;
+    let model = models.model(&alpha, warm_fits.map(|w| &w.model), 0.0)?;
     let mut profile = Profile {
         models,
         options: o,
         speed_m_per_s,
         updates: 0,
         last_change: f64::INFINITY,
+        rough: false,
     };
     let periods = o.max_iterations + crate::model::MAX_PERIODS;
     let steady = model.steady_profiled(

@@ -38,8 +38,8 @@ use std::time::Instant;
 
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
-use static_contact::{ActiveSetOptions, ActiveSetSolver, ContactProblem};
 use slider_contact::Precision;
+use static_contact::{ActiveSetOptions, ActiveSetSolver, ContactProblem};
 
 use crate::anderson::Anderson;
 use crate::boxqp::{self, ActiveSet};
@@ -132,14 +132,14 @@ impl boxqp::SymmetricProduct for Tangential {
             Self::Operator { op, .. } => op.posts(),
         }
     }
-    fn product(&self, x: &[f64], y: &mut [f64]) {
+    fn product(&self, x: &[f64], y: &mut [f64], precision: Precision) {
         match self {
             Self::Dense(m) => {
                 let v = m * DVector::from_column_slice(x);
                 y.copy_from_slice(v.as_slice());
             }
             Self::Operator { op, k_ref } => {
-                op.apply(x, y);
+                op.apply_at(x, y, precision);
                 y.iter_mut().for_each(|v| *v *= k_ref);
             }
         }
@@ -152,7 +152,8 @@ impl Tangential {
             Self::Dense(m) => m * x,
             Self::Operator { .. } => {
                 let mut y = DVector::zeros(x.len());
-                boxqp::SymmetricProduct::product(self, x.as_slice(), y.as_mut_slice());
+                let double = Precision::Double;
+                boxqp::SymmetricProduct::product(self, x.as_slice(), y.as_mut_slice(), double);
                 y
             }
         }

@@ -25,7 +25,9 @@ fn options(stall_draw_w: f64, fraction: f64) -> AttenuationOptions {
 
 /// An ideal 10 × 5 lattice periodic in y on the energy-conserving wave: every row is one lane
 /// with P_in/5 and the same posts, so the slider is the strip of one row (row-summed
-/// compliances, a fifth of the preload, one lane with P_in) on the same wave. Measured: stall,
+/// compliances, a fifth of the preload, one lane with P_in) on the same wave. The fixed point
+/// to 1e-8 (the default 1e-6 lets the slider's trial profiles, whose normal grids are solved to
+/// their own accuracy, end ≈ 6e-7 from the strip's in no-load speed). Measured: stall,
 /// no-load speed and the curve within 1e-7, every post's amplitude within 1e-7.
 #[test]
 fn an_ideal_periodic_lattice_on_the_energy_conserving_wave_reproduces_the_strip() {
@@ -57,7 +59,8 @@ fn an_ideal_periodic_lattice_on_the_energy_conserving_wave_reproduces_the_strip(
     };
     let slider = SliderDynamics::new(&scene, &normal, Arc::new(ct.clone())).unwrap();
     let draw = slider.model().at_speed(0.0).unwrap().stator_power_w;
-    let o = options(draw, 1.2);
+    let mut o = options(draw, 1.2);
+    o.tolerance = 1e-8;
     let ours = slider.solve_attenuated(&normal, &o).unwrap();
 
     let row_sum = |c: &DMatrix<f64>| {

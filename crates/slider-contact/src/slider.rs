@@ -526,7 +526,7 @@ impl SliderModel {
     pub fn solve_phase(&self, preload_n: f64, phase_rad: Option<f64>) -> Result<SliderSnapshot> {
         let h = self.obstacle_heights(phase_rad);
         let sol = self
-            .solve_heights(preload_n, &h, None)
+            .solve_heights(preload_n, &h, None, self.params.solver)
             .map_err(|e| with_context(e, preload_n, phase_rad))?;
         Ok(snapshot(phase_rad, h, sol))
     }
@@ -538,12 +538,14 @@ impl SliderModel {
     /// deflection subtracted): the static stage's solve, also used by the coupled dynamics of
     /// the whole slider at every grid phase. `start_n`: forces (N) to start the solve from,
     /// e.g. the solution of nearby heights (the same solution to the tolerance, fewer
-    /// iterations); `None`: equal forces.
+    /// iterations); `None`: equal forces. `solver`: the CG's tolerance and iteration limit (the
+    /// static stage's are `params.solver`).
     pub fn solve_heights(
         &self,
         preload_n: f64,
         h: &[f64],
         start_n: Option<&[f64]>,
+        solver: CgOptions,
     ) -> Result<CgSolution> {
         if h.len() != self.operator.len() {
             return Err(invalid(
@@ -554,13 +556,9 @@ impl SliderModel {
         }
         let scale = self.length_scale(preload_n, h);
         match &self.free_back {
-            None => ConstrainedCg::new(self.params.solver).solve_from(
-                &self.operator,
-                h,
-                preload_n,
-                scale,
-                start_n,
-            ),
+            None => {
+                ConstrainedCg::new(solver).solve_from(&self.operator, h, preload_n, scale, start_n)
+            }
             Some(back) => {
                 // gap = z + θ·φ − h + (C + G) f + w_load: the load's deflection lowers the obstacle.
                 let shifted: Vec<f64> = h
@@ -579,7 +577,7 @@ impl SliderModel {
                     PlatePreconditioner::new(&back.plate, self.operator.parts().total_m_per_n())
                 });
                 let pre = pre.as_mut().map(|p| p as &mut dyn ContactPreconditioner);
-                BalancedCg::new(self.params.solver)
+                BalancedCg::new(solver)
                     .solve_preconditioned(&op, pre, &shifted, preload_n, scale, &back.arms, start_n)
             }
         }

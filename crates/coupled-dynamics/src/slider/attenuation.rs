@@ -72,6 +72,14 @@ impl AttenuatedSlider {
     }
 }
 
+/// Tolerance of a trial profile's normal solves (their scaled complementarity residual, which
+/// measures forces of the mean force and gaps of the wave amplitude) over the profile's own
+/// residual max |Δα|: a profile that far from the fixed point moves every obstacle by up to
+/// |Δα| A₀, and so every normal force by about that share, so resolving the forces finer than
+/// a tenth of it only costs CG iterations. The static model's tolerance applies where it is
+/// looser (a profile near the fixed point). Default 0.1.
+pub const PROFILE_NORMAL_SHARE: f64 = 0.1;
+
 /// The models of the whole slider's amplitude profiles and the lanes of its rows.
 struct SliderModels<'a> {
     dynamics: &'a SliderDynamics,
@@ -121,7 +129,17 @@ impl ProfiledModels for SliderModels<'_> {
     fn posts(&self) -> usize {
         self.dynamics.model.scene().post_x_m.len()
     }
-    fn model(&self, alpha: &[f64], from: Option<&CoupledModel>) -> Result<CoupledModel> {
+    fn rough_models(&self) -> bool {
+        true
+    }
+    /// The normal grid to [`PROFILE_NORMAL_SHARE`] of the profile's `accuracy` where that is
+    /// looser than the static model's tolerance.
+    fn model(
+        &self,
+        alpha: &[f64],
+        from: Option<&CoupledModel>,
+        accuracy: f64,
+    ) -> Result<CoupledModel> {
         let mut scene = self.dynamics.scene.clone();
         scene.amplitude_scale = self.full(alpha);
         // The nearby profile's normal forces start each phase's solve.
@@ -130,7 +148,8 @@ impl ProfiledModels for SliderModels<'_> {
                 .map(|j| self.full(&m.normal_forces_n(j)))
                 .collect::<Vec<_>>()
         });
-        let grid = NormalGrid::solve(&scene, self.normal, start.as_deref())?;
+        let tolerance = (accuracy > 0.0).then_some(PROFILE_NORMAL_SHARE * accuracy);
+        let grid = NormalGrid::solve(&scene, self.normal, start.as_deref(), tolerance)?;
         self.grids
             .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let on = SliderDynamics::on_grid(

@@ -320,12 +320,15 @@ pub trait NormalContact: Sync {
     fn self_compliance_m_per_n(&self) -> f64;
     /// Post forces f_i ≥ 0 (N, lattice order) and the rigid approach z (m) for obstacle
     /// heights h (m) under the preload (N), the solve started from the forces `start_n` (N,
-    /// e.g. the solution of nearby heights) if given: the same solution to the tolerance.
+    /// e.g. the solution of nearby heights) if given: the same solution to the tolerance, the
+    /// contact's own or the looser `tolerance` if given (its scaled complementarity residual,
+    /// `slider_contact::CgOptions::tolerance`).
     fn solve_contact(
         &self,
         heights_m: &[f64],
         preload_n: f64,
         start_n: Option<&[f64]>,
+        tolerance: Option<f64>,
     ) -> Result<(Vec<f64>, f64)>;
 }
 
@@ -341,9 +344,19 @@ impl NormalContact for SliderModel {
         heights_m: &[f64],
         preload_n: f64,
         start_n: Option<&[f64]>,
+        tolerance: Option<f64>,
     ) -> Result<(Vec<f64>, f64)> {
-        let s = self.solve_heights(preload_n, heights_m, start_n)?;
+        let solver = loosened(self.params.solver, tolerance);
+        let s = self.solve_heights(preload_n, heights_m, start_n, solver)?;
         Ok((s.force_n, s.reference_height_m))
+    }
+}
+
+/// `options` with the tolerance `tolerance` where that is looser.
+fn loosened(options: CgOptions, tolerance: Option<f64>) -> CgOptions {
+    CgOptions {
+        tolerance: tolerance.map_or(options.tolerance, |t| t.max(options.tolerance)),
+        ..options
     }
 }
 
@@ -372,8 +385,9 @@ impl<C: ComplianceOperator + Sync> NormalContact for RigidBackContact<C> {
         heights_m: &[f64],
         preload_n: f64,
         start_n: Option<&[f64]>,
+        tolerance: Option<f64>,
     ) -> Result<(Vec<f64>, f64)> {
-        let s = ConstrainedCg::new(self.options).solve_from(
+        let s = ConstrainedCg::new(loosened(self.options, tolerance)).solve_from(
             &self.operator,
             heights_m,
             preload_n,
@@ -418,11 +432,13 @@ struct NormalGrid {
 impl NormalGrid {
     /// Validates the scene and solves the normal contact at every grid phase with `normal`
     /// (in parallel over the phases), each phase's solve started from `start`'s forces at that
-    /// phase (full lattice order, e.g. the grid of a nearby amplitude profile) if given.
+    /// phase (full lattice order, e.g. the grid of a nearby amplitude profile) if given, to
+    /// the contact's own tolerance or the looser `tolerance` if given.
     fn solve(
         scene: &SliderScene,
         normal: &dyn NormalContact,
         start: Option<&[Vec<f64>]>,
+        tolerance: Option<f64>,
     ) -> Result<Self> {
         scene.validate()?;
         let n = scene.geometry.len();
@@ -440,7 +456,8 @@ impl NormalGrid {
             .map(|j| {
                 let theta = scene.start_phase_rad + 2.0 * PI * j as f64 / m as f64;
                 let from = start.and_then(|grid| grid.get(j)).map(Vec::as_slice);
-                normal.solve_contact(&scene.obstacle_heights_m(theta), scene.preload_n, from)
+                let heights_m = scene.obstacle_heights_m(theta);
+                normal.solve_contact(&heights_m, scene.preload_n, from, tolerance)
             })
             .collect::<Result<Vec<_>>>()?;
         let (normals_n, approach_m): (Vec<Vec<f64>>, Vec<f64>) = grid.into_iter().unzip();
@@ -485,7 +502,7 @@ impl SliderDynamics {
         normal: &dyn NormalContact,
         tangential: Arc<dyn ComplianceProduct>,
     ) -> Result<Self> {
-        let grid = NormalGrid::solve(scene, normal, None)?;
+        let grid = NormalGrid::solve(scene, normal, None, None)?;
         Self::on_grid(scene, grid, tangential, None)
     }
 
@@ -550,7 +567,7 @@ impl SliderDynamics {
         scene.validate()?;
         let spec = static_model.params.operator_spec();
         let kernel = TangentialKernel::new(&spec, tangential_near_field)?;
-        let grid = NormalGrid::solve(scene, static_model, None)?;
+        let grid = NormalGrid::solve(scene, static_model, None, None)?;
         let mirror = Mirror::of(scene, &grid.normals_n).filter(|_| use_mirror);
         let tangential: Arc<dyn ComplianceProduct> = match mirror {
             Some(_) => Arc::new(kernel.mirror_operator(&spec.geometry)?),
