@@ -516,13 +516,16 @@ impl CoupledModel {
     /// (N, scene order) and `approach_m[j]` the rigid approach (m) at grid phase j = 0..M
     /// (θ_j = start_phase + 2πj/M), `tangential` the tangential compliance C_t (m/N) as a
     /// product, `k_ref` the force scale's stiffness (N/m). The scene's dense compliances are not
-    /// read (they may be empty); its settings are validated.
+    /// read (they may be empty); its settings are validated. `start`: a model of the same posts
+    /// and phase grid (another amplitude profile's), whose table of the wave's unit shape is
+    /// taken instead of evaluated again (the same values).
     pub fn from_normal_grid(
         scene: &CoupledScene,
         k_ref_n_per_m: f64,
         normals_n: Vec<Vec<f64>>,
         approach_m: Vec<f64>,
         tangential: Arc<dyn ComplianceProduct>,
+        start: Option<&CoupledModel>,
     ) -> Result<Self> {
         scene.validate_settings()?;
         let started = Instant::now();
@@ -568,6 +571,12 @@ impl CoupledModel {
             op: tangential,
             k_ref: k_ref_n_per_m,
         };
+        let sigma = scene.wave_direction.sign();
+        let k = scene.wave.wavenumber_rad_per_m();
+        let kx: Vec<f64> = scene.post_x_m.iter().map(|x| sigma * (k * x)).collect();
+        let unit = start
+            .map(|s| s.unit_wave.clone())
+            .filter(|u| u.fits(scene.start_phase_rad, &kx, scene.steps_per_period));
         Ok(Self::assemble(
             scene,
             k_ref_n_per_m,
@@ -575,7 +584,7 @@ impl CoupledModel {
             approach,
             ct,
             started,
-            None,
+            unit,
         ))
     }
 

@@ -157,6 +157,7 @@ impl ProfiledModels for SliderModels<'_> {
             grid,
             self.dynamics.tangential.clone(),
             self.dynamics.mirror,
+            Some(from.unwrap_or(&self.dynamics.model)),
         )?;
         Ok(on.model)
     }

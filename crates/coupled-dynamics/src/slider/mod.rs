@@ -503,17 +503,19 @@ impl SliderDynamics {
         tangential: Arc<dyn ComplianceProduct>,
     ) -> Result<Self> {
         let grid = NormalGrid::solve(scene, normal, None, None)?;
-        Self::on_grid(scene, grid, tangential, None)
+        Self::on_grid(scene, grid, tangential, None, None)
     }
 
     /// The model on a solved normal grid: on every post, or with `mirror` on the folded
     /// lattice (`tangential` then the folded C_m, the normal forces and the scene's per-post
-    /// data restricted to its rows, strip share ½).
+    /// data restricted to its rows, strip share ½). `start`: a model of the same posts (another
+    /// amplitude profile's), whose wave table the new model takes.
     fn on_grid(
         scene: &SliderScene,
         grid: NormalGrid,
         tangential: Arc<dyn ComplianceProduct>,
         mirror: Option<Mirror>,
+        start: Option<&CoupledModel>,
     ) -> Result<Self> {
         let mut settings = scene.coupled_settings();
         let mut normals = grid.normals_n;
@@ -531,6 +533,7 @@ impl SliderDynamics {
             normals,
             grid.approach_m,
             tangential.clone(),
+            start,
         )?;
         model.set_lattice_rows(mirror.map_or(scene.geometry.posts_y, |m| m.half_posts_y()));
         Ok(Self {
@@ -573,7 +576,7 @@ impl SliderDynamics {
             Some(_) => Arc::new(kernel.mirror_operator(&spec.geometry)?),
             None => Arc::new(kernel.operator()),
         };
-        let mut out = Self::on_grid(scene, grid, tangential, mirror)?;
+        let mut out = Self::on_grid(scene, grid, tangential, mirror, None)?;
         out.dundurs_beta = Some(slider_contact::dundurs_beta(&spec));
         Ok(out)
     }
