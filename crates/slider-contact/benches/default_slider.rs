@@ -10,7 +10,7 @@
 //! `cargo run -p slider-contact --profile test --example speed`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use slider_contact::{ComplianceOperator, Mechanism, SliderModel, SliderParams, run};
+use slider_contact::{ComplianceOperator, Mechanism, Precision, SliderModel, SliderParams, run};
 
 fn lattice(side_x: usize, side_y: usize) -> SliderParams {
     SliderParams {
@@ -42,7 +42,8 @@ fn default_slider(c: &mut Criterion) {
 }
 
 /// One product C·f of the default slider's lattice operator (10 000 posts, the zero-padded FFT
-/// convolution every CG iteration of the static and the coupled solves applies).
+/// convolution every CG iteration of the static and the coupled solves applies), in double and
+/// in single precision (`Precision::Single`: f32 transforms, f64 input and output).
 fn operator_product(c: &mut Criterion) {
     let model = SliderModel::build(&SliderParams::default()).unwrap();
     let n = model.operator.len();
@@ -51,6 +52,9 @@ fn operator_product(c: &mut Criterion) {
     let mut group = c.benchmark_group("operator_product");
     group.bench_function("apply_10000_posts", |b| {
         b.iter(|| model.operator.apply(&force, &mut out))
+    });
+    group.bench_function("apply_10000_posts_single", |b| {
+        b.iter(|| model.operator.apply_at(&force, &mut out, Precision::Single))
     });
     group.finish();
 }
