@@ -36,12 +36,13 @@
 //! conditions. No factor: the cost is (Newton steps) × (CG iterations) products with A. A x
 //! between Newton steps is the CG's running one (updated with each A p: no product of its own,
 //! round-off ≈ 1e-15 of the force scale); a solution is accepted only on a fresh product.
-//! Mixed precision: the inner products A p of an inexact step's CG are single-precision
-//! ([`Precision::Single`]: the lattice's f32 transforms, ≈ 1e-7 of ‖A‖‖p‖), every CG's first
-//! product (its residual) and every product of a step that goes to the tolerance are double,
-//! so the f32 error only perturbs a step whose solution predicts the next sets, and each CG
-//! restarts from a double residual (iterative refinement). All-single CGs were measured too:
-//! their drift in the running residual costs ≈ 35 % more products on the paper's slider.
+//! Mixed precision: the inner products A p of an inexact step's CG are in the caller's
+//! precision (`inexact`; [`Precision::Single`]: the lattice's f32 transforms, ≈ 1e-7 of
+//! ‖A‖‖p‖), every CG's first product (its residual) and every product of a step that goes to
+//! the tolerance are double, so the f32 error only perturbs a step whose solution predicts the
+//! next sets, and each CG restarts from a double residual (iterative refinement). All-single
+//! CGs were measured too: their drift in the running residual costs ≈ 35 % more products on
+//! the paper's slider.
 
 use nalgebra::{DMatrix, DVector};
 use slider_contact::Precision;
@@ -472,7 +473,8 @@ pub trait SymmetricProduct: Sync {
 
 /// [`solve`] with A given only by its product (module doc, matrix-free variant): `active.sets`
 /// is the warm start of the sets (its factor is not used), `start` the first guess of the free
-/// unknowns (e.g. the previous step's solution). [`Unsolved`] (with the unknown that did not
+/// unknowns (e.g. the previous step's solution), `inexact` the precision of the inexact steps'
+/// inner products (module doc, mixed precision). [`Unsolved`] (with the unknown that did not
 /// settle) if the tolerance is not reached.
 pub fn solve_operator(
     a: &dyn SymmetricProduct,
@@ -483,6 +485,7 @@ pub fn solve_operator(
     start: &DVector<f64>,
     scale: f64,
     tolerance: f64,
+    inexact: Precision,
 ) -> std::result::Result<BoxSolution, Unsolved> {
     let n = b.len();
     let scale = scale.max(1e-300);
@@ -498,16 +501,19 @@ pub fn solve_operator(
         iterations += 1;
         hold_bound(active, lo, hi, &mut x);
         let free: Vec<bool> = active.sets.iter().map(|s| *s == Bound::Free).collect();
-        let reduction = if exact || step >= MAX_INEXACT_STEPS {
-            0.0
+        let (reduction, inner) = if exact || step >= MAX_INEXACT_STEPS {
+            (0.0, Precision::Double)
         } else {
-            INEXACT_CG_REDUCTION
+            (INEXACT_CG_REDUCTION, inexact)
         };
-        iterations += conjugate_gradient(a, b, &free, &mut x, &mut ax, cg_tolerance, reduction)
-            .map_err(|(r, worst)| Unsolved {
-                iterations,
-                residual: r / scale,
-                worst: Some(worst),
+        let cg = (cg_tolerance, reduction, inner);
+        iterations +=
+            conjugate_gradient(a, b, &free, &mut x, &mut ax, cg).map_err(|(r, worst)| {
+                Unsolved {
+                    iterations,
+                    residual: r / scale,
+                    worst: Some(worst),
+                }
             })?;
         let mut lambda = b - &ax;
         residual = natural_residual(&x, &lambda, lo, hi) / scale;
@@ -562,9 +568,8 @@ fn hold_bound(active: &mut ActiveSet, lo: &[f64], hi: &[f64], x: &mut DVector<f6
 /// CG on the free unknowns of A x = b (the bound ones held): x updated in place, `ax` = A x
 /// (a product at the start, then updated with every step's A p, so the caller needs no
 /// product of its own).
-/// Stops at the residual max(`tolerance`, `reduction` × the first residual); with a
-/// `reduction` (an inexact step) the products of its iterations are single-precision (module
-/// docs, mixed precision). Returns the
+/// Stops at the residual max(`tolerance`, `reduction` × the first residual); the products of
+/// its iterations in `inner` (the first is double: module docs, mixed precision). Returns the
 /// iterations, or the residual reached and the unknown that carries it if the iteration limit
 /// is hit or the block is not positive definite.
 fn conjugate_gradient(
@@ -573,8 +578,7 @@ fn conjugate_gradient(
     free: &[bool],
     x: &mut DVector<f64>,
     ax: &mut DVector<f64>,
-    tolerance: f64,
-    reduction: f64,
+    (tolerance, reduction, inner): (f64, f64, Precision),
 ) -> std::result::Result<usize, (f64, usize)> {
     let n = b.len();
     let masked = |v: &mut DVector<f64>| {
@@ -596,10 +600,6 @@ fn conjugate_gradient(
         if r.amax() <= tolerance {
             return Ok(k);
         }
-        let inner = match reduction > 0.0 {
-            true => Precision::Single,
-            false => Precision::Double,
-        };
         a.product(p.as_slice(), ap.as_mut_slice(), inner);
         // p is zero on the bound unknowns: pᵀA p needs no mask.
         let pap = p.dot(&ap);
@@ -734,6 +734,7 @@ mod tests {
                 &DVector::zeros(n),
                 1.0,
                 1e-13,
+                Precision::Single,
             )
             .unwrap();
             assert!(

@@ -880,6 +880,32 @@ struct TipState {
     /// The last step's force change (the matrix-free solve's first guess is force + change:
     /// exact for tips whose force ramps linearly).
     change: DVector<f64>,
+    /// Precision of the matrix-free solve's inexact steps this period ([`inexact_precision`]).
+    inexact: Precision,
+}
+
+/// Tips' change over the last period, in periodicity tolerances, above which a period's
+/// matrix-free step solves take single-precision inner products in their inexact steps
+/// (`boxqp` mixed precision). Nearer periodicity they are double: single products perturb
+/// each period's path by ≈ 1e-7, which flips the set of a post whose multiplier lies within the
+/// step tolerance of zero from one period to the next, so that the modes never repeat (the
+/// paper's nominal slider stepped 68 periods at 0.75 v₀ instead of 13). Default 10.
+pub const SINGLE_PRECISION_CHANGE: f64 = 10.0;
+/// Smallest periodicity tolerance (of the friction scale; 100× the step tolerance) under which
+/// the inexact steps may take single-precision products: the studies' 1e-4 (steps to 1e-6)
+/// does; the dynamic stage's 1e-8 (steps to 1e-10) does not, since there the f32 error is
+/// within three decades of what the steps resolve and a small scattered lattice's amplitude
+/// fixed point then stalled at 3e-4. Default 1e-5.
+pub const SINGLE_PRECISION_TOLERANCE: f64 = 1e-5;
+
+/// The precision of a period's inexact steps after a period whose tips changed by `change`
+/// (of the friction scale) under the periodicity tolerance `tolerance`.
+fn inexact_precision(change: f64, tolerance: f64) -> Precision {
+    let far = change > SINGLE_PRECISION_CHANGE * tolerance;
+    match far && tolerance >= SINGLE_PRECISION_TOLERANCE {
+        true => Precision::Single,
+        false => Precision::Double,
+    }
 }
 
 /// The tips' state at the start of a steady period (forces, modes, the contact solver's warm
@@ -1089,6 +1115,7 @@ impl CoupledModel {
                     &(&state.force + &state.change),
                     scale,
                     tolerance,
+                    state.inexact,
                 ),
             };
             let solution = solved.map_err(|u| CoupledError::NotConverged {
@@ -1418,6 +1445,7 @@ impl CoupledModel {
             marks.push(ints);
             let difference = &state.force - &previous.0;
             let change = difference.amax();
+            state.inexact = inexact_precision(change / friction_scale, self.periodic_tolerance);
             let same_modes = state.mode == previous.1;
             if periods >= 2 && change <= self.periodic_tolerance * friction_scale && same_modes {
                 converged = true;
@@ -1483,6 +1511,8 @@ impl CoupledModel {
             let alpha = model.profile();
             let (residual, target) = map.target(&alpha, &power_w)?;
             let settled = residual < map.tolerance();
+            let change = (&state.force - &start_force).amax() / model.friction_scale();
+            state.inexact = inexact_precision(change, model.periodic_tolerance);
             let periodic = period >= 2
                 && (&state.force - &start_force).amax()
                     <= model.periodic_tolerance * model.friction_scale()
@@ -1600,6 +1630,7 @@ impl CoupledModel {
             mode: vec![PostMode::Separated; n],
             active: ActiveSet::new(n),
             change: DVector::zeros(n),
+            inexact: inexact_precision(f64::INFINITY, self.periodic_tolerance),
         }
     }
 
