@@ -1,7 +1,8 @@
 //! The compliance operator C of all N posts of the slider on their square lattice, applied as a
 //! zero-padded FFT convolution in O(N log N) (DC-FFT: S. Liu, Q. Wang & G. Liu, Wear 243 (2000)
 //! 101): C_ij depends only on the lattice offset of posts i and j, so C·f is a linear (not
-//! circular) 2D convolution, computed exactly on a grid padded to 2n_x × 2n_y.
+//! circular) 2D convolution, computed exactly on a grid padded to the smallest 3-smooth
+//! lengths ≥ 2n − 1 ([`padded_length`]).
 //!
 //! **Two scales.** With r the centre distance of posts i ≠ j and a the post radius:
 //!
