@@ -571,12 +571,6 @@ impl CoupledModel {
             op: tangential,
             k_ref: k_ref_n_per_m,
         };
-        let sigma = scene.wave_direction.sign();
-        let k = scene.wave.wavenumber_rad_per_m();
-        let kx: Vec<f64> = scene.post_x_m.iter().map(|x| sigma * (k * x)).collect();
-        let unit = start
-            .map(|s| s.unit_wave.clone())
-            .filter(|u| u.fits(scene.start_phase_rad, &kx, scene.steps_per_period));
         Ok(Self::assemble(
             scene,
             k_ref_n_per_m,
@@ -584,10 +578,12 @@ impl CoupledModel {
             approach,
             ct,
             started,
-            unit,
+            start.map(|s| s.unit_wave.clone()),
         ))
     }
 
+    /// The model on its normals; `unit`: another model's wave table, taken where it fits this
+    /// scene's posts and phase grid (else the table is evaluated).
     fn assemble(
         scene: &CoupledScene,
         k_ref: f64,
@@ -608,6 +604,7 @@ impl CoupledModel {
             scene.amplitude_scale.clone()
         };
         let unit = unit
+            .filter(|u| u.fits(scene.start_phase_rad, &kx, normals.len()))
             .unwrap_or_else(|| Arc::new(UnitWave::new(scene.start_phase_rad, &kx, normals.len())));
         let wave_cos = unit
             .cos
@@ -1511,11 +1508,10 @@ impl CoupledModel {
             let alpha = model.profile();
             let (residual, target) = map.target(&alpha, &power_w)?;
             let settled = residual < map.tolerance();
-            let change = (&state.force - &start_force).amax() / model.friction_scale();
-            state.inexact = inexact_precision(change, model.periodic_tolerance);
+            let (change, friction) = ((&state.force - &start_force).amax(), model.friction_scale());
+            state.inexact = inexact_precision(change / friction, model.periodic_tolerance);
             let periodic = period >= 2
-                && (&state.force - &start_force).amax()
-                    <= model.periodic_tolerance * model.friction_scale()
+                && change <= model.periodic_tolerance * friction
                 && state.mode == start_modes;
             if settled && periodic {
                 let point = model.point(speed_m_per_s, v, &ints, true, period, stats);
