@@ -581,45 +581,72 @@ fn conjugate_gradient(
     (tolerance, reduction, inner): (f64, f64, Precision),
 ) -> std::result::Result<usize, (f64, usize)> {
     let n = b.len();
-    let masked = |v: &mut DVector<f64>| {
-        for i in 0..n {
-            if !free[i] {
-                v[i] = 0.0;
-            }
-        }
-    };
     a.product(x.as_slice(), ax.as_mut_slice(), Precision::Double);
     let mut r = b - &*ax;
-    masked(&mut r);
-    let tolerance = tolerance.max(reduction * r.amax());
+    for (ri, &f) in r.iter_mut().zip(free) {
+        if !f {
+            *ri = 0.0;
+        }
+    }
+    let mut r_max = r.amax();
+    let tolerance = tolerance.max(reduction * r_max);
     let limit = CG_ITERATIONS_PER_SQRT_N * ((n as f64).sqrt() as usize + 50);
     let mut p = r.clone();
     let mut rr = r.dot(&r);
     let mut ap = DVector::zeros(n);
     for k in 0..limit {
-        if r.amax() <= tolerance {
+        if r_max <= tolerance {
             return Ok(k);
         }
         a.product(p.as_slice(), ap.as_mut_slice(), inner);
         // p is zero on the bound unknowns: pᵀA p needs no mask.
         let pap = p.dot(&ap);
         if pap.is_nan() || pap <= 0.0 {
-            return Err((r.amax(), argmax_abs(r.iter().copied())));
+            return Err((r_max, argmax_abs(r.iter().copied())));
         }
         let alpha = rr / pap;
-        x.axpy(alpha, &p, 1.0);
-        ax.axpy(alpha, &ap, 1.0);
-        masked(&mut ap);
-        r.axpy(-alpha, &ap, 1.0);
-        let rr_new = r.dot(&r);
-        p = &r + &p * (rr_new / rr);
-        rr = rr_new;
+        let (rr_new, largest) = cg_update(alpha, free, &p, &ap, x, ax, &mut r);
+        let beta = rr_new / rr;
+        for (pi, &ri) in p.iter_mut().zip(r.iter()) {
+            *pi = ri + *pi * beta;
+        }
+        (rr, r_max) = (rr_new, largest);
     }
-    if r.amax() <= tolerance {
+    if r_max <= tolerance {
         Ok(limit)
     } else {
-        Err((r.amax(), argmax_abs(r.iter().copied())))
+        Err((r_max, argmax_abs(r.iter().copied())))
     }
+}
+
+/// One CG update in a single pass: x += α p, A x += α A p, r −= α A p on the free unknowns
+/// (r stays zero on the bound ones); returns rᵀr and max |r_i| of the new residual.
+fn cg_update(
+    alpha: f64,
+    free: &[bool],
+    p: &DVector<f64>,
+    ap: &DVector<f64>,
+    x: &mut DVector<f64>,
+    ax: &mut DVector<f64>,
+    r: &mut DVector<f64>,
+) -> (f64, f64) {
+    let n = free.len();
+    let (p, ap) = (&p.as_slice()[..n], &ap.as_slice()[..n]);
+    let (x, ax, r) = (
+        &mut x.as_mut_slice()[..n],
+        &mut ax.as_mut_slice()[..n],
+        &mut r.as_mut_slice()[..n],
+    );
+    let (mut rr, mut largest) = (0.0, 0.0_f64);
+    for i in 0..n {
+        x[i] += alpha * p[i];
+        ax[i] += alpha * ap[i];
+        let ri = r[i] - alpha * ap[i] * f64::from(u8::from(free[i]));
+        r[i] = ri;
+        rr += ri * ri;
+        largest = largest.max(ri.abs());
+    }
+    (rr, largest)
 }
 
 /// Projected Gauss–Seidel from `start` (else zero), clamped into the box.

@@ -548,8 +548,8 @@ fn assert_books_balance(out: &design::MotorOutputs, what: &str) {
 /// The golden design's own baseline: 40 N on 10 × 10 posts of 0.4 mm, 5 nm of height scatter.
 /// The posts never separate and the slider all but locks (the lumped no-load speed ≈ 4e-8
 /// m/s), so the criterion's bound is infinite and `auto` picks the coupled model, whose
-/// steady period cannot close at such a speed: its unclosed books once gave an efficiency of
-/// 1.06 through the interpolants.
+/// steady period cannot close at such a speed (or, closed, books more output than stator
+/// power): its unclosed books once gave an efficiency of 1.06 through the interpolants.
 #[test]
 fn a_nearly_locked_design_keeps_its_energy_books_on_every_model_path() {
     let sample = |sets: &[&str]| {
@@ -602,9 +602,13 @@ fn a_nearly_locked_design_keeps_its_energy_books_on_every_model_path() {
         "model.coupled.steps_per_period=32",
     ]) {
         Ok(coupled) => assert_books_balance(&coupled, "coupled"),
+        // Refused with either reason a point's figures would not be the steady ones: the
+        // period did not close, or it books more output than stator power (at a few 1e-8 m/s
+        // both powers are within the step tolerance's bookkeeping of zero).
         Err(e) => assert!(
             e.to_string().contains("model.dynamics = \"coupled\"")
-                && e.to_string().contains("did not close"),
+                && (e.to_string().contains("did not close")
+                    || e.to_string().contains("its stator delivers")),
             "coupled refused naming the key and the cause: {e}"
         ),
     }

@@ -91,8 +91,8 @@ fn print_cost(c: &design::uq::UqCost) {
         let k = &c.coupled;
         println!(
             "cost of a coupled sample (wall on its thread, {} computed): normal grid {:.2} s, \
-             stall {:.2} s, no-load search {:.2} s, other points {:.2} s ({} periods at the \
-             points)",
+             stall {:.2} s, no-load search {:.2} s, other points {:.2} s ({} periods, every \
+             solved speed)",
             c.coupled_samples, k.normal_grid_s, k.stall_s, k.no_load_s, k.points_s, k.periods
         );
     }

@@ -279,11 +279,14 @@ pub struct StudyWarmStart {
     /// Coupled over lumped no-load speed of the run that left these states.
     no_load_ratio: f64,
     /// The run's stall thrust (N), no-load speed (m/s) and thrust slope −dF/dv at v₀ (N s/m,
-    /// the chord from the point below v₀): the next sample's first no-load speed and its
-    /// Newton step.
+    /// the chord from the point below v₀): the next sample's first no-load speed and, where
+    /// its curve ([`similar_no_load`]) gives none, its Newton step.
     stall_thrust_n: f64,
     no_load_m_per_s: f64,
     no_load_slope_n_s_per_m: f64,
+    /// The run's solved points as (speed m/s, thrust N), speed ascending, the stall first and
+    /// v₀'s last: the curve the next sample's is a scaled copy of ([`similar_no_load`]).
+    curve: Vec<(f64, f64)>,
 }
 
 /// Where one study curve's wall time went (s).
@@ -293,9 +296,10 @@ pub struct StudyTimes {
     pub normal_grid_s: f64,
     /// The stall point.
     pub stall_s: f64,
-    /// The no-load search.
+    /// The no-load search (with the curve points it solves as nodes of its root:
+    /// `lower_points`).
     pub no_load_s: f64,
-    /// The other points (v₀ and the curve points).
+    /// The other points (the curve points the search did not solve).
     pub points_s: f64,
 }
 
@@ -314,7 +318,8 @@ pub struct StudyCurve {
     /// The solved points, speed ascending: the stall first, v₀'s last (the solved speed nearest
     /// v₀, its thrust within [`NO_LOAD_THRUST_TOLERANCE`] of the stall's).
     pub curve: Vec<CoupledPoint>,
-    /// Wave periods stepped at the solved points (the no-load search's not counted).
+    /// Wave periods stepped at every solved speed (the stall, the no-load search's, the
+    /// points).
     pub periods: usize,
     /// Wall time (s) of the normal grid's contact solves, the stall, the no-load search and the
     /// other points.
@@ -374,7 +379,9 @@ pub fn study_curve(
     let stall_s = lap();
     let fractions = study_fractions(scene);
     let guess = lumped_no_load_m_per_s * warm.map_or(1.0, |w| w.no_load_ratio);
-    let search = match no_load_search(model, &stall, &stall_state, guess, &fractions, warm)? {
+    let exact = scene.model.curve_points.is_some();
+    let search = no_load_search(model, &stall, &stall_state, guess, &fractions, exact, warm)?;
+    let search = match search {
         Ok(search) => search,
         Err(unresolved) => return Ok(Err(unresolved)),
     };
@@ -383,7 +390,6 @@ pub fn study_curve(
         solved: search,
         speed_m_per_s: no_load,
     } = search;
-    let exact = scene.model.curve_points.is_some();
     let solved = match solve_points(model, no_load, &fractions, exact, &search, warm)? {
         Ok(solved) => solved,
         Err(unresolved) => return Ok(Err(unresolved)),
@@ -402,6 +408,10 @@ pub fn study_curve(
     };
     let search_periods: usize = search.iter().map(|s| s.0.periods).sum();
     let no_load_slope_n_s_per_m = chord_slope(&curve);
+    let solved_curve = curve
+        .iter()
+        .map(|p| (p.speed_m_per_s, p.thrust_n))
+        .collect();
     Ok(Ok(StudyCurve {
         stall_thrust_n: stall.thrust_n.max(0.0),
         no_load_speed_m_per_s: no_load,
@@ -420,6 +430,7 @@ pub fn study_curve(
             no_load_ratio: no_load / lumped_no_load_m_per_s,
             stall_thrust_n: stall.thrust_n,
             no_load_m_per_s: no_load,
+            curve: solved_curve,
         },
     }))
 }
@@ -570,11 +581,13 @@ impl StudySolver<'_> {
 /// Natural-residual tolerance of a study's step solves (relative to the friction scale); the
 /// periodicity rule is 100× it. The dynamic stage's 1e-10 resolves a curve to ≈ 1e-8; a band
 /// of several per cent needs far less, and every decade costs CG products in every step and
-/// periods to periodicity. Measured on the default slider (100 × 100 posts, 40 N) against
-/// 1e-10: the nominal's and a 5 nm sample's stall thrust, no-load speed, largest power and
-/// efficiency move by at most 8e-7 (relative); periods per sample 88 → 58.
-/// Default 1e-6.
-pub const STUDY_STEP_TOLERANCE: f64 = 1e-6;
+/// periods to periodicity. Measured on the default slider (100 × 100 posts, 40 N, 5 nm
+/// scatter): 1e-6 against 1e-10 moved the nominal's and a sample's stall thrust, no-load
+/// speed, largest power and efficiency by at most 8e-7 (relative), periods per sample 88 → 58;
+/// 1e-5 against 1e-6 moves four samples' by at most 2e-6 (stall thrust; the others by less than
+/// 1e-6), for 10 % less time per sample (fewer CG products per step; the periods are set by
+/// the amplitude profile's tolerance, [`STUDY_AMPLITUDE_TOLERANCE`]). Default 1e-5.
+pub const STUDY_STEP_TOLERANCE: f64 = 1e-5;
 /// Evaluations of a study's no-load search at most, besides its two first speeds. Default 6.
 const NO_LOAD_EVALUATIONS: usize = 6;
 
@@ -591,7 +604,8 @@ struct NoLoad {
 }
 
 /// The no-load speed v₀ of a study's curve: with the nominal run `warm`, its v₀ scaled by the
-/// stall thrusts and a Newton step ([`newton_start`]); else from the predicted `guess`, the
+/// stall thrusts, at the layout's last fraction below v₀, then on the nominal's curve scaled
+/// through it ([`similar_start`]); else from the predicted `guess`, the
 /// thrust at [`STUDY_SPEED_FRACTIONS`]' last fraction (0.92) of the guess and at the guess
 /// (each started from the stall's `stall_state`); then inverse
 /// interpolation F ↦ v through the last three solved speeds (a secant with two), kept inside
@@ -606,6 +620,7 @@ fn no_load_search(
     stall_state: &StudyState,
     guess: f64,
     fractions: &[f64],
+    exact: bool,
     warm: Option<&StudyWarmStart>,
 ) -> Result<Result<NoLoad, Unresolved>, PipelineError> {
     if stall.thrust_n <= 0.0 {
@@ -619,32 +634,19 @@ fn no_load_search(
         true => guess.min(11.0 * crest),
         false => 0.5 * crest,
     };
-    let mut solved: Vec<Solved> = Vec::with_capacity(NO_LOAD_EVALUATIONS + 2);
-    if let Some(first) = warm.and_then(|w| newton_start(model, stall, w).transpose()) {
-        solved = match first? {
-            Ok(first) => first,
-            Err(unresolved) => return Ok(Err(unresolved)),
-        };
-    }
-    let low = STUDY_SPEED_FRACTIONS[STUDY_SPEED_FRACTIONS.len() - 1];
-    let low_start = warm.and_then(|w| w.points.get(fractions.len().saturating_sub(2)));
-    let high_start = warm.and_then(|w| w.no_load.as_ref());
-    let starts = match solved.is_empty() {
-        true => vec![(low * guess, low_start), (guess, high_start)],
-        false => Vec::new(),
+    let mut solved = match first_speeds(model, stall, stall_state, guess, fractions, exact, warm)? {
+        Ok(solved) => solved,
+        Err(unresolved) => return Ok(Err(unresolved)),
     };
-    for (v, start) in starts {
-        let (point, state) = model.at_speed_from(v, Some(start.unwrap_or(stall_state)))?;
-        if let Err(unresolved) = accept(&point, crest) {
-            return Ok(Err(unresolved));
-        }
-        solved.push((point, state));
-    }
-    for _ in 0..=NO_LOAD_EVALUATIONS {
+    // The curve's points below the search's first speed, solved before a speed that refines a
+    // root already near zero (warm start, `auto` layout): nodes of the root's interpolation.
+    let mut lower: Option<Vec<Solved>> = None;
+    for _ in 0..=NO_LOAD_EVALUATIONS + 1 {
         let best = nearest_root(&solved);
         let next = next_speed(&solved, stall.thrust_n);
         let near_zero = solved[best].0.thrust_n.abs() <= NO_LOAD_THRUST_TOLERANCE * stall.thrust_n;
-        let interpolated = interpolated_root(solved.iter().map(|s| &s.0), stall.thrust_n)
+        let nodes = solved.iter().chain(lower.iter().flatten()).map(|s| &s.0);
+        let interpolated = interpolated_root(nodes, stall.thrust_n)
             .filter(|&(_, error)| near_zero && error <= STUDY_SPEED_TOLERANCE * crest);
         let stepped = (next - solved[best].0.speed_m_per_s).abs() <= STUDY_SPEED_TOLERANCE * crest;
         if stepped || interpolated.is_some() {
@@ -656,11 +658,21 @@ fn no_load_search(
                 Some((speed, _)) if !stepped => speed,
                 _ => root.0.speed_m_per_s,
             };
+            solved.extend(lower.into_iter().flatten());
             solved.push(root);
             return Ok(Ok(NoLoad {
                 solved,
                 speed_m_per_s,
             }));
+        }
+        if near_zero && lower.is_none() && warm.is_some() && !exact {
+            let speed = interpolated_root(solved.iter().map(|s| &s.0), stall.thrust_n)
+                .map_or(next, |r| r.0);
+            lower = match lower_points(model, speed, fractions, &solved, warm)? {
+                Ok(points) => Some(points),
+                Err(unresolved) => return Ok(Err(unresolved)),
+            };
+            continue;
         }
         let from = nearest_speed(&solved, next);
         let (point, state) = model.at_speed_from(next, Some(&solved[from].1))?;
@@ -673,41 +685,159 @@ fn no_load_search(
     Ok(Err(no_root(&solved[best].0, crest, stall)))
 }
 
-/// The first two speeds of a sample's no-load search from the nominal run `warm`: the
-/// nominal's v₀ scaled by the sample's stall thrust over the nominal's (the curve's thrust
-/// scale; the lumped model's v₀ is no predictor under scatter: it rises with σ while the
-/// coupled one falls, validation/whole-slider/bands), started from the nominal's v₀ state,
-/// then the Newton step from it with the nominal's slope at v₀. `None` without a usable
-/// nominal slope.
+/// The no-load search's first speeds: from the nominal run `warm` by [`similar_start`]; else
+/// [`STUDY_SPEED_FRACTIONS`]' last fraction of the predicted `guess` and the guess, each
+/// started from the nominal's state at that fraction, else from the stall's.
 #[allow(clippy::type_complexity)]
-fn newton_start(
+fn first_speeds(
+    model: &StudySolver<'_>,
+    stall: &CoupledPoint,
+    stall_state: &StudyState,
+    guess: f64,
+    fractions: &[f64],
+    exact: bool,
+    warm: Option<&StudyWarmStart>,
+) -> Result<Result<Vec<Solved>, Unresolved>, PipelineError> {
+    let below = match !exact && fractions.len() >= 2 {
+        true => Some(fractions.len() - 2),
+        false => None,
+    };
+    if let Some(first) =
+        warm.and_then(|w| similar_start(model, stall, w, fractions, below).transpose())
+    {
+        return first;
+    }
+    let crest = model.crest_speed_m_per_s();
+    let low = STUDY_SPEED_FRACTIONS[STUDY_SPEED_FRACTIONS.len() - 1];
+    let low_start = warm.and_then(|w| w.points.get(fractions.len().saturating_sub(2)));
+    let high_start = warm.and_then(|w| w.no_load.as_ref());
+    let mut solved = Vec::with_capacity(NO_LOAD_EVALUATIONS + 4);
+    for (v, start) in [(low * guess, low_start), (guess, high_start)] {
+        let (point, state) = model.at_speed_from(v, Some(start.unwrap_or(stall_state)))?;
+        if let Err(unresolved) = accept(&point, crest) {
+            return Ok(Err(unresolved));
+        }
+        solved.push((point, state));
+    }
+    Ok(Ok(solved))
+}
+
+/// The curve's points at `fractions` of the estimated no-load speed `no_load` below the
+/// search's first speed (which stands for the last fraction below v₀), each from `warm`'s
+/// state at the same fraction, else from the nearest solved speed's, and accepted
+/// ([`accept`]). Solved before the search refines a root that is already near zero, they are
+/// nodes of the interpolated root ([`interpolated_root`]: the three solved speeds with the
+/// least thrust) nearer than the stall, whose error estimate then often meets the tolerance
+/// without a further speed; [`solve_points`] takes them as its points at those fractions.
+fn lower_points(
+    model: &StudySolver<'_>,
+    no_load: f64,
+    fractions: &[f64],
+    solved: &[Solved],
+    warm: Option<&StudyWarmStart>,
+) -> Result<Result<Vec<Solved>, Unresolved>, PipelineError> {
+    let crest = model.crest_speed_m_per_s();
+    let mut points: Vec<Solved> = Vec::new();
+    for (k, f) in fractions
+        .iter()
+        .enumerate()
+        .take(fractions.len().saturating_sub(2))
+        .rev()
+    {
+        let v = f * no_load;
+        let from = match warm.and_then(|w| w.points.get(k)) {
+            Some(state) => state,
+            None => &solved[nearest_speed(solved, v)].1,
+        };
+        let (point, state) = model.at_speed_from(v, Some(from))?;
+        if let Err(unresolved) = accept(&point, crest) {
+            return Ok(Err(unresolved));
+        }
+        points.push((point, state));
+    }
+    Ok(Ok(points))
+}
+
+/// The first two speeds of a sample's no-load search from the nominal run `warm`, whose
+/// curve the sample's is taken to be a scaled copy of, F(v) = a·F_n(v/b): a is the stall
+/// thrusts' ratio (the curve's thrust scale) and b ≈ a first (the lumped model's v₀ is no
+/// predictor under scatter: it rises with σ while the coupled one falls,
+/// validation/whole-slider/bands). The first speed is the fraction `fractions[below]` of a·v₀ₙ
+/// (the layout's last point below v₀, so that it stands for that point: [`REUSE_WINDOW`];
+/// v₀ itself with no such point), started from the nominal's state at that fraction; its
+/// thrust then fixes b ([`similar_no_load`]) and the second speed is b·v₀ₙ, started from the
+/// first's state (the Newton step with the nominal's slope at v₀ where the nominal's curve
+/// does not bracket it). `None` without a usable nominal slope.
+#[allow(clippy::type_complexity)]
+fn similar_start(
     model: &StudySolver<'_>,
     stall: &CoupledPoint,
     warm: &StudyWarmStart,
+    fractions: &[f64],
+    below: Option<usize>,
 ) -> Result<Option<Result<Vec<Solved>, Unresolved>>, PipelineError> {
     let slope = warm.no_load_slope_n_s_per_m;
-    let (Some(start), true) = (
+    let (Some(no_load_start), true) = (
         warm.no_load.as_ref(),
         slope > 0.0 && warm.stall_thrust_n > 0.0 && warm.no_load_m_per_s > 0.0,
     ) else {
         return Ok(None);
     };
+    let ratio = stall.thrust_n / warm.stall_thrust_n;
+    let below = below.and_then(|k| Some((*fractions.get(k)?, warm.points.get(k)?)));
+    let (fraction, start) = below.unwrap_or((1.0, no_load_start));
     let crest = model.crest_speed_m_per_s();
-    let first = warm.no_load_m_per_s * stall.thrust_n / warm.stall_thrust_n;
+    let first = fraction * warm.no_load_m_per_s * ratio;
     let (point, state) = model.at_speed_from(first.min(11.0 * crest), Some(start))?;
     if let Err(unresolved) = accept(&point, crest) {
         return Ok(Some(Err(unresolved)));
     }
-    let second = point.speed_m_per_s + point.thrust_n / slope;
+    let second = similar_no_load(&warm.curve, warm.no_load_m_per_s, ratio, &point)
+        .unwrap_or(point.speed_m_per_s + point.thrust_n / slope);
     let mut solved = vec![(point, state)];
     if second > 0.0 && second.is_finite() {
-        let (point, state) = model.at_speed_from(second, Some(&solved[0].1))?;
+        let (point, state) = model.at_speed_from(second.min(11.0 * crest), Some(&solved[0].1))?;
         if let Err(unresolved) = accept(&point, crest) {
             return Ok(Some(Err(unresolved)));
         }
         solved.push((point, state));
     }
     Ok(Some(Ok(solved)))
+}
+
+/// The no-load speed b·v₀ₙ of a curve F(v) = `ratio`·F_n(v/b) through `point`, F_n the
+/// nominal `curve` ((speed, thrust), speed ascending, v₀'s point last) and v₀ₙ its
+/// `no_load` (m/s): u = v/b solves
+/// F_n(u) = F(v)/`ratio` on the quadratic through the nominal points around the bracket of
+/// that thrust (bisection), b = v/u. The quadratic's curvature carries the curve's bend
+/// between the point and v₀ that a Newton step with the slope at v₀ misses (default slider,
+/// 5 nm: first speed 0.90 v₀, the Newton step 2.0e-3 m/s short of v₀). `None` where the
+/// nominal curve does not bracket the thrust.
+fn similar_no_load(
+    curve: &[(f64, f64)],
+    no_load: f64,
+    ratio: f64,
+    point: &CoupledPoint,
+) -> Option<f64> {
+    let target = point.thrust_n / ratio;
+    let k = (1..curve.len()).find(|&k| (curve[k - 1].1 - target) * (curve[k].1 - target) <= 0.0)?;
+    let nodes = match k + 1 < curve.len() {
+        true => &curve[k - 1..=k + 1],
+        false => &curve[k.checked_sub(2)?..=k],
+    };
+    let (speeds, thrusts): (Vec<f64>, Vec<f64>) = nodes.iter().copied().unzip();
+    let excess = |u: f64| lagrange(&speeds, &thrusts, u) - target;
+    let (mut lo, mut hi) = (curve[k - 1].0, curve[k].0);
+    let rising = excess(lo) < 0.0;
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        match (excess(mid) < 0.0) == rising {
+            true => lo = mid,
+            false => hi = mid,
+        }
+    }
+    let u = 0.5 * (lo + hi);
+    (u > 0.0 && ratio > 0.0).then(|| point.speed_m_per_s * no_load / u)
 }
 
 /// The refusal of a no-load search that ended on `point`.
@@ -1144,6 +1274,36 @@ mod tests {
         );
     }
 
+    #[test]
+    fn the_no_load_speed_of_a_scaled_copy_of_the_nominal_curve_follows_from_one_point() {
+        // Nominal F_n = F₀(1 − (v/v₀)²) at the `auto` layout; the sample's F = a·F_n(v/b).
+        let v0 = 0.8;
+        let nominal: Vec<(f64, f64)> = [0.0]
+            .iter()
+            .chain(&STUDY_SPEED_FRACTIONS)
+            .chain(&[1.0])
+            .map(|f| (f * v0, point(f * v0).thrust_n))
+            .collect();
+        let (a, b) = (0.9, 0.93);
+        for v in [0.6 * b * v0, 0.9 * b * v0, 0.99 * b * v0] {
+            let mut sample = point(v / b);
+            sample.speed_m_per_s = v;
+            sample.thrust_n *= a;
+            let found = similar_no_load(&nominal, v0, a, &sample).unwrap();
+            assert!(
+                (found - b * v0).abs() < 1e-12,
+                "from {v} m/s: v₀ {found} against {}",
+                b * v0
+            );
+        }
+        let mut beyond = point(0.5);
+        beyond.thrust_n = 3.0;
+        assert!(
+            similar_no_load(&nominal, v0, a, &beyond).is_none(),
+            "a thrust above the nominal's stall over a has no bracket"
+        );
+    }
+
     /// The nearly locked slider's points whose periods did not close (a degenerate design of
     /// the design golden): thrust ≈ constant, efficiency 0.98–0.996 at the points and the
     /// stall's stator power a round-off below 0. Interpolating the stator power and dividing
@@ -1278,6 +1438,37 @@ mod tests {
             c.stator_power_w,
             c.thrust_n
         );
+    }
+
+    #[test]
+    fn a_sample_started_from_the_nominal_in_the_auto_layout_gives_its_cold_figures() {
+        // The warm search starts at the layout's last fraction below v₀ and solves the lower
+        // points before it refines the root: other speeds than the cold curve's, the same
+        // stall and v₀ to the tolerances, and maxima from interpolants through nearby nodes.
+        let (scene, nominal, t) = small_study(&[], false);
+        let warm = curve_of(&scene, &nominal, &t).warm;
+        let (_, sample, _) = small_study(&[], true);
+        let cold = curve_of(&scene, &sample, &t);
+        let started = study_curve(&scene, &sample, &t, 0.5, Some(&warm))
+            .unwrap()
+            .unwrap();
+        let close = |a: f64, b: f64, tolerance: f64, what: &str| {
+            assert!(
+                (a - b).abs() <= tolerance * b.abs(),
+                "{what}: warm {a}, cold {b}"
+            );
+        };
+        close(started.stall_thrust_n, cold.stall_thrust_n, 1e-4, "stall");
+        let v0 = (started.no_load_speed_m_per_s, cold.no_load_speed_m_per_s);
+        close(v0.0, v0.1, 1e-4, "no-load speed");
+        close(
+            started.max_output_power_w,
+            cold.max_output_power_w,
+            1e-3,
+            "power",
+        );
+        close(started.efficiency, cold.efficiency, 1e-3, "efficiency");
+        assert_eq!(started.curve.len(), cold.curve.len(), "the same layout");
     }
 
     #[test]
