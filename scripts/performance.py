@@ -384,6 +384,33 @@ def section_uq(quick):
             f"peak {rss:.0f} MB.", "", "```", cost, "```"]
 
 
+def section_uq_coupled(quick):
+    """`uq` with the whole slider's coupled model on the default slider, 5 nm height scatter."""
+    samples = 4 if quick else 50
+    started, before = time.time(), load()
+    run(["cargo", "build", "--release", "-q", "-p", "sawdrive-cli"])
+    binary = str(TARGET / "release" / "sawdrive")
+    args = ["uq", "--samples", str(samples), "--seed", "1", "--set", "static.model=slider",
+            "--set", "model.dynamics=coupled", "--set", 'scatter.posts.height_scatter=5 nm']
+    with tempfile.TemporaryDirectory() as scratch:
+        timing = f"{scratch}/time.txt"
+        out = run(["/usr/bin/time", "-o", timing, "-f", "%e %U %S"] + [binary] + args
+                  + ["--out", f"{scratch}/out"])
+        wall, user, system = (float(x) for x in open(timing).read().split()[-3:])
+    cost = [line for line in out.splitlines() if line.startswith("cost")]
+    failed = re.search(r"^(\d+) samples failed", out, re.M)
+    bands = [line for line in out.splitlines()
+             if re.match(r"(stall_thrust_n|no_load_speed_m_per_s|max_output_power_w|"
+                         r"efficiency) ", line)][-4:]
+    target = " (target: ≤ 600 s)" if samples == 50 else ""
+    return [stamp(started, before, "scripts/performance.sh --section uq-coupled"), "",
+            f"`sawdrive {shlex.join(args)}`: {samples} samples of the default slider (10 000 "
+            f"posts, 40 N) on the energy-conserving wave, every sample through the whole "
+            f"slider's coupled model: {wall:.1f} s wall{target}, {user + system:.1f} s CPU, "
+            f"{failed.group(1) if failed else '?'} failed. Columns: the deterministic nominal, "
+            f"then the samples' mean, P5, P50, P95.", "", "```"] + bands + cost + ["```"]
+
+
 def section_sharded(quick):
     command = ["scripts/slurm-speedup.sh", str(TARGET / "release" / "sawdrive"), "2"]
     started, before = time.time(), load()
@@ -615,6 +642,7 @@ SECTIONS = {
     "whole-slider-coupled": ("The whole slider's coupled curve", section_whole_slider_coupled,
                              False),
     "uq": ("UQ", section_uq, False),
+    "uq-coupled": ("UQ on the whole slider's coupled model", section_uq_coupled, True),
     "sharded": ("Sharded sweeps", section_sharded, False),
     "python": ("Python overhead", section_python, True),
     "peers": ("The FEM against tuned peers", section_peers, True),

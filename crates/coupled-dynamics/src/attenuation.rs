@@ -27,7 +27,9 @@
 //! profile: the profile moves every period, and the secant differences carry how the tips'
 //! relaxation and the profile act on each other, instead of the profile waiting for the tips to
 //! relax before each update. The normal problem is re-solved on each new profile from the old
-//! one's contact sets and factors. Once max|g(α) − α| < `tolerance` the profile stays and the
+//! one's contact sets and factors. Once max|g(α) − α| < ½ `tolerance`
+//! (`model::PROFILE_SETTLE_SHARE`: the residual drifts as the tips relax, and a profile that
+//! stayed just below the tolerance crossed it again) the profile stays and the
 //! acceleration runs on the tips alone (it resumes on both if the residual grows past the
 //! tolerance). The point is the first period that is periodic by the coupled model's rule
 //! (two periods stepped, the same modes, forces within 1e-11 of the friction scale) at a

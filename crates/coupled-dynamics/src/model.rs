@@ -903,10 +903,11 @@ pub const SINGLE_PRECISION_TOLERANCE: f64 = 1e-5;
 /// Share of the amplitude tolerance below which a profile's residual must fall before the
 /// profile stays ([`CoupledModel::steady_profiled`]); once it stays, it moves again only when
 /// the residual reaches the tolerance. The residual of a staying profile drifts as the tips
-/// relax to their periodic state; a profile that stayed just below the tolerance crossed it
-/// again and again (the paper's slider with 5 nm scatter: 9 periods at a speed 0.07 % from its
-/// start, 4 of them spent so). A point is still accepted at the first periodic period whose
-/// residual is below the tolerance, staying or not. Default 0.5.
+/// relax to their periodic state; a profile that stayed at 0.94 of the tolerance crossed it
+/// on the next period and moved again (the paper's slider with 5 nm scatter: 9 periods at a
+/// speed 0.07 % from its start, 4 of them after the profile first stayed; 8 with this rule).
+/// A point is still accepted at the first periodic period whose residual is below the
+/// tolerance, staying or not. Default 0.5.
 pub const PROFILE_SETTLE_SHARE: f64 = 0.5;
 
 /// The precision of a period's inexact steps after a period whose tips changed by `change`
