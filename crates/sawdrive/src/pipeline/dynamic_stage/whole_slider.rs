@@ -828,10 +828,10 @@ fn similar_no_load(
     let (speeds, thrusts): (Vec<f64>, Vec<f64>) = nodes.iter().copied().unzip();
     let excess = |u: f64| lagrange(&speeds, &thrusts, u) - target;
     let (mut lo, mut hi) = (curve[k - 1].0, curve[k].0);
-    let rising = excess(lo) < 0.0;
+    let short_at_lo = excess(lo) < 0.0;
     for _ in 0..60 {
         let mid = 0.5 * (lo + hi);
-        match (excess(mid) < 0.0) == rising {
+        match (excess(mid) < 0.0) == short_at_lo {
             true => lo = mid,
             false => hi = mid,
         }
