@@ -407,11 +407,12 @@ pub fn study_curve(
         None => curve_maxima(&curve),
     };
     let search_periods: usize = search.iter().map(|s| s.0.periods).sum();
-    let no_load_slope_n_s_per_m = chord_slope(&curve);
-    let solved_curve = curve
-        .iter()
-        .map(|p| (p.speed_m_per_s, p.thrust_n))
-        .collect();
+    let warm = StudyWarmStart {
+        posts,
+        no_load: search.last().map(|s| s.1.clone()),
+        no_load_ratio: no_load / lumped_no_load_m_per_s,
+        ..StudyWarmStart::of_curve(&curve, stall_state, solved.states, no_load)
+    };
     Ok(Ok(StudyCurve {
         stall_thrust_n: stall.thrust_n.max(0.0),
         no_load_speed_m_per_s: no_load,
@@ -421,18 +422,34 @@ pub fn study_curve(
         periods: stall.periods + search_periods + solved.periods,
         times_s,
         wave,
-        warm: StudyWarmStart {
-            posts,
-            stall: stall_state,
-            no_load: search.last().map(|s| s.1.clone()),
-            no_load_slope_n_s_per_m,
-            points: solved.states,
-            no_load_ratio: no_load / lumped_no_load_m_per_s,
-            stall_thrust_n: stall.thrust_n,
-            no_load_m_per_s: no_load,
-            curve: solved_curve,
-        },
+        warm,
     }))
+}
+
+impl StudyWarmStart {
+    /// The figures of a solved `curve` (stall first, v₀'s point last, v₀ = `no_load` m/s) with
+    /// the stall's and the points' states; no posts, no-load state or lumped ratio yet.
+    fn of_curve(
+        curve: &[CoupledPoint],
+        stall: StudyState,
+        points: Vec<StudyState>,
+        no_load: f64,
+    ) -> Self {
+        Self {
+            posts: 0,
+            stall,
+            no_load: None,
+            points,
+            no_load_ratio: f64::NAN,
+            stall_thrust_n: curve.first().map_or(0.0, |p| p.thrust_n),
+            no_load_m_per_s: no_load,
+            no_load_slope_n_s_per_m: chord_slope(curve),
+            curve: curve
+                .iter()
+                .map(|p| (p.speed_m_per_s, p.thrust_n))
+                .collect(),
+        }
+    }
 }
 
 /// The whole slider's coupled model of a study's sample on `static_model`: steps solved to
