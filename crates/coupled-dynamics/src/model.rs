@@ -901,8 +901,8 @@ pub const SINGLE_PRECISION_CHANGE: f64 = 1.0;
 /// fixed point then stalled at 3e-4. Default 1e-5.
 pub const SINGLE_PRECISION_TOLERANCE: f64 = 1e-5;
 /// Share of the amplitude tolerance below which a profile's residual must fall before the
-/// profile stays (the energy-conserving wave's steady period); once it stays, it moves again only when
-/// the residual reaches the tolerance. The residual of a staying profile drifts as the tips
+/// profile stays (the energy-conserving wave's steady period); once it stays, it moves again
+/// only when the residual reaches the tolerance. The residual of a staying profile drifts as the tips
 /// relax to their periodic state; a profile that stayed at 0.94 of the tolerance crossed it
 /// on the next period and moved again (the paper's slider with 5 nm scatter: 9 periods at a
 /// speed 0.07 % from its start, 4 of them after the profile first stayed; 8 with this rule).
