@@ -884,15 +884,14 @@ struct TipState {
 /// Tips' change over the last period, in periodicity tolerances, above which a period's
 /// matrix-free step solves take single-precision inner products in their inexact steps
 /// (`boxqp` mixed precision); a period after one whose tips changed by less than that is
-/// double. Single products perturb
-/// each period's path by ≈ 1e-7, which flips the set of a post whose multiplier lies within
-/// that of zero from one period to the next; at the studies' former periodicity tolerance of
-/// 1e-4 (steps to 1e-6), single up to the tolerance itself (0 tolerances) kept the modes from
-/// repeating (the paper's nominal slider stepped 68 periods at 0.75 v₀ instead of 13), and 10
-/// tolerances (1e-3) did not. At the studies' 1e-3 (steps to 1e-5), 1 tolerance (the same 1e-3
-/// of the friction scale) against 10: four samples of the paper's slider with 5 nm scatter
-/// stepped the same 55 periods each in 3 % less time, with the same results to 6 digits.
-/// Default 1.
+/// double. Single products perturb each period's path by ≈ 1e-7, which flips the set of a post
+/// whose multiplier lies within that of zero from one period to the next; at the studies'
+/// former periodicity tolerance of 1e-4 (steps to 1e-6), single up to the tolerance itself
+/// (0 tolerances) kept the modes from repeating (the paper's nominal slider stepped 68 periods
+/// at 0.75 v₀ instead of 13), and 10 tolerances (1e-3) did not. At the studies' 1e-3 (steps to
+/// 1e-5), 1 tolerance (the same 1e-3 of the friction scale) against 10: four samples of the
+/// paper's slider with 5 nm scatter stepped the same 55 periods each in 3 % less time, with
+/// the same results to 6 digits. Default 1.
 pub const SINGLE_PRECISION_CHANGE: f64 = 1.0;
 /// Smallest periodicity tolerance (of the friction scale; 100× the step tolerance) under which
 /// the inexact steps may take single-precision products: the studies' 1e-3 (steps to 1e-5)
@@ -902,9 +901,9 @@ pub const SINGLE_PRECISION_CHANGE: f64 = 1.0;
 pub const SINGLE_PRECISION_TOLERANCE: f64 = 1e-5;
 /// Share of the amplitude tolerance below which a profile's residual must fall before the
 /// profile stays (the energy-conserving wave's steady period); once it stays, it moves again
-/// only when the residual reaches the tolerance. The residual of a staying profile drifts as the tips
-/// relax to their periodic state; a profile that stayed at 0.94 of the tolerance crossed it
-/// on the next period and moved again (the paper's slider with 5 nm scatter: 9 periods at a
+/// only when the residual reaches the tolerance. The residual of a staying profile drifts as
+/// the tips relax to their periodic state; a profile that stayed at 0.94 of the tolerance
+/// crossed it on the next period and moved again (the paper's slider with 5 nm scatter: 9 periods at a
 /// speed 0.07 % from its start, 4 of them after the profile first stayed; 8 with this rule).
 /// A point is still accepted at the first periodic period whose residual is below the
 /// tolerance, staying or not. Default 0.5.

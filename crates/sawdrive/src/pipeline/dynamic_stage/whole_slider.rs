@@ -489,10 +489,10 @@ fn study_stall<'a>(
     warm: Option<&StudyWarmStart>,
 ) -> Result<Result<StudyStall<'a>, Unresolved>, PipelineError> {
     let constant = StudySolver::Constant(dynamics.model());
-    let (point, state) = constant.at_speed_from(0.0, warm.map(|w| &w.stall))?;
-    if let Err(unresolved) = accept(&point, constant.crest_speed_m_per_s()) {
-        return Ok(Err(unresolved));
-    }
+    let (point, state) = match constant.accepted_at(0.0, warm.map(|w| &w.stall))? {
+        Ok(solved) => solved,
+        Err(unresolved) => return Ok(Err(unresolved)),
+    };
     let rows = static_model.params.posts_y as f64 / f64::from(scene.motor.posts.count_y);
     let wave = attenuation::decide(scene, point.stator_power_w / rows)?;
     if !wave.on() {
@@ -507,10 +507,10 @@ fn study_stall<'a>(
     options.tolerance = STUDY_AMPLITUDE_TOLERANCE;
     let solver = StudySolver::Profiled(dynamics.profiles(static_model, &options)?);
     let from = warm.map_or(&state, |w| &w.stall);
-    let (point, state) = solver.at_speed_from(0.0, Some(from))?;
-    if let Err(unresolved) = accept(&point, solver.crest_speed_m_per_s()) {
-        return Ok(Err(unresolved));
-    }
+    let (point, state) = match solver.accepted_at(0.0, Some(from))? {
+        Ok(solved) => solved,
+        Err(unresolved) => return Ok(Err(unresolved)),
+    };
     Ok(Ok(StudyStall {
         solver,
         point,
@@ -560,6 +560,16 @@ impl StudySolver<'_> {
             StudySolver::Constant(model) => model.crest_speed_m_per_s(),
             StudySolver::Profiled(profiles) => profiles.crest_speed_m_per_s(),
         }
+    }
+
+    /// [`Self::at_speed_from`], the point accepted ([`accept`]) or the reason it is not.
+    fn accepted_at(
+        &self,
+        speed_m_per_s: f64,
+        from: Option<&StudyState>,
+    ) -> Result<Result<Solved, Unresolved>, PipelineError> {
+        let (point, state) = self.at_speed_from(speed_m_per_s, from)?;
+        Ok(accept(&point, self.crest_speed_m_per_s()).map(|()| (point, state)))
     }
 
     /// The steady point at `speed_m_per_s` from a neighbour's state: a constant-wave solve
@@ -692,11 +702,10 @@ fn no_load_search(
             continue;
         }
         let from = nearest_speed(&solved, next);
-        let (point, state) = model.at_speed_from(next, Some(&solved[from].1))?;
-        if let Err(unresolved) = accept(&point, crest) {
-            return Ok(Err(unresolved));
+        match model.accepted_at(next, Some(&solved[from].1))? {
+            Ok(point) => solved.push(point),
+            Err(unresolved) => return Ok(Err(unresolved)),
         }
-        solved.push((point, state));
     }
     let best = nearest_root(&solved);
     Ok(Err(no_root(&solved[best].0, crest, stall)))
@@ -724,17 +733,15 @@ fn first_speeds(
     {
         return first;
     }
-    let crest = model.crest_speed_m_per_s();
     let low = STUDY_SPEED_FRACTIONS[STUDY_SPEED_FRACTIONS.len() - 1];
     let low_start = warm.and_then(|w| w.points.get(fractions.len().saturating_sub(2)));
     let high_start = warm.and_then(|w| w.no_load.as_ref());
     let mut solved = Vec::with_capacity(NO_LOAD_EVALUATIONS + 4);
     for (v, start) in [(low * guess, low_start), (guess, high_start)] {
-        let (point, state) = model.at_speed_from(v, Some(start.unwrap_or(stall_state)))?;
-        if let Err(unresolved) = accept(&point, crest) {
-            return Ok(Err(unresolved));
+        match model.accepted_at(v, Some(start.unwrap_or(stall_state)))? {
+            Ok(point) => solved.push(point),
+            Err(unresolved) => return Ok(Err(unresolved)),
         }
-        solved.push((point, state));
     }
     Ok(Ok(solved))
 }
@@ -753,7 +760,6 @@ fn lower_points(
     solved: &[Solved],
     warm: Option<&StudyWarmStart>,
 ) -> Result<Result<Vec<Solved>, Unresolved>, PipelineError> {
-    let crest = model.crest_speed_m_per_s();
     let mut points: Vec<Solved> = Vec::new();
     for (k, f) in fractions
         .iter()
@@ -766,11 +772,10 @@ fn lower_points(
             Some(state) => state,
             None => &solved[nearest_speed(solved, v)].1,
         };
-        let (point, state) = model.at_speed_from(v, Some(from))?;
-        if let Err(unresolved) = accept(&point, crest) {
-            return Ok(Err(unresolved));
+        match model.accepted_at(v, Some(from))? {
+            Ok(point) => points.push(point),
+            Err(unresolved) => return Ok(Err(unresolved)),
         }
-        points.push((point, state));
     }
     Ok(Ok(points))
 }
@@ -805,19 +810,18 @@ fn similar_start(
     let (fraction, start) = below.unwrap_or((1.0, no_load_start));
     let crest = model.crest_speed_m_per_s();
     let first = fraction * warm.no_load_m_per_s * ratio;
-    let (point, state) = model.at_speed_from(first.min(11.0 * crest), Some(start))?;
-    if let Err(unresolved) = accept(&point, crest) {
-        return Ok(Some(Err(unresolved)));
-    }
+    let (point, state) = match model.accepted_at(first.min(11.0 * crest), Some(start))? {
+        Ok(solved) => solved,
+        Err(unresolved) => return Ok(Some(Err(unresolved))),
+    };
     let second = similar_no_load(&warm.curve, warm.no_load_m_per_s, ratio, &point)
         .unwrap_or(point.speed_m_per_s + point.thrust_n / slope);
     let mut solved = vec![(point, state)];
     if second > 0.0 && second.is_finite() {
-        let (point, state) = model.at_speed_from(second.min(11.0 * crest), Some(&solved[0].1))?;
-        if let Err(unresolved) = accept(&point, crest) {
-            return Ok(Some(Err(unresolved)));
+        match model.accepted_at(second.min(11.0 * crest), Some(&solved[0].1))? {
+            Ok(point) => solved.push(point),
+            Err(unresolved) => return Ok(Some(Err(unresolved))),
         }
-        solved.push((point, state));
     }
     Ok(Some(Ok(solved)))
 }
@@ -982,7 +986,6 @@ fn solve_points(
     search: &[Solved],
     warm: Option<&StudyWarmStart>,
 ) -> Result<Result<SolvedPoints, Unresolved>, PipelineError> {
-    let crest = model.crest_speed_m_per_s();
     let mut solved = SolvedPoints {
         points: Vec::with_capacity(fractions.len()),
         states: Vec::with_capacity(fractions.len()),
@@ -1001,10 +1004,10 @@ fn solve_points(
             Some((_, s)) => s.clone(),
             None => {
                 let from = warm.and_then(|w| w.points.get(k)).or(previous.as_ref());
-                let (point, state) = model.at_speed_from(v, from)?;
-                if let Err(unresolved) = accept(&point, crest) {
-                    return Ok(Err(unresolved));
-                }
+                let (point, state) = match model.accepted_at(v, from)? {
+                    Ok(solved) => solved,
+                    Err(unresolved) => return Ok(Err(unresolved)),
+                };
                 solved.periods += point.periods;
                 (point, state)
             }
