@@ -673,8 +673,9 @@ fn no_load_search(
         let next = next_speed(&solved, stall.thrust_n);
         let near_zero = solved[best].0.thrust_n.abs() <= NO_LOAD_THRUST_TOLERANCE * stall.thrust_n;
         let nodes = solved.iter().chain(lower.iter().flatten()).map(|s| &s.0);
-        let interpolated = interpolated_root(nodes, stall.thrust_n)
-            .filter(|&(_, error)| near_zero && error <= STUDY_SPEED_TOLERANCE * crest);
+        let estimate = interpolated_root(nodes, stall.thrust_n);
+        let interpolated =
+            estimate.filter(|&(_, error)| near_zero && error <= STUDY_SPEED_TOLERANCE * crest);
         let stepped = (next - solved[best].0.speed_m_per_s).abs() <= STUDY_SPEED_TOLERANCE * crest;
         if stepped || interpolated.is_some() {
             let root = solved.remove(best);
@@ -693,8 +694,8 @@ fn no_load_search(
             }));
         }
         if near_zero && lower.is_none() && warm.is_some() && !exact {
-            let speed = interpolated_root(solved.iter().map(|s| &s.0), stall.thrust_n)
-                .map_or(next, |r| r.0);
+            // No lower points yet: `estimate` is the search speeds' own.
+            let speed = estimate.map_or(next, |r| r.0);
             lower = match lower_points(model, speed, fractions, &solved, warm)? {
                 Ok(points) => Some(points),
                 Err(unresolved) => return Ok(Err(unresolved)),
